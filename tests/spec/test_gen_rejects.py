@@ -1,0 +1,30 @@
+"""spec/gen.py refuses tables that break the spec's rules and names the file."""
+import pathlib
+import shutil
+import subprocess
+import sys
+import tempfile
+
+spec = pathlib.Path(sys.argv[1])
+cases = {
+    "exponent too wide": ("formats.toml", "exponent_bits = 8\nfraction_bits = 23", "exponent_bits = 9\nfraction_bits = 23"),
+    "unknown config format": ("configs.toml", 'format = "rpu24"', 'format = "fp99"'),
+    "chunk does not divide threads": ("configs.toml", "chunk_size = 2", "chunk_size = 3"),
+    "kd node word not 32 bits": ("memory_map.toml", "index_bits = 30", "index_bits = 29"),
+}
+failures = 0
+for what, (table, old, new) in cases.items():
+    with tempfile.TemporaryDirectory() as tmp:
+        tmp = pathlib.Path(tmp)
+        for f in spec.glob("*.toml"):
+            shutil.copy(f, tmp)
+        text = (tmp / table).read_text()
+        assert old in text, f"test setup: '{old}' not in {table}"
+        (tmp / table).write_text(text.replace(old, new, 1))
+        r = subprocess.run([sys.executable, spec / "gen.py", "--spec-dir", tmp,
+                            "--cpp", tmp / "o.hpp", "--sv", tmp / "o.sv"],
+                           capture_output=True, text=True)
+        ok = r.returncode != 0 and table in r.stderr and not (tmp / "o.hpp").exists()
+        print(f"{'ok  ' if ok else 'FAIL'} {what}: exit {r.returncode}: {r.stderr.strip()}")
+        failures += not ok
+sys.exit(1 if failures else 0)
