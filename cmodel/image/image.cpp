@@ -1,0 +1,64 @@
+#include "image/image.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+
+#include <OpenImageIO/imageio.h>
+#include <fmt/format.h>
+
+#include "common/error.hpp"
+
+namespace rpu {
+
+double srgb_encode(double linear) {
+  const double c = std::clamp(linear, 0.0, 1.0);
+  return c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1.0 / 2.4) - 0.055;
+}
+
+unsigned char srgb_encode_8bit(double linear) {
+  return static_cast<unsigned char>(std::lround(srgb_encode(linear) * 255.0));
+}
+
+void write_image(const Image& image, const std::filesystem::path& file) {
+  const std::string ext = file.extension().string();
+  const bool png = ext == ".png";
+  if (!png && ext != ".exr") {
+    throw Error(fmt::format("{}: unknown image type '{}': use .png (8-bit sRGB) or .exr (linear float)",
+                            file.string(), ext));
+  }
+  std::unique_ptr<OIIO::ImageOutput> out = OIIO::ImageOutput::create(file.string());
+  if (!out) throw Error(fmt::format("{}: cannot create image writer: {}", file.string(), OIIO::geterror()));
+  OIIO::ImageSpec spec(image.width, image.height, 3, png ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::FLOAT);
+  bool ok = out->open(file.string(), spec);
+  if (ok && png) {
+    std::vector<unsigned char> bytes(image.pixels.size() * 3);
+    for (std::size_t i = 0; i < image.pixels.size(); ++i) {
+      for (int c = 0; c < 3; ++c) bytes[3 * i + c] = srgb_encode_8bit(image.pixels[i][c]);
+    }
+    ok = out->write_image(OIIO::TypeDesc::UINT8, bytes.data());
+  } else if (ok) {
+    ok = out->write_image(OIIO::TypeDesc::FLOAT, image.pixels.data());
+  }
+  if (ok) ok = out->close();
+  if (!ok) throw Error(fmt::format("{}: cannot write image: {}", file.string(), out->geterror()));
+}
+
+Image read_image(const std::filesystem::path& file) {
+  std::unique_ptr<OIIO::ImageInput> in = OIIO::ImageInput::open(file.string());
+  if (!in) throw Error(fmt::format("{}: cannot read image: {}", file.string(), OIIO::geterror()));
+  const OIIO::ImageSpec& spec = in->spec();
+  std::vector<float> data(static_cast<std::size_t>(spec.width) * spec.height * spec.nchannels);
+  if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, data.data())) {
+    throw Error(fmt::format("{}: cannot read image: {}", file.string(), in->geterror()));
+  }
+  Image image(spec.width, spec.height);
+  for (std::size_t i = 0; i < image.pixels.size(); ++i) {
+    for (int c = 0; c < 3; ++c) {
+      image.pixels[i][c] = data[i * spec.nchannels + static_cast<std::size_t>(std::min(c, spec.nchannels - 1))];
+    }
+  }
+  return image;
+}
+
+}  // namespace rpu

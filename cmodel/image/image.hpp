@@ -1,0 +1,35 @@
+#pragma once
+
+#include <filesystem>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+namespace rpu {
+
+// A linear-light RGB image, row 0 at the top.
+struct Image {
+  int width = 0;
+  int height = 0;
+  std::vector<glm::vec3> pixels;  // width * height, row-major
+
+  Image() = default;
+  Image(int w, int h) : width(w), height(h), pixels(static_cast<std::size_t>(w) * h, glm::vec3(0.0f)) {}
+  glm::vec3& at(int x, int y) { return pixels[static_cast<std::size_t>(y) * width + x]; }
+  const glm::vec3& at(int x, int y) const { return pixels[static_cast<std::size_t>(y) * width + x]; }
+};
+
+// IEC 61966-2-1 sRGB transfer function on a linear value in [0, 1].
+double srgb_encode(double linear);
+// Linear value -> 8-bit sRGB code, clamping to [0, 1] first.
+unsigned char srgb_encode_8bit(double linear);
+
+// Writes by extension: .png as 8-bit sRGB, .exr as linear 32-bit float (OpenImageIO).
+// Throws rpu::Error naming the file on an unknown extension or a write failure.
+void write_image(const Image& image, const std::filesystem::path& file);
+
+// Reads any format OpenImageIO knows; PNG/JPEG come back as stored code values / 255
+// (no sRGB decoding), EXR as stored linear values.
+Image read_image(const std::filesystem::path& file);
+
+}  // namespace rpu

@@ -1,0 +1,48 @@
+#pragma once
+
+#include <cstdint>
+
+#include <glm/glm.hpp>
+
+#include "scene/scene.hpp"
+
+namespace rpu {
+
+// A small counter-based random stream: PCG's output permutation (O'Neill 2014) over a
+// 64-bit LCG, seeded by (seed, pixel, sample) so every pixel's samples are independent
+// of which thread renders it and of the order pixels are rendered in.
+class SampleStream {
+ public:
+  SampleStream(std::uint64_t seed, std::uint64_t pixel, std::uint32_t sample);
+  std::uint32_t next_u32();
+  double next_double();  // uniform in [0, 1), 32 random bits
+
+ private:
+  std::uint64_t state_;
+};
+
+// The position of sample `sample` of `spp` inside a pixel, in [0, 1)^2. One sample is
+// the pixel centre; a square spp is a jittered n x n grid; otherwise uniform jitter.
+glm::dvec2 pixel_sample_offset(int sample, int spp, SampleStream& stream);
+
+struct PrimaryRay {
+  glm::dvec3 origin;
+  glm::dvec3 direction;  // unit length
+};
+
+// Camera rays for an image of width x height pixels, row 0 at the top.
+class CameraModel {
+ public:
+  CameraModel(const Camera& camera, int width, int height);
+  // (px, py): image-plane position in pixels, e.g. x + 0.5 for a pixel centre.
+  // lens: a sample in [0, 1)^2, used only by a thin-lens camera.
+  PrimaryRay ray(double px, double py, glm::dvec2 lens) const;
+
+ private:
+  glm::dvec3 origin_, forward_, right_, up_;
+  double half_width_, half_height_;
+  int width_, height_;
+  double aperture_radius_, focus_distance_;
+};
+
+}  // namespace rpu
