@@ -20,13 +20,17 @@ unsigned char srgb_encode_8bit(double linear) {
   return static_cast<unsigned char>(std::lround(srgb_encode(linear) * 255.0));
 }
 
-void write_image(const Image& image, const std::filesystem::path& file) {
+void check_image_extension(const std::filesystem::path& file) {
   const std::string ext = file.extension().string();
-  const bool png = ext == ".png";
-  if (!png && ext != ".exr") {
+  if (ext != ".png" && ext != ".exr") {
     throw Error(fmt::format("{}: unknown image type '{}': use .png (8-bit sRGB) or .exr (linear float)",
                             file.string(), ext));
   }
+}
+
+void write_image(const Image& image, const std::filesystem::path& file) {
+  check_image_extension(file);
+  const bool png = file.extension() == ".png";
   std::unique_ptr<OIIO::ImageOutput> out = OIIO::ImageOutput::create(file.string());
   if (!out) throw Error(fmt::format("{}: cannot create image writer: {}", file.string(), OIIO::geterror()));
   OIIO::ImageSpec spec(image.width, image.height, 3, png ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::FLOAT);

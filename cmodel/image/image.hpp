@@ -24,6 +24,10 @@ double srgb_encode(double linear);
 // Linear value -> 8-bit sRGB code, clamping to [0, 1] first.
 unsigned char srgb_encode_8bit(double linear);
 
+// Throws rpu::Error naming the file unless its extension is one write_image knows;
+// lets a caller reject a bad output name before hours of rendering.
+void check_image_extension(const std::filesystem::path& file);
+
 // Writes by extension: .png as 8-bit sRGB, .exr as linear 32-bit float (OpenImageIO).
 // Throws rpu::Error naming the file on an unknown extension or a write failure.
 void write_image(const Image& image, const std::filesystem::path& file);

@@ -1,0 +1,42 @@
+"""Runs the rpu CLI and checks its exit status, what it prints and the image it writes.
+
+    expect_cli.py --status N [--stderr REGEX]... [--png PATH WxH] -- rpu ARGS...
+"""
+import argparse
+import re
+import struct
+import subprocess
+import sys
+
+ap = argparse.ArgumentParser()
+ap.add_argument("--status", type=int, required=True)
+ap.add_argument("--stderr", action="append", default=[], help="regex stderr must match")
+ap.add_argument("--png", nargs=2, metavar=("PATH", "WxH"), help="PNG that must exist with this size")
+ap.add_argument("command", nargs=argparse.REMAINDER)
+args = ap.parse_args()
+command = args.command[1:] if args.command[:1] == ["--"] else args.command
+
+r = subprocess.run(command, capture_output=True, text=True, timeout=300)
+failures = []
+if r.returncode != args.status:
+    failures.append(f"exit status {r.returncode}, expected {args.status}")
+for pattern in args.stderr:
+    if not re.search(pattern, r.stderr):
+        failures.append(f"stderr does not match /{pattern}/")
+if args.png:
+    path, size = args.png
+    try:
+        with open(path, "rb") as f:
+            head = f.read(24)
+        if head[:8] != b"\x89PNG\r\n\x1a\n":
+            failures.append(f"{path} is not a PNG")
+        else:
+            w, h = struct.unpack(">II", head[16:24])
+            if f"{w}x{h}" != size:
+                failures.append(f"{path} is {w}x{h}, expected {size}")
+    except OSError as e:
+        failures.append(f"{path}: {e}")
+print(f"$ {' '.join(command)}\nstatus {r.returncode}\n--- stderr ---\n{r.stderr}")
+for f in failures:
+    print(f"FAIL: {f}")
+sys.exit(1 if failures else 0)
