@@ -13,6 +13,7 @@
 #include "common/error.hpp"
 #include "image/image.hpp"
 #include "reference/renderer.hpp"
+#include "scene/procedural.hpp"
 #include "scene/resolve.hpp"
 
 namespace rpu::cli {

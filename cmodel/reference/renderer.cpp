@@ -6,6 +6,8 @@
 #include <thread>
 #include <vector>
 
+#include "scene/geometry.hpp"
+
 namespace rpu {
 
 namespace {
@@ -13,13 +15,8 @@ constexpr int kTileSize = 16;
 constexpr double kEpsilonFraction = 1e-4;
 
 double scene_diagonal(const Scene& scene) {
-  if (scene.positions.empty()) return 1.0;
-  glm::dvec3 lo(scene.positions[0]), hi(scene.positions[0]);
-  for (const glm::vec3& p : scene.positions) {
-    lo = glm::min(lo, glm::dvec3(p));
-    hi = glm::max(hi, glm::dvec3(p));
-  }
-  const double d = glm::length(hi - lo);
+  const Bounds bounds = scene_bounds(scene);
+  const double d = bounds.empty() ? 0.0 : glm::length(bounds.hi - bounds.lo);
   return d > 0.0 ? d : 1.0;
 }
 

@@ -1,0 +1,113 @@
+#include "scene/geometry.hpp"
+
+#include <algorithm>
+#include <utility>
+#include <vector>
+
+#include <fmt/format.h>
+
+namespace rpu {
+
+Bounds scene_bounds(const Scene& scene) {
+  Bounds box;
+  for (const glm::uvec3& t : scene.triangles) {
+    for (int k = 0; k < 3; ++k) box.extend(glm::dvec3(scene.positions[t[k]]));
+  }
+  return box;
+}
+
+namespace {
+
+enum class Degeneracy { kNone, kZeroArea, kThin };
+
+Degeneracy classify(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c) {
+  // Double precision: the products of fp32 differences are exact enough here.
+  const glm::dvec3 pa(a), pb(b), pc(c);
+  const glm::dvec3 e1 = pb - pa, e2 = pc - pa, e3 = pc - pb;
+  const double twice_area = glm::length(glm::cross(e1, e2));
+  if (twice_area == 0.0) return Degeneracy::kZeroArea;
+  const double longest2 = std::max({glm::dot(e1, e1), glm::dot(e2, e2), glm::dot(e3, e3)});
+  return twice_area <= kDegenerateRatio * longest2 ? Degeneracy::kThin : Degeneracy::kNone;
+}
+
+// Gives every triangle its own three vertices carrying the face normal.
+void make_flat_normals(Scene& g) {
+  std::vector<glm::vec3> positions;
+  std::vector<glm::vec3> normals;
+  std::vector<glm::vec2> uvs;
+  positions.reserve(g.triangles.size() * 3);
+  normals.reserve(g.triangles.size() * 3);
+  for (glm::uvec3& t : g.triangles) {
+    const glm::vec3 a = g.positions[t.x], b = g.positions[t.y], c = g.positions[t.z];
+    const glm::vec3 n = glm::vec3(glm::normalize(glm::cross(glm::dvec3(b - a), glm::dvec3(c - a))));
+    const auto base = static_cast<std::uint32_t>(positions.size());
+    for (int k = 0; k < 3; ++k) {
+      positions.push_back(g.positions[t[k]]);
+      normals.push_back(n);
+      if (!g.uvs.empty()) uvs.push_back(g.uvs[t[k]]);
+    }
+    t = glm::uvec3(base, base + 1, base + 2);
+  }
+  g.positions = std::move(positions);
+  g.normals = std::move(normals);
+  g.uvs = std::move(uvs);
+}
+
+}  // namespace
+
+bool is_degenerate(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c) {
+  return classify(a, b, c) != Degeneracy::kNone;
+}
+
+std::size_t drop_degenerate_triangles(Scene& part, const std::string& name) {
+  std::size_t zero_area = 0, thin = 0, kept = 0;
+  for (std::size_t i = 0; i < part.triangles.size(); ++i) {
+    const glm::uvec3 t = part.triangles[i];
+    switch (classify(part.positions[t.x], part.positions[t.y], part.positions[t.z])) {
+      case Degeneracy::kZeroArea: ++zero_area; continue;
+      case Degeneracy::kThin: ++thin; continue;
+      case Degeneracy::kNone: break;
+    }
+    part.triangles[kept] = t;
+    part.material_ids[kept] = part.material_ids[i];
+    ++kept;
+  }
+  part.triangles.resize(kept);
+  part.material_ids.resize(kept);
+  const std::size_t dropped = zero_area + thin;
+  if (dropped != 0) {
+    std::string why;
+    if (zero_area != 0) why = fmt::format("{} zero area", zero_area);
+    if (thin != 0) why += fmt::format("{}{} needle or collinear", why.empty() ? "" : ", ", thin);
+    part.warnings.push_back(
+        fmt::format("{}: dropped {} degenerate triangles ({})", name, dropped, why));
+  }
+  return dropped;
+}
+
+void append_geometry(Scene& scene, Scene&& part) {
+  for (std::string& w : part.warnings) scene.warnings.push_back(std::move(w));
+  if (part.triangles.empty()) return;
+  if (scene.triangles.empty()) {
+    scene.positions.clear();
+    scene.normals.clear();
+    scene.uvs.clear();
+  }
+  const bool scene_has_geometry = !scene.triangles.empty();
+  if (scene_has_geometry && scene.normals.empty() != part.normals.empty()) {
+    make_flat_normals(scene.normals.empty() ? scene : part);
+  }
+  if (scene_has_geometry && scene.uvs.empty() != part.uvs.empty()) {
+    Scene& missing = scene.uvs.empty() ? scene : part;
+    missing.uvs.assign(missing.positions.size(), glm::vec2(0.0f));
+  }
+  const auto base = static_cast<std::uint32_t>(scene.positions.size());
+  scene.positions.insert(scene.positions.end(), part.positions.begin(), part.positions.end());
+  scene.normals.insert(scene.normals.end(), part.normals.begin(), part.normals.end());
+  scene.uvs.insert(scene.uvs.end(), part.uvs.begin(), part.uvs.end());
+  for (const glm::uvec3& t : part.triangles) scene.triangles.push_back(t + base);
+  scene.material_ids.insert(scene.material_ids.end(), part.material_ids.begin(),
+                            part.material_ids.end());
+}
+
+}  // namespace rpu

@@ -1,0 +1,46 @@
+#pragma once
+
+#include <cstddef>
+#include <limits>
+#include <string>
+
+#include <glm/glm.hpp>
+
+#include "scene/scene.hpp"
+
+namespace rpu {
+
+// An axis-aligned box; empty (lo > hi) until a point is added.
+struct Bounds {
+  glm::dvec3 lo{std::numeric_limits<double>::infinity()};
+  glm::dvec3 hi{-std::numeric_limits<double>::infinity()};
+
+  bool empty() const { return lo.x > hi.x; }
+  void extend(const glm::dvec3& p) {
+    lo = glm::min(lo, p);
+    hi = glm::max(hi, p);
+  }
+};
+
+// Box around every vertex some triangle uses (unreferenced vertices do not count).
+Bounds scene_bounds(const Scene& scene);
+
+// A triangle is degenerate when twice its area is at most this fraction of its
+// longest edge squared, i.e. its smallest angle is below about 1e-6 rad: zero-area,
+// needle and collinear triangles. Such triangles have no usable plane (the Woop
+// transform is singular) and nothing to render; fp32 vertices resolve about 6e-8.
+inline constexpr double kDegenerateRatio = 1e-6;
+bool is_degenerate(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c);
+
+// Removes the degenerate triangles of `part` (and their material ids). When any were
+// dropped, adds ONE warning "<name>: dropped N degenerate triangles (...)" to
+// part.warnings. Returns how many were dropped.
+std::size_t drop_degenerate_triangles(Scene& part, const std::string& name);
+
+// Appends the geometry and warnings of `part` to `scene`. part.material_ids already
+// index scene.materials. Per-vertex normals and uvs are all or nothing over the whole
+// scene: a side without normals gets flat (face) normals, which un-shares its
+// vertices; a side without uvs gets (0, 0).
+void append_geometry(Scene& scene, Scene&& part);
+
+}  // namespace rpu

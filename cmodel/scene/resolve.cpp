@@ -1,0 +1,29 @@
+#include "scene/resolve.hpp"
+
+#include <filesystem>
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include "common/error.hpp"
+#include "scene/mesh.hpp"
+#include "scene/procedural.hpp"
+#include "scene/scene_file.hpp"
+
+namespace rpu {
+
+Scene resolve_scene(std::string_view arg) {
+  namespace fs = std::filesystem;
+  if (arg.empty()) return make_cornell_box();
+  if (arg.ends_with(".json")) return load_scene_file(fs::path(arg));
+  if (arg.starts_with(kMeshCachePrefix)) return load_bare_mesh(resolve_mesh_path(arg, {}));
+  if (is_builtin_scene(arg)) return make_builtin_scene(arg);
+  const fs::path path(arg);
+  if (fs::is_regular_file(path)) return load_bare_mesh(path);
+  throw Error(fmt::format(
+      "{}: no such scene: not a file, nor a built-in scene ({}; a size may follow, as in "
+      "balls:4)",
+      arg, fmt::join(builtin_scene_names(), ", ")));
+}
+
+}  // namespace rpu

@@ -1,0 +1,29 @@
+#pragma once
+
+#include <filesystem>
+
+#include "scene/geometry.hpp"
+#include "scene/scene.hpp"
+
+namespace rpu {
+
+// Reads a JSON scene file (docs/scene-format.md). Throws rpu::Error naming the file and
+// the line:column (malformed JSON) or the JSON pointer of the offending value.
+Scene load_scene_file(const std::filesystem::path& path);
+
+// A bare mesh file as a scene: the default grey material, a camera framing it and a
+// point light near the camera (docs/scene-format.md, "Bare meshes").
+Scene load_bare_mesh(const std::filesystem::path& path);
+
+// A camera looking at the centre of `box` from a diagonal above and to the front
+// (+x, +y, +z: y is up), vfov 40 degrees, far enough that the whole box is in view.
+Camera frame_bounds(const Bounds& box);
+
+// A white point light a little above and beside `camera`.
+Light light_near(const Camera& camera, const Bounds& box);
+
+// The grey material bare meshes and meshes without a material get, named "default",
+// with an ambient term so that unlit sides are not black.
+Material default_material();
+
+}  // namespace rpu
