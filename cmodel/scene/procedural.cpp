@@ -205,10 +205,14 @@ Scene make_cornell_box(int sphere_slices) {
   s.camera.up = {0.0, 1.0, 0.0};
   s.camera.vfov_degrees = 2.0 * std::atan(12.5 / 35.0) * 180.0 / kPi;
 
-  // RGB reflectances commonly derived from the measured spectra of the paints.
-  Material white{.name = "white", .diffuse = {0.725, 0.71, 0.68}};
-  Material red{.name = "red", .diffuse = {0.63, 0.065, 0.05}};
-  Material green{.name = "green", .diffuse = {0.14, 0.45, 0.091}};
+  // RGB reflectances commonly derived from the measured spectra of the paints. Whitted
+  // shading has no indirect light; an ambient term of 15% of the diffuse colour stands
+  // in for it, so faces the lamp cannot see are dim rather than black.
+  constexpr double kIndirect = 0.15;
+  const glm::dvec3 white_kd{0.725, 0.71, 0.68}, red_kd{0.63, 0.065, 0.05}, green_kd{0.14, 0.45, 0.091};
+  Material white{.name = "white", .ambient = kIndirect * white_kd, .diffuse = white_kd};
+  Material red{.name = "red", .ambient = kIndirect * red_kd, .diffuse = red_kd};
+  Material green{.name = "green", .ambient = kIndirect * green_kd, .diffuse = green_kd};
   Material mirror{.name = "mirror", .diffuse = {0.05, 0.05, 0.05}, .reflectance = 0.9};
   Material glass{.name = "glass", .diffuse = {0.0, 0.0, 0.0}, .specular = {1.0, 1.0, 1.0},
                  .shininess = 200.0, .reflectance = 0.1, .transmittance = 0.9, .ior = 1.5};
