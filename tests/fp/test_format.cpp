@@ -79,8 +79,11 @@ TEST(Contract, Fp32HandWorkedCases) {
       {"inf - inf is NaN", soft_add, fast32::add, 0x7F800000u, 0xFF800000u, 0x7FC00000u},
       {"NaN payload is not propagated", soft_add, fast32::add, 0xFFC00001u, 0x3F800000u, 0x7FC00000u},
       {"0 * inf is NaN", soft_mul, fast32::mul, 0x00000000u, 0x7F800000u, 0x7FC00000u},
-      // (2 - 2^-23) * 2^-127 ... as pred(1) * 2^-126: tiny after rounding, flushed.
+      // (1 - 2^-24) * -2^-126 is exact in 24 bits and below 2^-126: flushed, sign kept.
       {"pred(1) * min normal flushes, sign kept", soft_mul, fast32::mul, 0x3F7FFFFFu, 0x80800000u, 0x80000000u},
+      // (2^-1 + 2^-24) * (2^-125 - 2^-148) = 2^-126 * (1 - 2^-46): tiny before
+      // rounding, but rounds to 2^-126 in 24 bits, so not tiny after rounding.
+      {"rounds up to min normal: not flushed", soft_mul, fast32::mul, 0x3F000001u, 0x00FFFFFEu, 0x00800000u},
       {"1/0 = +inf", soft_div, fast32::div, 0x3F800000u, 0x00000000u, 0x7F800000u},
       {"1/(-subnormal) = -inf", soft_div, fast32::div, 0x3F800000u, 0x80000001u, 0xFF800000u},
       {"0/0 is NaN", soft_div, fast32::div, 0x00000000u, 0x80000000u, 0x7FC00000u},

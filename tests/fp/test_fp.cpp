@@ -12,10 +12,13 @@
 #include <cstdlib>
 #include <functional>
 #include <limits>
+#include <optional>
+#include <ostream>
 #include <random>
 #include <sstream>
 #include <string>
 #include <tuple>
+#include <utility>
 #include <vector>
 
 #include "fp/fast32.hpp"
@@ -215,6 +218,23 @@ std::vector<std::uint32_t> edge_values(Format f) {
   return values;
 }
 
+// Significands sa, sb in [2^m, 2^(m+1)) with 2^(2m+1) - 2^(m-3) < sa*sb < 2^(2m+1):
+// their product, as a value, is below a power of two by less than a quarter of the
+// half ulp there, so it rounds up across the binade boundary. Found by search; none
+// exist for m < 3.
+std::optional<std::pair<std::uint32_t, std::uint32_t>> significands_with_product_just_below_two(int m) {
+  if (m < 3) return std::nullopt;
+  const std::uint64_t target = std::uint64_t{1} << (2 * m + 1);
+  const std::uint64_t window = std::uint64_t{1} << (m - 3);
+  for (std::uint64_t sa = (std::uint64_t{1} << m) + 1; sa < (std::uint64_t{2} << m); ++sa) {
+    const std::uint64_t sb = target / sa;
+    if (sa * sb != target && target - sa * sb < window) {
+      return std::pair{static_cast<std::uint32_t>(sa), static_cast<std::uint32_t>(sb)};
+    }
+  }
+  return std::nullopt;
+}
+
 // Cases that random operands rarely reach, built per format.
 std::vector<Operands> constructed(Op op, Format f) {
   const int m = f.fraction_bits;
@@ -251,21 +271,23 @@ std::vector<Operands> constructed(Op op, Format f) {
       cases.push_back({one - 1, f.min_normal(false) + 1, 0});
       cases.push_back({one + 1, f.max_finite(false), 0});
       cases.push_back({one - 1, f.max_finite(false), 0});
+      // A product just below the smallest normal that rounds up to it: not tiny after
+      // rounding, so not flushed (x86 SSE FTZ must agree).
+      if (const auto pair = significands_with_product_just_below_two(m)) {
+        const std::uint32_t a = power_of_two(-1) | (pair->first & f.fraction_mask());
+        const std::uint32_t b = power_of_two(f.min_exponent()) | (pair->second & f.fraction_mask());
+        cases.push_back({a, b, 0});
+        cases.push_back({a, b | sign, 0});
+      }
       break;
-    case Op::kFma: {
+    case Op::kFma:
       // a*b just below 2^(emin+1), minus the smallest normal: a result just below the
-      // smallest normal that rounds up to it (not tiny after rounding), if this format
-      // has such a product. Found by search over significands.
-      const std::uint64_t target = std::uint64_t{1} << (2 * m + 1);
-      const std::uint64_t window = m >= 3 ? std::uint64_t{1} << (m - 3) : 0;
-      for (std::uint64_t sa = (std::uint64_t{1} << m) + 1; sa < (std::uint64_t{2} << m) && window != 0; ++sa) {
-        const std::uint64_t sb = target / sa;  // sa * sb <= target
-        if (sb < (std::uint64_t{1} << m) || sa * sb == target || target - sa * sb >= window) continue;
-        const std::uint32_t a = one | static_cast<std::uint32_t>(sa & f.fraction_mask());
-        const std::uint32_t b = power_of_two(f.min_exponent()) | static_cast<std::uint32_t>(sb & f.fraction_mask());
+      // smallest normal that rounds up to it, so it is not tiny after rounding.
+      if (const auto pair = significands_with_product_just_below_two(m)) {
+        const std::uint32_t a = one | (pair->first & f.fraction_mask());
+        const std::uint32_t b = power_of_two(f.min_exponent()) | (pair->second & f.fraction_mask());
         cases.push_back({a, b, f.min_normal(true)});
         cases.push_back({a | sign, b, f.min_normal(false)});
-        break;
       }
       // The classic invalid and exact-zero cases.
       cases.push_back({0, f.infinity(false), f.canonical_nan()});
@@ -273,7 +295,6 @@ std::vector<Operands> constructed(Op op, Format f) {
       cases.push_back({one | sign, one, one});
       cases.push_back({0 | sign, one, 0 | sign});
       break;
-    }
     case Op::kFromFp32: {
       // fp32 values at the format's rounding boundaries: ties, just below the
       // smallest normal (rounding up to it or not), around the overflow threshold.
@@ -469,6 +490,20 @@ std::int64_t random_count() {
 }
 
 using Param = std::tuple<OpInfo, spec::FormatSpec>;
+
+}  // namespace
+}  // namespace rpu::fp
+
+// Readable parameters in `ctest -N` and gtest output (found by argument lookup).
+namespace rpu::fp::oracle {
+void PrintTo(const OpInfo& info, std::ostream* out) { *out << info.name; }
+}  // namespace rpu::fp::oracle
+namespace rpu::spec {
+void PrintTo(const FormatSpec& format, std::ostream* out) { *out << format.name; }
+}  // namespace rpu::spec
+
+namespace rpu::fp {
+namespace {
 
 class FpOp : public ::testing::TestWithParam<Param> {
  protected:
