@@ -8,7 +8,8 @@
 // exactly (or with a sticky bit that keeps the rounding decision exact) and rounded
 // once by one shared routine. The contract is docs/numbers.md: round to nearest
 // even, subnormal inputs read as signed zero, tiny results (after rounding) flush to
-// signed zero, overflow to infinity, one canonical NaN.
+// signed zero, overflow to infinity, one canonical NaN. Operands are bit patterns of
+// width f.width(), right-aligned, with the bits above zero.
 namespace rpu::fp::soft {
 
 std::uint32_t add(Format f, std::uint32_t a, std::uint32_t b);
