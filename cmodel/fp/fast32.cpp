@@ -26,8 +26,9 @@ std::uint32_t result(float value) {
   return std::isnan(value) ? kFp32.canonical_nan() : std::bit_cast<std::uint32_t>(value);
 }
 
-// DAZ by bits, for the library calls (fmaf, floorf) that may run in integer or
-// non-SSE code and so not see MXCSR.DAZ.
+// DAZ by bits: for the library calls (fmaf, floorf) that may run in integer or
+// non-SSE code and so not see MXCSR.DAZ, and for the ops that return or compare an
+// input (min, max, compares, to_int32), which then do not depend on MXCSR at all.
 float flushed(std::uint32_t a) { return to_float(flush(a)); }
 
 }  // namespace
