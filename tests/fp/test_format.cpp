@@ -1,0 +1,131 @@
+// Format encoding helpers, name lookup, and contract rules spelled out with
+// hand-computed bit patterns (independent of both the code and the MPFR oracle).
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <limits>
+#include <string>
+
+#include "common/error.hpp"
+#include "fp/fast32.hpp"
+#include "fp/format.hpp"
+#include "fp/soft.hpp"
+
+namespace rpu::fp {
+namespace {
+
+constexpr Format kFp16{5, 10};
+
+TEST(Format, Fp32EncodingConstants) {
+  EXPECT_EQ(kFp32.width(), 32);
+  EXPECT_EQ(kFp32.bias(), 127);
+  EXPECT_EQ(kFp32.max_finite(false), 0x7F7FFFFFu);
+  EXPECT_EQ(kFp32.min_normal(true), 0x80800000u);
+  EXPECT_EQ(kFp32.infinity(true), 0xFF800000u);
+  EXPECT_EQ(kFp32.canonical_nan(), 0x7FC00000u);
+  EXPECT_EQ(kFp32.one(false), 0x3F800000u);
+}
+
+TEST(Format, Fp16EncodingConstants) {
+  EXPECT_EQ(kFp16.width(), 16);
+  EXPECT_EQ(kFp16.max_finite(false), 0x7BFFu);
+  EXPECT_EQ(kFp16.canonical_nan(), 0x7E00u);
+}
+
+TEST(Format, LookupBySpecNameAndShape) {
+  EXPECT_EQ(format_by_name("fp32"), kFp32);
+  EXPECT_EQ(format_by_name("rpu24"), (Format{7, 16}));
+  EXPECT_EQ(format_by_name("bf16"), (Format{8, 7}));
+  EXPECT_EQ(format_by_name("E5M10"), kFp16);
+  EXPECT_EQ(format_by_name("E2M1"), (Format{2, 1}));
+  EXPECT_EQ(format_by_name(Format{8, 15}.name()), (Format{8, 15}));
+}
+
+TEST(Format, UnknownNameListsTheKnownOnes) {
+  for (const char* bad : {"fp64", "E9M10", "E8M24", "E1M3", "E8M", "EM8", "E8M7x", ""}) {
+    try {
+      format_by_name(bad);
+      ADD_FAILURE() << "accepted '" << bad << "'";
+    } catch (const Error& e) {
+      const std::string message = e.what();
+      EXPECT_NE(message.find(std::string("'") + bad + "'"), std::string::npos) << message;
+      EXPECT_NE(message.find("fp32, e8m15, rpu24, bf16, fp16"), std::string::npos) << message;
+    }
+  }
+}
+
+// fp32 cases of the contract with expected bits written out by hand, on both paths.
+struct Case {
+  const char* rule;
+  std::uint32_t (*soft_op)(std::uint32_t, std::uint32_t);
+  std::uint32_t (*fast_op)(std::uint32_t, std::uint32_t);
+  std::uint32_t a, b, want;
+};
+
+std::uint32_t soft_add(std::uint32_t a, std::uint32_t b) { return soft::add(kFp32, a, b); }
+std::uint32_t soft_mul(std::uint32_t a, std::uint32_t b) { return soft::mul(kFp32, a, b); }
+std::uint32_t soft_div(std::uint32_t a, std::uint32_t b) { return soft::div(kFp32, a, b); }
+std::uint32_t soft_min(std::uint32_t a, std::uint32_t b) { return soft::min(kFp32, a, b); }
+
+TEST(Contract, Fp32HandWorkedCases) {
+  const Case cases[] = {
+      {"1 + 2^-24 ties to even 1", soft_add, fast32::add, 0x3F800000u, 0x33800000u, 0x3F800000u},
+      {"(1+ulp) + 2^-24 ties to even 1+2ulp", soft_add, fast32::add, 0x3F800001u, 0x33800000u, 0x3F800002u},
+      {"x + (-x) = +0", soft_add, fast32::add, 0xBF800000u, 0x3F800000u, 0x00000000u},
+      {"(-0) + (-0) = -0", soft_add, fast32::add, 0x80000000u, 0x80000000u, 0x80000000u},
+      {"subnormal input reads as zero", soft_add, fast32::add, 0x00000001u, 0x80000000u, 0x00000000u},
+      {"tiny difference flushes to +0", soft_add, fast32::add, 0x00800001u, 0x80800000u, 0x00000000u},
+      {"max + max overflows to inf", soft_add, fast32::add, 0x7F7FFFFFu, 0x7F7FFFFFu, 0x7F800000u},
+      {"inf - inf is NaN", soft_add, fast32::add, 0x7F800000u, 0xFF800000u, 0x7FC00000u},
+      {"NaN payload is not propagated", soft_add, fast32::add, 0xFFC00001u, 0x3F800000u, 0x7FC00000u},
+      {"0 * inf is NaN", soft_mul, fast32::mul, 0x00000000u, 0x7F800000u, 0x7FC00000u},
+      // (1 - 2^-24) * -2^-126 is exact in 24 bits and below 2^-126: flushed, sign kept.
+      {"pred(1) * min normal flushes, sign kept", soft_mul, fast32::mul, 0x3F7FFFFFu, 0x80800000u, 0x80000000u},
+      // (2^-1 + 2^-24) * (2^-125 - 2^-148) = 2^-126 * (1 - 2^-46): tiny before
+      // rounding, but rounds to 2^-126 in 24 bits, so not tiny after rounding.
+      {"rounds up to min normal: not flushed", soft_mul, fast32::mul, 0x3F000001u, 0x00FFFFFEu, 0x00800000u},
+      {"1/0 = +inf", soft_div, fast32::div, 0x3F800000u, 0x00000000u, 0x7F800000u},
+      {"1/(-subnormal) = -inf", soft_div, fast32::div, 0x3F800000u, 0x80000001u, 0xFF800000u},
+      {"0/0 is NaN", soft_div, fast32::div, 0x00000000u, 0x80000000u, 0x7FC00000u},
+      {"min(+0, -0) = -0", soft_min, fast32::min, 0x00000000u, 0x80000000u, 0x80000000u},
+      {"min(NaN, 1) is NaN", soft_min, fast32::min, 0x7FC00000u, 0x3F800000u, 0x7FC00000u},
+  };
+  const fast32::FlushScope flush_mode;
+  for (const Case& c : cases) {
+    EXPECT_EQ(c.soft_op(c.a, c.b), c.want) << "soft: " << c.rule;
+    EXPECT_EQ(c.fast_op(c.a, c.b), c.want) << "fast32: " << c.rule;
+  }
+}
+
+TEST(Contract, Fp32UnaryAndConversionCases) {
+  const fast32::FlushScope flush_mode;
+  EXPECT_EQ(soft::sqrt(kFp32, 0x80000000u), 0x80000000u);   // sqrt(-0) = -0
+  EXPECT_EQ(soft::sqrt(kFp32, 0xBF800000u), 0x7FC00000u);   // sqrt(-1) is NaN
+  EXPECT_EQ(soft::rsqrt(kFp32, 0x40800000u), 0x3F000000u);  // 1/sqrt(4) = 0.5
+  EXPECT_EQ(soft::floor(kFp32, 0xBF000000u), 0xBF800000u);  // floor(-0.5) = -1
+  EXPECT_EQ(soft::floor(kFp32, 0x80000001u), 0x80000000u);  // floor(-subnormal) = -0
+  EXPECT_EQ(fast32::floor(0x80000001u), 0x80000000u);
+  EXPECT_EQ(soft::fract(kFp32, 0xB3000000u), 0x3F800000u);  // fract(-2^-25) rounds to 1.0
+  EXPECT_EQ(fast32::fract(0xB3000000u), 0x3F800000u);
+  EXPECT_EQ(soft::fract(kFp32, 0x7F800000u), 0x7FC00000u);  // fract(inf) is NaN
+  EXPECT_EQ(soft::from_int32(kFp32, 16777217), 0x4B800000u);  // 2^24 + 1 ties to 2^24
+  EXPECT_EQ(soft::from_int32(kFp32, std::numeric_limits<std::int32_t>::min()), 0xCF000000u);
+  EXPECT_EQ(soft::to_int32(kFp32, 0x4F000000u), std::numeric_limits<std::int32_t>::max());  // 2^31
+  EXPECT_EQ(soft::to_int32(kFp32, 0xCF000000u), std::numeric_limits<std::int32_t>::min());  // -2^31
+  EXPECT_EQ(soft::to_int32(kFp32, 0xBFF00000u), -1);  // -1.875 truncates to -1
+  EXPECT_EQ(soft::to_int32(kFp32, 0x7FC00000u), 0);
+  EXPECT_EQ(fast32::to_int32(0x7FC00000u), 0);
+  EXPECT_TRUE(soft::eq(kFp32, 0x80000000u, 0x00000001u));  // -0 == subnormal
+  EXPECT_TRUE(soft::ne(kFp32, 0x7FC00000u, 0x7FC00000u));
+  EXPECT_FALSE(fast32::le(0x7FC00000u, 0x7FC00000u));
+  // fp32 -> fp16: 65520 is halfway between 65504 (max, odd) and 65536: ties to
+  // even, which is the overflow to inf; 2^-14 * (1 - 2^-12) rounds up to 2^-14.
+  EXPECT_EQ(soft::from_fp32(kFp16, 0x477FF000u), 0x7C00u);
+  EXPECT_EQ(soft::from_fp32(kFp16, 0x387FF800u), 0x0400u);
+  EXPECT_EQ(soft::from_fp32(kFp16, 0x387FC000u), 0x0000u);  // 2^-14 * (1 - 2^-9): tiny
+  EXPECT_EQ(soft::to_fp32(kFp16, 0x3C00u), 0x3F800000u);
+  EXPECT_EQ(soft::to_fp32(kFp16, 0x8001u), 0x80000000u);    // subnormal reads as -0
+}
+
+}  // namespace
+}  // namespace rpu::fp
