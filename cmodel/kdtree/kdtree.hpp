@@ -1,0 +1,61 @@
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "kdtree/kd_node.hpp"
+#include "scene/scene.hpp"
+
+namespace rpu {
+
+// How the SAH kd-tree is built (Wald & Havran 2006, "On building fast kd-trees for ray
+// tracing, and on doing that in O(N log N)"). Cost of a split:
+//   traversal_cost + (1 - empty_bonus if a side is empty) *
+//   intersection_cost * (P_below * N_below + P_above * N_above)
+// with P the surface-area ratio of child to parent.
+struct KdBuildConfig {
+  double traversal_cost = 15.0;     // K_T
+  double intersection_cost = 20.0;  // K_I
+  double empty_bonus = 0.2;         // lambda: favours cutting off empty space
+  std::uint32_t max_leaf_prims = 2; // stop splitting at this many primitives or fewer
+  int max_depth = 32;               // tree depth limit (root = depth 0)
+  int stack_depth = 32;             // the traversal unit's per-ray stack (hardware config)
+  bool perfect_splits = false;      // clip triangles to the node box for split candidates
+};
+
+// The builder's defaults, with max_depth set to the stack depth of the named hardware
+// configuration (spec/configs.toml). Throws rpu::Error for an unknown name.
+KdBuildConfig kd_build_config_for(const std::string& hardware_config);
+
+struct KdTreeStats {
+  std::uint64_t nodes = 0;
+  std::uint64_t leaves = 0;
+  std::uint64_t empty_leaves = 0;
+  int max_depth = 0;
+  double mean_leaf_depth = 0.0;
+  double mean_prims_per_leaf = 0.0;  // over non-empty leaves
+  std::uint64_t prim_refs = 0;
+  double sah_cost = 0.0;             // expected cost of a random ray hitting the root box
+  std::uint64_t bytes = 0;           // nodes + primitive-reference list
+  double build_seconds = 0.0;
+};
+
+// A built tree, already in memory-image form: nodes[0] is the root, depth-first with
+// the below child right after its parent; prim_refs holds the leaves' triangle indices.
+struct KdTree {
+  std::vector<KdNode> nodes;
+  std::vector<std::uint32_t> prim_refs;
+  glm::vec3 bounds_lo{0.0f}, bounds_hi{0.0f};  // the root box (scene bounds)
+  KdTreeStats stats;
+};
+
+// Builds the tree over scene.triangles in O(N log N). Throws rpu::Error when the
+// configuration is impossible: max_depth > stack_depth (traversal pushes at most one
+// entry per level, so a deeper tree could overflow the unit's stack), negative costs,
+// max_depth < 0, or a scene without triangles.
+KdTree build_kdtree(const Scene& scene, const KdBuildConfig& config);
+
+}  // namespace rpu
