@@ -2,6 +2,9 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <string>
+
+#include <unistd.h>
 
 #include "common/error.hpp"
 #include "image/image.hpp"
@@ -21,8 +24,11 @@ TEST(Image, SrgbEncodingMatchesIec61966) {
 
 class ImageFiles : public ::testing::Test {
  protected:
+  // One directory per test and process: ctest runs these tests in parallel.
   std::filesystem::path dir_ = std::filesystem::temp_directory_path() /
-                               ("rpu_test_image_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()));
+                               (std::string("rpu_test_image_") +
+                                ::testing::UnitTest::GetInstance()->current_test_info()->name() + "_" +
+                                std::to_string(getpid()));
   void SetUp() override { std::filesystem::create_directories(dir_); }
   void TearDown() override { std::filesystem::remove_all(dir_); }
   static Image ramp() {

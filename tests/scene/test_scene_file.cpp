@@ -7,6 +7,7 @@
 #include <string>
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include "common/error.hpp"
 #include "scene/geometry.hpp"
@@ -27,7 +28,8 @@ class SceneFile : public ::testing::Test {
   void SetUp() override {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
     dir_ = fs::temp_directory_path() /
-           (std::string("rpu_scene_") + info->test_suite_name() + "_" + info->name());
+           (std::string("rpu_scene_") + info->test_suite_name() + "_" + info->name() + "_" +
+            std::to_string(getpid()));
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }
