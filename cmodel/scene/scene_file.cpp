@@ -387,9 +387,12 @@ Light light_near(const Camera& camera, const Bounds& box) {
 }
 
 Scene load_scene_file(const fs::path& path) {
-  const std::string file = path.string();
-  const std::string text = read_text(path);
-  const Json root = parse_json(text, file);
+  return parse_scene_json(read_text(path), path.parent_path(), path.string());
+}
+
+Scene parse_scene_json(std::string_view text, const fs::path& base_dir, const std::string& source) {
+  const std::string& file = source;
+  const Json root = parse_json(std::string(text), file);
   const Reader r(file);
   const Node top{&root, ""};
   r.allow_keys(top, {"comment", "camera", "background", "lights", "materials", "meshes",
@@ -436,7 +439,7 @@ Scene load_scene_file(const fs::path& path) {
       const Node file_node = r.get(n, "file");
       const std::string reference = r.string(file_node);
       try {
-        append_geometry(s, load_mesh(resolve_mesh_path(reference, path.parent_path()), options));
+        append_geometry(s, load_mesh(resolve_mesh_path(reference, base_dir), options));
       } catch (const Error& e) {
         r.fail(file_node, e.what());
       }
