@@ -182,6 +182,12 @@ Json parse_json(const std::string& text, const std::string& file) {
       }
     }
     throw Error(fmt::format("{}:{}:{}: malformed JSON: {}", file, line, column, why));
+  } catch (const Json::exception& e) {
+    // A number beyond double's range is an out_of_range error without a position
+    // (found by fuzzing); the message quotes the number, which is enough to find it.
+    std::string_view why = e.what();
+    if (const std::size_t p = why.find("] "); p != std::string_view::npos) why.remove_prefix(p + 2);
+    throw Error(fmt::format("{}: malformed JSON: {}", file, why));
   }
 }
 
