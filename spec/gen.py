@@ -62,6 +62,31 @@ def validate(spec: dict) -> None:
     if node["kind_bits"] + node["index_bits"] != 32 or node["bytes"] != 8:
         raise SpecError("spec/memory_map.toml: a kd node is 8 bytes with a 32-bit kind/index word")
 
+    mm = spec["memory_map"]
+    align = mm["image"]["section_alignment"]
+    if align < 16 or align & (align - 1):
+        raise SpecError("spec/memory_map.toml: image.section_alignment must be a power of two >= 16")
+    names_seen = {}
+    for section, table in mm.items():
+        # A record's size is `bytes`, or for variants (woop_bytes, ...) the smallest one.
+        sizes = [v for k, v in table.items() if k == "bytes" or k.endswith("_bytes")]
+        size = min(sizes) if sizes else None
+        for key, value in table.items():
+            name = camel(section) + camel(key)
+            if name in names_seen:
+                raise SpecError(f"spec/memory_map.toml: [{section}] {key} and {names_seen[name]} "
+                                f"both generate k{name}")
+            names_seen[name] = f"[{section}] {key}"
+            if key.endswith("_at"):
+                # Every field is at least a 4-byte word, aligned, inside its record.
+                if size is None:
+                    raise SpecError(f"spec/memory_map.toml: [{section}] has fields but no bytes")
+                if not isinstance(value, int) or value % 4 or value + 4 > size:
+                    raise SpecError(f"spec/memory_map.toml: [{section}] {key} = {value} is not a "
+                                    f"4-byte-aligned offset inside the {size}-byte record")
+        if any(not isinstance(v, int) or v % 4 for v in sizes):
+            raise SpecError(f"spec/memory_map.toml: [{section}] record sizes {sizes} are not multiples of 4")
+
     cfg_names = set()
     for c in spec["configs"].get("config", []):
         where = f"spec/configs.toml: config '{c.get('name', '?')}'"

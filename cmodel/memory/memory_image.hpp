@@ -39,8 +39,19 @@ struct ImageLayout {
   IsectMode isect_mode = IsectMode::kWoop;
   std::uint32_t triangle_count = 0;
   float ray_epsilon = 0.0f;
+  // The rest of the scene record, so that a reader needs nothing but the layout.
+  std::uint32_t vertex_count = 0;  // vertex_normals / vertex_uvs hold 0 or this many
+  std::uint32_t material_count = 0;
+  std::uint32_t light_count = 0;
+  glm::vec3 background{0.0f};
+  std::uint32_t total_bytes = 0;
 };
 
+// Lays the scene and its kd-tree out as one image (docs/memory-map.md) and validates
+// the result. Throws rpu::Error naming scene.source for a triangle whose Woop
+// transform is not finite (a degenerate triangle), for per-vertex or per-triangle
+// arrays of the wrong length, for a tree that does not fit the scene, and for a scene
+// too large for 32-bit offsets.
 MemoryImage build_memory_image(const Scene& scene, const KdTree& tree, IsectMode mode);
 
 // Checks every header field, section offset and size, count, kd child index and leaf
@@ -50,5 +61,14 @@ ImageLayout validate_memory_image(std::span<const std::uint8_t> bytes, const std
 
 void save_memory_image(const MemoryImage& image, const std::filesystem::path& file);
 MemoryImage load_memory_image(const std::filesystem::path& file);  // reads; validate separately
+
+// The shader id a material record holds is the index of the material's shader name in
+// this list: the distinct names in order of first use over scene.materials. The image
+// holds no strings, so whoever builds the shader table uses this same list.
+std::vector<std::string> shader_names(const Scene& scene);
+
+// The section's name in spec/memory_map.toml [section_id] ("kd_nodes"), or "section
+// <id>" for an id the spec does not define; validation messages use it.
+std::string section_name(std::uint32_t id);
 
 }  // namespace rpu

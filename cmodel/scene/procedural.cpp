@@ -106,10 +106,15 @@ void add_sphere(Scene& s, const glm::dvec3& center, double radius, int slices,
   for (int j = 0; j < slices; ++j) add_triangle(ring(rows - 2, j), south, ring(rows - 2, j + 1));
 }
 
+// At most 1024 slices: a million triangles per sphere, as many as tetra:10. Without a
+// bound, "cornell:100000" asked for 10^10 triangles and ran out of time and memory
+// (found while fuzzing scene files).
+constexpr int kMaxSlices = 1024;
+
 void check_slices(int slices, std::string_view scene) {
-  if (slices < 4 || slices % 2 != 0) {
-    throw Error(fmt::format("{}: sphere tessellation {} must be an even number >= 4", scene,
-                            slices));
+  if (slices < 4 || slices > kMaxSlices || slices % 2 != 0) {
+    throw Error(fmt::format("{}: sphere tessellation {} must be an even number in 4..{}", scene,
+                            slices, kMaxSlices));
   }
 }
 

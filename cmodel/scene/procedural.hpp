@@ -18,7 +18,7 @@ Scene make_cornell_box(int sphere_slices = 32);
 // recursively 9 children of 1/3 the radius on each sphere, `levels` deep (SPD's
 // size factor), on a square floor, with SPD's camera, three lights and materials.
 // Each sphere is a UV sphere of `slices` columns and slices/2 rows:
-// slices*(slices-2) triangles (slices even, >= 4).
+// slices*(slices-2) triangles (slices even, 4..1024).
 Scene make_sphereflake(int levels = 3, int slices = 16);
 
 // Eric Haines' SPD "tetra": a Sierpinski tetrahedron of 4^levels triangles (levels >= 1)

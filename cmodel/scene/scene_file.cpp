@@ -182,6 +182,12 @@ Json parse_json(const std::string& text, const std::string& file) {
       }
     }
     throw Error(fmt::format("{}:{}:{}: malformed JSON: {}", file, line, column, why));
+  } catch (const Json::exception& e) {
+    // A number beyond double's range is an out_of_range error without a position
+    // (found by fuzzing); the message quotes the number, which is enough to find it.
+    std::string_view why = e.what();
+    if (const std::size_t p = why.find("] "); p != std::string_view::npos) why.remove_prefix(p + 2);
+    throw Error(fmt::format("{}: malformed JSON: {}", file, why));
   }
 }
 
@@ -387,9 +393,12 @@ Light light_near(const Camera& camera, const Bounds& box) {
 }
 
 Scene load_scene_file(const fs::path& path) {
-  const std::string file = path.string();
-  const std::string text = read_text(path);
-  const Json root = parse_json(text, file);
+  return parse_scene_json(read_text(path), path.parent_path(), path.string());
+}
+
+Scene parse_scene_json(std::string_view text, const fs::path& base_dir, const std::string& source) {
+  const std::string& file = source;
+  const Json root = parse_json(std::string(text), file);
   const Reader r(file);
   const Node top{&root, ""};
   r.allow_keys(top, {"comment", "camera", "background", "lights", "materials", "meshes",
@@ -436,7 +445,7 @@ Scene load_scene_file(const fs::path& path) {
       const Node file_node = r.get(n, "file");
       const std::string reference = r.string(file_node);
       try {
-        append_geometry(s, load_mesh(resolve_mesh_path(reference, path.parent_path()), options));
+        append_geometry(s, load_mesh(resolve_mesh_path(reference, base_dir), options));
       } catch (const Error& e) {
         r.fail(file_node, e.what());
       }

@@ -1,6 +1,8 @@
 #pragma once
 
 #include <filesystem>
+#include <string>
+#include <string_view>
 
 #include "scene/geometry.hpp"
 #include "scene/scene.hpp"
@@ -10,6 +12,10 @@ namespace rpu {
 // Reads a JSON scene file (docs/scene-format.md). Throws rpu::Error naming the file and
 // the line:column (malformed JSON) or the JSON pointer of the offending value.
 Scene load_scene_file(const std::filesystem::path& path);
+
+// The same from JSON text in memory: mesh paths resolve against `base_dir`, messages
+// name `source`. load_scene_file is this on the file's text and directory.
+Scene parse_scene_json(std::string_view text, const std::filesystem::path& base_dir, const std::string& source);
 
 // A bare mesh file as a scene: the default grey material, a camera framing it and a
 // point light near the camera (docs/scene-format.md, "Bare meshes").

@@ -157,6 +157,8 @@ TEST(Builtins, RejectBadNamesAndSizes) {
   EXPECT_EQ(message("balls:x"), "balls:x: the size after ':' must be a whole number");
   EXPECT_NE(message("balls:9").find("size must be 0..5"), std::string::npos);
   EXPECT_NE(message("tetra:0").find("size must be 1..10"), std::string::npos);
+  EXPECT_EQ(message("cornell:100000"), "cornell: sphere tessellation 100000 must be an even number in 4..1024");
+  EXPECT_EQ(message("cornell:2"), "cornell: sphere tessellation 2 must be an even number in 4..1024");
   EXPECT_NE(message("teapot").find("teapot: no such scene: not a file, nor a built-in scene "
                                    "(cornell, balls, tetra"),
             std::string::npos);

@@ -71,6 +71,11 @@ TEST_F(SceneFile, TruncatedJsonReportsTheEnd) {
       << error_of("x.json");
 }
 
+TEST_F(SceneFile, NumberBeyondDoubleIsMalformedJson) {
+  write("x.json", scene_with(R"("background": [2e308, 0, 0])"));
+  EXPECT_EQ(error_of("x.json"), file("x.json") + ": malformed JSON: number overflow parsing '2e308'");
+}
+
 TEST_F(SceneFile, UnknownKeyNamesItsPointer) {
   write("tri.obj", kTriangleObj);
   write("x.json", scene_with(R"("camra": {})"));

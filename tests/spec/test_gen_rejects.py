@@ -11,6 +11,9 @@ cases = {
     "unknown config format": ("configs.toml", 'format = "rpu24"', 'format = "fp99"'),
     "chunk does not divide threads": ("configs.toml", "chunk_size = 2", "chunk_size = 3"),
     "kd node word not 32 bits": ("memory_map.toml", "index_bits = 30", "index_bits = 29"),
+    "field past its record": ("memory_map.toml", "camera]\nbytes = 64", "camera]\nbytes = 56"),
+    "misaligned field": ("memory_map.toml", "a_at = 0 ", "a_at = 2 "),
+    "section alignment not a power of two": ("memory_map.toml", "section_alignment = 64", "section_alignment = 48"),
 }
 failures = 0
 for what, (table, old, new) in cases.items():
