@@ -11,6 +11,7 @@
 // whose closed box it touches (docs/kdtree.md, "Conservative splits").
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -110,6 +111,15 @@ Extent intersect(const Extent& a, const Box& b) {
   return r;
 }
 
+// The neighbouring fp32 values of a finite float, as std::nextafter but inline: the
+// sweep asks for two per event position.
+float next_up(float x) {
+  if (x == 0.0f) return std::numeric_limits<float>::denorm_min();
+  const auto bits = std::bit_cast<std::uint32_t>(x);
+  return std::bit_cast<float>(x > 0.0f ? bits + 1 : bits - 1);
+}
+float next_down(float x) { return -next_up(-x); }
+
 // Candidate split planes must survive the traversal unit's load: subnormals flush to
 // zero there (ARCHITECTURE.md, "Numbers"), which would move the plane.
 bool usable_split(float c) { return std::fpclassify(c) != FP_SUBNORMAL; }
@@ -164,30 +174,34 @@ class Builder {
   // rule moved off the plane by one ulp. When a neighbouring position
   // is exactly that ulp away, q itself is the plane between them and is tried instead.
   Split find_split(const EventLists& events, const Box& box, std::size_t n) const {
+    // The sweep minimises bonus * (A_below * N_below + A_above * N_above) with A half a
+    // child's surface area; the cost formula is applied to the winner only.
+    double best_score = std::numeric_limits<double>::infinity();
     Split best;
-    const double inv_area = 1.0 / surface_area(box);
+    const double keep = 1.0 - config_.empty_bonus;
+    const double total = static_cast<double>(n);
     for (int k = 0; k < 3; ++k) {
       if (!(box.lo[k] < box.hi[k])) continue;  // a flat node cannot be cut on this axis
       const int a = (k + 1) % 3, b = (k + 2) % 3;
       const double da = double(box.hi[a]) - box.lo[a], db = double(box.hi[b]) - box.lo[b];
-      const double cap = da * db, side = da + db;
-      const auto try_plane = [&](float c, std::size_t below, std::size_t above) {
+      const double cap = da * db, side = da + db, lo = box.lo[k], hi = box.hi[k];
+      const auto try_plane = [&](float c, double below, double above) {
         if (!(box.lo[k] < c && c < box.hi[k]) || !usable_split(c)) return;
-        const double wb = double(c) - box.lo[k], wa = double(box.hi[k]) - c;
-        const double pb = 2.0 * (cap + wb * side) * inv_area;
-        const double pa = 2.0 * (cap + wa * side) * inv_area;
-        const double bonus = (below == 0 || above == 0) ? 1.0 - config_.empty_bonus : 1.0;
-        const double cost = config_.traversal_cost +
-                            bonus * config_.intersection_cost *
-                                (pb * static_cast<double>(below) + pa * static_cast<double>(above));
-        if (cost < best.cost) best = {cost, k, c == 0.0f ? 0.0f : c};
+        const double score = ((cap + (c - lo) * side) * below + (cap + (hi - c) * side) * above) *
+                             (below == 0.0 || above == 0.0 ? keep : 1.0);
+        if (score < best_score) {
+          best_score = score;
+          best.axis = k;
+          best.pos = c == 0.0f ? 0.0f : c;
+        }
       };
       const std::vector<Event>& ev = events[k];
-      std::size_t starts_before = 0, ends_before = 0, i = 0;
+      double starts_before = 0.0, ends_before = 0.0;
+      std::size_t i = 0;
       float prev = -kInf;
       while (i < ev.size()) {
         const float q = ev[i].pos;
-        std::size_t pe = 0, pp = 0, ps = 0;
+        double pe = 0.0, pp = 0.0, ps = 0.0;
         for (; i < ev.size() && ev[i].pos == q; ++i) {
           const std::uint32_t kind = ev[i].kind();
           pe += kind == kEnd;
@@ -195,33 +209,37 @@ class Builder {
           ps += kind == kStart;
         }
         const float next = i < ev.size() ? ev[i].pos : kInf;
-        const float down = std::nextafter(q, -kInf), up = std::nextafter(q, kInf);
-        const std::size_t below_q = starts_before + ps + pp, above_q = n - ends_before;
+        const float down = next_down(q), up = next_up(q);
+        const double below_q = starts_before + ps + pp, above_q = total - ends_before;
         if (down != prev) try_plane(down, starts_before, above_q);
-        if (up != next) try_plane(up, below_q, n - ends_before - pe - pp);
+        if (up != next) try_plane(up, below_q, above_q - pe - pp);
         if (down == prev || up == next) try_plane(q, below_q, above_q);
         starts_before = below_q;
         ends_before += pe + pp;
         prev = q;
       }
     }
+    if (best.axis >= 0) {
+      best.cost = config_.traversal_cost + config_.intersection_cost * 2.0 * best_score / surface_area(box);
+    }
     return best;
   }
 
   // W&H: a triangle goes below when its extent starts at or before the plane and
-  // above when it ends at or after it; touching counts (the closed-box rule).
+  // above when it ends at or after it; touching counts (the closed-box rule). One pass
+  // suffices because a triangle's start event comes before its end event.
   void classify(const std::vector<Event>& ev, float split) {
-    for (const Event& e : ev) sides_[e.tri()] = Side::kBoth;
     for (const Event& e : ev) {
+      Side& side = sides_[e.tri()];
       switch (e.kind()) {
-        case kEnd:
-          if (e.pos < split) sides_[e.tri()] = Side::kBelow;
-          break;
         case kStart:
-          if (e.pos > split) sides_[e.tri()] = Side::kAbove;
+          side = e.pos > split ? Side::kAbove : Side::kBoth;
+          break;
+        case kEnd:
+          if (e.pos < split) side = Side::kBelow;
           break;
         default:  // planar
-          if (e.pos != split) sides_[e.tri()] = e.pos < split ? Side::kBelow : Side::kAbove;
+          side = e.pos < split ? Side::kBelow : e.pos > split ? Side::kAbove : Side::kBoth;
           break;
       }
     }
@@ -282,6 +300,25 @@ class Builder {
     return intersect(tight, loose);
   }
 
+  // One pass over a parent list: each one-sided event is merged with that side's new
+  // (sorted) straddler events straight into the child list, so every event is written
+  // once.
+  std::pair<Event*, Event*> splice(const std::vector<Event>& parent, const std::vector<Event>& new_below,
+                                   const std::vector<Event>& new_above, Event* below, Event* above) const {
+    auto nb = new_below.begin(), na = new_above.begin();
+    for (const Event& e : parent) {
+      const Side s = sides_[e.tri()];
+      if (s == Side::kBelow) {
+        for (; nb != new_below.end() && *nb < e; ++nb) *below++ = *nb;
+        *below++ = e;
+      } else if (s == Side::kAbove) {
+        for (; na != new_above.end() && *na < e; ++na) *above++ = *na;
+        *above++ = e;
+      }
+    }
+    return {std::copy(nb, new_below.end(), below), std::copy(na, new_above.end(), above)};
+  }
+
   void make_leaf(std::uint32_t index, const std::vector<Event>& ev, std::size_t n) {
     const std::size_t first = tree_.prim_refs.size();
     if (n > KdNode::kMaxIndex || first + n > std::numeric_limits<std::uint32_t>::max()) {
@@ -335,27 +372,15 @@ class Builder {
     for (int axis = 0; axis < 3; ++axis) {
       std::sort(new_below[axis].begin(), new_below[axis].end());
       std::sort(new_above[axis].begin(), new_above[axis].end());
-      std::vector<Event> only_below, only_above;
-      std::size_t count_below = 0, count_above = 0;
-      for (const Event& e : events[axis]) {
-        const Side s = sides_[e.tri()];
-        count_below += s == Side::kBelow;
-        count_above += s == Side::kAbove;
-      }
-      only_below.reserve(count_below);
-      only_above.reserve(count_above);
-      for (const Event& e : events[axis]) {
-        const Side s = sides_[e.tri()];
-        if (s == Side::kBelow) only_below.push_back(e);
-        if (s == Side::kAbove) only_above.push_back(e);
-      }
+      // At most two events per one-sided triangle; the lists are cut to size after the
+      // splice, which saves a counting pass over the parent list.
+      below[axis].resize(2 * (n_below - straddlers.size()) + new_below[axis].size());
+      above[axis].resize(2 * (n_above - straddlers.size()) + new_above[axis].size());
+      const auto [end_below, end_above] =
+          splice(events[axis], new_below[axis], new_above[axis], below[axis].data(), above[axis].data());
+      below[axis].resize(static_cast<std::size_t>(end_below - below[axis].data()));
+      above[axis].resize(static_cast<std::size_t>(end_above - above[axis].data()));
       std::vector<Event>().swap(events[axis]);
-      below[axis].resize(only_below.size() + new_below[axis].size());
-      std::merge(only_below.begin(), only_below.end(), new_below[axis].begin(), new_below[axis].end(),
-                 below[axis].begin());
-      above[axis].resize(only_above.size() + new_above[axis].size());
-      std::merge(only_above.begin(), only_above.end(), new_above[axis].begin(), new_above[axis].end(),
-                 above[axis].begin());
     }
 
     build(std::move(below), below_box, n_below, depth + 1);
