@@ -159,7 +159,11 @@ class Builder {
     }
     // W&H: the one sort; every node below keeps the order by splicing.
     for (EventLists::value_type& list : events) std::sort(list.begin(), list.end());
-    build(std::move(events), root, n, 0);
+    if (must_be_leaf(n, 0)) {
+      make_leaf(new_node(), triangles_of(events[0]));
+    } else {
+      build(std::move(events), root, n, 0);
+    }
   }
 
  private:
@@ -302,47 +306,66 @@ class Builder {
 
   // One pass over a parent list: each one-sided event is merged with that side's new
   // (sorted) straddler events straight into the child list, so every event is written
-  // once.
+  // once. A null output is a child that becomes a leaf and needs no events.
   std::pair<Event*, Event*> splice(const std::vector<Event>& parent, const std::vector<Event>& new_below,
                                    const std::vector<Event>& new_above, Event* below, Event* above) const {
     auto nb = new_below.begin(), na = new_above.begin();
     for (const Event& e : parent) {
       const Side s = sides_[e.tri()];
-      if (s == Side::kBelow) {
+      if (s == Side::kBelow && below != nullptr) {
         for (; nb != new_below.end() && *nb < e; ++nb) *below++ = *nb;
         *below++ = e;
-      } else if (s == Side::kAbove) {
+      } else if (s == Side::kAbove && above != nullptr) {
         for (; na != new_above.end() && *na < e; ++na) *above++ = *na;
         *above++ = e;
       }
     }
-    return {std::copy(nb, new_below.end(), below), std::copy(na, new_above.end(), above)};
+    return {below == nullptr ? below : std::copy(nb, new_below.end(), below),
+            above == nullptr ? above : std::copy(na, new_above.end(), above)};
   }
 
-  void make_leaf(std::uint32_t index, const std::vector<Event>& ev, std::size_t n) {
+  bool must_be_leaf(std::size_t n, int depth) const {
+    return n <= config_.max_leaf_prims || depth >= config_.max_depth;
+  }
+
+  // A leaf's triangles: one start or planar event per triangle in any axis list.
+  static std::vector<std::uint32_t> triangles_of(const std::vector<Event>& ev) {
+    std::vector<std::uint32_t> tris;
+    for (const Event& e : ev) {
+      if (e.kind() != kEnd) tris.push_back(e.tri());
+    }
+    return tris;
+  }
+
+  void make_leaf(std::uint32_t index, const std::vector<std::uint32_t>& tris) {
     const std::size_t first = tree_.prim_refs.size();
-    if (n > KdNode::kMaxIndex || first + n > std::numeric_limits<std::uint32_t>::max()) {
+    if (tris.size() > KdNode::kMaxIndex || first + tris.size() > std::numeric_limits<std::uint32_t>::max()) {
       throw Error(fmt::format("kd-tree for '{}' needs more primitive references than the kd-node "
                               "fields hold; raise max_leaf_prims or lower max_depth",
                               scene_.source));
     }
-    for (const Event& e : ev) {
-      if (e.kind() != kEnd) tree_.prim_refs.push_back(e.tri());
-    }
-    tree_.nodes[index] = KdNode::leaf(static_cast<std::uint32_t>(n), static_cast<std::uint32_t>(first));
+    tree_.prim_refs.insert(tree_.prim_refs.end(), tris.begin(), tris.end());
+    tree_.nodes[index] = KdNode::leaf(static_cast<std::uint32_t>(tris.size()), static_cast<std::uint32_t>(first));
   }
 
-  void build(EventLists events, const Box& box, std::size_t n, int depth) {
-    const std::uint32_t index = static_cast<std::uint32_t>(tree_.nodes.size());
-    tree_.nodes.emplace_back();
-    if (n <= config_.max_leaf_prims || depth >= config_.max_depth) {
-      make_leaf(index, events[0], n);
-      return;
+  std::uint32_t new_node() {
+    const std::size_t index = tree_.nodes.size();
+    if (index > KdNode::kMaxIndex) {
+      throw Error(fmt::format("kd-tree for '{}' needs more than {} nodes, more than the kd-node "
+                              "index field holds; raise max_leaf_prims or lower max_depth",
+                              scene_.source, KdNode::kMaxIndex + 1ull));
     }
+    tree_.nodes.emplace_back();
+    return static_cast<std::uint32_t>(index);
+  }
+
+  // Builds the subtree of a node that may be split; `events` are its sorted lists.
+  void build(EventLists events, const Box& box, std::size_t n, int depth) {
+    const std::uint32_t index = new_node();
     const Split split = find_split(events, box, n);
     // W&H's automatic termination: split only when it is cheaper than intersecting all n.
     if (split.axis < 0 || split.cost >= config_.intersection_cost * static_cast<double>(n)) {
-      make_leaf(index, events[0], n);
+      make_leaf(index, triangles_of(events[0]));
       return;
     }
     const int k = split.axis;
@@ -352,8 +375,6 @@ class Builder {
     below_box.hi[k] = split.pos;
     above_box.lo[k] = split.pos;
 
-    // W&H: triangles on one side keep their events, in order; straddlers get new
-    // events for each child, sorted on their own (few) and merged in.
     std::vector<std::uint32_t> straddlers;
     std::size_t n_below = 0, n_above = 0;
     for (const Event& e : events[k]) {
@@ -363,35 +384,52 @@ class Builder {
       n_above += s != Side::kBelow;
       if (s == Side::kBoth) straddlers.push_back(e.tri());
     }
-    EventLists new_below, new_above;
-    for (const std::uint32_t t : straddlers) {
-      add_events(new_below, child_extent(t, below_box), t);
-      add_events(new_above, child_extent(t, above_box), t);
-    }
-    EventLists below, above;
-    for (int axis = 0; axis < 3; ++axis) {
-      std::sort(new_below[axis].begin(), new_below[axis].end());
-      std::sort(new_above[axis].begin(), new_above[axis].end());
-      // At most two events per one-sided triangle; the lists are cut to size after the
-      // splice, which saves a counting pass over the parent list.
-      below[axis].resize(2 * (n_below - straddlers.size()) + new_below[axis].size());
-      above[axis].resize(2 * (n_above - straddlers.size()) + new_above[axis].size());
-      const auto [end_below, end_above] =
-          splice(events[axis], new_below[axis], new_above[axis], below[axis].data(), above[axis].data());
-      below[axis].resize(static_cast<std::size_t>(end_below - below[axis].data()));
-      above[axis].resize(static_cast<std::size_t>(end_above - above[axis].data()));
-      std::vector<Event>().swap(events[axis]);
+    // A child that will be a leaf needs only its triangles, not events.
+    const bool below_leaf = must_be_leaf(n_below, depth + 1), above_leaf = must_be_leaf(n_above, depth + 1);
+    std::vector<std::uint32_t> below_tris, above_tris;
+    for (const Event& e : events[k]) {
+      if (e.kind() == kEnd) continue;
+      const Side s = sides_[e.tri()];
+      if (below_leaf && s != Side::kAbove) below_tris.push_back(e.tri());
+      if (above_leaf && s != Side::kBelow) above_tris.push_back(e.tri());
     }
 
-    build(std::move(below), below_box, n_below, depth + 1);
-    const std::size_t above_index = tree_.nodes.size();
-    if (above_index > KdNode::kMaxIndex) {
-      throw Error(fmt::format("kd-tree for '{}' needs more than {} nodes, more than the kd-node "
-                              "index field holds; raise max_leaf_prims or lower max_depth",
-                              scene_.source, KdNode::kMaxIndex + 1ull));
+    // W&H: triangles on one side keep their events, in order; straddlers get new
+    // events for each child, sorted on their own (few) and merged in.
+    EventLists new_below, new_above, below, above;
+    for (const std::uint32_t t : straddlers) {
+      if (!below_leaf) add_events(new_below, child_extent(t, below_box), t);
+      if (!above_leaf) add_events(new_above, child_extent(t, above_box), t);
     }
-    tree_.nodes[index] = KdNode::inner(k, static_cast<std::uint32_t>(above_index), split.pos);
-    build(std::move(above), above_box, n_above, depth + 1);
+    if (!below_leaf || !above_leaf) {
+      for (int axis = 0; axis < 3; ++axis) {
+        std::sort(new_below[axis].begin(), new_below[axis].end());
+        std::sort(new_above[axis].begin(), new_above[axis].end());
+        // At most two events per one-sided triangle; the lists are cut to size after
+        // the splice, which saves a counting pass over the parent list.
+        if (!below_leaf) below[axis].resize(2 * (n_below - straddlers.size()) + new_below[axis].size());
+        if (!above_leaf) above[axis].resize(2 * (n_above - straddlers.size()) + new_above[axis].size());
+        const auto [end_below, end_above] =
+            splice(events[axis], new_below[axis], new_above[axis], below_leaf ? nullptr : below[axis].data(),
+                   above_leaf ? nullptr : above[axis].data());
+        below[axis].resize(static_cast<std::size_t>(end_below - below[axis].data()));
+        above[axis].resize(static_cast<std::size_t>(end_above - above[axis].data()));
+        std::vector<Event>().swap(events[axis]);
+      }
+    }
+
+    if (below_leaf) {
+      make_leaf(new_node(), below_tris);
+    } else {
+      build(std::move(below), below_box, n_below, depth + 1);
+    }
+    const std::uint32_t above_index = static_cast<std::uint32_t>(tree_.nodes.size());
+    tree_.nodes[index] = KdNode::inner(k, above_index, split.pos);
+    if (above_leaf) {
+      make_leaf(new_node(), above_tris);
+    } else {
+      build(std::move(above), above_box, n_above, depth + 1);
+    }
   }
 
   const Scene& scene_;
