@@ -259,7 +259,9 @@ class Builder {
       glm::dvec3 p;
       bool exact;  // an input vertex: its fp32 coordinates need no margin
     };
-    std::array<Vertex, 9> poly{}, clipped{};
+    std::array<Vertex, 9> buffers[2];
+    Vertex* poly = buffers[0].data();
+    Vertex* clipped = buffers[1].data();
     std::size_t count = 3;
     double scale = 0.0;
     for (int v = 0; v < 3; ++v) {
@@ -271,6 +273,8 @@ class Builder {
       const int k = plane / 2;
       const double at = plane % 2 == 0 ? box.lo[k] : box.hi[k];
       const double sign = plane % 2 == 0 ? 1.0 : -1.0;  // inside: sign * (x - at) >= 0
+      // Most planes leave the polygon whole (the loose extent already lies inside).
+      if ((plane % 2 == 0 ? bounds_[tri].lo[k] >= box.lo[k] : bounds_[tri].hi[k] <= box.hi[k])) continue;
       std::size_t out = 0;
       for (std::size_t v = 0; v < count; ++v) {
         const Vertex& cur = poly[v];
@@ -284,7 +288,7 @@ class Builder {
         }
       }
       count = out;
-      poly = clipped;
+      std::swap(poly, clipped);
     }
     if (count == 0) return loose;  // only a touch the clipping rounded away
     // Computed vertices carry double rounding error relative to `scale`; widen them by
