@@ -1,0 +1,159 @@
+// The numbers in docs/kdtree.md: tree statistics of scenes (one Markdown row each) and,
+// with --rays, what a ray costs in each tree: inner nodes visited and triangles tested
+// per ray, counted by a plain double-precision front-to-back traversal (not the
+// hardware's) of rays from random points in the scene box to random points on random
+// triangles. The costs the builder should use are the ones that minimise
+// K_T * nodes/ray + K_I * tests/ray for the hardware's real K_T : K_I at moderate memory.
+//
+//   build/ci/bench/kdtree/kdtree_table [--rays] [--kt 15] [--ki 20] [--bonus 0.2]
+//       [--leaf 2] [--perfect 0|1] SCENE...
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "common/error.hpp"
+#include "kdtree/kdtree.hpp"
+#include "scene/resolve.hpp"
+
+namespace rpu {
+namespace {
+
+// Möller-Trumbore in double; only the hit distance matters here.
+bool intersect(const glm::dvec3& o, const glm::dvec3& d, const glm::dvec3& a, const glm::dvec3& b,
+               const glm::dvec3& c, double& t) {
+  const glm::dvec3 e1 = b - a, e2 = c - a, p = glm::cross(d, e2);
+  const double det = glm::dot(e1, p);
+  if (det == 0.0) return false;
+  const glm::dvec3 s = o - a, q = glm::cross(s, e1);
+  const double u = glm::dot(s, p) / det, v = glm::dot(d, q) / det;
+  if (u < 0.0 || v < 0.0 || u + v > 1.0) return false;
+  t = glm::dot(e2, q) / det;
+  return t > 0.0;
+}
+
+struct RayCost {
+  double steps = 0.0, tests = 0.0;
+};
+
+RayCost measure_rays(const Scene& scene, const KdTree& tree, int rays) {
+  std::mt19937_64 rng(1);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const glm::dvec3 lo(tree.bounds_lo), hi(tree.bounds_hi);
+  const auto vertex = [&](std::uint32_t t, int k) { return glm::dvec3(scene.positions[scene.triangles[t][k]]); };
+  std::uint64_t steps = 0, tests = 0;
+  struct Item {
+    std::uint32_t node;
+    double t0, t1;
+  };
+  std::vector<Item> stack;
+  for (int r = 0; r < rays; ++r) {
+    const glm::dvec3 o = lo + (hi - lo) * glm::dvec3(u(rng), u(rng), u(rng));
+    const auto tri = static_cast<std::uint32_t>(u(rng) * static_cast<double>(scene.triangles.size()));
+    double s = u(rng), w = u(rng);
+    if (s + w > 1.0) {
+      s = 1.0 - s;
+      w = 1.0 - w;
+    }
+    const glm::dvec3 a = vertex(tri, 0), target = a + s * (vertex(tri, 1) - a) + w * (vertex(tri, 2) - a);
+    const glm::dvec3 d = glm::normalize(target - o);
+    double t0 = 0.0, t1 = INFINITY;
+    for (int k = 0; k < 3; ++k) {
+      double ta = (lo[k] - o[k]) / d[k], tb = (hi[k] - o[k]) / d[k];
+      if (ta > tb) std::swap(ta, tb);
+      t0 = std::max(t0, ta);
+      t1 = std::min(t1, tb);
+    }
+    double nearest = INFINITY;
+    stack.assign(1, {0, t0, t1});
+    while (!stack.empty()) {
+      Item it = stack.back();
+      stack.pop_back();
+      if (it.t0 > nearest) continue;
+      std::uint32_t node = it.node;
+      for (;;) {
+        const KdNode n = tree.nodes[node];
+        if (n.is_leaf()) {
+          for (std::uint32_t i = 0; i < n.prim_count(); ++i) {
+            const std::uint32_t t = tree.prim_refs[n.first_prim_ref() + i];
+            double th = 0.0;
+            ++tests;
+            if (intersect(o, d, vertex(t, 0), vertex(t, 1), vertex(t, 2), th)) nearest = std::min(nearest, th);
+          }
+          break;
+        }
+        ++steps;
+        const int k = n.split_axis();
+        const double split = n.split(), ts = (split - o[k]) / d[k];
+        const bool below_first = o[k] < split || (o[k] == split && d[k] <= 0.0);
+        const std::uint32_t first = below_first ? node + 1 : n.above_child();
+        const std::uint32_t second = below_first ? n.above_child() : node + 1;
+        if (ts > it.t1 || ts <= 0.0) {
+          node = first;
+        } else if (ts < it.t0) {
+          node = second;
+        } else {
+          stack.push_back({second, ts, it.t1});
+          it.t1 = ts;
+          node = first;
+        }
+      }
+      if (nearest <= it.t1) break;
+    }
+  }
+  return {static_cast<double>(steps) / rays, static_cast<double>(tests) / rays};
+}
+
+int run(int argc, char** argv) {
+  KdBuildConfig config = kd_build_config_for("default");
+  bool rays = false;
+  std::vector<std::string> scenes;
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    const auto value = [&] { return i + 1 < argc ? std::atof(argv[++i]) : 0.0; };
+    if (arg == "--rays") rays = true;
+    else if (arg == "--kt") config.traversal_cost = value();
+    else if (arg == "--ki") config.intersection_cost = value();
+    else if (arg == "--bonus") config.empty_bonus = value();
+    else if (arg == "--leaf") config.max_leaf_prims = static_cast<std::uint32_t>(value());
+    else if (arg == "--perfect") config.perfect_splits = value() != 0.0;
+    else scenes.push_back(arg);
+  }
+  std::printf("| scene | triangles | nodes | leaves | empty | max/mean depth | prims/leaf | refs/tri | SAH cost | "
+              "bytes | build s |%s\n|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|%s\n",
+              rays ? " nodes/ray | tests/ray |" : "", rays ? "--:|--:|" : "");
+  for (const std::string& name : scenes) {
+    const Scene scene = resolve_scene(name);
+    const KdTree tree = build_kdtree(scene, config);
+    const KdTreeStats& s = tree.stats;
+    const double tris = static_cast<double>(scene.triangles.size());
+    std::printf("| %s | %zu | %llu | %llu | %llu | %d / %.1f | %.2f | %.2f | %.1f | %llu | %.3f |", name.c_str(),
+                scene.triangles.size(), static_cast<unsigned long long>(s.nodes),
+                static_cast<unsigned long long>(s.leaves), static_cast<unsigned long long>(s.empty_leaves),
+                s.max_depth, s.mean_leaf_depth, s.mean_prims_per_leaf, static_cast<double>(s.prim_refs) / tris,
+                s.sah_cost, static_cast<unsigned long long>(s.bytes), s.build_seconds);
+    if (rays) {
+      const RayCost c = measure_rays(scene, tree, 100000);
+      std::printf(" %.1f | %.1f |", c.steps, c.tests);
+    }
+    std::printf("\n");
+  }
+  return 0;
+}
+
+}  // namespace
+}  // namespace rpu
+
+int main(int argc, char** argv) {
+  try {
+    return rpu::run(argc, argv);
+  } catch (const rpu::Error& e) {
+    std::fprintf(stderr, "kdtree_table: error: %s\n", e.what());
+    return 1;
+  }
+}

@@ -1,0 +1,411 @@
+// The SAH kd-tree builder: structural invariants, statistics that add up, and coverage
+// checked independently of the builder: points sampled on every triangle (in double)
+// walk the tree by its fp32 split values as a traversal would and must reach leaves
+// that reference their triangle; a point exactly on a plane walks both sides.
+#include <algorithm>
+#include <cstdint>
+#include <filesystem>
+#include <iostream>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "common/error.hpp"
+#include "kdtree/kdtree.hpp"
+#include "rpu/spec.hpp"
+#include "scene/geometry.hpp"
+#include "scene/procedural.hpp"
+#include "scene/resolve.hpp"
+
+namespace rpu {
+namespace {
+
+struct Box {
+  glm::dvec3 lo, hi;
+};
+
+double area(const Box& b) {
+  const glm::dvec3 d = b.hi - b.lo;
+  return 2.0 * (d.x * d.y + d.y * d.z + d.z * d.x);
+}
+
+// Structure: indices in range, every node reached exactly once from the root with the
+// below child right after its parent, depth within the limit, leaf lists in range;
+// then the statistics recomputed here and compared.
+void expect_valid_structure(const Scene& scene, const KdTree& tree, const KdBuildConfig& config) {
+  ASSERT_FALSE(tree.nodes.empty());
+  std::vector<int> seen(tree.nodes.size(), 0);
+  struct Item {
+    std::uint32_t index;
+    Box box;
+    int depth;
+  };
+  const Box root{glm::dvec3(tree.bounds_lo), glm::dvec3(tree.bounds_hi)};
+  std::vector<Item> stack{{0, root, 0}};
+  std::uint64_t leaves = 0, empty = 0, refs = 0;
+  int max_depth = 0;
+  double cost = 0.0;
+  while (!stack.empty()) {
+    const Item it = stack.back();
+    stack.pop_back();
+    ASSERT_LT(it.index, tree.nodes.size());
+    ASSERT_EQ(seen[it.index]++, 0) << "node " << it.index << " reached twice";
+    ASSERT_LE(it.depth, config.max_depth);
+    max_depth = std::max(max_depth, it.depth);
+    const KdNode n = tree.nodes[it.index];
+    const double p = area(it.box) / area(root);
+    if (n.is_leaf()) {
+      ++leaves;
+      empty += n.prim_count() == 0;
+      refs += n.prim_count();
+      ASSERT_LE(std::uint64_t{n.first_prim_ref()} + n.prim_count(), tree.prim_refs.size());
+      for (std::uint32_t i = 0; i < n.prim_count(); ++i) {
+        ASSERT_LT(tree.prim_refs[n.first_prim_ref() + i], scene.triangles.size());
+      }
+      cost += config.intersection_cost * p * n.prim_count();
+      continue;
+    }
+    cost += config.traversal_cost * p;
+    const int k = n.split_axis();
+    ASSERT_GT(n.above_child(), it.index + 1);
+    ASSERT_LT(n.above_child(), tree.nodes.size());
+    ASSERT_GT(double(n.split()), it.box.lo[k]) << "split outside its node at node " << it.index;
+    ASSERT_LT(double(n.split()), it.box.hi[k]) << "split outside its node at node " << it.index;
+    Item below{it.index + 1, it.box, it.depth + 1}, above{n.above_child(), it.box, it.depth + 1};
+    below.box.hi[k] = n.split();
+    above.box.lo[k] = n.split();
+    stack.push_back(above);
+    stack.push_back(below);
+  }
+  for (std::size_t i = 0; i < seen.size(); ++i) ASSERT_EQ(seen[i], 1) << "node " << i << " unreachable";
+
+  const KdTreeStats& s = tree.stats;
+  EXPECT_EQ(s.nodes, tree.nodes.size());
+  EXPECT_EQ(s.leaves, leaves);
+  EXPECT_EQ(s.empty_leaves, empty);
+  EXPECT_EQ(s.max_depth, max_depth);
+  EXPECT_EQ(s.prim_refs, tree.prim_refs.size());
+  EXPECT_EQ(refs, tree.prim_refs.size()) << "leaf counts must add up to the reference list";
+  EXPECT_EQ(s.bytes, 8 * s.nodes + 4 * s.prim_refs);
+  EXPECT_NEAR(s.sah_cost, cost, 1e-9 * cost);
+  EXPECT_GE(s.build_seconds, 0.0);
+  EXPECT_GE(s.mean_leaf_depth, 0.0);
+  EXPECT_LE(s.mean_leaf_depth, double(max_depth));
+  if (leaves > empty) {
+    EXPECT_DOUBLE_EQ(s.mean_prims_per_leaf, double(refs) / double(leaves - empty));
+  }
+  // The root box holds every vertex.
+  for (const glm::vec3& v : scene.positions) {
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_LE(tree.bounds_lo[k], v[k]);
+      EXPECT_GE(tree.bounds_hi[k], v[k]);
+    }
+  }
+}
+
+// The leaves a point reaches, comparing like a traversal: below when p < split, above
+// when p > split, both when equal.
+void leaves_at(const KdTree& tree, const glm::dvec3& p, std::vector<std::uint32_t>& out) {
+  std::vector<std::uint32_t> stack{0};
+  while (!stack.empty()) {
+    const std::uint32_t i = stack.back();
+    stack.pop_back();
+    const KdNode n = tree.nodes[i];
+    if (n.is_leaf()) {
+      out.push_back(i);
+      continue;
+    }
+    const double s = n.split();
+    const double x = p[n.split_axis()];
+    if (x <= s) stack.push_back(i + 1);
+    if (x >= s) stack.push_back(n.above_child());
+  }
+}
+
+// Vertices, edge midpoints and `random_points` random barycentric points per triangle.
+void expect_every_point_finds_its_triangle(const Scene& scene, const KdTree& tree, int random_points) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::vector<std::uint32_t> leaves;
+  std::size_t failures = 0;
+  for (std::uint32_t t = 0; t < scene.triangles.size() && failures < 10; ++t) {
+    const glm::dvec3 a(scene.positions[scene.triangles[t][0]]), b(scene.positions[scene.triangles[t][1]]),
+        c(scene.positions[scene.triangles[t][2]]);
+    std::vector<glm::dvec3> points{a, b, c, (a + b) * 0.5, (b + c) * 0.5, (c + a) * 0.5};
+    for (int i = 0; i < random_points; ++i) {
+      double s = u(rng), r = u(rng);
+      if (s + r > 1.0) {
+        s = 1.0 - s;
+        r = 1.0 - r;
+      }
+      points.push_back(a + s * (b - a) + r * (c - a));
+    }
+    for (const glm::dvec3& p : points) {
+      leaves.clear();
+      leaves_at(tree, p, leaves);
+      for (const std::uint32_t leaf : leaves) {
+        const KdNode n = tree.nodes[leaf];
+        const auto first = tree.prim_refs.begin() + n.first_prim_ref();
+        if (std::find(first, first + n.prim_count(), t) == first + n.prim_count()) {
+          ADD_FAILURE() << "triangle " << t << " point (" << p.x << ", " << p.y << ", " << p.z
+                        << ") reaches leaf " << leaf << " which does not reference it";
+          ++failures;
+        }
+      }
+    }
+  }
+}
+
+bool add_triangle(Scene& s, const glm::vec3& a, const glm::vec3& b, const glm::vec3& c) {
+  if (is_degenerate(a, b, c)) return false;
+  const auto base = static_cast<std::uint32_t>(s.positions.size());
+  s.positions.insert(s.positions.end(), {a, b, c});
+  s.triangles.emplace_back(base, base + 1, base + 2);
+  s.material_ids.push_back(0);
+  return true;
+}
+
+// Random triangles of random size in the unit cube; with `grid`, vertices snap to
+// multiples of 1/8 so that many triangles share coordinates, touch candidate planes
+// exactly and lie in axis planes.
+Scene random_soup(std::size_t n, bool grid, std::uint64_t seed) {
+  Scene s;
+  s.source = grid ? "grid soup" : "random soup";
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  const auto coord = [&](float centre, float size) {
+    const float v = centre + size * (u(rng) - 0.5f);
+    return grid ? std::round(v * 8.0f) / 8.0f : v;
+  };
+  while (s.triangles.size() < n) {
+    const glm::vec3 centre(u(rng), u(rng), u(rng));
+    const float size = grid ? 0.5f : 0.2f * u(rng) * u(rng);
+    glm::vec3 v[3];
+    for (glm::vec3& p : v) p = {coord(centre.x, size), coord(centre.y, size), coord(centre.z, size)};
+    // A third of the grid triangles lie in an axis plane.
+    if (grid && s.triangles.size() % 3 == 0) v[1].y = v[2].y = v[0].y;
+    add_triangle(s, v[0], v[1], v[2]);
+  }
+  return s;
+}
+
+Scene bunny_scene() {
+  return resolve_scene((std::filesystem::path(RPU_SOURCE_DIR) / "scenes" / "bunny.json").string());
+}
+
+KdBuildConfig config(bool perfect) {
+  KdBuildConfig c = kd_build_config_for("default");
+  c.perfect_splits = perfect;
+  return c;
+}
+
+void check_scene(const Scene& scene, bool perfect, int random_points) {
+  SCOPED_TRACE(scene.source + (perfect ? " (perfect splits)" : ""));
+  const KdBuildConfig c = config(perfect);
+  const KdTree tree = build_kdtree(scene, c);
+  expect_valid_structure(scene, tree, c);
+  expect_every_point_finds_its_triangle(scene, tree, random_points);
+  EXPECT_LT(tree.stats.sah_cost, c.intersection_cost * double(scene.triangles.size()))
+      << "the tree must beat a single leaf";
+}
+
+TEST(KdTree, CornellBoxIsValidAndCovered) {
+  check_scene(make_cornell_box(), false, 32);
+  check_scene(make_cornell_box(), true, 32);
+}
+
+TEST(KdTree, SphereflakeIsValidAndCovered) {
+  check_scene(make_sphereflake(2), false, 8);
+  check_scene(make_sphereflake(2), true, 8);
+}
+
+TEST(KdTree, RandomSoupIsValidAndCovered) {
+  check_scene(random_soup(3000, false, 1), false, 8);
+  check_scene(random_soup(3000, false, 2), true, 8);
+}
+
+TEST(KdTree, GridSoupWithSharedCoordinatesIsValidAndCovered) {
+  check_scene(random_soup(2000, true, 3), false, 8);
+  check_scene(random_soup(2000, true, 4), true, 8);
+}
+
+TEST(KdTree, BunnyIsValidAndCovered) {
+  const Scene bunny = bunny_scene();
+  check_scene(bunny, false, 4);
+  check_scene(bunny, true, 4);
+}
+
+TEST(KdTree, SingleTriangleIsOneLeaf) {
+  Scene s;
+  s.source = "one triangle";
+  add_triangle(s, {0, 0, 0}, {1, 0, 0}, {0, 1, 0});
+  const KdTree tree = build_kdtree(s, config(false));
+  ASSERT_EQ(tree.nodes.size(), 1u);
+  EXPECT_TRUE(tree.nodes[0].is_leaf());
+  EXPECT_EQ(tree.nodes[0].prim_count(), 1u);
+  EXPECT_EQ(tree.prim_refs, std::vector<std::uint32_t>{0});
+  EXPECT_EQ(tree.bounds_lo, glm::vec3(0, 0, 0));
+  EXPECT_EQ(tree.bounds_hi, glm::vec3(1, 1, 0));
+  EXPECT_DOUBLE_EQ(tree.stats.sah_cost, 20.0);
+}
+
+// Hand-worked SAH: two unit squares (two triangles each) at x in [0,1] and [9,10] in a
+// 10 x 1 x 1 box. The cheapest plane cuts the empty gap next to one square; the tree
+// separates the squares and leaves the gap empty.
+TEST(KdTree, TwoDistantSquaresAreSeparated) {
+  Scene s;
+  s.source = "two squares";
+  for (const float x0 : {0.0f, 9.0f}) {
+    add_triangle(s, {x0, 0, 0}, {x0 + 1, 0, 1}, {x0, 1, 1});
+    add_triangle(s, {x0 + 1, 1, 0}, {x0 + 1, 0, 1}, {x0, 1, 1});
+  }
+  KdBuildConfig c = config(false);
+  const KdTree tree = build_kdtree(s, c);
+  expect_valid_structure(s, tree, c);
+  expect_every_point_finds_its_triangle(s, tree, 16);
+  ASSERT_FALSE(tree.nodes[0].is_leaf());
+  EXPECT_EQ(tree.nodes[0].split_axis(), 0);
+  // Every reference is to one square only: no leaf mixes triangles 0-1 with 2-3.
+  for (const KdNode& n : tree.nodes) {
+    if (!n.is_leaf() || n.prim_count() == 0) continue;
+    const auto first = tree.prim_refs.begin() + n.first_prim_ref();
+    const bool left = *first < 2;
+    for (std::uint32_t i = 0; i < n.prim_count(); ++i) EXPECT_EQ(first[i] < 2, left);
+  }
+  EXPECT_EQ(tree.stats.prim_refs, 4u);
+}
+
+TEST(KdTree, CoincidentTrianglesTerminate) {
+  Scene s = random_soup(200, false, 5);
+  s.source = "coincident";
+  for (int i = 0; i < 3000; ++i) add_triangle(s, {0.5f, 0.5f, 0.5f}, {0.51f, 0.5f, 0.5f}, {0.5f, 0.51f, 0.5f});
+  KdBuildConfig c = config(false);
+  c.max_depth = c.stack_depth = 12;
+  c.traversal_cost = 0.0;  // splitting looks free: only the depth limit and the cost stop it
+  const KdTree tree = build_kdtree(s, c);
+  expect_valid_structure(s, tree, c);
+  EXPECT_LE(tree.stats.max_depth, 12);
+  // The 3000 copies stay together in some leaf.
+  bool found = false;
+  for (const KdNode& n : tree.nodes) found |= n.is_leaf() && n.prim_count() >= 3000;
+  EXPECT_TRUE(found);
+}
+
+TEST(KdTree, CoincidentTrianglesAloneMakeOneLeaf) {
+  Scene s;
+  s.source = "stack of copies";
+  for (int i = 0; i < 1000; ++i) add_triangle(s, {0, 0, 0}, {1, 0, 0}, {0, 1, 1});
+  const KdTree tree = build_kdtree(s, config(false));
+  EXPECT_EQ(tree.nodes.size(), 1u) << "no split of identical triangles is cheaper than a leaf";
+}
+
+TEST(KdTree, BuildsAsDeepAsTheStackAllows) {
+  const Scene s = random_soup(20000, false, 6);
+  KdBuildConfig c = config(false);
+  c.stack_depth = 8;
+  c.max_depth = 8;
+  const KdTree tree = build_kdtree(s, c);
+  expect_valid_structure(s, tree, c);
+  EXPECT_EQ(tree.stats.max_depth, 8);
+  c.max_depth = 9;
+  try {
+    build_kdtree(s, c);
+    FAIL() << "a tree deeper than the stack must be refused";
+  } catch (const Error& e) {
+    EXPECT_STREQ(e.what(),
+                 "kd-tree max depth 9 exceeds the traversal stack depth 8 of config 'default'; "
+                 "lower --max-depth or choose a config with a deeper stack");
+  }
+}
+
+std::string error_of(const Scene& s, const KdBuildConfig& c) {
+  try {
+    build_kdtree(s, c);
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+TEST(KdTree, RefusesImpossibleConfigurations) {
+  const Scene s = random_soup(10, false, 8);
+  KdBuildConfig c = config(false);
+  c.max_depth = 40;
+  EXPECT_EQ(error_of(s, c),
+            "kd-tree max depth 40 exceeds the traversal stack depth 32 of config 'default'; "
+            "lower --max-depth or choose a config with a deeper stack");
+  c = config(false);
+  c.max_depth = -1;
+  EXPECT_NE(error_of(s, c).find("max depth -1 is outside [0, 64]"), std::string::npos) << error_of(s, c);
+  c = config(false);
+  c.stack_depth = c.max_depth = 65;
+  EXPECT_NE(error_of(s, c).find("max depth 65 is outside [0, 64]"), std::string::npos) << error_of(s, c);
+  c = config(false);
+  c.traversal_cost = -1.0;
+  EXPECT_NE(error_of(s, c).find("costs must be finite and >= 0"), std::string::npos) << error_of(s, c);
+  c = config(false);
+  c.intersection_cost = std::nan("");
+  EXPECT_NE(error_of(s, c).find("costs must be finite and >= 0"), std::string::npos) << error_of(s, c);
+  for (const double bonus : {-0.1, 1.0}) {
+    c = config(false);
+    c.empty_bonus = bonus;
+    EXPECT_NE(error_of(s, c).find("empty bonus"), std::string::npos) << error_of(s, c);
+  }
+  Scene empty;
+  empty.source = "nothing.json";
+  EXPECT_EQ(error_of(empty, config(false)),
+            "scene 'nothing.json' has no triangles to build a kd-tree over; add geometry");
+}
+
+TEST(KdTree, ConfigForNamesTheStackDepth) {
+  for (const spec::HardwareConfig& h : spec::kConfigs) {
+    const KdBuildConfig c = kd_build_config_for(std::string(h.name));
+    EXPECT_EQ(c.max_depth, h.stack_depth);
+    EXPECT_EQ(c.stack_depth, h.stack_depth);
+    EXPECT_EQ(c.hardware_config, h.name);
+  }
+  try {
+    kd_build_config_for("huge");
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_STREQ(e.what(), "unknown hardware config 'huge'; choose one of tiny, default, rpu2005 "
+                           "(spec/configs.toml)");
+  }
+}
+
+TEST(KdTree, BuildIsDeterministic) {
+  const Scene s = random_soup(2000, true, 9);
+  const KdTree a = build_kdtree(s, config(true)), b = build_kdtree(s, config(true));
+  ASSERT_EQ(a.nodes.size(), b.nodes.size());
+  for (std::size_t i = 0; i < a.nodes.size(); ++i) {
+    EXPECT_EQ(a.nodes[i].word0, b.nodes[i].word0);
+    EXPECT_EQ(a.nodes[i].word1, b.nodes[i].word1);
+  }
+  EXPECT_EQ(a.prim_refs, b.prim_refs);
+}
+
+// Perfect splits give each straddling triangle its exact extent inside the child, so
+// the SAH sees fewer false overlaps: never a worse tree on the sphereflake.
+TEST(KdTree, PerfectSplitsDoNotRaiseTheSahCost) {
+  const Scene s = make_sphereflake(2);
+  const KdTree loose = build_kdtree(s, config(false)), perfect = build_kdtree(s, config(true));
+  std::cout << "sphereflake balls:2, " << s.triangles.size() << " triangles\n"
+            << "bounding-box splits:\n" << format_kd_stats(loose.stats)
+            << "perfect splits:\n" << format_kd_stats(perfect.stats);
+  EXPECT_LE(perfect.stats.sah_cost, loose.stats.sah_cost);
+}
+
+TEST(KdTree, StatsFormatNamesEveryField) {
+  const KdTree tree = build_kdtree(make_cornell_box(), config(false));
+  const std::string text = format_kd_stats(tree.stats);
+  for (const char* word : {"nodes", "inner", "leaves", "empty", "depth", "prims per leaf", "prim refs",
+                           "SAH cost", "bytes", "build time"}) {
+    EXPECT_NE(text.find(word), std::string::npos) << word << " missing from:\n" << text;
+  }
+  EXPECT_EQ(text.back(), '\n');
+}
+
+}  // namespace
+}  // namespace rpu
