@@ -40,4 +40,6 @@ void ProgressBar::update(std::size_t done, std::size_t total) {
   drawn_ = true;
 }
 
+std::string millions(std::uint64_t n) { return fmt::format("{:.2f} M", static_cast<double>(n) * 1e-6); }
+
 }  // namespace rpu::cli

@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cstddef>
+#include <cstdint>
 #include <mutex>
 #include <string>
 
@@ -26,5 +27,8 @@ class ProgressBar {
   std::chrono::steady_clock::time_point last_draw_{};
   std::mutex mutex_;
 };
+
+// "1.23 M": counts in the closing lines of the commands.
+std::string millions(std::uint64_t n);
 
 }  // namespace rpu::cli

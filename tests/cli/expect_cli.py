@@ -1,6 +1,6 @@
 """Runs the rpu CLI and checks its exit status, what it prints and the image it writes.
 
-    expect_cli.py --status N [--stderr REGEX]... [--png PATH WxH] -- rpu ARGS...
+    expect_cli.py --status N [--stderr REGEX]... [--stdout REGEX]... [--png PATH WxH] -- rpu ARGS...
 """
 import argparse
 import re
@@ -11,6 +11,7 @@ import sys
 ap = argparse.ArgumentParser()
 ap.add_argument("--status", type=int, required=True)
 ap.add_argument("--stderr", action="append", default=[], help="regex stderr must match")
+ap.add_argument("--stdout", action="append", default=[], help="regex stdout must match")
 ap.add_argument("--png", nargs=2, metavar=("PATH", "WxH"), help="PNG that must exist with this size")
 ap.add_argument("command", nargs=argparse.REMAINDER)
 args = ap.parse_args()
@@ -20,9 +21,10 @@ r = subprocess.run(command, capture_output=True, text=True, timeout=300)
 failures = []
 if r.returncode != args.status:
     failures.append(f"exit status {r.returncode}, expected {args.status}")
-for pattern in args.stderr:
-    if not re.search(pattern, r.stderr):
-        failures.append(f"stderr does not match /{pattern}/")
+for stream, patterns, text in (("stderr", args.stderr, r.stderr), ("stdout", args.stdout, r.stdout)):
+    for pattern in patterns:
+        if not re.search(pattern, text, re.S):
+            failures.append(f"{stream} does not match /{pattern}/")
 if args.png:
     path, size = args.png
     try:
@@ -36,7 +38,7 @@ if args.png:
                 failures.append(f"{path} is {w}x{h}, expected {size}")
     except OSError as e:
         failures.append(f"{path}: {e}")
-print(f"$ {' '.join(command)}\nstatus {r.returncode}\n--- stderr ---\n{r.stderr}")
+print(f"$ {' '.join(command)}\nstatus {r.returncode}\n--- stdout ---\n{r.stdout}\n--- stderr ---\n{r.stderr}")
 for f in failures:
     print(f"FAIL: {f}")
 sys.exit(1 if failures else 0)

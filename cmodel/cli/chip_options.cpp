@@ -1,0 +1,50 @@
+#include "cli/chip_options.hpp"
+
+#include <fmt/format.h>
+
+#include "common/error.hpp"
+#include "rpu/spec.hpp"
+
+namespace rpu::cli {
+
+KdBuildConfig ChipOptions::build_config() const {
+  KdBuildConfig c = kd_build_config_for(config);
+  c.traversal_cost = build.traversal_cost;
+  c.intersection_cost = build.intersection_cost;
+  c.empty_bonus = build.empty_bonus;
+  c.max_leaf_prims = build.max_leaf_prims;
+  c.perfect_splits = build.perfect_splits;
+  if (max_depth >= 0) c.max_depth = max_depth;
+  return c;
+}
+
+fp::Format ChipOptions::number_format() const {
+  if (!format.empty()) return fp::format_by_name(format);
+  for (const spec::HardwareConfig& c : spec::kConfigs) {
+    if (c.name == config) return fp::format_by_name(c.format);
+  }
+  throw Error(fmt::format("unknown hardware configuration '{}'", config));
+}
+
+void add_chip_options(CLI::App& command, ChipOptions& o) {
+  std::vector<std::string> configs;
+  for (const spec::HardwareConfig& c : spec::kConfigs) configs.emplace_back(c.name);
+  command.add_option("--config", o.config, "Hardware configuration (spec/configs.toml)")
+      ->check(CLI::IsMember(configs))
+      ->capture_default_str();
+  command.add_option("--format", o.format,
+                     "Number format: fp32, e8m15, rpu24, bf16, fp16 or E<e>M<m> (default: the configuration's)");
+  command.add_option("--isect", o.isect, "Ray/triangle test")
+      ->check(CLI::IsMember({"woop", "watertight"}))
+      ->capture_default_str();
+  command.add_option("--max-depth", o.max_depth, "kd-tree depth limit (default: the configuration's stack depth)");
+  command.add_option("--leaf-prims", o.build.max_leaf_prims, "Make a leaf at this many triangles or fewer")
+      ->capture_default_str();
+  command.add_option("--traversal-cost", o.build.traversal_cost, "SAH traversal cost K_T")->capture_default_str();
+  command.add_option("--intersection-cost", o.build.intersection_cost, "SAH intersection cost K_I")
+      ->capture_default_str();
+  command.add_option("--empty-bonus", o.build.empty_bonus, "SAH empty-space bonus lambda")->capture_default_str();
+  command.add_flag("--perfect-splits", o.build.perfect_splits, "Clip triangles to node boxes for split candidates");
+}
+
+}  // namespace rpu::cli

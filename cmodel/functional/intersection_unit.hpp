@@ -1,0 +1,102 @@
+#pragma once
+
+#include <array>
+#include <cstdint>
+
+#include "functional/trace_types.hpp"
+
+namespace rpu::functional {
+
+// The intersection unit's two tests, on records read from the memory image and a ray in
+// the unit's format (docs/traversal.md §4 and §5 give every operation in order; the RTL
+// implements the same sequence). Each returns whether the triangle is hit strictly
+// inside (t_min, t_best) and then sets t, u, v. Every product and sum is rounded
+// separately: no fused multiply-add.
+
+template <class Arith>
+struct RayRegisters {
+  using V = typename Arith::Value;
+  std::array<V, 3> origin, direction, inv_direction;
+  V t_min, t_max;
+  // Watertight test (Woop, Benthin, Wald 2013, §3): the dominant axis kz, the other two
+  // axes kx, ky (swapped when direction[kz] < 0 to keep the winding) and the shear.
+  int kx = 0, ky = 1, kz = 2;
+  V shear_x, shear_y, shear_z;
+};
+
+template <class Arith>
+struct UnitHit {
+  typename Arith::Value t, u, v;
+};
+
+// dp3(a, b) = (a0*b0 + a1*b1) + a2*b2.
+template <class Arith, class V = typename Arith::Value>
+V dot3(const Arith& ar, V a0, V a1, V a2, const std::array<V, 3>& b) {
+  return ar.add(ar.add(ar.mul(a0, b[0]), ar.mul(a1, b[1])), ar.mul(a2, b[2]));
+}
+
+// Woop's unit-triangle test (Woop, Schmittler, Slusallek 2005, §4.2). The record's rows
+// r0, r1, r2 (float4 each) map world space to the triangle's unit space.
+template <class Arith>
+bool intersect_woop(const Arith& ar, const RayRegisters<Arith>& ray, const std::array<std::uint32_t, 12>& record,
+                    typename Arith::Value t_best, UnitHit<Arith>& out) {
+  using V = typename Arith::Value;
+  // Rows are loaded as the test needs them: most tests end after row 2.
+  std::array<V, 12> m;
+  for (int i = 8; i < 12; ++i) m[i] = ar.load(record[i]);
+  const V oz = ar.add(dot3(ar, m[8], m[9], m[10], ray.origin), m[11]);
+  const V dz = dot3(ar, m[8], m[9], m[10], ray.direction);
+  const V t = ar.neg(ar.div(oz, dz));
+  if (!(ar.gt(t, ray.t_min) && ar.lt(t, t_best))) return false;
+  for (int i = 0; i < 8; ++i) m[i] = ar.load(record[i]);
+  const V ox = ar.add(dot3(ar, m[0], m[1], m[2], ray.origin), m[3]);
+  const V dx = dot3(ar, m[0], m[1], m[2], ray.direction);
+  const V u = ar.add(ox, ar.mul(t, dx));
+  if (!(ar.le(ar.zero(), u) && ar.le(u, ar.one()))) return false;
+  const V oy = ar.add(dot3(ar, m[4], m[5], m[6], ray.origin), m[7]);
+  const V dy = dot3(ar, m[4], m[5], m[6], ray.direction);
+  const V v = ar.add(oy, ar.mul(t, dy));
+  if (!(ar.le(ar.zero(), v) && ar.le(ar.add(u, v), ar.one()))) return false;
+  out = {t, u, v};
+  return true;
+}
+
+// The watertight test (Woop, Benthin, Wald 2013, Fig. 5, without the double-precision
+// fallback: edge functions are each one rounded difference of two rounded products, so
+// an edge shared by two triangles gets exactly opposite values in both and no ray
+// slips between them). The record holds the vertices A, B, C as float4.
+template <class Arith>
+bool intersect_watertight(const Arith& ar, const RayRegisters<Arith>& ray,
+                          const std::array<std::uint32_t, 12>& record, typename Arith::Value t_best,
+                          UnitHit<Arith>& out) {
+  using V = typename Arith::Value;
+  std::array<std::array<V, 3>, 3> p;  // A, B, C relative to the origin
+  for (int k = 0; k < 3; ++k) {
+    for (int i = 0; i < 3; ++i) p[k][i] = ar.sub(ar.load(record[4 * k + i]), ray.origin[i]);
+  }
+  std::array<V, 3> x, y;
+  for (int k = 0; k < 3; ++k) {
+    x[k] = ar.sub(p[k][ray.kx], ar.mul(ray.shear_x, p[k][ray.kz]));
+    y[k] = ar.sub(p[k][ray.ky], ar.mul(ray.shear_y, p[k][ray.kz]));
+  }
+  // Edge functions: U for edge BC (weight of A), V for CA (B), W for AB (C).
+  const V eu = ar.sub(ar.mul(x[2], y[1]), ar.mul(y[2], x[1]));
+  const V ev = ar.sub(ar.mul(x[0], y[2]), ar.mul(y[0], x[2]));
+  const V ew = ar.sub(ar.mul(x[1], y[0]), ar.mul(y[1], x[0]));
+  const V zero = ar.zero();
+  const bool any_negative = ar.lt(eu, zero) || ar.lt(ev, zero) || ar.lt(ew, zero);
+  const bool any_positive = ar.gt(eu, zero) || ar.gt(ev, zero) || ar.gt(ew, zero);
+  if (any_negative && any_positive) return false;
+  const V det = ar.add(ar.add(eu, ev), ew);
+  if (!(ar.lt(det, zero) || ar.gt(det, zero))) return false;  // zero or NaN
+  const V az = ar.mul(ray.shear_z, p[0][ray.kz]);
+  const V bz = ar.mul(ray.shear_z, p[1][ray.kz]);
+  const V cz = ar.mul(ray.shear_z, p[2][ray.kz]);
+  const V scaled_t = ar.add(ar.add(ar.mul(eu, az), ar.mul(ev, bz)), ar.mul(ew, cz));
+  const V t = ar.div(scaled_t, det);
+  if (!(ar.gt(t, ray.t_min) && ar.lt(t, t_best))) return false;
+  out = {t, ar.div(ev, det), ar.div(ew, det)};
+  return true;
+}
+
+}  // namespace rpu::functional

@@ -1,0 +1,190 @@
+#include "functional/tracer.hpp"
+
+#include <array>
+#include <bit>
+#include <cstring>
+
+#include <fmt/format.h>
+
+#include "common/error.hpp"
+#include "fp/fast32.hpp"
+#include "functional/arith.hpp"
+#include "functional/intersection_unit.hpp"
+#include "kdtree/kd_node.hpp"
+#include "rpu/spec.hpp"
+
+namespace rpu::functional {
+
+namespace {
+static_assert(std::endian::native == std::endian::little, "the memory image is read in place as little-endian");
+
+constexpr std::uint32_t kRecordWords = spec::memory::kTriangleRecordWoopBytes / 4;
+static_assert(spec::memory::kTriangleRecordWoopBytes == spec::memory::kTriangleRecordWatertightBytes);
+
+std::uint32_t read_u32(std::span<const std::uint8_t> image, std::uint32_t offset) {
+  std::uint32_t v;
+  std::memcpy(&v, image.data() + offset, sizeof v);
+  return v;
+}
+
+template <class V>
+struct StackEntry {
+  std::uint32_t node;
+  V t_near, t_far;
+};
+
+// The largest stack a configuration may ask for; kd trees are at most this deep.
+constexpr int kMaxStackDepth = 64;
+}  // namespace
+
+Tracer::Tracer(std::span<const std::uint8_t> image, const ImageLayout& layout, fp::Format format, int stack_depth,
+               bool fast_path)
+    : image_(image),
+      layout_(layout),
+      format_(format),
+      stack_depth_(stack_depth),
+      fast_(fast_path && format == fp::kFp32) {
+  if (stack_depth < 1 || stack_depth > kMaxStackDepth) {
+    throw Error(fmt::format("traversal stack depth {} is outside 1..{}", stack_depth, kMaxStackDepth));
+  }
+}
+
+TraceHit Tracer::trace(const TraceRay& ray, TraceMode mode) const {
+  if (fast_) {
+    const fp::fast32::FlushScope flush;
+    return trace_with(Fast32Arith{}, ray, mode);
+  }
+  return trace_with(SoftArith{format_}, ray, mode);
+}
+
+void Tracer::trace(std::span<const TraceRay> rays, TraceMode mode, std::span<TraceHit> out) const {
+  if (fast_) {
+    const fp::fast32::FlushScope flush;
+    const Fast32Arith ar;
+    for (std::size_t i = 0; i < rays.size(); ++i) out[i] = trace_with(ar, rays[i], mode);
+    return;
+  }
+  const SoftArith ar{format_};
+  for (std::size_t i = 0; i < rays.size(); ++i) out[i] = trace_with(ar, rays[i], mode);
+}
+
+template <class Arith>
+TraceHit Tracer::trace_with(const Arith& ar, const TraceRay& in, TraceMode mode) const {
+  using V = typename Arith::Value;
+  TraceHit result;
+
+  // §1 Ray set-up: round into the format; a ray with a NaN or infinite component, a
+  // zero direction or an empty interval is a miss that fetches nothing.
+  RayRegisters<Arith> ray;
+  bool valid = true;
+  bool zero_direction = true;
+  const V infinity = ar.load(0x7f800000u);
+  for (int i = 0; i < 3; ++i) {
+    ray.origin[i] = ar.load(std::bit_cast<std::uint32_t>(in.origin[i]));
+    ray.direction[i] = ar.load(std::bit_cast<std::uint32_t>(in.direction[i]));
+    valid = valid && ar.lt(ar.abs(ray.origin[i]), infinity) && ar.lt(ar.abs(ray.direction[i]), infinity);
+    zero_direction = zero_direction && ar.eq(ray.direction[i], ar.zero());
+  }
+  ray.t_min = ar.load(std::bit_cast<std::uint32_t>(in.t_min));
+  ray.t_max = ar.load(std::bit_cast<std::uint32_t>(in.t_max));
+  if (!valid || zero_direction || !ar.lt(ray.t_min, ray.t_max)) return result;
+  for (int i = 0; i < 3; ++i) ray.inv_direction[i] = ar.rcp(ray.direction[i]);
+
+  const bool watertight = layout_.isect_mode == IsectMode::kWatertight;
+  if (watertight) {
+    const V ax = ar.abs(ray.direction[0]), ay = ar.abs(ray.direction[1]), az = ar.abs(ray.direction[2]);
+    ray.kz = ar.le(ay, ax) && ar.le(az, ax) ? 0 : (ar.le(az, ay) ? 1 : 2);
+    ray.kx = (ray.kz + 1) % 3;
+    ray.ky = (ray.kx + 1) % 3;
+    if (ar.lt(ray.direction[ray.kz], ar.zero())) std::swap(ray.kx, ray.ky);
+    ray.shear_x = ar.div(ray.direction[ray.kx], ray.direction[ray.kz]);
+    ray.shear_y = ar.div(ray.direction[ray.ky], ray.direction[ray.kz]);
+    ray.shear_z = ar.rcp(ray.direction[ray.kz]);
+  }
+
+  // §2 Clip to the scene box. The near and far plane of each axis are chosen by the
+  // sign of 1/d (so +0 and -0 pick opposite planes); a NaN from 0 * inf (origin on a
+  // plane, direction parallel to it) never narrows the interval.
+  V t_near = ray.t_min, t_far = ray.t_max;
+  const float lo[3] = {layout_.bounds_lo.x, layout_.bounds_lo.y, layout_.bounds_lo.z};
+  const float hi[3] = {layout_.bounds_hi.x, layout_.bounds_hi.y, layout_.bounds_hi.z};
+  for (int i = 0; i < 3; ++i) {
+    const V t_lo = ar.mul(ar.sub(ar.load(std::bit_cast<std::uint32_t>(lo[i])), ray.origin[i]), ray.inv_direction[i]);
+    const V t_hi = ar.mul(ar.sub(ar.load(std::bit_cast<std::uint32_t>(hi[i])), ray.origin[i]), ray.inv_direction[i]);
+    const bool negative = ar.sign(ray.inv_direction[i]);
+    const V entry = negative ? t_hi : t_lo;
+    const V exit = negative ? t_lo : t_hi;
+    if (ar.gt(entry, t_near)) t_near = entry;
+    if (ar.lt(exit, t_far)) t_far = exit;
+  }
+  if (!ar.le(t_near, t_far)) return result;
+
+  // §3 Traversal.
+  std::array<StackEntry<V>, kMaxStackDepth> stack;
+  int stack_size = 0;
+  V t_best = ray.t_max;
+  std::uint32_t node_index = 0;
+  const std::uint32_t nodes_base = layout_.kd_nodes.offset;
+  while (true) {
+    const KdNode node{read_u32(image_, nodes_base + 8 * node_index), read_u32(image_, nodes_base + 8 * node_index + 4)};
+    ++result.counters.nodes;
+    if (!node.is_leaf()) {
+      const int axis = node.split_axis();
+      const V split = ar.load(node.split_bits());
+      const V t_split = ar.mul(ar.sub(split, ray.origin[axis]), ray.inv_direction[axis]);
+      const bool below_first = ar.lt(ray.origin[axis], split) ||
+                               (ar.eq(ray.origin[axis], split) && ar.le(ray.direction[axis], ar.zero()));
+      const std::uint32_t first = below_first ? node_index + 1 : node.above_child();
+      const std::uint32_t second = below_first ? node.above_child() : node_index + 1;
+      if (!ar.le(t_split, t_far) || ar.le(t_split, ar.zero())) {
+        node_index = first;  // the plane is behind, beyond, or (NaN) the ray lies in it
+      } else if (ar.lt(t_split, t_near)) {
+        node_index = second;
+      } else {
+        if (stack_size == stack_depth_) {
+          throw Error(fmt::format(
+              "traversal stack overflow at kd node {} (stack depth {}): the image's tree is deeper than the "
+              "traversal unit's stack; rebuild it with a max depth <= {}",
+              node_index, stack_depth_, stack_depth_));
+        }
+        stack[stack_size++] = {second, t_split, t_far};
+        node_index = first;
+        t_far = t_split;
+      }
+      continue;
+    }
+
+    ++result.counters.leaves;
+    const std::uint32_t first_ref = node.first_prim_ref();
+    for (std::uint32_t k = 0; k < node.prim_count(); ++k) {
+      const std::uint32_t prim = read_u32(image_, layout_.prim_refs.offset + 4 * (first_ref + k));
+      std::array<std::uint32_t, kRecordWords> record;
+      std::memcpy(record.data(), image_.data() + layout_.isect_records.offset + kRecordWords * 4 * prim,
+                  sizeof record);
+      ++result.counters.tests;
+      UnitHit<Arith> hit;
+      const bool found = watertight ? intersect_watertight(ar, ray, record, t_best, hit)
+                                    : intersect_woop(ar, ray, record, t_best, hit);
+      if (!found) continue;
+      t_best = hit.t;
+      result.hit = true;
+      result.prim = prim;
+      result.t = std::bit_cast<float>(ar.store(hit.t));
+      result.u = std::bit_cast<float>(ar.store(hit.u));
+      result.v = std::bit_cast<float>(ar.store(hit.v));
+      if (mode == TraceMode::kAny) return result;
+    }
+    // A hit no farther than this leaf's exit is nearer than anything behind it.
+    if (result.hit && ar.le(t_best, t_far)) return result;
+    // Pop the next subtree. Entries lie front to back, so once the best hit is nearer
+    // than an entry's near end, it is nearer than everything left.
+    if (stack_size == 0) return result;
+    const StackEntry<V>& entry = stack[--stack_size];
+    if (result.hit && ar.lt(t_best, entry.t_near)) return result;
+    node_index = entry.node;
+    t_near = entry.t_near;
+    t_far = entry.t_far;
+  }
+}
+
+}  // namespace rpu::functional

@@ -1,0 +1,42 @@
+#pragma once
+
+#include <cstdint>
+#include <span>
+
+#include "fp/format.hpp"
+#include "functional/trace_types.hpp"
+#include "memory/memory_image.hpp"
+
+namespace rpu::functional {
+
+// The golden traversal unit and intersection unit: kd-tree traversal with a fixed-depth
+// stack over a validated memory image, in the configured number format, bit for bit
+// the semantics the RTL implements (docs/traversal.md).
+class Tracer {
+ public:
+  // `image` must outlive the tracer and have passed validate_memory_image, which gave
+  // `layout`. With fp32 and `fast_path`, arithmetic runs on host float (identical bits).
+  Tracer(std::span<const std::uint8_t> image, const ImageLayout& layout, fp::Format format, int stack_depth,
+         bool fast_path = true);
+
+  // Throws rpu::Error if the ray needs a deeper stack than the unit has.
+  TraceHit trace(const TraceRay& ray, TraceMode mode) const;
+
+  // Many rays at once; out.size() must equal rays.size().
+  void trace(std::span<const TraceRay> rays, TraceMode mode, std::span<TraceHit> out) const;
+
+  fp::Format format() const { return format_; }
+  bool uses_fast_path() const { return fast_; }
+
+ private:
+  template <class Arith>
+  TraceHit trace_with(const Arith& ar, const TraceRay& ray, TraceMode mode) const;
+
+  std::span<const std::uint8_t> image_;
+  ImageLayout layout_;
+  fp::Format format_;
+  int stack_depth_;
+  bool fast_;
+};
+
+}  // namespace rpu::functional

@@ -1,0 +1,155 @@
+// Embree (Debian's libembree 3) as an independent hit oracle for the fp32 trace units:
+// the closest-hit primitive must agree on >= 99.99% of camera and random rays, t within
+// 1e-5 relative where they agree, and every disagreement must be a near tie, checked in
+// double precision and reported.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <tuple>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "functional/scene_image.hpp"
+#include "functional/tracer.hpp"
+#include "scene/procedural.hpp"
+#include "scene/resolve.hpp"
+#include "embree_scene.hpp"
+#include "trace_fixtures.hpp"
+
+namespace rpu::functional {
+namespace {
+
+struct OracleCase {
+  std::string scene;
+  IsectMode mode;
+};
+
+class EmbreeOracle : public ::testing::TestWithParam<OracleCase> {};
+
+TEST_P(EmbreeOracle, Fp32ClosestHitsAgreeWithEmbree) {
+  const Scene scene = resolve_scene(GetParam().scene);
+  const SceneImage si = make_scene_image(scene, KdBuildConfig{}, GetParam().mode);
+  const Tracer tracer(si.image.bytes, si.layout, fp::kFp32, 32);
+  const test::EmbreeScene embree(scene);
+  std::vector<TraceRay> rays = test::camera_rays(scene, 320, 320);  // 102,400 camera rays
+  const std::vector<TraceRay> random = test::random_rays(scene, 100000, 41);
+  rays.insert(rays.end(), random.begin(), random.end());
+
+  // Two ids name the same triangle when the mesh holds it twice (the dragon does).
+  auto same_triangle = [&](unsigned a, unsigned b) {
+    std::array<glm::vec3, 3> x, y;
+    for (int k = 0; k < 3; ++k) {
+      x[k] = scene.positions[scene.triangles[a][k]];
+      y[k] = scene.positions[scene.triangles[b][k]];
+    }
+    auto less = [](const glm::vec3& p, const glm::vec3& q) {
+      return std::tie(p.x, p.y, p.z) < std::tie(q.x, q.y, q.z);
+    };
+    std::sort(x.begin(), x.end(), less);
+    std::sort(y.begin(), y.end(), less);
+    return x == y;
+  };
+  // t is judged against the exact (double) distance to Embree's triangle. The trace
+  // units subtract coordinates (Woop: n.O + w; watertight: V - O), so their error scales
+  // with the coordinates' magnitude, not with t, and grows as 1/cos of the incidence
+  // angle like any ray/plane distance: the bound is 1e-5 * max(t, largest coordinate
+  // involved) / |cos| (docs/traversal.md, "Accuracy"). How many exceed 1e-5 of t alone
+  // is reported too.
+  std::size_t agree = 0, duplicates = 0, hits = 0, near_ties = 0, t_off = 0, t_off_relative = 0;
+  double worst_relative = 0.0, worst_scaled = 0.0;
+  std::vector<std::string> report;
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    const TraceHit ours = tracer.trace(rays[i], TraceMode::kClosest);
+    const auto [e_hit, e_t, e_prim] = embree.intersect(rays[i]);
+    hits += e_hit;
+    const bool same = ours.hit == e_hit && (!e_hit || ours.prim == e_prim || same_triangle(ours.prim, e_prim));
+    if (same) {
+      ++agree;
+      if (!e_hit) continue;
+      duplicates += ours.prim != e_prim;
+      const double exact = test::double_hit(scene, e_prim, rays[i]).t;
+      double scale = 0.0;
+      for (int k = 0; k < 3; ++k) {
+        const glm::vec3 v = scene.positions[scene.triangles[e_prim][k]];
+        scale = std::max({scale, std::abs(double(rays[i].origin[k])), std::abs(double(v.x)),
+                          std::abs(double(v.y)), std::abs(double(v.z))});
+      }
+      const glm::uvec3 tri = scene.triangles[e_prim];
+      const glm::dvec3 n = glm::normalize(glm::cross(glm::dvec3(scene.positions[tri.y] - scene.positions[tri.x]),
+                                                     glm::dvec3(scene.positions[tri.z] - scene.positions[tri.x])));
+      const double cosine = std::abs(glm::dot(n, glm::normalize(glm::dvec3(rays[i].direction[0], rays[i].direction[1],
+                                                                           rays[i].direction[2]))));
+      const double error = std::abs(ours.t - exact);
+      const double scaled = error * cosine / std::max(exact, scale);
+      worst_relative = std::max(worst_relative, error / exact);
+      worst_scaled = std::max(worst_scaled, scaled);
+      t_off_relative += error > 1e-5 * exact;
+      if (scaled > 1e-5) {
+        ++t_off;
+        report.push_back(fmt::format("ray {}: prim {}: t {} vs exact {} (Embree {}), coordinates up to {}, cos {}",
+                                     i, e_prim, ours.t, exact, e_t, scale, cosine));
+      }
+      continue;
+    }
+    // A near tie: both answers name triangles the ray meets (within 1e-5 of an edge, in
+    // double) at distances equal within 1e-5 relative; or one side misses a triangle the
+    // ray only grazes along an edge.
+    const double tol = 1e-5;
+    bool tie;
+    std::string what;
+    if (ours.hit && e_hit) {
+      const test::DoubleHit a = test::double_hit(scene, ours.prim, rays[i]), b = test::double_hit(scene, e_prim, rays[i]);
+      tie = a.min_barycentric > -tol && b.min_barycentric > -tol && std::abs(a.t - b.t) <= tol * std::abs(b.t);
+      what = fmt::format("prim {} (t {:.9g}, min bary {:.2g}) vs Embree {} (t {:.9g}, min bary {:.2g})",
+                         ours.prim, a.t, a.min_barycentric, e_prim, b.t, b.min_barycentric);
+    } else {
+      const unsigned prim = ours.hit ? ours.prim : e_prim;
+      const test::DoubleHit h = test::double_hit(scene, prim, rays[i]);
+      tie = std::abs(h.min_barycentric) <= tol;
+      what = fmt::format("{} hits prim {} alone (min bary {:.2g})", ours.hit ? "rpu" : "Embree", prim,
+                         h.min_barycentric);
+    }
+    near_ties += tie;
+    report.push_back(fmt::format("ray {}: {}: {}", i, tie ? "near tie" : "NOT A TIE", what));
+    if (!tie) ADD_FAILURE() << report.back();
+  }
+  const double agreement = static_cast<double>(agree) / static_cast<double>(rays.size());
+  const std::size_t disagreements = rays.size() - agree;
+  std::printf(
+      "%s %s: %zu rays, %zu hit (Embree), agreement %.5f%% (%zu by a duplicate triangle), %zu disagreements "
+      "(%zu near ties); t error: worst %.2g of t, worst %.2g of max(t, coordinates) / cos, %zu over 1e-5 of t, %zu over "
+      "the bound\n",
+      GetParam().scene.c_str(), GetParam().mode == IsectMode::kWoop ? "woop" : "watertight", rays.size(), hits,
+      100.0 * agreement, duplicates, disagreements, near_ties, worst_relative, worst_scaled, t_off_relative, t_off);
+  for (std::size_t i = 0; i < std::min<std::size_t>(report.size(), 20); ++i) std::printf("  %s\n", report[i].c_str());
+  RecordProperty("agreement_percent", fmt::format("{:.5f}", 100.0 * agreement));
+  EXPECT_GE(agreement, 0.9999);
+  EXPECT_EQ(t_off, 0u);
+  EXPECT_GT(hits, rays.size() / 4) << "the rays must mostly hit the scene";
+}
+
+std::string oracle_name(const ::testing::TestParamInfo<OracleCase>& info) {
+  std::string name = info.param.scene;
+  for (char& c : name) {
+    if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+  }
+  return name + (info.param.mode == IsectMode::kWoop ? "_woop" : "_watertight");
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Scenes, EmbreeOracle,
+    ::testing::Values(OracleCase{"scenes/bunny.json", IsectMode::kWoop},
+                      OracleCase{"scenes/bunny.json", IsectMode::kWatertight},
+                      OracleCase{"balls:2", IsectMode::kWoop}, OracleCase{"balls:2", IsectMode::kWatertight},
+                      OracleCase{"cornell", IsectMode::kWoop}, OracleCase{"cornell", IsectMode::kWatertight},
+                      OracleCase{"scenes/dragon.json", IsectMode::kWoop},
+                      OracleCase{"scenes/dragon.json", IsectMode::kWatertight}),
+    oracle_name);
+
+}  // namespace
+}  // namespace rpu::functional

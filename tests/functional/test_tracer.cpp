@@ -1,0 +1,341 @@
+// The golden trace units: the rules of docs/traversal.md, in every format and both
+// intersection modes. The kd-tree walk is checked against the same image built as a
+// single leaf (every triangle tested, no traversal), which shares no traversal code.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <bit>
+#include <cstdio>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include <fmt/format.h>
+
+#include "common/error.hpp"
+#include "fp/format.hpp"
+#include "functional/scene_image.hpp"
+#include "functional/tracer.hpp"
+#include "scene/procedural.hpp"
+#include "trace_fixtures.hpp"
+
+namespace rpu::functional {
+namespace {
+
+struct Case {
+  const char* format;
+  IsectMode mode;
+};
+
+std::string case_name(const ::testing::TestParamInfo<Case>& info) {
+  return std::string(info.param.format) + (info.param.mode == IsectMode::kWoop ? "_woop" : "_watertight");
+}
+
+class TracerRules : public ::testing::TestWithParam<Case> {
+ protected:
+  fp::Format format() const { return fp::format_by_name(GetParam().format); }
+  IsectMode mode() const { return GetParam().mode; }
+  SceneImage image_of(const Scene& scene, int max_depth = 32) const {
+    KdBuildConfig config;
+    config.max_depth = max_depth;
+    return make_scene_image(scene, config, mode());
+  }
+  Tracer tracer_of(const SceneImage& si, int stack_depth = 32) const {
+    return Tracer(si.image.bytes, si.layout, format(), stack_depth);
+  }
+  // Values that are exact in every format under test (E >= 5, M >= 7).
+  static bool same_result(const TraceHit& a, const TraceHit& b) {
+    return a.hit == b.hit && (!a.hit || (std::bit_cast<std::uint32_t>(a.t) == std::bit_cast<std::uint32_t>(b.t)));
+  }
+};
+
+TEST_P(TracerRules, AxisParallelRaysWithSignedZerosHitTheFacingCubeFace) {
+  const SceneImage si = image_of(test::cube());
+  const Tracer tracer = tracer_of(si);
+  for (int axis = 0; axis < 3; ++axis) {
+    for (double sign : {1.0, -1.0}) {
+      for (double zero : {0.0, -0.0}) {
+        glm::dvec3 o(0.25, 0.375, -0.125), d(zero);
+        o[axis] = -4.0 * sign;  // 4 units out, looking back at the cube
+        d[axis] = sign;
+        const TraceHit hit = tracer.trace(test::make_ray(o, d), TraceMode::kClosest);
+        ASSERT_TRUE(hit.hit) << "axis " << axis << " sign " << sign << " zero " << std::signbit(zero);
+        EXPECT_EQ(hit.t, 3.0f);
+        // Faces come in triangle pairs: 0-1 x=-1, 2-3 x=+1, 4-5 y=-1, 6-7 y=+1, 8-9 z=-1, 10-11 z=+1.
+        EXPECT_EQ(hit.prim / 2, static_cast<std::uint32_t>(2 * axis + (sign > 0 ? 0 : 1)));
+        EXPECT_GT(hit.counters.nodes, 0u);
+      }
+    }
+  }
+}
+
+TEST_P(TracerRules, NanInfAndZeroDirectionRaysAreDefinedMissesThatFetchNothing) {
+  const SceneImage si = image_of(test::cube());
+  const Tracer tracer = tracer_of(si);
+  const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+  std::vector<TraceRay> bad;
+  for (int i = 0; i < 3; ++i) {
+    for (float x : {nan, inf, -inf}) {
+      TraceRay r = test::make_ray({0, 0, -4}, {0, 0, 1});
+      r.origin[i] = x;
+      bad.push_back(r);
+      r = test::make_ray({0, 0, -4}, {0, 0, 1});
+      r.direction[i] = x;
+      bad.push_back(r);
+    }
+  }
+  bad.push_back(test::make_ray({0, 0, -4}, {0.0, -0.0, 0.0}));
+  TraceRay empty = test::make_ray({0, 0, -4}, {0, 0, 1});
+  empty.t_min = 5.0f;
+  empty.t_max = 5.0f;
+  bad.push_back(empty);
+  empty.t_min = nan;
+  bad.push_back(empty);
+  for (std::size_t i = 0; i < bad.size(); ++i) {
+    for (TraceMode m : {TraceMode::kClosest, TraceMode::kAny}) {
+      const TraceHit hit = tracer.trace(bad[i], m);
+      EXPECT_FALSE(hit.hit) << "ray " << i;
+      EXPECT_EQ(hit.counters.nodes, 0u) << "ray " << i;
+    }
+  }
+}
+
+// Traversal = testing every triangle: the same image built as one leaf is the oracle.
+void expect_traversal_matches_exhaustive(const TracerRules& self, const Scene& scene,
+                                         const std::vector<TraceRay>& rays, const char* what);
+
+TEST_P(TracerRules, OriginsOnSplitPlanesTraceAsAnExhaustiveTest) {
+  const Scene scene = make_sphereflake(1, 8);
+  const SceneImage si = image_of(scene);
+  // Origins exactly on every split plane (as fp32) of the tree, in all directions,
+  // including along the plane (a 0 component) and with -0.
+  std::vector<TraceRay> rays;
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const auto* nodes = reinterpret_cast<const KdNode*>(si.image.bytes.data() + si.layout.kd_nodes.offset);
+  for (std::uint32_t n = 0; n < si.layout.kd_nodes.count && rays.size() < 4000; ++n) {
+    if (nodes[n].is_leaf()) continue;
+    const int a = nodes[n].split_axis();
+    for (int k = 0; k < 6; ++k) {
+      glm::dvec3 o(u(rng), u(rng), u(rng)), d(u(rng), u(rng), u(rng));
+      o *= 1.5;
+      o[a] = nodes[n].split();
+      if (k >= 2) d[a] = k % 2 ? 0.0 : -0.0;
+      if (k == 5) d = -d;
+      TraceRay r = test::make_ray(o, d);
+      r.origin[a] = nodes[n].split();  // exactly, not via double
+      rays.push_back(r);
+    }
+  }
+  expect_traversal_matches_exhaustive(*this, scene, rays, "split-plane origins");
+}
+
+TEST_P(TracerRules, OriginsOnTriangleEdgesAndVerticesTraceAsAnExhaustiveTest) {
+  const Scene scene = test::icosphere(2);
+  std::vector<TraceRay> rays;
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (std::size_t t = 0; t < scene.triangles.size(); ++t) {
+    const glm::dvec3 a(scene.positions[scene.triangles[t].x]), b(scene.positions[scene.triangles[t].y]);
+    for (const glm::dvec3& o : {a, 0.5 * (a + b)}) {
+      rays.push_back(test::make_ray(o, {u(rng), u(rng), u(rng)}));
+      rays.push_back(test::make_ray(o, -o));  // inwards, through the sphere
+    }
+  }
+  expect_traversal_matches_exhaustive(*this, scene, rays, "edge and vertex origins");
+}
+
+TEST_P(TracerRules, CameraAndRandomRaysTraceAsAnExhaustiveTest) {
+  const Scene scene = make_sphereflake(1, 8);
+  std::vector<TraceRay> rays = test::camera_rays(scene, 48, 48);
+  const std::vector<TraceRay> random = test::random_rays(scene, 2000, 3);
+  rays.insert(rays.end(), random.begin(), random.end());
+  expect_traversal_matches_exhaustive(*this, scene, rays, "camera and random rays");
+}
+
+void expect_traversal_matches_exhaustive(const TracerRules& self, const Scene& scene,
+                                         const std::vector<TraceRay>& rays, const char* what) {
+  const fp::Format format = fp::format_by_name(self.GetParam().format);
+  KdBuildConfig tree_config;
+  const SceneImage tree = make_scene_image(scene, tree_config, self.GetParam().mode);
+  KdBuildConfig leaf_config;
+  leaf_config.max_depth = 0;  // one leaf holding every triangle
+  const SceneImage leaf = make_scene_image(scene, leaf_config, self.GetParam().mode);
+  ASSERT_EQ(leaf.layout.kd_nodes.count, 1u);
+  const Tracer walk(tree.image.bytes, tree.layout, format, 32);
+  const Tracer all(leaf.image.bytes, leaf.layout, format, 32);
+  // The two can differ only where rounding decides: a hit the format's test accepts a
+  // hair outside a triangle (the tree culls the region), or two triangles at the same
+  // distance. Such near ties are judged in double precision with a tolerance of 16 ulps
+  // of the format (at least 1e-5) and counted; anything else fails.
+  const double tol = std::max(1e-5, std::ldexp(16.0, -format.fraction_bits));
+  int hits = 0, near_ties = 0, failures = 0;
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    for (TraceMode m : {TraceMode::kClosest, TraceMode::kAny}) {
+      const TraceHit a = walk.trace(rays[i], m), b = all.trace(rays[i], m);
+      hits += a.hit;
+      if (a.hit == b.hit && (m == TraceMode::kAny || !a.hit || a.t == b.t)) continue;
+      bool tie;
+      if (a.hit && b.hit) {
+        const test::DoubleHit x = test::double_hit(scene, a.prim, rays[i]), y = test::double_hit(scene, b.prim, rays[i]);
+        tie = std::abs(x.t - y.t) <= tol * std::max(std::abs(y.t), 1.0);
+      } else {
+        tie = std::abs(test::double_hit(scene, a.hit ? a.prim : b.prim, rays[i]).min_barycentric) <= tol;
+      }
+      near_ties += tie;
+      if (!tie && ++failures <= 5) {
+        ADD_FAILURE() << what << " ray " << i << " (" << (m == TraceMode::kAny ? "any" : "closest")
+                      << "): o=(" << rays[i].origin[0] << "," << rays[i].origin[1] << "," << rays[i].origin[2]
+                      << ") d=(" << rays[i].direction[0] << "," << rays[i].direction[1] << ","
+                      << rays[i].direction[2] << ") kd: hit " << a.hit << " t " << a.t << " prim " << a.prim
+                      << "; all triangles: hit " << b.hit << " t " << b.t << " prim " << b.prim;
+      }
+    }
+  }
+  std::printf("%s, %s: %zu rays, %d near ties\n", what, self.GetParam().format, rays.size(), near_ties);
+  EXPECT_EQ(failures, 0) << what;
+  EXPECT_LE(near_ties, static_cast<int>(rays.size() / 100)) << what << ": near ties must stay rare";
+  EXPECT_GT(hits, 0) << what << ": the rays must hit something";
+}
+
+TEST_P(TracerRules, ScalingTheSceneByPowersOfTwoKeepsPrimitiveIds) {
+  const Scene base = make_sphereflake(1, 8);
+  const std::vector<TraceRay> rays = test::random_rays(base, 1500, 17);
+  const fp::Format f = format();
+  // Scaling coordinates by 2^k scales every value the units form by an exact power of
+  // two as long as none leaves the format's normal range. Woop's values are products of
+  // a coordinate and a matrix entry (~ 1/edge length); its small intermediate values
+  // (coordinate differences ~ 2^-8 of the scene) need k >= -(bias - 20), its large
+  // ones k <= bias - 12: fp32 gets the full [-60, 60]. The watertight T term is
+  // cubic in coordinates and edge lengths (docs/traversal.md §5): |k| <= (bias - 30) / 3
+  // (fp32: 32). The limits were found by running this test.
+  const bool woop = mode() == IsectMode::kWoop;
+  const int k_lo = std::clamp(woop ? f.bias() - 20 : (f.bias() - 30) / 3, 0, 60);
+  const int k_hi = std::clamp(woop ? f.bias() - 12 : (f.bias() - 30) / 3, 0, 60);
+  if (k_lo + k_hi == 0) {
+    GTEST_SKIP() << f.name() << " leaves no exponent headroom to scale this scene with this test";
+  }
+  std::vector<int> ks;
+  for (int k = -k_lo; k < k_hi; k += std::max(1, (k_lo + k_hi) / 12)) ks.push_back(k);
+  ks.push_back(k_hi);
+  const int k_max = k_lo;  // the reference scale is 2^-k_lo
+  RecordProperty("k_range", std::to_string(-k_lo) + ".." + std::to_string(k_hi));
+  std::vector<TraceHit> reference;
+  for (int k : ks) {
+    Scene scaled = base;
+    const float s = std::ldexp(1.0f, k);
+    for (glm::vec3& p : scaled.positions) p *= s;
+    const SceneImage si = image_of(scaled);
+    const Tracer tracer = tracer_of(si);
+    std::vector<TraceHit> hits;
+    for (TraceRay r : rays) {
+      for (float& x : r.origin) x *= s;
+      hits.push_back(tracer.trace(r, TraceMode::kClosest));
+    }
+    if (reference.empty()) {
+      reference = hits;
+      continue;
+    }
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+      ASSERT_EQ(hits[i].hit, reference[i].hit) << "k " << k << " ray " << i;
+      if (!hits[i].hit) continue;
+      EXPECT_EQ(hits[i].prim, reference[i].prim) << "k " << k << " ray " << i;
+      EXPECT_EQ(hits[i].t, std::ldexp(reference[i].t, k + k_max)) << "k " << k << " ray " << i;
+    }
+  }
+}
+
+TEST_P(TracerRules, ATreeAsDeepAsTheStackWorksAndAShallowerStackFaults) {
+  const Scene scene = make_sphereflake(1, 8);
+  const SceneImage si = image_of(scene, 8);
+  ASSERT_EQ(si.tree_stats.max_depth, 8);
+  const std::vector<TraceRay> rays = test::random_rays(scene, 500, 2);
+  const Tracer deep_enough = tracer_of(si, 8);
+  for (const TraceRay& r : rays) deep_enough.trace(r, TraceMode::kClosest);
+  const Tracer too_shallow = tracer_of(si, 2);
+  try {
+    for (const TraceRay& r : rays) too_shallow.trace(r, TraceMode::kClosest);
+    FAIL() << "expected a stack overflow fault";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("traversal stack overflow"), std::string::npos) << e.what();
+  }
+}
+
+TEST_P(TracerRules, CountersAddUp) {
+  const SceneImage si = image_of(test::icosphere(2));
+  const Tracer tracer = tracer_of(si);
+  const TraceHit hit = tracer.trace(test::make_ray({0, 0, -3}, {0.01, 0.02, 1}), TraceMode::kClosest);
+  ASSERT_TRUE(hit.hit);
+  EXPECT_GE(hit.counters.nodes, hit.counters.leaves);
+  EXPECT_GE(hit.counters.tests, 1u);
+  const TraceHit any = tracer.trace(test::make_ray({0, 0, -3}, {0.01, 0.02, 1}), TraceMode::kAny);
+  EXPECT_LE(any.counters.tests, hit.counters.tests);
+}
+
+INSTANTIATE_TEST_SUITE_P(Formats, TracerRules,
+                         ::testing::Values(Case{"fp32", IsectMode::kWoop}, Case{"fp32", IsectMode::kWatertight},
+                                           Case{"e8m15", IsectMode::kWoop}, Case{"e8m15", IsectMode::kWatertight},
+                                           Case{"rpu24", IsectMode::kWoop}, Case{"rpu24", IsectMode::kWatertight},
+                                           Case{"bf16", IsectMode::kWoop}, Case{"bf16", IsectMode::kWatertight},
+                                           Case{"fp16", IsectMode::kWoop}, Case{"fp16", IsectMode::kWatertight}),
+                         case_name);
+
+// Degenerate triangles cannot get a Woop record (the writer refuses them), and the
+// watertight test never hits them (det = 0) nor returns NaN.
+TEST(TracerDegenerate, WatertightNeverHitsDegenerateTriangles) {
+  Scene s;
+  s.source = "degenerate";
+  s.materials.push_back({});
+  s.positions = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0},          // zero area: a point
+                 {-1, 0, 0}, {1, 0, 0}, {0.5f, 0, 0},      // collinear
+                 {-1, -1, 0}, {1, 1, 0}, {1, 1, 0},        // needle: two vertices coincide
+                 {5, 5, 5}, {6, 5, 5}, {5, 6, 5}};          // one real triangle, off to the side
+  s.triangles = {{0, 1, 2}, {3, 4, 5}, {6, 7, 8}, {9, 10, 11}};
+  s.material_ids.assign(4, 0);
+  EXPECT_THROW(make_scene_image(s, KdBuildConfig{}, IsectMode::kWoop), Error);
+  const SceneImage si = make_scene_image(s, KdBuildConfig{}, IsectMode::kWatertight);
+  for (const char* name : {"fp32", "rpu24", "fp16"}) {
+    const Tracer tracer(si.image.bytes, si.layout, fp::format_by_name(name), 32);
+    std::mt19937 rng(1);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    for (int i = 0; i < 20000; ++i) {
+      const glm::dvec3 target(u(rng), u(rng), 0.0);
+      const glm::dvec3 o(u(rng), u(rng), 2.0);
+      const TraceHit hit = tracer.trace(test::make_ray(o, target - o), TraceMode::kClosest);
+      EXPECT_FALSE(hit.hit && hit.prim != 3) << name << " ray " << i << " hit degenerate prim " << hit.prim;
+      EXPECT_FALSE(std::isnan(hit.t) || std::isnan(hit.u) || std::isnan(hit.v)) << name << " ray " << i;
+    }
+  }
+}
+
+// fp32 on host float gives the soft path's bits (docs/numbers.md), through whole rays.
+TEST(TracerFastPath, Fp32FastPathEqualsSoftPathBitForBit) {
+  const Scene scene = make_sphereflake(1, 8);
+  std::vector<TraceRay> rays = test::random_rays(scene, 20000, 23);
+  const std::vector<TraceRay> camera = test::camera_rays(scene, 64, 64);
+  rays.insert(rays.end(), camera.begin(), camera.end());
+  for (IsectMode mode : {IsectMode::kWoop, IsectMode::kWatertight}) {
+    const SceneImage si = make_scene_image(scene, KdBuildConfig{}, mode);
+    const Tracer fast(si.image.bytes, si.layout, fp::kFp32, 32, true);
+    const Tracer soft(si.image.bytes, si.layout, fp::kFp32, 32, false);
+    ASSERT_TRUE(fast.uses_fast_path());
+    ASSERT_FALSE(soft.uses_fast_path());
+    int hits = 0;
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+      const TraceHit a = fast.trace(rays[i], TraceMode::kClosest), b = soft.trace(rays[i], TraceMode::kClosest);
+      hits += a.hit;
+      ASSERT_EQ(a.hit, b.hit) << "ray " << i;
+      ASSERT_EQ(a.counters.nodes, b.counters.nodes) << "ray " << i;
+      ASSERT_EQ(a.counters.tests, b.counters.tests) << "ray " << i;
+      if (!a.hit) continue;
+      ASSERT_EQ(a.prim, b.prim) << "ray " << i;
+      ASSERT_EQ(std::bit_cast<std::uint32_t>(a.t), std::bit_cast<std::uint32_t>(b.t)) << "ray " << i;
+      ASSERT_EQ(std::bit_cast<std::uint32_t>(a.u), std::bit_cast<std::uint32_t>(b.u)) << "ray " << i;
+      ASSERT_EQ(std::bit_cast<std::uint32_t>(a.v), std::bit_cast<std::uint32_t>(b.v)) << "ray " << i;
+    }
+    EXPECT_GT(hits, 1000);
+  }
+}
+
+}  // namespace
+}  // namespace rpu::functional
