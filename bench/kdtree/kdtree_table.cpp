@@ -6,7 +6,7 @@
 // K_T * nodes/ray + K_I * tests/ray for the hardware's real K_T : K_I at moderate memory.
 //
 //   build/ci/bench/kdtree/kdtree_table [--rays] [--kt 15] [--ki 20] [--bonus 0.2]
-//       [--leaf 2] [--perfect 0|1] SCENE...
+//       [--leaf 2] [--perfect 0|1] [--format fp32|e8m15|rpu24|bf16|fp16] [--margin 8] SCENE...
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -122,6 +122,8 @@ int run(int argc, char** argv) {
     else if (arg == "--bonus") config.empty_bonus = value();
     else if (arg == "--leaf") config.max_leaf_prims = static_cast<std::uint32_t>(value());
     else if (arg == "--perfect") config.perfect_splits = value() != 0.0;
+    else if (arg == "--margin") config.margin_ulps = static_cast<int>(value());
+    else if (arg == "--format" && i + 1 < argc) config.format = fp::format_by_name(argv[++i]);
     else scenes.push_back(arg);
   }
   std::printf("| scene | triangles | nodes | leaves | empty | max/mean depth | prims/leaf | refs/tri | SAH cost | "

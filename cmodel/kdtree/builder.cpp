@@ -5,10 +5,12 @@
 // the lists into its children keeping their order, re-generating events only for the
 // triangles that straddle the plane.
 //
-// Every event position is an fp32 value and so is every candidate plane, so the counts
-// the sweep evaluates are exactly the references the node gets, and the box a child
-// covers is the box the traversal unit sees. A triangle is referenced on every side
-// whose closed box it touches (docs/kdtree.md, "Conservative splits").
+// Every event position and every candidate plane is a value of the configured number
+// format (zero or normal, held as fp32), so the counts the sweep evaluates are exactly
+// the references the node gets, and the box a child covers is the box the traversal
+// unit sees after rounding into the format. A triangle, as its vertices rounded into the
+// format and widened by a margin, is referenced on every side whose closed box it
+// touches (docs/kdtree.md, "Conservative splits in any format").
 #include <algorithm>
 #include <array>
 #include <bit>
@@ -23,6 +25,7 @@
 #include <fmt/format.h>
 
 #include "common/error.hpp"
+#include "fp/soft.hpp"
 #include "kdtree/kdtree.hpp"
 #include "rpu/spec.hpp"
 #include "scene/geometry.hpp"
@@ -36,6 +39,7 @@ KdBuildConfig kd_build_config_for(const std::string& hardware_config) {
       KdBuildConfig config;
       config.max_depth = c.stack_depth;
       config.stack_depth = c.stack_depth;
+      config.format = fp::format_by_name(c.format);
       config.hardware_config = hardware_config;
       return config;
     }
@@ -111,18 +115,51 @@ Extent intersect(const Extent& a, const Box& b) {
   return r;
 }
 
-// The neighbouring fp32 values of a finite float, as std::nextafter but inline: the
-// sweep asks for two per event position.
-float next_up(float x) {
-  if (x == 0.0f) return std::numeric_limits<float>::denorm_min();
-  const auto bits = std::bit_cast<std::uint32_t>(x);
-  return std::bit_cast<float>(x > 0.0f ? bits + 1 : bits - 1);
-}
-float next_down(float x) { return -next_up(-x); }
+float as_float(fp::Format f, std::uint32_t bits) { return std::bit_cast<float>(fp::soft::to_fp32(f, bits)); }
 
-// Candidate split planes must survive the traversal unit's load: subnormals flush to
-// zero there (ARCHITECTURE.md, "Numbers"), which would move the plane.
-bool usable_split(float c) { return std::fpclassify(c) != FP_SUBNORMAL; }
+// The fp32 values the traversal unit loads unchanged in a format: zero and the format's
+// normal numbers. A subnormal would flush to zero and any other value would round
+// (docs/numbers.md, from_fp32), moving the plane. Event positions and planes stay on
+// this grid, so every plane the sweep costs is the plane the unit compares against.
+class Grid {
+ public:
+  explicit Grid(fp::Format f)
+      : step_(std::uint32_t{1} << (23 - f.fraction_bits)),
+        min_normal_(as_float(f, f.min_normal(false))),
+        max_finite_(as_float(f, f.max_finite(false))) {}
+
+  float max_finite() const { return max_finite_; }
+  // The largest grid value <= x and the smallest >= x, for finite x within the
+  // format's range (the builder checks the range before it rounds).
+  float down(float x) const {
+    if (x < 0.0f) return -up(-x);
+    const float t = std::bit_cast<float>(std::bit_cast<std::uint32_t>(x) & ~(step_ - 1));
+    return t < min_normal_ ? 0.0f : t;
+  }
+  float up(float x) const {
+    if (x <= 0.0f) return 0.0f - down(-x);  // 0 - (+0) keeps zero positive
+    std::uint32_t bits = std::bit_cast<std::uint32_t>(x);
+    if ((bits & (step_ - 1)) != 0) bits = (bits | (step_ - 1)) + 1;  // a carry moves to the next binade
+    const float t = std::bit_cast<float>(bits);
+    return t < min_normal_ ? min_normal_ : t;
+  }
+  // The grid neighbours of a grid value; the sweep asks for two per event position.
+  float next_up(float q) const {
+    if (q < 0.0f) return 0.0f - lower(-q);  // 0 - (+0) keeps zero positive
+    if (q == 0.0f) return min_normal_;
+    return std::bit_cast<float>(std::bit_cast<std::uint32_t>(q) + step_);
+  }
+  float next_down(float q) const { return 0.0f - next_up(-q); }
+
+ private:
+  // The grid value below a positive grid value q.
+  float lower(float q) const {
+    return q == min_normal_ ? 0.0f : std::bit_cast<float>(std::bit_cast<std::uint32_t>(q) - step_);
+  }
+
+  std::uint32_t step_;  // one unit in the format's last place, in fp32 fraction bits
+  float min_normal_, max_finite_;
+};
 
 enum class Side : std::uint8_t { kBoth, kBelow, kAbove };
 
@@ -132,50 +169,100 @@ struct Split {
   float pos = 0.0f;
 };
 
+// A coordinate as the units load it: rounded to nearest even into the format, with
+// subnormals flushed (docs/numbers.md, from_fp32). fp32 needs only the flush.
+float round_into(fp::Format f, float x) {
+  if (f == fp::kFp32) return std::fpclassify(x) == FP_SUBNORMAL ? 0.0f * x : x;
+  return as_float(f, fp::soft::from_fp32(f, std::bit_cast<std::uint32_t>(x)));
+}
+
 class Builder {
  public:
   Builder(const Scene& scene, const KdBuildConfig& config, KdTree& tree)
-      : scene_(scene), config_(config), tree_(tree), sides_(scene.triangles.size()) {}
+      : scene_(scene), config_(config), tree_(tree), grid_(config.format), sides_(scene.triangles.size()) {
+    round_vertices();
+  }
 
-  void run(const Box& root) {
+  // The root box: the box of the rounded vertices, whose coordinates are grid values.
+  Box root() const { return root_; }
+
+  void run() {
     const std::size_t n = scene_.triangles.size();
     bounds_.resize(n);
     EventLists events;
     for (EventLists::value_type& list : events) list.reserve(2 * n);
     for (std::size_t i = 0; i < n; ++i) {
-      Extent& e = bounds_[i];
+      Extent e;
       for (int k = 0; k < 3; ++k) {
-        e.lo[k] = kInf;
-        e.hi[k] = -kInf;
-      }
-      for (int v = 0; v < 3; ++v) {
-        const glm::vec3& p = scene_.positions[scene_.triangles[i][v]];
-        for (int k = 0; k < 3; ++k) {
-          e.lo[k] = std::min(e.lo[k], p[k]);
-          e.hi[k] = std::max(e.hi[k], p[k]);
+        double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+        for (int v = 0; v < 3; ++v) {
+          const double x = positions_[scene_.triangles[i][v]][k];
+          lo = std::min(lo, x);
+          hi = std::max(hi, x);
         }
+        e.lo[k] = grid_.down(round_down(lo - margin_));
+        e.hi[k] = grid_.up(round_up(hi + margin_));
       }
-      add_events(events, e, static_cast<std::uint32_t>(i));
+      bounds_[i] = intersect(e, root_);
+      add_events(events, bounds_[i], static_cast<std::uint32_t>(i));
     }
     // W&H: the one sort; every node below keeps the order by splicing.
     for (EventLists::value_type& list : events) std::sort(list.begin(), list.end());
     if (must_be_leaf(n, 0)) {
       make_leaf(new_node(), triangles_of(events[0]));
     } else {
-      build(std::move(events), root, n, 0);
+      build(std::move(events), root_, n, 0);
     }
   }
 
  private:
+  // Rounds every vertex into the format and derives the margin and the root box. The
+  // margin is margin_ulps ulps of the format at the largest coordinate magnitude, the
+  // scale of the units' rounding errors (docs/kdtree.md, "The margin").
+  void round_vertices() {
+    const fp::Format f = config_.format;
+    positions_.resize(scene_.positions.size());
+    for (std::size_t i = 0; i < positions_.size(); ++i) {
+      for (int k = 0; k < 3; ++k) positions_[i][k] = round_into(f, scene_.positions[i][k]);
+    }
+    for (int k = 0; k < 3; ++k) {
+      root_.lo[k] = kInf;
+      root_.hi[k] = -kInf;
+    }
+    float magnitude = 0.0f;
+    for (const glm::uvec3& t : scene_.triangles) {
+      for (int v = 0; v < 3; ++v) {
+        for (int k = 0; k < 3; ++k) {
+          const float x = positions_[t[v]][k];
+          if (!(std::abs(x) <= grid_.max_finite())) {
+            throw Error(fmt::format("scene '{}': vertex {} coordinate {} is beyond the range of number format "
+                                    "{} (largest finite {}); scale the scene down or choose a wider format",
+                                    scene_.source, t[v], scene_.positions[t[v]][k], f.name(), grid_.max_finite()));
+          }
+          root_.lo[k] = std::min(root_.lo[k], x);
+          root_.hi[k] = std::max(root_.hi[k], x);
+          magnitude = std::max(magnitude, std::abs(x));
+        }
+      }
+    }
+    const int exponent = magnitude == 0.0f ? f.min_exponent() : std::max(std::ilogb(magnitude), f.min_exponent());
+    margin_ = config_.margin_ulps * std::ldexp(1.0, exponent - f.fraction_bits);
+    if (!(double(magnitude) + margin_ <= grid_.max_finite())) {
+      throw Error(fmt::format("scene '{}': coordinates up to {} plus the kd-tree margin of {} ulps exceed the "
+                              "range of number format {}; scale the scene down or choose a wider format",
+                              scene_.source, magnitude, config_.margin_ulps, f.name()));
+    }
+  }
+
   // W&H: sweep each axis's sorted events. At a position q holding pe ends, pp
   // planar and ps starts, with A = #(lo < q) and B = #(hi < q) seen so far, a plane
-  // at fp32 value c references #(lo <= c) triangles below and #(hi >= c) above (the
+  // at grid value c references #(lo <= c) triangles below and #(hi >= c) above (the
   // conservative rule). Rather than at q itself, where both the planar triangles and
   // the ones ending or starting at q would go to both sides, the sweep tries
-  // c = next_down(q): A below, N - B above (planar and starting triangles go above
+  // c = next_down(q), the grid value below q: A below, N - B above (planar and starting triangles go above
   // only) and c = next_up(q): A + ps + pp below, N - B - pe - pp above (planar and
   // ending ones go below only). Choosing the cheaper of the two is W&H's planar side
-  // rule moved off the plane by one ulp. When a neighbouring position
+  // rule moved off the plane by one ulp of the format. When a neighbouring position
   // is exactly that ulp away, q itself is the plane between them and is tried instead.
   Split find_split(const EventLists& events, const Box& box, std::size_t n) const {
     // The sweep minimises bonus * (A_below * N_below + A_above * N_above) with A half a
@@ -190,7 +277,7 @@ class Builder {
       const double da = double(box.hi[a]) - box.lo[a], db = double(box.hi[b]) - box.lo[b];
       const double cap = da * db, side = da + db, lo = box.lo[k], hi = box.hi[k];
       const auto try_plane = [&](float c, double below, double above) {
-        if (!(box.lo[k] < c && c < box.hi[k]) || !usable_split(c)) return;
+        if (!(box.lo[k] < c && c < box.hi[k])) return;
         const double score = ((cap + (c - lo) * side) * below + (cap + (hi - c) * side) * above) *
                              (below == 0.0 || above == 0.0 ? keep : 1.0);
         if (score < best_score) {
@@ -213,7 +300,7 @@ class Builder {
           ps += kind == kStart;
         }
         const float next = i < ev.size() ? ev[i].pos : kInf;
-        const float down = next_down(q), up = next_up(q);
+        const float down = grid_.next_down(q), up = grid_.next_up(q);
         const double below_q = starts_before + ps + pp, above_q = total - ends_before;
         if (down != prev) try_plane(down, starts_before, above_q);
         if (up != next) try_plane(up, below_q, above_q - pe - pp);
@@ -250,14 +337,16 @@ class Builder {
   }
 
   // The extent of a triangle that straddles a plane, inside one child's box: its
-  // bounding box clipped to the child, or with perfect_splits the bounds of the triangle
-  // clipped to the child (W&H's "perfect splits"; Sutherland-Hodgman in double).
+  // widened bounding box clipped to the child, or with perfect_splits the bounds of the
+  // part of the (rounded) triangle within the margin of the child, widened by the
+  // margin (W&H's "perfect splits"; Sutherland-Hodgman in double against the child box
+  // grown by the margin).
   Extent child_extent(std::uint32_t tri, const Box& box) const {
     const Extent loose = intersect(bounds_[tri], box);
     if (!config_.perfect_splits) return loose;
     struct Vertex {
       glm::dvec3 p;
-      bool exact;  // an input vertex: its fp32 coordinates need no margin
+      bool exact;  // a rounded input vertex: its coordinates carry no clipping error
     };
     std::array<Vertex, 9> buffers[2];
     Vertex* poly = buffers[0].data();
@@ -265,15 +354,15 @@ class Builder {
     std::size_t count = 3;
     double scale = 0.0;
     for (int v = 0; v < 3; ++v) {
-      poly[v] = {glm::dvec3(scene_.positions[scene_.triangles[tri][v]]), true};
+      poly[v] = {glm::dvec3(positions_[scene_.triangles[tri][v]]), true};
       for (int k = 0; k < 3; ++k) scale = std::max(scale, std::abs(poly[v].p[k]));
     }
     for (int k = 0; k < 3; ++k) scale = std::max({scale, std::abs(double(box.lo[k])), std::abs(double(box.hi[k]))});
     for (int plane = 0; plane < 6 && count > 0; ++plane) {
       const int k = plane / 2;
-      const double at = plane % 2 == 0 ? box.lo[k] : box.hi[k];
+      const double at = plane % 2 == 0 ? box.lo[k] - margin_ : box.hi[k] + margin_;
       const double sign = plane % 2 == 0 ? 1.0 : -1.0;  // inside: sign * (x - at) >= 0
-      // Most planes leave the polygon whole (the loose extent already lies inside).
+      // Most planes leave the polygon whole (the widened bounds already lie inside).
       if ((plane % 2 == 0 ? bounds_[tri].lo[k] >= box.lo[k] : bounds_[tri].hi[k] <= box.hi[k])) continue;
       std::size_t out = 0;
       for (std::size_t v = 0; v < count; ++v) {
@@ -293,17 +382,17 @@ class Builder {
     if (count == 0) return loose;  // only a touch the clipping rounded away
     // Computed vertices carry double rounding error relative to `scale`; widen them by
     // far less than an fp32 ulp before rounding outward, so the extent stays conservative.
-    const double margin = scale * 0x1p-40;
+    const double clip_error = scale * 0x1p-40;
     Extent tight;
     for (int k = 0; k < 3; ++k) {
       double lo = std::numeric_limits<double>::infinity(), hi = -lo;
       for (std::size_t v = 0; v < count; ++v) {
-        const double m = poly[v].exact ? 0.0 : margin;
+        const double m = margin_ + (poly[v].exact ? 0.0 : clip_error);
         lo = std::min(lo, poly[v].p[k] - m);
         hi = std::max(hi, poly[v].p[k] + m);
       }
-      tight.lo[k] = round_down(lo);
-      tight.hi[k] = round_up(hi);
+      tight.lo[k] = grid_.down(round_down(lo));
+      tight.hi[k] = grid_.up(round_up(hi));
     }
     return intersect(tight, loose);
   }
@@ -439,8 +528,12 @@ class Builder {
   const Scene& scene_;
   const KdBuildConfig& config_;
   KdTree& tree_;
+  Grid grid_;
   std::vector<Side> sides_;
-  std::vector<Extent> bounds_;  // each triangle's bounding box, fp32 (exact)
+  std::vector<glm::vec3> positions_;  // the scene's vertices rounded into the format
+  double margin_ = 0.0;               // added around every triangle, in scene units
+  Box root_;
+  std::vector<Extent> bounds_;  // each triangle's widened bounding box on the grid, within the root
 };
 
 void check_config(const Scene& scene, const KdBuildConfig& c) {
@@ -472,6 +565,16 @@ void check_config(const Scene& scene, const KdBuildConfig& c) {
   if (scene.triangles.empty()) {
     throw Error(fmt::format("scene '{}' has no triangles to build a kd-tree over; add geometry",
                             scene.source));
+  }
+  const fp::Format f = c.format;
+  if (f.exponent_bits < 2 || f.exponent_bits > 8 || f.fraction_bits < 1 || f.fraction_bits > 23) {
+    throw Error(fmt::format("kd-tree number format E{}M{} is not one the units compute in; choose a format "
+                            "with 2 <= E <= 8 and 1 <= M <= 23 (docs/numbers.md)",
+                            f.exponent_bits, f.fraction_bits));
+  }
+  if (c.margin_ulps < 0 || c.margin_ulps > kKdMaxMarginUlps) {
+    throw Error(fmt::format("kd-tree margin of {} ulps is outside [0, {}]; choose a margin in that range",
+                            c.margin_ulps, kKdMaxMarginUlps));
   }
   if (scene.triangles.size() > kTriMask + 1ull) {
     throw Error(fmt::format("scene '{}' has {} triangles, more than the kd-tree builder indexes "
@@ -535,17 +638,11 @@ KdTree build_kdtree(const Scene& scene, const KdBuildConfig& config) {
   check_config(scene, config);
   const auto start = std::chrono::steady_clock::now();
   KdTree tree;
-  // Vertices are fp32, so the scene box is exact in fp32; rounding outward only
-  // guards that claim.
-  const Bounds b = scene_bounds(scene);
-  Box root;
-  for (int k = 0; k < 3; ++k) {
-    root.lo[k] = round_down(b.lo[k]);
-    root.hi[k] = round_up(b.hi[k]);
-  }
+  Builder builder(scene, config, tree);
+  const Box root = builder.root();
   tree.bounds_lo = glm::vec3(root.lo[0], root.lo[1], root.lo[2]);
   tree.bounds_hi = glm::vec3(root.hi[0], root.hi[1], root.hi[2]);
-  Builder(scene, config, tree).run(root);
+  builder.run();
   tree.stats.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   compute_stats(tree, config);
   return tree;

@@ -6,6 +6,7 @@
 
 #include <glm/glm.hpp>
 
+#include "fp/format.hpp"
 #include "kdtree/kd_node.hpp"
 #include "scene/scene.hpp"
 
@@ -26,6 +27,12 @@ struct KdBuildConfig {
   int max_depth = 32;               // tree depth limit (root = depth 0)
   int stack_depth = 32;             // the traversal unit's per-ray stack (hardware config)
   bool perfect_splits = true;       // clip triangles to the node box for split candidates
+  // The number format the traversal and intersection units compute in (the hardware
+  // config's `format`). Split values are exact in it, and triangles are classified by
+  // their vertices rounded into it, widened by `margin_ulps` ulps of the format at the
+  // scene's largest coordinate (docs/kdtree.md, "Conservative splits in any format").
+  fp::Format format = fp::kFp32;
+  int margin_ulps = 4;
   std::string hardware_config = "default";  // where stack_depth came from, for messages
 };
 
@@ -33,8 +40,13 @@ struct KdBuildConfig {
 // and 64 levels already exceed any traversal stack a configuration would afford.
 inline constexpr int kKdMaxDepthLimit = 64;
 
-// The builder's defaults, with max_depth set to the stack depth of the named hardware
-// configuration (spec/configs.toml). Throws rpu::Error for an unknown name.
+// The largest margin the builder accepts, in ulps of the format: far more than the
+// units' rounding needs (docs/kdtree.md, "The margin"); more only inflates the tree.
+inline constexpr int kKdMaxMarginUlps = 1024;
+
+// The builder's defaults, with max_depth set to the stack depth and format to the number
+// format of the named hardware configuration (spec/configs.toml). Throws rpu::Error for
+// an unknown name.
 KdBuildConfig kd_build_config_for(const std::string& hardware_config);
 
 struct KdTreeStats {
@@ -63,10 +75,12 @@ struct KdTree {
 // configuration is impossible: max_depth > stack_depth (traversal pushes at most one
 // entry per level, so a deeper tree could overflow the unit's stack), negative costs,
 // max_depth < 0 or above kKdMaxDepthLimit, empty_bonus outside [0, 1), a scene without
-// triangles, or a tree whose node or reference count overflows the node's index bits.
-// Every leaf references each triangle whose geometry touches its closed box (without
-// perfect_splits: whose bounding box does), judged against the fp32 split values the
-// nodes hold, so a point on a split plane finds its triangle on both sides.
+// triangles, a format or margin out of range, a vertex beyond the format's range, or a
+// tree whose node or reference count overflows the node's index bits. Every split value
+// and the root box are exact, normal (or zero) values of config.format. Every leaf
+// references each triangle whose vertices rounded into config.format span a triangle
+// that comes within the margin of its closed box (without perfect_splits: whose
+// bounding box does), so a point on a split plane finds its triangle on both sides.
 KdTree build_kdtree(const Scene& scene, const KdBuildConfig& config);
 
 // The statistics as a few aligned lines for `rpu tree`, each ending in a newline.

@@ -1,8 +1,12 @@
 // The SAH kd-tree builder: structural invariants, statistics that add up, and coverage
-// checked independently of the builder: points sampled on every triangle (in double)
-// walk the tree by its fp32 split values as a traversal would and must reach leaves
-// that reference their triangle; a point exactly on a plane walks both sides.
+// checked independently of the builder: points sampled on every triangle (in double),
+// rounded into the number format the tree was built for, walk the tree by its split
+// values rounded into that format (fp::soft compares) as a traversal would and must
+// reach leaves that reference their triangle; a point exactly on a plane walks both sides.
 #include <algorithm>
+#include <array>
+#include <bit>
+#include <cmath>
 #include <cstdint>
 #include <filesystem>
 #include <iostream>
@@ -13,6 +17,7 @@
 #include <gtest/gtest.h>
 
 #include "common/error.hpp"
+#include "fp/soft.hpp"
 #include "kdtree/kdtree.hpp"
 #include "rpu/spec.hpp"
 #include "scene/geometry.hpp"
@@ -29,6 +34,14 @@ struct Box {
 double area(const Box& b) {
   const glm::dvec3 d = b.hi - b.lo;
   return 2.0 * (d.x * d.y + d.y * d.z + d.z * d.x);
+}
+
+// A value as the units load it: to fp32, then rounded into the format (from_fp32).
+std::uint32_t load(fp::Format f, double x) {
+  return fp::soft::from_fp32(f, std::bit_cast<std::uint32_t>(static_cast<float>(x)));
+}
+double value(fp::Format f, std::uint32_t bits) {
+  return std::bit_cast<float>(fp::soft::to_fp32(f, bits));
 }
 
 // Structure: indices in range, every node reached exactly once from the root with the
@@ -96,18 +109,37 @@ void expect_valid_structure(const Scene& scene, const KdTree& tree, const KdBuil
   if (leaves > empty) {
     EXPECT_DOUBLE_EQ(s.mean_prims_per_leaf, double(refs) / double(leaves - empty));
   }
-  // The root box holds every vertex.
+  // The root box holds every vertex as the units load it (rounded into the format).
   for (const glm::vec3& v : scene.positions) {
     for (int k = 0; k < 3; ++k) {
-      EXPECT_LE(tree.bounds_lo[k], v[k]);
-      EXPECT_GE(tree.bounds_hi[k], v[k]);
+      const double x = value(config.format, load(config.format, v[k]));
+      EXPECT_LE(tree.bounds_lo[k], x);
+      EXPECT_GE(tree.bounds_hi[k], x);
     }
   }
 }
 
-// The leaves a point reaches, comparing like a traversal: below when p < split, above
-// when p > split, both when equal.
-void leaves_at(const KdTree& tree, const glm::dvec3& p, std::vector<std::uint32_t>& out) {
+// Every split value and the root box load into the format unchanged, and no split is
+// a subnormal of the format (which would load as zero).
+void expect_exact_in_format(const KdTree& tree, fp::Format f) {
+  std::size_t inexact = 0;
+  for (const KdNode& n : tree.nodes) {
+    if (n.is_leaf()) continue;
+    const std::uint32_t loaded = fp::soft::from_fp32(f, n.split_bits());
+    inexact += fp::soft::to_fp32(f, loaded) != n.split_bits();
+  }
+  EXPECT_EQ(inexact, 0u) << "split values that move when loaded into " << f.name();
+  for (int k = 0; k < 3; ++k) {
+    for (const float b : {tree.bounds_lo[k], tree.bounds_hi[k]}) {
+      EXPECT_EQ(value(f, load(f, b)), b) << "root box value " << b << " is not exact in " << f.name();
+    }
+  }
+}
+
+// The leaves a point (coordinates already in the format) reaches, comparing in the
+// format like a traversal: below when p < split, above when p > split, both when equal.
+void leaves_at(const KdTree& tree, fp::Format f, const std::array<std::uint32_t, 3>& p,
+               std::vector<std::uint32_t>& out) {
   std::vector<std::uint32_t> stack{0};
   while (!stack.empty()) {
     const std::uint32_t i = stack.back();
@@ -117,15 +149,33 @@ void leaves_at(const KdTree& tree, const glm::dvec3& p, std::vector<std::uint32_
       out.push_back(i);
       continue;
     }
-    const double s = n.split();
-    const double x = p[n.split_axis()];
-    if (x <= s) stack.push_back(i + 1);
-    if (x >= s) stack.push_back(n.above_child());
+    const std::uint32_t s = fp::soft::from_fp32(f, n.split_bits());
+    const std::uint32_t x = p[static_cast<std::size_t>(n.split_axis())];
+    if (fp::soft::le(f, x, s)) stack.push_back(i + 1);
+    if (fp::soft::ge(f, x, s)) stack.push_back(n.above_child());
   }
 }
 
-// Vertices, edge midpoints and `random_points` random barycentric points per triangle.
-void expect_every_point_finds_its_triangle(const Scene& scene, const KdTree& tree, int random_points) {
+// One ulp of the format at the largest vertex coordinate magnitude, the unit of the
+// builder's margin (docs/kdtree.md), computed here from the rounded vertices.
+double scene_ulp(const Scene& scene, fp::Format f) {
+  double magnitude = 0.0;
+  for (const glm::vec3& v : scene.positions) {
+    for (int k = 0; k < 3; ++k) magnitude = std::max(magnitude, std::abs(value(f, load(f, v[k]))));
+  }
+  return std::ldexp(1.0, std::max(std::ilogb(magnitude), f.min_exponent()) - f.fraction_bits);
+}
+
+// Vertices, edge midpoints and `random_points` random barycentric points per triangle,
+// each rounded into the tree's format. With a margin of K ulps each point is walked
+// again moved by K - 2 ulps on every axis (random signs, the far corner of the margin
+// box): rounding the point and the vertices into the format moves it by at most one ulp
+// from the rounded triangle, and rounding the moved point by another half, so the
+// moved point still lies within the margin the builder promises.
+void expect_every_point_finds_its_triangle(const Scene& scene, const KdTree& tree, const KdBuildConfig& config,
+                                           int random_points) {
+  const fp::Format f = config.format;
+  const double shift = config.margin_ulps >= 2 ? (config.margin_ulps - 2) * scene_ulp(scene, f) : 0.0;
   std::mt19937_64 rng(7);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   std::vector<std::uint32_t> leaves;
@@ -142,20 +192,37 @@ void expect_every_point_finds_its_triangle(const Scene& scene, const KdTree& tre
       }
       points.push_back(a + s * (b - a) + r * (c - a));
     }
-    for (const glm::dvec3& p : points) {
-      leaves.clear();
-      leaves_at(tree, p, leaves);
-      for (const std::uint32_t leaf : leaves) {
-        const KdNode n = tree.nodes[leaf];
-        const auto first = tree.prim_refs.begin() + n.first_prim_ref();
-        if (std::find(first, first + n.prim_count(), t) == first + n.prim_count()) {
-          ADD_FAILURE() << "triangle " << t << " point (" << p.x << ", " << p.y << ", " << p.z
-                        << ") reaches leaf " << leaf << " which does not reference it";
-          ++failures;
+    for (const glm::dvec3& exact : points) {
+      const std::array<std::uint32_t, 3> rounded{load(f, exact.x), load(f, exact.y), load(f, exact.z)};
+      std::array<std::uint32_t, 3> moved{};
+      for (std::size_t k = 0; k < 3; ++k) {
+        moved[k] = load(f, value(f, rounded[k]) + (u(rng) < 0.5 ? -shift : shift));
+      }
+      for (const std::array<std::uint32_t, 3>& p : {rounded, moved}) {
+        leaves.clear();
+        leaves_at(tree, f, p, leaves);
+        for (const std::uint32_t leaf : leaves) {
+          const KdNode n = tree.nodes[leaf];
+          const auto first = tree.prim_refs.begin() + n.first_prim_ref();
+          if (std::find(first, first + n.prim_count(), t) == first + n.prim_count()) {
+            ADD_FAILURE() << f.name() << ": triangle " << t << " point (" << value(f, p[0]) << ", "
+                          << value(f, p[1]) << ", " << value(f, p[2]) << ") reaches leaf " << leaf
+                          << " which does not reference it";
+            ++failures;
+          }
         }
       }
     }
   }
+}
+
+std::string error_of(const Scene& s, const KdBuildConfig& c) {
+  try {
+    build_kdtree(s, c);
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "no error";
 }
 
 bool add_triangle(Scene& s, const glm::vec3& a, const glm::vec3& b, const glm::vec3& c) {
@@ -195,18 +262,20 @@ Scene bunny_scene() {
   return resolve_scene((std::filesystem::path(RPU_SOURCE_DIR) / "scenes" / "bunny.json").string());
 }
 
-KdBuildConfig config(bool perfect) {
+KdBuildConfig config(bool perfect, fp::Format format = fp::kFp32) {
   KdBuildConfig c = kd_build_config_for("default");
   c.perfect_splits = perfect;
+  c.format = format;
   return c;
 }
 
-void check_scene(const Scene& scene, bool perfect, int random_points) {
-  SCOPED_TRACE(scene.source + (perfect ? " (perfect splits)" : ""));
-  const KdBuildConfig c = config(perfect);
+void check_scene(const Scene& scene, bool perfect, int random_points, fp::Format format = fp::kFp32) {
+  SCOPED_TRACE(scene.source + (perfect ? " (perfect splits)" : "") + " for " + format.name());
+  const KdBuildConfig c = config(perfect, format);
   const KdTree tree = build_kdtree(scene, c);
   expect_valid_structure(scene, tree, c);
-  expect_every_point_finds_its_triangle(scene, tree, random_points);
+  expect_exact_in_format(tree, format);
+  expect_every_point_finds_its_triangle(scene, tree, c, random_points);
   EXPECT_LT(tree.stats.sah_cost, c.intersection_cost * double(scene.triangles.size()))
       << "the tree must beat a single leaf";
 }
@@ -237,6 +306,65 @@ TEST(KdTree, BunnyIsValidAndCovered) {
   check_scene(bunny, true, 4);
 }
 
+// Every spec format (spec/formats.toml): trees built for it hold only splits exact in
+// it, and points walked in it find their triangles, on scenes with shared vertices,
+// coordinates on a grid, axis-aligned triangles and curved meshes.
+class KdTreeFormat : public ::testing::TestWithParam<spec::FormatSpec> {};
+
+TEST_P(KdTreeFormat, TreesForTheFormatAreExactAndCovered) {
+  const fp::Format f = fp::format_by_name(GetParam().name);
+  check_scene(make_cornell_box(), true, 8, f);
+  check_scene(make_sphereflake(1), true, 4, f);
+  check_scene(random_soup(1000, true, 10), false, 8, f);
+  check_scene(random_soup(1000, true, 11), true, 8, f);
+  check_scene(random_soup(1000, false, 12), true, 8, f);
+  check_scene(bunny_scene(), true, 2, f);
+}
+
+INSTANTIATE_TEST_SUITE_P(SpecFormats, KdTreeFormat, ::testing::ValuesIn(spec::kFormats),
+                         [](const ::testing::TestParamInfo<spec::FormatSpec>& param) {
+                           return std::string(param.param.name);
+                         });
+
+// A hardware configuration's format reaches the builder, so a tree for the 24-bit
+// rpu2005 is not the fp32 tree: the fp32 tree of the bunny holds splits that move when
+// loaded into rpu24, the rpu24 tree none.
+TEST(KdTree, ConfigForTakesTheHardwareFormat) {
+  for (const spec::HardwareConfig& h : spec::kConfigs) {
+    EXPECT_EQ(kd_build_config_for(std::string(h.name)).format, fp::format_by_name(h.format)) << h.name;
+  }
+  const fp::Format rpu24 = fp::format_by_name("rpu24");
+  ASSERT_EQ(kd_build_config_for("rpu2005").format, rpu24);
+  EXPECT_EQ(kd_build_config_for("default").format, fp::kFp32);
+  const Scene bunny = bunny_scene();
+  const auto moved = [&](const KdTree& tree) {
+    std::size_t count = 0;
+    for (const KdNode& n : tree.nodes) {
+      count += !n.is_leaf() && fp::soft::to_fp32(rpu24, fp::soft::from_fp32(rpu24, n.split_bits())) != n.split_bits();
+    }
+    return count;
+  };
+  EXPECT_GT(moved(build_kdtree(bunny, kd_build_config_for("default"))), 0u);
+  EXPECT_EQ(moved(build_kdtree(bunny, kd_build_config_for("rpu2005"))), 0u);
+}
+
+TEST(KdTree, RefusesSceneBeyondTheFormatRange) {
+  Scene s;
+  s.source = "big.json";
+  add_triangle(s, {0, 0, 0}, {70000, 0, 0}, {0, 1, 0});
+  EXPECT_EQ(error_of(s, config(false, fp::format_by_name("fp16"))),
+            "scene 'big.json': vertex 1 coordinate 70000 is beyond the range of number format E5M10 (largest "
+            "finite 65504); scale the scene down or choose a wider format");
+  Scene edge;
+  edge.source = "edge.json";
+  add_triangle(edge, {0, 0, 0}, {65504, 0, 0}, {0, 1, 0});
+  EXPECT_NE(error_of(edge, config(false, fp::format_by_name("fp16"))).find("plus the kd-tree margin of 4 ulps"),
+            std::string::npos);
+  KdBuildConfig c = config(false);
+  c.margin_ulps = 0;
+  EXPECT_EQ(error_of(edge, c), "no error");
+}
+
 TEST(KdTree, SingleTriangleIsOneLeaf) {
   Scene s;
   s.source = "one triangle";
@@ -264,7 +392,7 @@ TEST(KdTree, TwoDistantSquaresAreSeparated) {
   KdBuildConfig c = config(false);
   const KdTree tree = build_kdtree(s, c);
   expect_valid_structure(s, tree, c);
-  expect_every_point_finds_its_triangle(s, tree, 16);
+  expect_every_point_finds_its_triangle(s, tree, c, 16);
   ASSERT_FALSE(tree.nodes[0].is_leaf());
   EXPECT_EQ(tree.nodes[0].split_axis(), 0);
   // Every reference is to one square only: no leaf mixes triangles 0-1 with 2-3.
@@ -320,15 +448,6 @@ TEST(KdTree, BuildsAsDeepAsTheStackAllows) {
   }
 }
 
-std::string error_of(const Scene& s, const KdBuildConfig& c) {
-  try {
-    build_kdtree(s, c);
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "no error";
-}
-
 TEST(KdTree, RefusesImpossibleConfigurations) {
   const Scene s = random_soup(10, false, 8);
   KdBuildConfig c = config(false);
@@ -353,6 +472,12 @@ TEST(KdTree, RefusesImpossibleConfigurations) {
     c.empty_bonus = bonus;
     EXPECT_NE(error_of(s, c).find("empty bonus"), std::string::npos) << error_of(s, c);
   }
+  c = config(false);
+  c.margin_ulps = -1;
+  EXPECT_EQ(error_of(s, c), "kd-tree margin of -1 ulps is outside [0, 1024]; choose a margin in that range");
+  c = config(false, fp::Format{9, 23});
+  EXPECT_EQ(error_of(s, c), "kd-tree number format E9M23 is not one the units compute in; choose a format with "
+                            "2 <= E <= 8 and 1 <= M <= 23 (docs/numbers.md)");
   Scene empty;
   empty.source = "nothing.json";
   EXPECT_EQ(error_of(empty, config(false)),
