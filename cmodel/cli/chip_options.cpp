@@ -15,6 +15,7 @@ KdBuildConfig ChipOptions::build_config() const {
   c.max_leaf_prims = build.max_leaf_prims;
   c.perfect_splits = build.perfect_splits;
   if (max_depth >= 0) c.max_depth = max_depth;
+  c.format = number_format();
   return c;
 }
 

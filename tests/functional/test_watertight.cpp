@@ -1,7 +1,7 @@
 // Rays from inside closed meshes must hit them. Each ray is aimed at a random point of
 // a random edge or at a vertex, where a non-watertight test can let it slip between two
 // triangles. Leaks are counted for both tests in every format; the watertight test in
-// fp32 must not leak in 10^6 rays (docs/traversal.md §5).
+// fp32 must not leak in 10^6 rays (docs/traversal.md §5, "Limits of the formats").
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -16,7 +16,9 @@ namespace rpu::functional {
 namespace {
 
 std::uint64_t count_leaks(const Scene& closed, IsectMode mode, fp::Format format, int rays, std::uint32_t seed) {
-  const SceneImage si = make_scene_image(closed, KdBuildConfig{}, mode);
+  KdBuildConfig build;
+  build.format = format;  // the tree must be conservative for the format it is traced in
+  const SceneImage si = make_scene_image(closed, build, mode);
   const Tracer tracer(si.image.bytes, si.layout, format, 32);
   std::mt19937 rng(seed);
   std::uniform_int_distribution<std::size_t> pick(0, closed.triangles.size() - 1);
@@ -50,7 +52,16 @@ TEST(Watertightness, LeaksPerFormatAndTestAreCountedAndReported) {
                 static_cast<unsigned long long>(watertight));
     RecordProperty(std::string(name) + "_woop", static_cast<int>(woop));
     RecordProperty(std::string(name) + "_watertight", static_cast<int>(watertight));
-    EXPECT_EQ(watertight, 0u) << name;
+    // In fp32 the watertight test cannot leak (WatertightFp32NeverLeaksInAMillionRays).
+    // In narrower formats the projected vertices lose so many bits (ulps of the ray's
+    // distance, against triangles ~30x smaller) that the test may accept a triangle in
+    // a cell the ray never enters: the kd walk culls it and a rare ray leaks. It must
+    // still leak far less than Woop.
+    if (f == fp::kFp32) {
+      EXPECT_EQ(watertight, 0u);
+    } else {
+      EXPECT_LT(watertight * 100, woop) << name;
+    }
   }
 }
 
