@@ -28,7 +28,6 @@
 #include "fp/soft.hpp"
 #include "kdtree/kdtree.hpp"
 #include "rpu/spec.hpp"
-#include "scene/geometry.hpp"
 
 namespace rpu {
 
