@@ -6,7 +6,10 @@
 // K_T * nodes/ray + K_I * tests/ray for the hardware's real K_T : K_I at moderate memory.
 //
 //   build/ci/bench/kdtree/kdtree_table [--rays] [--kt 15] [--ki 20] [--bonus 0.2]
-//       [--leaf 2] [--perfect 0|1] [--format fp32|e8m15|rpu24|bf16|fp16] [--margin 8] SCENE...
+//       [--leaf 2] [--perfect 0|1] [--format fp32|e8m15|rpu24|bf16|fp16] [--margin 4] [--hash] SCENE...
+//
+// --hash adds a column with an FNV-1a hash of the nodes and the reference list, so that
+// a change meant to speed the builder up can show it builds the identical tree.
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -109,14 +112,29 @@ RayCost measure_rays(const Scene& scene, const KdTree& tree, int rays) {
   return {static_cast<double>(steps) / rays, static_cast<double>(tests) / rays};
 }
 
+// FNV-1a over every node word and reference, in order.
+std::uint64_t tree_hash(const KdTree& tree) {
+  std::uint64_t h = 0xcbf29ce484222325ull;
+  const auto mix = [&h](std::uint32_t word) {
+    for (int byte = 0; byte < 4; ++byte) h = (h ^ ((word >> (8 * byte)) & 0xffu)) * 0x100000001b3ull;
+  };
+  for (const KdNode& n : tree.nodes) {
+    mix(n.word0);
+    mix(n.word1);
+  }
+  for (const std::uint32_t r : tree.prim_refs) mix(r);
+  return h;
+}
+
 int run(int argc, char** argv) {
   KdBuildConfig config = kd_build_config_for("default");
-  bool rays = false;
+  bool rays = false, hash = false;
   std::vector<std::string> scenes;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     const auto value = [&] { return i + 1 < argc ? std::atof(argv[++i]) : 0.0; };
     if (arg == "--rays") rays = true;
+    else if (arg == "--hash") hash = true;
     else if (arg == "--kt") config.traversal_cost = value();
     else if (arg == "--ki") config.intersection_cost = value();
     else if (arg == "--bonus") config.empty_bonus = value();
@@ -128,7 +146,8 @@ int run(int argc, char** argv) {
   }
   std::printf("| scene | triangles | nodes | leaves | empty | max/mean depth | prims/leaf | refs/tri | SAH cost | "
               "bytes | build s |%s\n|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|%s\n",
-              rays ? " nodes/ray | tests/ray |" : "", rays ? "--:|--:|" : "");
+              (std::string(rays ? " nodes/ray | tests/ray |" : "") + (hash ? " hash |" : "")).c_str(),
+              (std::string(rays ? "--:|--:|" : "") + (hash ? "---|" : "")).c_str());
   for (const std::string& name : scenes) {
     const Scene scene = resolve_scene(name);
     const KdTree tree = build_kdtree(scene, config);
@@ -143,6 +162,7 @@ int run(int argc, char** argv) {
       const RayCost c = measure_rays(scene, tree, 100000);
       std::printf(" %.1f | %.1f |", c.steps, c.tests);
     }
+    if (hash) std::printf(" %016llx |", static_cast<unsigned long long>(tree_hash(tree)));
     std::printf("\n");
   }
   return 0;

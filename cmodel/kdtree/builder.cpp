@@ -28,7 +28,6 @@
 #include "fp/soft.hpp"
 #include "kdtree/kdtree.hpp"
 #include "rpu/spec.hpp"
-#include "scene/geometry.hpp"
 
 namespace rpu {
 
@@ -258,56 +257,87 @@ class Builder {
   // planar and ps starts, with A = #(lo < q) and B = #(hi < q) seen so far, a plane
   // at grid value c references #(lo <= c) triangles below and #(hi >= c) above (the
   // conservative rule). Rather than at q itself, where both the planar triangles and
-  // the ones ending or starting at q would go to both sides, the sweep tries
-  // c = next_down(q), the grid value below q: A below, N - B above (planar and starting triangles go above
-  // only) and c = next_up(q): A + ps + pp below, N - B - pe - pp above (planar and
-  // ending ones go below only). Choosing the cheaper of the two is W&H's planar side
-  // rule moved off the plane by one ulp of the format. When a neighbouring position
-  // is exactly that ulp away, q itself is the plane between them and is tried instead.
+  // the ones ending or starting at q would go to both sides, the sweep tries planes
+  // one grid step off q: c = next_down(q) puts the planar and starting triangles above
+  // only, c = next_up(q) puts the planar and ending ones below only. Choosing the
+  // cheaper is W&H's planar side rule moved off the plane by one ulp of the format.
+  // When a neighbouring position is exactly that ulp away, q itself is the plane
+  // between them and is tried instead.
+  //
+  // Between two neighbouring positions q < q' every plane has the same counts (below:
+  // A + ps + pp at q, above: N - B - pe - pp), so the score, linear in c with slope
+  // side * (below - above), is smallest at one end of the gap: next_up(q) when below
+  // >= above (on a tie the lower plane, as a sweep trying both in order keeps it),
+  // next_down(q') otherwise. Only that end is costed, unless it lies outside the box.
   Split find_split(const EventLists& events, const Box& box, std::size_t n) const {
     // The sweep minimises bonus * (A_below * N_below + A_above * N_above) with A half a
     // child's surface area; the cost formula is applied to the winner only.
     double best_score = std::numeric_limits<double>::infinity();
     Split best;
     const double keep = 1.0 - config_.empty_bonus;
-    const double total = static_cast<double>(n);
+    const std::uint32_t total = static_cast<std::uint32_t>(n);
     for (int k = 0; k < 3; ++k) {
       if (!(box.lo[k] < box.hi[k])) continue;  // a flat node cannot be cut on this axis
       const int a = (k + 1) % 3, b = (k + 2) % 3;
       const double da = double(box.hi[a]) - box.lo[a], db = double(box.hi[b]) - box.lo[b];
       const double cap = da * db, side = da + db, lo = box.lo[k], hi = box.hi[k];
-      const auto try_plane = [&](float c, double below, double above) {
-        if (!(box.lo[k] < c && c < box.hi[k])) return;
+      const auto inside = [&](float c) { return box.lo[k] < c && c < box.hi[k]; };
+      const auto try_plane = [&](float c, std::uint32_t below, std::uint32_t above) {
         const double score = ((cap + (c - lo) * side) * below + (cap + (hi - c) * side) * above) *
-                             (below == 0.0 || above == 0.0 ? keep : 1.0);
+                             (below == 0 || above == 0 ? keep : 1.0);
         if (score < best_score) {
           best_score = score;
           best.axis = k;
           best.pos = c == 0.0f ? 0.0f : c;
         }
       };
-      const std::vector<Event>& ev = events[k];
-      double starts_before = 0.0, ends_before = 0.0;
-      std::size_t i = 0;
-      float prev = -kInf;
-      while (i < ev.size()) {
-        const float q = ev[i].pos;
-        double pe = 0.0, pp = 0.0, ps = 0.0;
-        for (; i < ev.size() && ev[i].pos == q; ++i) {
-          const std::uint32_t kind = ev[i].kind();
-          pe += kind == kEnd;
-          pp += kind == kPlanar;
-          ps += kind == kStart;
+      // The cheaper end of the gap above position q, whose plane candidates are
+      // `lower` = next_up(q) and next_down(q_next), or none after the last position. On
+      // an exact tie of the counts both ends are costed, so that the rounding of the two
+      // scores decides as it would in a sweep that costs every candidate: the tree is
+      // bit-identical to that sweep's (checked with kdtree_table --hash).
+      const auto try_gap = [&](float lower, const Event* upper_event, std::uint32_t below, std::uint32_t above) {
+        const auto upper = [&] { return upper_event != nullptr ? grid_.next_down(upper_event->pos) : kInf; };
+        if (below == above) {
+          if (inside(lower)) try_plane(lower, below, above);
+          if (const float c = upper(); inside(c)) try_plane(c, below, above);
+        } else if (below > above) {
+          if (inside(lower)) {
+            try_plane(lower, below, above);
+          } else if (const float c = upper(); inside(c)) {
+            try_plane(c, below, above);
+          }
+        } else if (const float c = upper(); inside(c)) {
+          try_plane(c, below, above);
+        } else if (inside(lower)) {
+          try_plane(lower, below, above);
         }
-        const float next = i < ev.size() ? ev[i].pos : kInf;
-        const float down = grid_.next_down(q), up = grid_.next_up(q);
-        const double below_q = starts_before + ps + pp, above_q = total - ends_before;
-        if (down != prev) try_plane(down, starts_before, above_q);
-        if (up != next) try_plane(up, below_q, above_q - pe - pp);
-        if (down == prev || up == next) try_plane(q, below_q, above_q);
+      };
+      // Integer counts: the kinds are tallied without conversions to double.
+      const std::vector<Event>& ev = events[k];
+      const Event* e = ev.data();
+      const Event* const end = e + ev.size();
+      std::uint32_t starts_before = 0, ends_before = 0;
+      if (e != end) {
+        const float down = grid_.next_down(e->pos);  // the gap below the first position
+        if (inside(down)) try_plane(down, 0, total);
+      }
+      bool adjacent_below = false;  // the previous position is one grid step below q
+      while (e != end) {
+        const float q = e->pos;
+        std::uint32_t kinds[3] = {0, 0, 0};  // end, planar, start
+        for (; e != end && e->pos == q; ++e) ++kinds[e->kind()];
+        const std::uint32_t pe = kinds[kEnd], pp = kinds[kPlanar], ps = kinds[kStart];
+        const std::uint32_t below_q = starts_before + ps + pp, above_q = total - ends_before;
+        const float up = grid_.next_up(q);
+        const bool adjacent_above = e != end && up == e->pos;
+        if (!adjacent_above) {
+          try_gap(up, e != end ? e : nullptr, below_q, above_q - pe - pp);
+        }
+        if (adjacent_below || adjacent_above) try_plane(q, below_q, above_q);
         starts_before = below_q;
         ends_before += pe + pp;
-        prev = q;
+        adjacent_below = adjacent_above;
       }
     }
     if (best.axis >= 0) {
