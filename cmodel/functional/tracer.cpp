@@ -2,7 +2,6 @@
 
 #include <array>
 #include <bit>
-#include <cmath>
 #include <cstring>
 
 #include <fmt/format.h>
@@ -120,17 +119,6 @@ TraceHit Tracer::trace_with(const Arith& ar, const TraceRay& in, TraceMode mode)
   }
   if (!ar.le(t_near, t_far)) return result;
 
-  // Every t the walk compares carries a few rounding errors (< 3 ulps each, so two
-  // values can swap order only within 6 ulps). Interval ends are therefore widened by
-  // 4 ulps of the format, 2^-(M-2), before they decide what to skip: a cell the ray
-  // grazes is visited, never skipped (docs/traversal.md §3).
-  const V widen_up = ar.load(std::bit_cast<std::uint32_t>(1.0f + std::ldexp(1.0f, 2 - format_.fraction_bits)));
-  const V widen_down = ar.load(std::bit_cast<std::uint32_t>(1.0f - std::ldexp(1.0f, 2 - format_.fraction_bits)));
-  auto lower = [&](V t) { return ar.mul(t, ar.sign(t) ? widen_up : widen_down); };
-  auto upper = [&](V t) { return ar.mul(t, ar.sign(t) ? widen_down : widen_up); };
-  t_near = lower(t_near);
-  t_far = upper(t_far);
-
   // §3 Traversal.
   std::array<StackEntry<V>, kMaxStackDepth> stack;
   int stack_size = 0;
@@ -148,9 +136,9 @@ TraceHit Tracer::trace_with(const Arith& ar, const TraceRay& in, TraceMode mode)
                                (ar.eq(ray.origin[axis], split) && ar.le(ray.direction[axis], ar.zero()));
       const std::uint32_t first = below_first ? node_index + 1 : node.above_child();
       const std::uint32_t second = below_first ? node.above_child() : node_index + 1;
-      if (!ar.le(lower(t_split), t_far) || ar.le(t_split, ar.zero())) {
+      if (!ar.le(t_split, t_far) || ar.le(t_split, ar.zero())) {
         node_index = first;  // the plane is behind, beyond, or (NaN) the ray lies in it
-      } else if (ar.lt(upper(t_split), t_near)) {
+      } else if (ar.lt(t_split, t_near)) {
         node_index = second;
       } else {
         if (stack_size == stack_depth_) {
@@ -159,9 +147,9 @@ TraceHit Tracer::trace_with(const Arith& ar, const TraceRay& in, TraceMode mode)
               "traversal unit's stack; rebuild it with a max depth <= {}",
               node_index, stack_depth_, stack_depth_));
         }
-        stack[stack_size++] = {second, lower(t_split), t_far};
+        stack[stack_size++] = {second, t_split, t_far};
         node_index = first;
-        t_far = upper(t_split);
+        t_far = t_split;
       }
       continue;
     }
