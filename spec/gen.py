@@ -1,12 +1,14 @@
 #!/usr/bin/env python3
-"""Generate the C++ header and the SystemVerilog package from the spec/ tables.
+"""Generate the C++ header, the SystemVerilog package and docs/isa.md from spec/.
 
 spec/*.toml is the single source of truth for facts both the C++ model and the RTL
 need (ARCHITECTURE.md "One source of truth"). This script validates the tables and
 writes one C++ header and one SV package; both say in their first line that they are
-generated. The build runs it; nothing it writes is committed.
+generated. The build runs it; the header and package are not committed. docs/isa.md
+is committed so that it can be read on the web; a test regenerates it and fails on a
+difference.
 
-    gen.py --spec-dir spec --cpp out/rpu/spec.hpp --sv out/rpu_pkg.sv
+    gen.py --spec-dir spec --cpp out/rpu/spec.hpp --sv out/rpu_pkg.sv [--isa-doc docs/isa.md]
 """
 from __future__ import annotations
 
@@ -25,7 +27,7 @@ class SpecError(Exception):
 
 def load(spec_dir: pathlib.Path) -> dict:
     spec = {}
-    for name in ("formats", "memory_map", "configs"):
+    for name in ("formats", "memory_map", "configs", "isa"):
         path = spec_dir / f"{name}.toml"
         try:
             with path.open("rb") as f:
@@ -39,7 +41,20 @@ def load(spec_dir: pathlib.Path) -> dict:
 IDENT = re.compile(r"^[a-z][a-z0-9_]*$")
 CONFIG_INT_FIELDS = ("shader_cores", "threads_per_core", "chunk_size", "vector_width",
                      "registers", "traversal_units", "intersection_units", "stack_depth",
-                     "clock_mhz")
+                     "call_depth", "stack_bytes", "clock_mhz")
+OPERAND_KINDS = ("d", "a", "b", "c", "imm", "fimm", "mem", "target", "sr")
+# The encoding fields each operand kind fills, per instruction format.
+OPERAND_FIELDS = {
+    "d": ("dst", "wmask"), "a": ("a_reg", "a_swizzle", "a_neg", "a_abs"),
+    "b": ("b_reg", "b_swizzle", "b_neg", "b_abs"), "c": ("c_reg", "c_swizzle", "c_neg"),
+    "imm": ("imm",), "fimm": ("imm",), "mem": ("a_reg", "a_swizzle", "imm"), "target": ("imm",),
+    "sr": ("imm",),
+}
+FORMAT_FIELDS = {
+    "R": ("opcode", "dst", "wmask", "a_reg", "a_swizzle", "a_neg", "a_abs", "b_reg", "b_swizzle",
+          "b_neg", "b_abs", "c_reg", "c_swizzle", "c_neg"),
+    "I": ("opcode", "dst", "wmask", "a_reg", "a_swizzle", "imm"),
+}
 
 
 def validate(spec: dict) -> None:
@@ -102,6 +117,58 @@ def validate(spec: dict) -> None:
             raise SpecError(f"{where}: threads_per_core must be a multiple of chunk_size")
     if "default" not in cfg_names:
         raise SpecError("spec/configs.toml: a config named 'default' must exist")
+    for c in spec["configs"]["config"]:
+        if c["registers"] > 1 << spec["isa"]["encoding"]["dst"][1]:
+            raise SpecError(f"spec/configs.toml: config '{c['name']}' has more registers than "
+                            "spec/isa.toml's register fields can name")
+    validate_isa(spec["isa"])
+
+
+def validate_isa(isa: dict) -> None:
+    where = "spec/isa.toml"
+    enc = isa["encoding"]
+    word = enc["word_bits"]
+    for fmt, fields in FORMAT_FIELDS.items():
+        used = 0
+        for name in fields:
+            lsb, width = enc[name]
+            bits = ((1 << width) - 1) << lsb
+            if lsb + width > word:
+                raise SpecError(f"{where}: field {name} = [{lsb}, {width}] ends past bit {word}")
+            if used & bits:
+                raise SpecError(f"{where}: field {name} overlaps another field of format {fmt}")
+            used |= bits
+    mnemonics, opcodes = set(), set()
+    opcode_limit = 1 << enc["opcode"][1]
+    for insn in isa["insn"]:
+        here = f"{where}: insn '{insn.get('mnemonic', '?')}'"
+        if not IDENT.match(insn.get("mnemonic", "")) or insn["mnemonic"] in mnemonics:
+            raise SpecError(f"{here}: missing, malformed or duplicate mnemonic")
+        mnemonics.add(insn["mnemonic"])
+        if not 0 < insn["opcode"] < opcode_limit or insn["opcode"] in opcodes:
+            raise SpecError(f"{here}: opcode {insn['opcode']:#x} is 0, too large or already used")
+        opcodes.add(insn["opcode"])
+        if insn["format"] not in FORMAT_FIELDS:
+            raise SpecError(f"{here}: format must be one of {sorted(FORMAT_FIELDS)}")
+        if insn["class"] not in isa["classes"]:
+            raise SpecError(f"{here}: class '{insn['class']}' is not in [classes]")
+        if insn["mods"] not in ("float", "none"):
+            raise SpecError(f"{here}: mods must be 'float' or 'none'")
+        if len(insn["operands"]) > 4:
+            raise SpecError(f"{here}: at most four operands")
+        for op in insn["operands"]:
+            if op not in OPERAND_KINDS:
+                raise SpecError(f"{here}: unknown operand kind '{op}'")
+            for field in OPERAND_FIELDS[op]:
+                if field not in FORMAT_FIELDS[insn["format"]] and not field.endswith(("_neg", "_abs")):
+                    raise SpecError(f"{here}: operand '{op}' needs field {field}, which format "
+                                    f"{insn['format']} does not have")
+    names, indices = set(), set()
+    for sr in isa["special"]:
+        if not IDENT.match(sr["name"]) or sr["name"] in names or sr["index"] in indices:
+            raise SpecError(f"{where}: special register '{sr['name']}': bad or duplicate name or index")
+        names.add(sr["name"])
+        indices.add(sr["index"])
 
 
 def camel(name: str) -> str:
@@ -110,6 +177,16 @@ def camel(name: str) -> str:
 
 def cpp_string(s: str) -> str:
     return '"' + s.replace("\\", "\\\\").replace('"', '\\"') + '"'
+
+
+def upper(section: str, key: str) -> str:
+    return f"{section}_{key}".upper()
+
+
+def asm_symbols(spec: dict) -> list[tuple[str, int]]:
+    """Memory-map constants every assembly program may use, e.g. LAUNCH_WIDTH_AT."""
+    return [(upper(section, key), value) for section, table in spec["memory_map"].items()
+            for key, value in table.items() if isinstance(value, int)]
 
 
 def cpp_uint(value: int) -> str:
@@ -150,8 +227,68 @@ def gen_cpp(spec: dict) -> str:
         ints = ", ".join(str(c[k]) for k in CONFIG_INT_FIELDS)
         out.append(f"    {{{cpp_string(c['name'])}, {cpp_string(c['doc'])}, {ints}, "
                    f"{cpp_string(c['format'])}}},")
-    out += ["}};", "", "}  // namespace rpu::spec", ""]
+    out += ["}};", ""]
+    out += gen_cpp_isa(spec)
+    out += ["}  // namespace rpu::spec", ""]
     return "\n".join(out)
+
+
+def used_bits(isa: dict, insn: dict) -> int:
+    """The encoding bits of `insn`'s fields: opcode, its operands' fields, and the neg/abs
+    bits only where it accepts float modifiers."""
+    enc = isa["encoding"]
+    names = {"opcode"}
+    for op in insn["operands"]:
+        names.update(f for f in OPERAND_FIELDS[op]
+                     if not f.endswith(("_neg", "_abs")) or insn["mods"] == "float")
+    bits = 0
+    for name in names:
+        lsb, width = enc[name]
+        bits |= ((1 << width) - 1) << lsb
+    return bits
+
+
+def gen_cpp_isa(spec: dict) -> list[str]:
+    isa = spec["isa"]
+    enc = isa["encoding"]
+    out = ["namespace isa {", "", "struct Field {", "  int lsb;", "  int width;", "};",
+           f"inline constexpr int kWordBits = {enc['word_bits']};"]
+    for name, value in enc.items():
+        if name != "word_bits":
+            out.append(f"inline constexpr Field k{camel(name)}Field{{{value[0]}, {value[1]}}};")
+    out += ["", "enum class Format : std::uint8_t { kR, kI };", "",
+            "enum class Class : std::uint8_t {"]
+    out += [f"  k{camel(c)}," for c in isa["classes"]]
+    out += ["};", f"inline constexpr int kClassCount = {len(isa['classes'])};",
+            f"inline constexpr std::array<std::string_view, {len(isa['classes'])}> kClassNames{{{{"]
+    out += [f"    {cpp_string(c)}," for c in isa["classes"]]
+    out += ["}};", "", "enum class Operand : std::uint8_t {"]
+    out += [f"  k{camel(o)}," for o in OPERAND_KINDS]
+    out += ["};", "", "enum class Opcode : std::uint8_t {"]
+    out += [f"  k{camel(i['mnemonic'])} = {i['opcode']:#04x}," for i in isa["insn"]]
+    out += ["};", "", "struct InsnSpec {", "  std::string_view mnemonic;", "  Opcode opcode;",
+            "  Format format;", "  Class cls;", "  bool float_modifiers;  // neg/abs allowed on sources",
+            "  int operand_count;", "  std::array<Operand, 4> operands;",
+            "  // The bits an encoding of it may set; any other set bit is an illegal instruction.",
+            "  std::uint64_t used_bits;", "  std::string_view doc;", "};", "", f"inline constexpr std::array<InsnSpec, {len(isa['insn'])}> kInsns{{{{"]
+    for i in isa["insn"]:
+        ops = ", ".join(f"Operand::k{camel(o)}" for o in i["operands"]) or ""
+        out.append(f"    {{{cpp_string(i['mnemonic'])}, Opcode::k{camel(i['mnemonic'])}, "
+                   f"Format::k{i['format']}, Class::k{camel(i['class'])}, "
+                   f"{'true' if i['mods'] == 'float' else 'false'}, {len(i['operands'])}, "
+                   f"{{{ops}}}, {used_bits(isa, i):#018x}u, {cpp_string(i['doc'])}}},")
+    out += ["}};", "", "struct SpecialSpec {", "  std::string_view name;", "  int index;",
+            "  std::string_view doc;", "};",
+            f"inline constexpr std::array<SpecialSpec, {len(isa['special'])}> kSpecials{{{{"]
+    for sr in isa["special"]:
+        out.append(f"    {{{cpp_string(sr['name'])}, {sr['index']}, {cpp_string(sr['doc'])}}},")
+    out += ["}};", "", "// Symbols every assembly program may use: the memory-map constants.",
+            "struct AsmSymbol {", "  std::string_view name;", "  std::uint32_t value;", "};"]
+    syms = asm_symbols(spec)
+    out.append(f"inline constexpr std::array<AsmSymbol, {len(syms)}> kAsmSymbols{{{{")
+    out += [f"    {{{cpp_string(n)}, {cpp_uint(v)}}}," for n, v in syms]
+    out += ["}};", "", "}  // namespace isa", ""]
+    return out
 
 
 def gen_sv(spec: dict) -> str:
@@ -170,7 +307,61 @@ def gen_sv(spec: dict) -> str:
         n = camel(c["name"])
         for k in CONFIG_INT_FIELDS:
             out.append(f"  localparam int unsigned Config{n}{camel(k)} = {c[k]};")
+    out.append("")
+    isa = spec["isa"]
+    for name, value in isa["encoding"].items():
+        if name == "word_bits":
+            out.append(f"  localparam int unsigned IsaWordBits = {value};")
+        else:
+            out.append(f"  localparam int unsigned Isa{camel(name)}Lsb = {value[0]};")
+            out.append(f"  localparam int unsigned Isa{camel(name)}Width = {value[1]};")
+    width = isa["encoding"]["opcode"][1]
+    out.append("  typedef enum logic [%d:0] {" % (width - 1))
+    ops = [f"    Op{camel(i['mnemonic'])} = {width}'h{i['opcode']:02x}" for i in isa["insn"]]
+    out.append(",\n".join(ops))
+    out.append("  } opcode_e;")
+    for sr in isa["special"]:
+        out.append(f"  localparam int unsigned Special{camel(sr['name'])} = {sr['index']};")
     out += ["", "endpackage", ""]
+    return "\n".join(out)
+
+
+def gen_isa_doc(spec: dict) -> str:
+    isa = spec["isa"]
+    enc = isa["encoding"]
+    out = [f"<!-- {BANNER} -->", "# The shader ISA", "",
+           "The instruction set of the shader cores, generated from "
+           "[`spec/isa.toml`](../spec/isa.toml), which also generates the C++ decode tables "
+           "(`rpu::spec::isa`) and the SystemVerilog `opcode_e` in `rpu_pkg.sv`. The machine "
+           "model, the assembly syntax and the shader ABI are in "
+           "[shader-core.md](shader-core.md).", "",
+           f"## Encoding", "",
+           f"Every instruction is one {enc['word_bits']}-bit little-endian word. "
+           "Fields ([lsb, width]):", "",
+           "| field | bits | formats |", "|---|---|---|"]
+    for name, value in enc.items():
+        if name == "word_bits":
+            continue
+        lsb, width = value
+        fmts = ", ".join(f for f, fields in FORMAT_FIELDS.items() if name in fields)
+        out.append(f"| {name} | {lsb + width - 1}:{lsb} | {fmts} |")
+    out += ["", "A swizzle names, for result lane i, the source lane in bits [2i+1:2i] "
+            "(identity `0xe4` = x y z w). Unused fields are zero; anything else is an "
+            "illegal instruction.", "", "## Classes", "", "| class | what |", "|---|---|"]
+    out += [f"| {c} | {d} |" for c, d in isa["classes"].items()]
+    out += ["", "## Instructions", "", "| opcode | mnemonic | operands | format | class | "
+            "neg/abs | meaning |", "|--:|---|---|---|---|---|---|"]
+    for i in isa["insn"]:
+        ops = ", ".join(i["operands"])
+        mods = "yes" if i["mods"] == "float" else ""
+        out.append(f"| {i['opcode']:#04x} | `{i['mnemonic']}` | {ops} | {i['format']} | "
+                   f"{i['class']} | {mods} | {i['doc'].replace('|', '&#124;')} |")
+    out += ["", "## Special registers", "", "| index | name | lanes |", "|--:|---|---|"]
+    out += [f"| {sr['index']} | `{sr['name']}` | {sr['doc']} |" for sr in isa["special"]]
+    out += ["", "## Predefined assembler symbols", "",
+            "Every memory-map constant of [`spec/memory_map.toml`](../spec/memory_map.toml) is "
+            "a symbol `SECTION_KEY` (for example `[launch] width_at` is `LAUNCH_WIDTH_AT` = "
+            f"{spec['memory_map']['launch']['width_at']}); see [memory-map.md](memory-map.md).", ""]
     return "\n".join(out)
 
 
@@ -185,6 +376,7 @@ def main() -> int:
     ap.add_argument("--spec-dir", type=pathlib.Path, required=True)
     ap.add_argument("--cpp", type=pathlib.Path, required=True)
     ap.add_argument("--sv", type=pathlib.Path, required=True)
+    ap.add_argument("--isa-doc", type=pathlib.Path, help="write docs/isa.md here")
     args = ap.parse_args()
     try:
         spec = load(args.spec_dir)
@@ -193,6 +385,8 @@ def main() -> int:
         return 1
     write_if_changed(args.cpp, gen_cpp(spec))
     write_if_changed(args.sv, gen_sv(spec))
+    if args.isa_doc:
+        write_if_changed(args.isa_doc, gen_isa_doc(spec))
     return 0
 
 

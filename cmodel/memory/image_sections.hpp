@@ -26,7 +26,7 @@ struct SectionKind {
   ImageSection ImageLayout::*layout;
 };
 
-inline constexpr std::array<SectionKind, 10> kSections{{
+inline constexpr std::array<SectionKind, 11> kSections{{
     {mm::kSectionIdScene, "scene", mm::kSceneRecordBytes, &ImageLayout::scene},
     {mm::kSectionIdKdNodes, "kd_nodes", mm::kKdNodeBytes, &ImageLayout::kd_nodes},
     {mm::kSectionIdPrimRefs, "prim_refs", mm::kPrimRefBytes, &ImageLayout::prim_refs},
@@ -37,6 +37,7 @@ inline constexpr std::array<SectionKind, 10> kSections{{
     {mm::kSectionIdMaterials, "materials", mm::kMaterialBytes, &ImageLayout::materials},
     {mm::kSectionIdLights, "lights", mm::kLightBytes, &ImageLayout::lights},
     {mm::kSectionIdCamera, "camera", mm::kCameraBytes, &ImageLayout::camera},
+    {mm::kSectionIdVertexPositions, "vertex_positions", mm::kVertexPositionBytes, &ImageLayout::vertex_positions},
 }};
 
 inline const SectionKind* find_section(std::uint32_t id) {

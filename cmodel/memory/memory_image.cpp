@@ -128,7 +128,8 @@ MemoryImage build_memory_image(const Scene& scene, const KdTree& tree, IsectMode
   // Record counts per section, in kSections order.
   const std::array<std::uint64_t, kSections.size()> counts{
       1, tree.nodes.size(), tree.prim_refs.size(), scene.triangles.size(), scene.normals.size(),
-      scene.uvs.size(), scene.triangles.size(), scene.materials.size(), scene.lights.size(), 1};
+      scene.uvs.size(), scene.triangles.size(), scene.materials.size(), scene.lights.size(), 1,
+      scene.positions.size()};
   MemoryImage image;
   std::array<std::uint64_t, kSections.size()> offsets{};
   std::uint64_t end = align_up(section_table_end(kSections.size()));
@@ -197,6 +198,9 @@ MemoryImage build_memory_image(const Scene& scene, const KdTree& tree, IsectMode
     store_u32(out, p + mm::kTriangleBAt, t.y);
     store_u32(out, p + mm::kTriangleCAt, t.z);
     store_u32(out, p + mm::kTriangleMaterialAt, scene.material_ids[i]);
+  }
+  for (std::size_t i = 0, o = at(mm::kSectionIdVertexPositions); i < scene.positions.size(); ++i) {
+    store_float4(out, o + i * mm::kVertexPositionBytes, glm::vec4(scene.positions[i], 0.0f));
   }
   for (std::size_t i = 0, o = at(mm::kSectionIdVertexNormals); i < scene.normals.size(); ++i) {
     store_float4(out, o + i * mm::kVertexNormalBytes, glm::vec4(scene.normals[i], 0.0f));

@@ -34,13 +34,13 @@ struct ImageSection {
 
 struct ImageLayout {
   ImageSection scene, kd_nodes, prim_refs, isect_records, vertex_normals, vertex_uvs, triangles, materials,
-      lights, camera;
+      lights, camera, vertex_positions;
   glm::vec3 bounds_lo{0.0f}, bounds_hi{0.0f};  // the kd-tree's root box
   IsectMode isect_mode = IsectMode::kWoop;
   std::uint32_t triangle_count = 0;
   float ray_epsilon = 0.0f;
   // The rest of the scene record, so that a reader needs nothing but the layout.
-  std::uint32_t vertex_count = 0;  // vertex_normals / vertex_uvs hold 0 or this many
+  std::uint32_t vertex_count = 0;  // = vertex_positions; vertex_normals / vertex_uvs hold 0 or this many
   std::uint32_t material_count = 0;
   std::uint32_t light_count = 0;
   glm::vec3 background{0.0f};

@@ -194,6 +194,8 @@ void Validator::read_scene() {
                 mm::kSceneRecordTriangleCountAt);
   count_matches(layout_.materials, "materials", layout_.material_count, "materials", mm::kSceneRecordMaterialCountAt);
   count_matches(layout_.lights, "lights", layout_.light_count, "lights", mm::kSceneRecordLightCountAt);
+  count_matches(layout_.vertex_positions, "vertex_positions", layout_.vertex_count, "vertices",
+                mm::kSceneRecordVertexCountAt);
   if (layout_.vertex_normals.count) {
     count_matches(layout_.vertex_normals, "vertex_normals", layout_.vertex_count, "vertices",
                   mm::kSceneRecordVertexCountAt);

@@ -14,6 +14,12 @@ cases = {
     "field past its record": ("memory_map.toml", "camera]\nbytes = 64", "camera]\nbytes = 56"),
     "misaligned field": ("memory_map.toml", "a_at = 0 ", "a_at = 2 "),
     "section alignment not a power of two": ("memory_map.toml", "section_alignment = 64", "section_alignment = 48"),
+    "duplicate opcode": ("isa.toml", "opcode = 0x03", "opcode = 0x02"),
+    "overlapping encoding fields": ("isa.toml", "wmask = [13, 4]", "wmask = [12, 4]"),
+    "unknown operand kind": ("isa.toml", 'operands = ["d", "a", "b", "c"]', 'operands = ["d", "a", "q"]'),
+    "unknown latency class": ("isa.toml", 'class = "sfu"', 'class = "fancy"'),
+    "operand without its field": ("isa.toml", 'format = "R"\noperands = ["d", "a", "b", "c"]', 'format = "I"\noperands = ["d", "a", "b", "c"]'),
+    "more registers than the encoding names": ("configs.toml", "registers = 32", "registers = 65"),
 }
 failures = 0
 for what, (table, old, new) in cases.items():
