@@ -148,17 +148,19 @@ void ShaderCore::fault(const Thread& t, const std::string& what) const {
                     p);
 }
 
-void ShaderCore::run_chunk(std::span<const Lane> lanes, ShaderStats& stats) {
+void ShaderCore::run_chunk(std::span<const Lane> lanes, ShaderStats& stats,
+                           std::vector<std::vector<Vec>>* end_registers) {
   if (fast_) {
     const fp::fast32::FlushScope flush;
-    run_chunk_with(Fast32Ops{}, lanes, stats);
+    run_chunk_with(Fast32Ops{}, lanes, stats, end_registers);
   } else {
-    run_chunk_with(SoftOps{format_}, lanes, stats);
+    run_chunk_with(SoftOps{format_}, lanes, stats, end_registers);
   }
 }
 
 template <class Ops>
-void ShaderCore::run_chunk_with(const Ops& ops, std::span<const Lane> lanes, ShaderStats& stats) {
+void ShaderCore::run_chunk_with(const Ops& ops, std::span<const Lane> lanes, ShaderStats& stats,
+                                std::vector<std::vector<Vec>>* end_registers) {
   std::vector<Thread> threads(lanes.size());
   for (std::size_t i = 0; i < lanes.size(); ++i) {
     threads[i].lane = &lanes[i];
@@ -171,7 +173,13 @@ void ShaderCore::run_chunk_with(const Ops& ops, std::span<const Lane> lanes, Sha
     for (const Thread& t : threads) {
       if (!t.done) pc = std::min(pc, t.pc);
     }
-    if (pc == std::numeric_limits<std::uint32_t>::max()) return;
+    if (pc == std::numeric_limits<std::uint32_t>::max()) {
+      if (end_registers) {
+        end_registers->clear();
+        for (const Thread& t : threads) end_registers->push_back(t.regs);
+      }
+      return;
+    }
     ++stats.chunk_issues;
     stats.lanes_issued += static_cast<std::uint64_t>(config_.chunk_size);
     for (Thread& t : threads) {

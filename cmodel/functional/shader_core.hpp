@@ -71,12 +71,16 @@ class ShaderCore {
   };
 
   // Runs the chunk's lanes from raygen until every one halts. Throws ShaderFault.
-  void run_chunk(std::span<const Lane> lanes, ShaderStats& stats);
+  // With `end_registers`, receives each lane's registers after its halt (for tests
+  // that check a program's end state).
+  void run_chunk(std::span<const Lane> lanes, ShaderStats& stats,
+                 std::vector<std::vector<std::array<std::uint32_t, 4>>>* end_registers = nullptr);
 
  private:
   struct Thread;
   template <class Ops>
-  void run_chunk_with(const Ops& ops, std::span<const Lane> lanes, ShaderStats& stats);
+  void run_chunk_with(const Ops& ops, std::span<const Lane> lanes, ShaderStats& stats,
+                      std::vector<std::vector<std::array<std::uint32_t, 4>>>* end_registers);
   template <class Ops>
   void execute(const Ops& ops, Thread& t, ShaderStats& stats);
   [[noreturn]] void fault(const Thread& t, const std::string& what) const;
