@@ -17,5 +17,7 @@ Command add_render_command(CLI::App& app);
 Command add_raycast_command(CLI::App& app);
 Command add_tree_command(CLI::App& app);
 Command add_scenes_command(CLI::App& app);
+Command add_asm_command(CLI::App& app);
+Command add_disasm_command(CLI::App& app);
 
 }  // namespace rpu::cli
