@@ -156,11 +156,18 @@ hit_whitted:
         ldf     r11.xyz, [r8.z]
         add     r10.xyz, r10, -r9       ; p1 - p0
         add     r11.xyz, r11, -r9       ; p2 - p0
+        max     r12.x, |r10.x|, |r10.y| ; each edge over its largest component, so that
+        max     r12.x, r12.x, |r10.z|   ; the cross product cannot overflow a narrow format
+        rcp     r12.x, r12.x
+        mul     r10.xyz, r10, r12.x
+        max     r12.x, |r11.x|, |r11.y|
+        max     r12.x, r12.x, |r11.z|
+        rcp     r12.x, r12.x
+        mul     r11.xyz, r11, r12.x
         mul     r12.xyz, r10.zxy, r11.yzx
-        mad     r12.xyz, r10.yzx, r11.zxy, -r12
-        dp3     r13.x, r12, r12
-        rsq     r13.x, r13.x
-        mul     r12.xyz, r12, r13.x     ; Ng
+        mad     r8.xyz, r10.yzx, r11.zxy, -r12
+        call    unit
+        mov     r12.xyz, r8             ; Ng
         mov     r13.xyz, r12            ; N = Ng unless the scene has vertex normals
         ld1     r7.x, [r15 + LAUNCH_NORMALS_AT]
         bz      r7.x, normals_done
@@ -220,10 +227,7 @@ positional:
         mad     r9.xyz, r10, r11.x, r9
 point:
         add     r8.xyz, r9, -r6
-        dp3     r9.x, r8, r8
-        sqrt    r8.w, r9.x              ; distance
-        rsq     r9.x, r9.x
-        mul     r8.xyz, r8, r9.x        ; L
+        call    unit                    ; L, distance
 have_l:
         dp3     r9.x, r13, r8           ; N . L
         fle     r0.y, r9.x, r15.w
@@ -335,6 +339,22 @@ transmitted:
         mad     r3.xyz, r0, r9.y, r3        ; + kt trace(transmitted)
 whitted_done:
         mov     r0.xyz, r3
+        ret
+
+; ---------------------------------------------------------------------------------
+; unit: r8.xyz = r8.xyz / |r8.xyz| and r8.w = |r8.xyz|. The vector is first divided by
+; its largest component, so that its squared length neither overflows nor flushes in a
+; narrow format (fp16 squares overflow at 256). Clobbers r9.
+unit:
+        max     r9.x, |r8.x|, |r8.y|
+        max     r9.x, r9.x, |r8.z|
+        rcp     r9.y, r9.x
+        mul     r8.xyz, r8, r9.y
+        dp3     r9.z, r8, r8
+        sqrt    r8.w, r9.z
+        mul     r8.w, r8.w, r9.x
+        rsq     r9.z, r9.z
+        mul     r8.xyz, r8, r9.z
         ret
 
 ; ---------------------------------------------------------------------------------
