@@ -156,12 +156,12 @@ hit_whitted:
         ldf     r11.xyz, [r8.z]
         add     r10.xyz, r10, -r9       ; p1 - p0
         add     r11.xyz, r11, -r9       ; p2 - p0
-        max     r12.x, |r10.x|, |r10.y| ; each edge over its largest component, so that
-        max     r12.x, r12.x, |r10.z|   ; the cross product cannot overflow a narrow format
+        max     r12.x, |r10|.x, |r10|.y ; each edge over its largest component, so that
+        max     r12.x, r12.x, |r10|.z   ; the cross product cannot overflow a narrow format
         rcp     r12.x, r12.x
         mul     r10.xyz, r10, r12.x
-        max     r12.x, |r11.x|, |r11.y|
-        max     r12.x, r12.x, |r11.z|
+        max     r12.x, |r11|.x, |r11|.y
+        max     r12.x, r12.x, |r11|.z
         rcp     r12.x, r12.x
         mul     r11.xyz, r11, r12.x
         mul     r12.xyz, r10.zxy, r11.yzx
@@ -346,8 +346,8 @@ whitted_done:
 ; its largest component, so that its squared length neither overflows nor flushes in a
 ; narrow format (fp16 squares overflow at 256). Clobbers r9.
 unit:
-        max     r9.x, |r8.x|, |r8.y|
-        max     r9.x, r9.x, |r8.z|
+        max     r9.x, |r8|.x, |r8|.y
+        max     r9.x, r9.x, |r8|.z
         rcp     r9.y, r9.x
         mul     r8.xyz, r8, r9.y
         dp3     r9.z, r8, r8

@@ -38,10 +38,10 @@ int main(int argc, char** argv) {
   RenderSettings settings;
   settings.width = settings.height = size;
   settings.spp = spp;
-  const isa::Firmware firmware = device::builtin_firmware("whitted.s");
   const char* formats[] = {"fp32", "e8m15", "rpu24", "bf16", "fp16"};
   fmt::print("| scene | {} |\n|---|{}\n", fmt::join(formats, " | "), std::string(std::size(formats) * 5, '-') + "|");
   try {
+    const isa::Firmware firmware = device::builtin_firmware("whitted.s");
     for (const std::string& name : scenes) {
       const Scene scene = resolve_scene(name);
       const Image reference = ReferenceRenderer(scene).render(settings);
