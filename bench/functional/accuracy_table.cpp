@@ -39,7 +39,9 @@ int main(int argc, char** argv) {
   settings.width = settings.height = size;
   settings.spp = spp;
   const char* formats[] = {"fp32", "e8m15", "rpu24", "bf16", "fp16"};
-  fmt::print("| scene | {} |\n|---|{}\n", fmt::join(formats, " | "), std::string(std::size(formats) * 5, '-') + "|");
+  std::string rule = "|---|";
+  for (std::size_t i = 0; i < std::size(formats); ++i) rule += "--:|";
+  fmt::print("| scene | {} |\n{}\n", fmt::join(formats, " | "), rule);
   try {
     const isa::Firmware firmware = device::builtin_firmware("whitted.s");
     for (const std::string& name : scenes) {

@@ -26,6 +26,7 @@ struct RenderOptions {
   std::vector<std::filesystem::path> outputs{"render.png"};
   std::string backend = "reference";
   std::filesystem::path firmware;  // empty: the built-in whitted.s
+  std::uint64_t watchdog = device::FunctionalOptions{}.watchdog;
   RenderSettings settings;
   ChipOptions chip;
 };
@@ -46,6 +47,7 @@ Image render_functional(const Scene& scene, const RenderOptions& o, std::string&
       o.firmware.empty() ? device::builtin_firmware("whitted.s") : device::load_firmware_file(o.firmware);
   device::FunctionalOptions options;
   options.host_threads = o.settings.threads;
+  options.watchdog = o.watchdog;
   const auto dev = device::make_functional_device(o.chip.hardware_config(), build.format, options);
   Image image;
   {
@@ -135,6 +137,10 @@ Command add_render_command(CLI::App& app) {
 
   render_cmd->add_option("--firmware", render->firmware,
                          "functional backend: firmware (.s or .rfw) instead of the built-in whitted.s");
+  render_cmd->add_option("--watchdog", render->watchdog,
+                         "functional backend: instructions one thread may retire for one pixel before it faults")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
   add_chip_options(*render_cmd, render->chip);
 
   return {render_cmd, [render] { return run_render(*render); }};

@@ -1,0 +1,3 @@
+raygen:
+        frobnicate r1, r2
+        halt
