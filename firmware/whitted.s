@@ -361,26 +361,22 @@ unit:
 ; rand: r11.x = the next number of the stream in [0, 1) (docs/shading.md section 1);
 ; steps r14.x. Clobbers r11.
 rand:
-        mov     r11.y, r14.x
+        mov     r11.x, r14.x
         imuli   r14.x, r14.x, 747796405
         iaddi   r14.x, r14.x, 2891336453
-        shri    r11.z, r11.y, 28
-        iaddi   r11.z, r11.z, 4
-        shr     r11.z, r11.y, r11.z
-        xor     r11.z, r11.z, r11.y
-        imuli   r11.z, r11.z, 277803737
-        shri    r11.y, r11.z, 22
-        xor     r11.y, r11.y, r11.z     ; the RXS-M-XS permutation of the old state
-        shri    r11.y, r11.y, 9
-        ori     r11.y, r11.y, 0x3f800000    ; 1.f with the top 23 bits as fraction
+        call    permute                 ; of the old state
+        shri    r11.x, r11.x, 9
+        ori     r11.x, r11.x, 0x3f800000    ; 1.f with the top 23 bits as fraction
         lif     r11.z, 1.0
-        add     r11.x, r11.y, -r11.z
+        add     r11.x, r11.x, -r11.z
         ret
 
-; hash: r11.x = h(r11.x) = perm(r11.x * 747796405 + 2891336453). Clobbers r11.y.
+; hash: r11.x = h(r11.x) = permute(r11.x * 747796405 + 2891336453), then falls
+; through into permute: r11.x = PCG's RXS-M-XS permutation of r11.x. Clobber r11.y.
 hash:
         imuli   r11.x, r11.x, 747796405
         iaddi   r11.x, r11.x, 2891336453
+permute:
         shri    r11.y, r11.x, 28
         iaddi   r11.y, r11.y, 4
         shr     r11.y, r11.x, r11.y
