@@ -282,7 +282,9 @@ def gen_cpp_isa(spec: dict) -> list[str]:
             f"inline constexpr std::array<SpecialSpec, {len(isa['special'])}> kSpecials{{{{"]
     for sr in isa["special"]:
         out.append(f"    {{{cpp_string(sr['name'])}, {sr['index']}, {cpp_string(sr['doc'])}}},")
-    out += ["}};", "", "// Symbols every assembly program may use: the memory-map constants.",
+    out += ["}};"]
+    out += [f"inline constexpr std::uint32_t kSpecial{camel(sr['name'])} = {sr['index']};" for sr in isa["special"]]
+    out += [ "", "// Symbols every assembly program may use: the memory-map constants.",
             "struct AsmSymbol {", "  std::string_view name;", "  std::uint32_t value;", "};"]
     syms = asm_symbols(spec)
     out.append(f"inline constexpr std::array<AsmSymbol, {len(syms)}> kAsmSymbols{{{{")

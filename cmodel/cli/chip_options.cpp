@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include "common/error.hpp"
+#include "common/hardware_config.hpp"
 #include "rpu/spec.hpp"
 
 namespace rpu::cli {
@@ -19,12 +20,10 @@ KdBuildConfig ChipOptions::build_config() const {
   return c;
 }
 
+const spec::HardwareConfig& ChipOptions::hardware_config() const { return rpu::hardware_config(config); }
+
 fp::Format ChipOptions::number_format() const {
-  if (!format.empty()) return fp::format_by_name(format);
-  for (const spec::HardwareConfig& c : spec::kConfigs) {
-    if (c.name == config) return fp::format_by_name(c.format);
-  }
-  throw Error(fmt::format("unknown hardware configuration '{}'", config));
+  return format.empty() ? fp::format_by_name(hardware_config().format) : fp::format_by_name(format);
 }
 
 void add_chip_options(CLI::App& command, ChipOptions& o) {
@@ -38,7 +37,7 @@ void add_chip_options(CLI::App& command, ChipOptions& o) {
   command.add_option("--isect", o.isect, "Ray/triangle test")
       ->check(CLI::IsMember({"woop", "watertight"}))
       ->capture_default_str();
-  command.add_option("--max-depth", o.max_depth, "kd-tree depth limit (default: the configuration's stack depth)");
+  command.add_option("--kd-depth", o.max_depth, "kd-tree depth limit (default: the configuration's stack depth)");
   command.add_option("--leaf-prims", o.build.max_leaf_prims, "Make a leaf at this many triangles or fewer")
       ->capture_default_str();
   command.add_option("--traversal-cost", o.build.traversal_cost, "SAH traversal cost K_T")->capture_default_str();

@@ -7,6 +7,7 @@
 #include "fp/format.hpp"
 #include "kdtree/kdtree.hpp"
 #include "memory/memory_image.hpp"
+#include "rpu/spec.hpp"
 
 namespace rpu::cli {
 
@@ -24,6 +25,7 @@ struct ChipOptions {
   // combination (a tree deeper than the stack).
   KdBuildConfig build_config() const;
   fp::Format number_format() const;
+  const spec::HardwareConfig& hardware_config() const;
   IsectMode isect_mode() const { return isect == "watertight" ? IsectMode::kWatertight : IsectMode::kWoop; }
 };
 

@@ -2,8 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <memory>
 
+#include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imagebufalgo.h>
 #include <OpenImageIO/imageio.h>
 #include <fmt/format.h>
 
@@ -63,6 +66,29 @@ Image read_image(const std::filesystem::path& file) {
     }
   }
   return image;
+}
+
+double psnr_srgb(const Image& reference, const Image& test) {
+  if (reference.width != test.width || reference.height != test.height) {
+    throw Error(fmt::format("psnr: images of {}x{} and {}x{} pixels", reference.width, reference.height, test.width,
+                            test.height));
+  }
+  const auto encoded = [](const Image& image) {
+    OIIO::ImageBuf buf(OIIO::ImageSpec(image.width, image.height, 3, OIIO::TypeDesc::FLOAT));
+    std::vector<float> values;
+    values.reserve(image.pixels.size() * 3);
+    for (const glm::vec3& p : image.pixels) {
+      for (int c = 0; c < 3; ++c) values.push_back(static_cast<float>(srgb_encode(std::clamp(double(p[c]), 0.0, 1.0))));
+    }
+    buf.set_pixels(buf.roi(), OIIO::TypeDesc::FLOAT, values.data());
+    return buf;
+  };
+  const OIIO::ImageBuf a = encoded(test), b = encoded(reference);
+  // Thresholds above any difference of [0, 1] values: only the statistics are wanted
+  // (OpenImageIO flags error when any value fails the threshold).
+  const OIIO::ImageBufAlgo::CompareResults r = OIIO::ImageBufAlgo::compare(a, b, 2.0f, 2.0f);
+  if (r.error) throw Error(fmt::format("psnr: OpenImageIO could not compare the images: {}{}", a.geterror(), b.geterror()));
+  return r.meanerror == 0.0 ? std::numeric_limits<double>::infinity() : r.PSNR;
 }
 
 }  // namespace rpu

@@ -32,6 +32,12 @@ void check_image_extension(const std::filesystem::path& file);
 // Throws rpu::Error naming the file on an unknown extension or a write failure.
 void write_image(const Image& image, const std::filesystem::path& file);
 
+// Peak signal-to-noise ratio in dB of `test` against `reference` (same size), over
+// the sRGB-encoded values clamped to [0, 1] (what a PNG shows), peak 1, all three
+// channels; OpenImageIO's ImageBufAlgo::compare computes it. Identical images give
+// +infinity.
+double psnr_srgb(const Image& reference, const Image& test);
+
 // Reads any format OpenImageIO knows; PNG/JPEG come back as stored code values / 255
 // (no sRGB decoding), EXR as stored linear values.
 Image read_image(const std::filesystem::path& file);

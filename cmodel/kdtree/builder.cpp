@@ -569,7 +569,7 @@ class Builder {
 void check_config(const Scene& scene, const KdBuildConfig& c) {
   if (c.max_depth > c.stack_depth) {
     throw Error(fmt::format("kd-tree max depth {} exceeds the traversal stack depth {} of config "
-                            "'{}'; lower --max-depth or choose a config with a deeper stack",
+                            "'{}'; lower --kd-depth or choose a config with a deeper stack",
                             c.max_depth, c.stack_depth, c.hardware_config));
   }
   if (c.max_depth < 0 || c.max_depth > kKdMaxDepthLimit) {

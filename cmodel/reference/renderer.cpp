@@ -123,7 +123,7 @@ Image ReferenceRenderer::render(const RenderSettings& settings, RayCounts* count
       for (int y = y0; y < std::min(y0 + kTileSize, settings.height); ++y) {
         for (int x = x0; x < std::min(x0 + kTileSize, settings.width); ++x) {
           glm::dvec3 sum(0.0);
-          const std::uint64_t pixel = static_cast<std::uint64_t>(y) * settings.width + x;
+          const auto pixel = static_cast<std::uint32_t>(y * settings.width + x);
           for (int s = 0; s < settings.spp; ++s) {
             SampleStream stream(settings.seed, pixel, static_cast<std::uint32_t>(s));
             const glm::dvec2 offset = pixel_sample_offset(s, settings.spp, stream);

@@ -12,7 +12,7 @@ struct RenderSettings {
   int height = 512;
   int spp = 4;          // samples per pixel (jittered, see docs/shading.md)
   int max_depth = 5;    // reflection/refraction bounces after the primary hit
-  std::uint64_t seed = 1;
+  std::uint32_t seed = 1;
   int threads = 0;      // host threads; 0 = all cores. The image never depends on it.
 };
 

@@ -6,29 +6,32 @@
 namespace rpu {
 
 namespace {
-constexpr std::uint64_t kLcgMultiplier = 6364136223846793005ull;
-constexpr std::uint64_t kLcgIncrement = 1442695040888963407ull;
+constexpr std::uint32_t kLcgMultiplier = 747796405u;
+constexpr std::uint32_t kLcgIncrement = 2891336453u;
 
-// SplitMix64 finaliser: decorrelates neighbouring pixel and sample numbers.
-std::uint64_t mix64(std::uint64_t x) {
-  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
-  x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
-  return x ^ (x >> 31);
+// PCG's RXS-M-XS output permutation of a 32-bit state (O'Neill 2014, section 6.3.4).
+std::uint32_t permute(std::uint32_t x) {
+  const std::uint32_t word = ((x >> ((x >> 28u) + 4u)) ^ x) * 277803737u;
+  return (word >> 22u) ^ word;
 }
+
+// One LCG step then the permutation: the "PCG hash" of Jarzynski and Olano (JCGT 2020),
+// which decorrelates neighbouring pixel and sample numbers.
+std::uint32_t hash(std::uint32_t x) { return permute(x * kLcgMultiplier + kLcgIncrement); }
 }  // namespace
 
-SampleStream::SampleStream(std::uint64_t seed, std::uint64_t pixel, std::uint32_t sample)
-    : state_(mix64(seed ^ mix64(pixel ^ mix64(sample)))) {}
+SampleStream::SampleStream(std::uint32_t seed, std::uint32_t pixel, std::uint32_t sample)
+    : state_(hash(seed ^ hash(pixel ^ hash(sample)))) {}
 
 std::uint32_t SampleStream::next_u32() {
-  const std::uint64_t old = state_;
+  const std::uint32_t old = state_;
   state_ = old * kLcgMultiplier + kLcgIncrement;
-  const auto xorshifted = static_cast<std::uint32_t>(((old >> 18u) ^ old) >> 27u);
-  const auto rot = static_cast<std::uint32_t>(old >> 59u);
-  return (xorshifted >> rot) | (xorshifted << ((32u - rot) & 31u));
+  return permute(old);
 }
 
-double SampleStream::next_double() { return next_u32() * 0x1.0p-32; }
+// The top 23 bits as the fraction of a float in [1, 2), minus 1: what the firmware
+// computes with integer and float instructions, exactly, in fp32.
+double SampleStream::next_double() { return (next_u32() >> 9) * 0x1.0p-23; }
 
 glm::dvec2 pixel_sample_offset(int sample, int spp, SampleStream& stream) {
   if (spp <= 1) return {0.5, 0.5};

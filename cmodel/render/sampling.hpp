@@ -8,17 +8,18 @@
 
 namespace rpu {
 
-// A small counter-based random stream: PCG's output permutation (O'Neill 2014) over a
-// 64-bit LCG, seeded by (seed, pixel, sample) so every pixel's samples are independent
-// of which thread renders it and of the order pixels are rendered in.
+// A small random stream: PCG RXS-M-XS 32/32 (O'Neill 2014) seeded by (seed, pixel,
+// sample) so every pixel's samples are independent of which thread renders it and of
+// the order pixels are rendered in. 32-bit integer arithmetic only, so that the
+// firmware computes the same numbers (docs/shading.md section 1).
 class SampleStream {
  public:
-  SampleStream(std::uint64_t seed, std::uint64_t pixel, std::uint32_t sample);
+  SampleStream(std::uint32_t seed, std::uint32_t pixel, std::uint32_t sample);
   std::uint32_t next_u32();
-  double next_double();  // uniform in [0, 1), 32 random bits
+  double next_double();  // uniform in [0, 1), 23 random bits
 
  private:
-  std::uint64_t state_;
+  std::uint32_t state_;
 };
 
 // The position of sample `sample` of `spp` inside a pixel, in [0, 1)^2. One sample is

@@ -444,7 +444,7 @@ TEST(KdTree, BuildsAsDeepAsTheStackAllows) {
   } catch (const Error& e) {
     EXPECT_STREQ(e.what(),
                  "kd-tree max depth 9 exceeds the traversal stack depth 8 of config 'default'; "
-                 "lower --max-depth or choose a config with a deeper stack");
+                 "lower --kd-depth or choose a config with a deeper stack");
   }
 }
 
@@ -454,7 +454,7 @@ TEST(KdTree, RefusesImpossibleConfigurations) {
   c.max_depth = 40;
   EXPECT_EQ(error_of(s, c),
             "kd-tree max depth 40 exceeds the traversal stack depth 32 of config 'default'; "
-            "lower --max-depth or choose a config with a deeper stack");
+            "lower --kd-depth or choose a config with a deeper stack");
   c = config(false);
   c.max_depth = -1;
   EXPECT_NE(error_of(s, c).find("max depth -1 is outside [0, 64]"), std::string::npos) << error_of(s, c);

@@ -87,7 +87,8 @@ TEST_F(MemoryImageRoundTrip, SaveLoadValidateAndReadBackEveryField) {
   const double diagonal = std::sqrt(2.2 * 2.2 + 2.1 * 2.1 + 2.8 * 2.8);
   EXPECT_NEAR(l.ray_epsilon, 1e-4 * diagonal, 1e-10);
   for (const ImageSection* s : {&l.scene, &l.kd_nodes, &l.prim_refs, &l.isect_records, &l.vertex_normals,
-                                &l.vertex_uvs, &l.triangles, &l.materials, &l.lights, &l.camera}) {
+                                &l.vertex_uvs, &l.triangles, &l.materials, &l.lights, &l.camera,
+                                &l.vertex_positions}) {
     EXPECT_EQ(s->offset % mm::kImageSectionAlignment, 0u);
   }
 
@@ -110,7 +111,10 @@ TEST_F(MemoryImageRoundTrip, SaveLoadValidateAndReadBackEveryField) {
     EXPECT_EQ(load_u32(in, at + mm::kTriangleCAt), scene.triangles[i].z);
     EXPECT_EQ(load_u32(in, at + mm::kTriangleMaterialAt), scene.material_ids[i]);
   }
+  ASSERT_EQ(l.vertex_positions.count, scene.positions.size());
   for (std::size_t i = 0; i < scene.positions.size(); ++i) {
+    EXPECT_EQ(load_float4(in, l.vertex_positions.offset + i * mm::kVertexPositionBytes),
+              glm::vec4(scene.positions[i], 0));
     EXPECT_EQ(load_float4(in, l.vertex_normals.offset + i * mm::kVertexNormalBytes), glm::vec4(scene.normals[i], 0));
     EXPECT_EQ(load_f32(in, l.vertex_uvs.offset + i * mm::kVertexUvBytes), scene.uvs[i].x);
     EXPECT_EQ(load_f32(in, l.vertex_uvs.offset + i * mm::kVertexUvBytes + 4), scene.uvs[i].y);

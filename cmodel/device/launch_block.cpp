@@ -1,0 +1,57 @@
+#include <cmath>
+#include <numbers>
+
+#include "common/error.hpp"
+#include "device/device.hpp"
+#include "memory/little_endian.hpp"
+
+namespace rpu::device {
+
+namespace mm = spec::memory;
+
+std::vector<std::uint8_t> make_launch_block(std::span<const std::uint8_t> image, const ImageLayout& layout,
+                                            const Launch& launch, std::span<const std::uint32_t> shader_table) {
+  // The camera frame of docs/shading.md §2, computed in double from the image's fp32
+  // camera record and rounded once: the firmware then needs no tangent.
+  const std::size_t cam = layout.camera.offset;
+  const glm::dvec3 position(load_float4(image, cam + mm::kCameraPositionAt));
+  const glm::dvec3 look_at(load_float4(image, cam + mm::kCameraLookAtAt));
+  const glm::dvec3 up(load_float4(image, cam + mm::kCameraUpAt));
+  const double vfov = load_f32(image, cam + mm::kCameraVfovAt);
+  if (load_f32(image, cam + mm::kCameraApertureAt) > 0.0f) {
+    throw Error("the firmware renders pinhole cameras only: set the camera's aperture to 0");
+  }
+  const glm::dvec3 forward = glm::normalize(look_at - position);
+  const glm::dvec3 right = glm::normalize(glm::cross(forward, up));
+  const glm::dvec3 true_up = glm::cross(right, forward);
+  const double half_height = std::tan(vfov * std::numbers::pi / 360.0);
+  const double half_width = half_height * launch.width / launch.height;
+
+  std::vector<std::uint8_t> block(mm::kLaunchBytes + 4 * shader_table.size(), 0);
+  const auto u32 = [&](std::uint32_t at, std::uint32_t v) { store_u32(block, at, v); };
+  const auto vec = [&](std::uint32_t at, const glm::dvec3& v) { store_float4(block, at, glm::vec4(glm::vec3(v), 0.0f)); };
+  const auto section = [](const ImageSection& s) { return s.count ? mm::kDeviceImageBase + s.offset : 0u; };
+  u32(mm::kLaunchWidthAt, static_cast<std::uint32_t>(launch.width));
+  u32(mm::kLaunchHeightAt, static_cast<std::uint32_t>(launch.height));
+  u32(mm::kLaunchSppAt, static_cast<std::uint32_t>(launch.spp));
+  u32(mm::kLaunchMaxDepthAt, static_cast<std::uint32_t>(launch.max_depth));
+  u32(mm::kLaunchSeedAt, launch.seed);
+  u32(mm::kLaunchFramebufferAt, mm::kDeviceFramebufferBase);
+  u32(mm::kLaunchShaderCountAt, static_cast<std::uint32_t>(shader_table.size()));
+  u32(mm::kLaunchShaderTableAt, mm::kDeviceLaunchBase + mm::kLaunchBytes);
+  vec(mm::kLaunchOriginAt, position);
+  vec(mm::kLaunchForwardAt, forward);
+  vec(mm::kLaunchRightAt, right * half_width);
+  vec(mm::kLaunchUpAt, true_up * half_height);
+  u32(mm::kLaunchSceneAt, section(layout.scene));
+  u32(mm::kLaunchLightsAt, section(layout.lights));
+  u32(mm::kLaunchMaterialsAt, section(layout.materials));
+  u32(mm::kLaunchTrianglesAt, section(layout.triangles));
+  u32(mm::kLaunchPositionsAt, section(layout.vertex_positions));
+  u32(mm::kLaunchNormalsAt, section(layout.vertex_normals));
+  u32(mm::kLaunchUvsAt, section(layout.vertex_uvs));
+  for (std::size_t i = 0; i < shader_table.size(); ++i) u32(static_cast<std::uint32_t>(mm::kLaunchBytes + 4 * i), shader_table[i]);
+  return block;
+}
+
+}  // namespace rpu::device

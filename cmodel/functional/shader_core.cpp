@@ -1,0 +1,530 @@
+#include "functional/shader_core.hpp"
+
+#include <algorithm>
+#include <bit>
+#include <limits>
+
+#include <fmt/format.h>
+
+#include "fp/fast32.hpp"
+#include "fp/soft.hpp"
+
+namespace rpu::functional {
+
+namespace si = spec::isa;
+namespace mm = spec::memory;
+using isa::Instruction;
+using Opcode = si::Opcode;
+using Vec = std::array<std::uint32_t, 4>;
+
+std::uint64_t ShaderStats::instructions() const {
+  std::uint64_t n = 0;
+  for (const std::uint64_t r : retired) n += r;
+  return n;
+}
+
+ShaderStats& ShaderStats::operator+=(const ShaderStats& o) {
+  for (std::size_t i = 0; i < retired.size(); ++i) retired[i] += o.retired[i];
+  chunk_issues += o.chunk_issues;
+  lanes_issued += o.lanes_issued;
+  pixels += o.pixels;
+  closest_rays += o.closest_rays;
+  any_rays += o.any_rays;
+  nodes += o.nodes;
+  leaves += o.leaves;
+  tests += o.tests;
+  return *this;
+}
+
+namespace {
+
+// Float operations on register lanes (fp32 bits) in the configured format: each
+// reads its operands rounded into the format and writes the result widened to fp32
+// (docs/numbers.md). Two policies with identical results: any format via the soft
+// path, fp32 via host float (fp::fast32, under a FlushScope).
+struct SoftOps {
+  fp::Format f;
+  std::uint32_t in(std::uint32_t lane) const { return fp::soft::from_fp32(f, lane); }
+  std::uint32_t out(std::uint32_t v) const { return fp::soft::to_fp32(f, v); }
+  std::uint32_t neg(std::uint32_t v) const { return f.is_nan(v) ? v : v ^ f.sign_mask(); }
+  std::uint32_t abs(std::uint32_t v) const { return f.is_nan(v) ? v : v & ~f.sign_mask(); }
+  std::uint32_t add(std::uint32_t a, std::uint32_t b) const { return fp::soft::add(f, a, b); }
+  std::uint32_t mul(std::uint32_t a, std::uint32_t b) const { return fp::soft::mul(f, a, b); }
+  std::uint32_t fma(std::uint32_t a, std::uint32_t b, std::uint32_t c) const { return fp::soft::fma(f, a, b, c); }
+  std::uint32_t min(std::uint32_t a, std::uint32_t b) const { return fp::soft::min(f, a, b); }
+  std::uint32_t max(std::uint32_t a, std::uint32_t b) const { return fp::soft::max(f, a, b); }
+  std::uint32_t rcp(std::uint32_t a) const { return fp::soft::rcp(f, a); }
+  std::uint32_t rsqrt(std::uint32_t a) const { return fp::soft::rsqrt(f, a); }
+  std::uint32_t sqrt(std::uint32_t a) const { return fp::soft::sqrt(f, a); }
+  std::uint32_t floor(std::uint32_t a) const { return fp::soft::floor(f, a); }
+  std::uint32_t fract(std::uint32_t a) const { return fp::soft::fract(f, a); }
+  bool eq(std::uint32_t a, std::uint32_t b) const { return fp::soft::eq(f, a, b); }
+  bool ne(std::uint32_t a, std::uint32_t b) const { return fp::soft::ne(f, a, b); }
+  bool lt(std::uint32_t a, std::uint32_t b) const { return fp::soft::lt(f, a, b); }
+  bool le(std::uint32_t a, std::uint32_t b) const { return fp::soft::le(f, a, b); }
+  std::uint32_t from_int(std::int32_t v) const { return fp::soft::from_int32(f, v); }
+  std::int32_t to_int(std::uint32_t a) const { return fp::soft::to_int32(f, a); }
+};
+
+struct Fast32Ops {
+  std::uint32_t in(std::uint32_t lane) const { return fp::fast32::from_fp32(lane); }
+  std::uint32_t out(std::uint32_t v) const { return v; }
+  std::uint32_t neg(std::uint32_t v) const { return is_nan(v) ? v : v ^ 0x80000000u; }
+  std::uint32_t abs(std::uint32_t v) const { return is_nan(v) ? v : v & 0x7fffffffu; }
+  std::uint32_t add(std::uint32_t a, std::uint32_t b) const { return fp::fast32::add(a, b); }
+  std::uint32_t mul(std::uint32_t a, std::uint32_t b) const { return fp::fast32::mul(a, b); }
+  std::uint32_t fma(std::uint32_t a, std::uint32_t b, std::uint32_t c) const { return fp::fast32::fma(a, b, c); }
+  std::uint32_t min(std::uint32_t a, std::uint32_t b) const { return fp::fast32::min(a, b); }
+  std::uint32_t max(std::uint32_t a, std::uint32_t b) const { return fp::fast32::max(a, b); }
+  std::uint32_t rcp(std::uint32_t a) const { return fp::fast32::rcp(a); }
+  std::uint32_t rsqrt(std::uint32_t a) const { return fp::fast32::rsqrt(a); }
+  std::uint32_t sqrt(std::uint32_t a) const { return fp::fast32::sqrt(a); }
+  std::uint32_t floor(std::uint32_t a) const { return fp::fast32::floor(a); }
+  std::uint32_t fract(std::uint32_t a) const { return fp::fast32::fract(a); }
+  bool eq(std::uint32_t a, std::uint32_t b) const { return fp::fast32::eq(a, b); }
+  bool ne(std::uint32_t a, std::uint32_t b) const { return fp::fast32::ne(a, b); }
+  bool lt(std::uint32_t a, std::uint32_t b) const { return fp::fast32::lt(a, b); }
+  bool le(std::uint32_t a, std::uint32_t b) const { return fp::fast32::le(a, b); }
+  std::uint32_t from_int(std::int32_t v) const { return fp::fast32::from_int32(v); }
+  std::int32_t to_int(std::uint32_t a) const { return fp::fast32::to_int32(a); }
+  static bool is_nan(std::uint32_t v) { return (v & 0x7fffffffu) > 0x7f800000u; }
+};
+
+constexpr std::uint32_t kTrue = 0xffffffffu;
+constexpr std::uint32_t kMissPrim = 0xffffffffu;
+
+Vec swizzle(const Vec& r, std::uint8_t swz) {
+  return {r[swz & 3], r[(swz >> 2) & 3], r[(swz >> 4) & 3], r[(swz >> 6) & 3]};
+}
+
+}  // namespace
+
+struct ShaderCore::Thread {
+  const Lane* lane = nullptr;
+  std::uint32_t pc = 0;
+  bool done = false;
+  std::uint64_t retired = 0;
+  std::vector<Vec> regs;
+  std::vector<std::uint32_t> returns;  // the return-address stack
+  std::vector<Vec> stack;              // push/pop memory stack (its contents)
+};
+
+ShaderCore::ShaderCore(const isa::Firmware& firmware, DeviceMemory& memory, const Tracer& tracer, fp::Format format,
+                       const ShaderCoreConfig& config, bool fast_path)
+    : firmware_(firmware),
+      memory_(memory),
+      tracer_(tracer),
+      format_(format),
+      config_(config),
+      fast_(fast_path && format == fp::kFp32) {
+  const auto entry = firmware.symbols.find("raygen");
+  if (entry == firmware.symbols.end() || entry->second.kind != isa::Symbol::Kind::kCode) {
+    throw Error("the firmware has no code label 'raygen' (the ray-generation entry point every thread starts at)");
+  }
+  raygen_ = entry->second.value;
+  code_.resize(firmware.code.size());
+  illegal_why_.resize(firmware.code.size());
+  for (std::size_t pc = 0; pc < firmware.code.size(); ++pc) {
+    std::string why;
+    if (auto insn = isa::decode(firmware.code[pc], &why)) {
+      code_[pc] = *insn;
+    } else {
+      illegal_why_[pc] = why;
+    }
+  }
+}
+
+void ShaderCore::fault(const Thread& t, const std::string& what) const {
+  const std::string insn =
+      t.pc < firmware_.code.size() ? isa::disassemble(firmware_.code[t.pc]) : std::string("past the end of the code");
+  const std::uint32_t width = memory_.launch_block().size() >= 8
+                                  ? memory_.load32(mm::kDeviceLaunchBase + mm::kLaunchWidthAt)
+                                  : 1;
+  const std::uint32_t p = t.lane->pixel;
+  throw ShaderFault(fmt::format("shader fault in thread {} (core {}, chunk {}, lane {}; pixel {}, {}) at pc {} "
+                                "({}): {}",
+                                t.lane->thread, t.lane->core, t.lane->chunk, t.lane->lane, p % width, p / width, t.pc,
+                                insn, what),
+                    p);
+}
+
+void ShaderCore::run_chunk(std::span<const Lane> lanes, ShaderStats& stats,
+                           std::vector<std::vector<Vec>>* end_registers) {
+  if (fast_) {
+    const fp::fast32::FlushScope flush;
+    run_chunk_with(Fast32Ops{}, lanes, stats, end_registers);
+  } else {
+    run_chunk_with(SoftOps{format_}, lanes, stats, end_registers);
+  }
+}
+
+template <class Ops>
+void ShaderCore::run_chunk_with(const Ops& ops, std::span<const Lane> lanes, ShaderStats& stats,
+                                std::vector<std::vector<Vec>>* end_registers) {
+  std::vector<Thread> threads(lanes.size());
+  for (std::size_t i = 0; i < lanes.size(); ++i) {
+    threads[i].lane = &lanes[i];
+    threads[i].pc = raygen_;
+    threads[i].regs.assign(static_cast<std::size_t>(config_.registers), Vec{});
+  }
+  stats.pixels += lanes.size();
+  for (;;) {
+    std::uint32_t pc = std::numeric_limits<std::uint32_t>::max();
+    for (const Thread& t : threads) {
+      if (!t.done) pc = std::min(pc, t.pc);
+    }
+    if (pc == std::numeric_limits<std::uint32_t>::max()) {
+      if (end_registers) {
+        end_registers->clear();
+        for (const Thread& t : threads) end_registers->push_back(t.regs);
+      }
+      return;
+    }
+    ++stats.chunk_issues;
+    stats.lanes_issued += static_cast<std::uint64_t>(config_.chunk_size);
+    for (Thread& t : threads) {
+      if (!t.done && t.pc == pc) execute(ops, t, stats);
+    }
+  }
+}
+
+template <class Ops>
+void ShaderCore::execute(const Ops& ops, Thread& t, ShaderStats& stats) {
+  if (t.pc >= code_.size()) fault(t, fmt::format("pc {} is past the end of the code ({} instructions)", t.pc, code_.size()));
+  const Instruction& in = code_[t.pc];
+  if (!in.spec) fault(t, "illegal instruction: " + illegal_why_[t.pc]);
+  if (++t.retired > config_.watchdog) {
+    fault(t, fmt::format("watchdog: the thread retired {} instructions for one pixel; a runaway shader?",
+                         config_.watchdog));
+  }
+  ++stats.retired[static_cast<std::size_t>(in.spec->cls)];
+  const int nregs = config_.registers;
+  const auto check_reg = [&](int r, std::string_view role) {
+    if (r >= nregs) {
+      fault(t, fmt::format("illegal instruction: {} register r{} does not exist (the configuration has {})", role, r,
+                           nregs));
+    }
+  };
+  // Which register fields this instruction reads or writes.
+  bool reads[3] = {false, false, false};
+  bool writes = false;
+  for (int k = 0; k < in.spec->operand_count; ++k) {
+    switch (in.spec->operands[k]) {
+      case si::Operand::kD: writes = true; break;
+      case si::Operand::kA:
+      case si::Operand::kMem: reads[0] = true; break;
+      case si::Operand::kB: reads[1] = true; break;
+      case si::Operand::kC: reads[2] = true; break;
+      default: break;
+    }
+  }
+  if (writes) check_reg(in.dst, "destination");
+  for (int s = 0; s < 3; ++s) {
+    if (reads[s]) check_reg(in.src[s].reg, "source");
+  }
+
+  // Raw source lanes (swizzled) and float source lanes (rounded into the format, abs,
+  // then neg).
+  const auto raw = [&](int s) { return swizzle(t.regs[in.src[s].reg], in.src[s].swizzle); };
+  const auto flt = [&](int s) {
+    Vec v = raw(s);
+    for (std::uint32_t& x : v) {
+      x = ops.in(x);
+      if (in.src[s].abs) x = ops.abs(x);
+      if (in.src[s].neg) x = ops.neg(x);
+    }
+    return v;
+  };
+  Vec& dst = t.regs[in.dst];
+  const auto write = [&](const Vec& v) {
+    for (int i = 0; i < 4; ++i) {
+      if (in.wmask >> i & 1) dst[i] = v[i];
+    }
+  };
+  const auto write_float = [&](Vec v) {
+    for (std::uint32_t& x : v) x = ops.out(x);
+    write(v);
+  };
+  const auto float_unary = [&](auto op) {
+    Vec a = flt(0);
+    for (std::uint32_t& x : a) x = op(x);
+    write_float(a);
+  };
+  const auto float_binary = [&](auto op) {
+    const Vec a = flt(0), b = flt(1);
+    Vec r;
+    for (int i = 0; i < 4; ++i) r[i] = op(a[i], b[i]);
+    write_float(r);
+  };
+  const auto compare = [&](auto op) {
+    const Vec a = flt(0), b = flt(1);
+    Vec r;
+    for (int i = 0; i < 4; ++i) r[i] = op(a[i], b[i]) ? kTrue : 0;
+    write(r);
+  };
+  const auto int_binary = [&](auto op) {
+    const Vec a = raw(0), b = raw(1);
+    Vec r;
+    for (int i = 0; i < 4; ++i) r[i] = op(a[i], b[i]);
+    write(r);
+  };
+  const auto int_imm = [&](auto op) {
+    const Vec a = raw(0);
+    Vec r;
+    for (int i = 0; i < 4; ++i) r[i] = op(a[i], in.imm);
+    write(r);
+  };
+  const auto address = [&]() { return raw(0)[0] + in.imm; };
+  const auto mem_check = [&](std::uint32_t addr, std::uint32_t bytes, bool store) {
+    const DeviceMemory::Access a = memory_.check(addr, bytes, store, t.lane->pixel);
+    if (!a.ok) fault(t, a.problem);
+  };
+  const auto load_vec = [&](bool to_format) {
+    const std::uint32_t addr = address();
+    mem_check(addr, 16, false);
+    Vec v;
+    for (int i = 0; i < 4; ++i) {
+      v[i] = memory_.load32(addr + 4 * static_cast<std::uint32_t>(i));
+      if (to_format) v[i] = ops.out(ops.in(v[i]));
+    }
+    write(v);
+  };
+  const auto load_one = [&](bool to_format) {
+    const std::uint32_t addr = address();
+    mem_check(addr, 4, false);
+    std::uint32_t v = memory_.load32(addr);
+    if (to_format) v = ops.out(ops.in(v));
+    write({v, v, v, v});
+  };
+  const auto call = [&](std::uint32_t target) {
+    if (t.returns.size() >= static_cast<std::size_t>(config_.call_depth)) {
+      fault(t, fmt::format("call-depth overflow: the return stack holds {} entries (call_depth of the configuration)",
+                           config_.call_depth));
+    }
+    t.returns.push_back(t.pc + 1);
+    t.pc = target;
+  };
+  const std::uint32_t stack_slots = config_.stack_bytes / 16;
+  const auto sp = [&]() {
+    return mm::kDeviceStackBase + (t.lane->thread + 1) * config_.stack_bytes -
+           static_cast<std::uint32_t>(t.stack.size()) * 16;
+  };
+
+  std::uint32_t next = t.pc + 1;
+  switch (in.opcode()) {
+    case Opcode::kMov:
+      if (in.src[0].neg || in.src[0].abs) {
+        // Sign modifiers act on the lane as an fp32 value; the raw bits move otherwise.
+        Vec v = raw(0);
+        for (std::uint32_t& x : v) {
+          const bool nan = Fast32Ops::is_nan(x);
+          if (in.src[0].abs && !nan) x &= 0x7fffffffu;
+          if (in.src[0].neg && !nan) x ^= 0x80000000u;
+        }
+        write(v);
+      } else {
+        write(raw(0));
+      }
+      break;
+    case Opcode::kAdd: float_binary([&](auto a, auto b) { return ops.add(a, b); }); break;
+    case Opcode::kMul: float_binary([&](auto a, auto b) { return ops.mul(a, b); }); break;
+    case Opcode::kMad: {
+      const Vec a = flt(0), b = flt(1), c = flt(2);
+      Vec r;
+      for (int i = 0; i < 4; ++i) r[i] = ops.fma(a[i], b[i], c[i]);
+      write_float(r);
+      break;
+    }
+    case Opcode::kDp3:
+    case Opcode::kDp4: {
+      const Vec a = flt(0), b = flt(1);
+      std::uint32_t s = ops.add(ops.mul(a[0], b[0]), ops.mul(a[1], b[1]));
+      s = in.opcode() == Opcode::kDp3 ? ops.add(s, ops.mul(a[2], b[2]))
+                                      : ops.add(s, ops.add(ops.mul(a[2], b[2]), ops.mul(a[3], b[3])));
+      write_float({s, s, s, s});
+      break;
+    }
+    case Opcode::kMin: float_binary([&](auto a, auto b) { return ops.min(a, b); }); break;
+    case Opcode::kMax: float_binary([&](auto a, auto b) { return ops.max(a, b); }); break;
+    case Opcode::kRcp: float_unary([&](auto a) { return ops.rcp(a); }); break;
+    case Opcode::kRsq: float_unary([&](auto a) { return ops.rsqrt(a); }); break;
+    case Opcode::kSqrt: float_unary([&](auto a) { return ops.sqrt(a); }); break;
+    case Opcode::kFrc: float_unary([&](auto a) { return ops.fract(a); }); break;
+    case Opcode::kFlr: float_unary([&](auto a) { return ops.floor(a); }); break;
+    case Opcode::kFeq: compare([&](auto a, auto b) { return ops.eq(a, b); }); break;
+    case Opcode::kFne: compare([&](auto a, auto b) { return ops.ne(a, b); }); break;
+    case Opcode::kFlt: compare([&](auto a, auto b) { return ops.lt(a, b); }); break;
+    case Opcode::kFle: compare([&](auto a, auto b) { return ops.le(a, b); }); break;
+    case Opcode::kSel: {
+      const Vec a = raw(0), b = raw(1), c = raw(2);
+      write({a[0] ? b[0] : c[0], a[1] ? b[1] : c[1], a[2] ? b[2] : c[2], a[3] ? b[3] : c[3]});
+      break;
+    }
+    case Opcode::kI2f: {
+      Vec a = raw(0);
+      for (std::uint32_t& x : a) x = ops.from_int(static_cast<std::int32_t>(x));
+      write_float(a);
+      break;
+    }
+    case Opcode::kF2i: {
+      Vec a = flt(0);
+      for (std::uint32_t& x : a) x = static_cast<std::uint32_t>(ops.to_int(x));
+      write(a);
+      break;
+    }
+    case Opcode::kIadd: int_binary([](std::uint32_t a, std::uint32_t b) { return a + b; }); break;
+    case Opcode::kIsub: int_binary([](std::uint32_t a, std::uint32_t b) { return a - b; }); break;
+    case Opcode::kImul: int_binary([](std::uint32_t a, std::uint32_t b) { return a * b; }); break;
+    case Opcode::kImulhu:
+      int_binary([](std::uint32_t a, std::uint32_t b) {
+        return static_cast<std::uint32_t>((std::uint64_t{a} * b) >> 32);
+      });
+      break;
+    case Opcode::kAnd: int_binary([](std::uint32_t a, std::uint32_t b) { return a & b; }); break;
+    case Opcode::kOr: int_binary([](std::uint32_t a, std::uint32_t b) { return a | b; }); break;
+    case Opcode::kXor: int_binary([](std::uint32_t a, std::uint32_t b) { return a ^ b; }); break;
+    case Opcode::kShl: int_binary([](std::uint32_t a, std::uint32_t b) { return a << (b & 31); }); break;
+    case Opcode::kShr: int_binary([](std::uint32_t a, std::uint32_t b) { return a >> (b & 31); }); break;
+    case Opcode::kSra:
+      int_binary([](std::uint32_t a, std::uint32_t b) {
+        return static_cast<std::uint32_t>(static_cast<std::int32_t>(a) >> (b & 31));
+      });
+      break;
+    case Opcode::kIeq: int_binary([](std::uint32_t a, std::uint32_t b) { return a == b ? kTrue : 0u; }); break;
+    case Opcode::kIlt:
+      int_binary([](std::uint32_t a, std::uint32_t b) {
+        return static_cast<std::int32_t>(a) < static_cast<std::int32_t>(b) ? kTrue : 0u;
+      });
+      break;
+    case Opcode::kIltu: int_binary([](std::uint32_t a, std::uint32_t b) { return a < b ? kTrue : 0u; }); break;
+    case Opcode::kIaddi: int_imm([](std::uint32_t a, std::uint32_t b) { return a + b; }); break;
+    case Opcode::kImuli: int_imm([](std::uint32_t a, std::uint32_t b) { return a * b; }); break;
+    case Opcode::kAndi: int_imm([](std::uint32_t a, std::uint32_t b) { return a & b; }); break;
+    case Opcode::kOri: int_imm([](std::uint32_t a, std::uint32_t b) { return a | b; }); break;
+    case Opcode::kXori: int_imm([](std::uint32_t a, std::uint32_t b) { return a ^ b; }); break;
+    case Opcode::kShli: int_imm([](std::uint32_t a, std::uint32_t b) { return a << (b & 31); }); break;
+    case Opcode::kShri: int_imm([](std::uint32_t a, std::uint32_t b) { return a >> (b & 31); }); break;
+    case Opcode::kSrai:
+      int_imm([](std::uint32_t a, std::uint32_t b) {
+        return static_cast<std::uint32_t>(static_cast<std::int32_t>(a) >> (b & 31));
+      });
+      break;
+    case Opcode::kIlti:
+      int_imm([](std::uint32_t a, std::uint32_t b) {
+        return static_cast<std::int32_t>(a) < static_cast<std::int32_t>(b) ? kTrue : 0u;
+      });
+      break;
+    case Opcode::kLi: write({in.imm, in.imm, in.imm, in.imm}); break;
+    case Opcode::kLif: {
+      const std::uint32_t v = ops.out(ops.in(in.imm));
+      write({v, v, v, v});
+      break;
+    }
+    case Opcode::kLd: load_vec(false); break;
+    case Opcode::kLdf: load_vec(true); break;
+    case Opcode::kLd1: load_one(false); break;
+    case Opcode::kLd1f: load_one(true); break;
+    case Opcode::kSt: {
+      const std::uint32_t addr = address();
+      const Vec& v = t.regs[in.dst];
+      for (std::uint32_t i = 0; i < 4; ++i) {
+        if (in.wmask >> i & 1) mem_check(addr + 4 * i, 4, true);
+      }
+      for (std::uint32_t i = 0; i < 4; ++i) {
+        if (in.wmask >> i & 1) memory_.store32(addr + 4 * i, v[i]);
+      }
+      break;
+    }
+    case Opcode::kSt1: {
+      if (in.wmask != 1) fault(t, "illegal instruction: st1 stores lane x only (write mask .x)");
+      const std::uint32_t addr = address();
+      mem_check(addr, 4, true);
+      memory_.store32(addr, t.regs[in.dst][0]);
+      break;
+    }
+    case Opcode::kPush:
+      if (t.stack.size() >= stack_slots) {
+        fault(t, fmt::format("stack overflow: push below the thread's stack ({} bytes at {:#010x}; sp {:#010x})",
+                             config_.stack_bytes, mm::kDeviceStackBase + t.lane->thread * config_.stack_bytes, sp()));
+      }
+      t.stack.push_back(raw(0));
+      break;
+    case Opcode::kPop:
+      if (t.stack.empty()) fault(t, fmt::format("stack underflow: pop with nothing pushed (sp {:#010x})", sp()));
+      write(t.stack.back());
+      t.stack.pop_back();
+      break;
+    case Opcode::kBra: next = in.imm; break;
+    case Opcode::kBz:
+      if (raw(0)[0] == 0) next = in.imm;
+      break;
+    case Opcode::kBnz:
+      if (raw(0)[0] != 0) next = in.imm;
+      break;
+    case Opcode::kCall:
+      call(in.imm);
+      next = t.pc;
+      break;
+    case Opcode::kCalli: {
+      const std::uint32_t id = raw(0)[0];
+      const std::uint32_t count = memory_.load32(mm::kDeviceLaunchBase + mm::kLaunchShaderCountAt);
+      if (id >= count) fault(t, fmt::format("calli: shader id {} is outside the shader table ({} shaders)", id, count));
+      const std::uint32_t entry = memory_.load32(mm::kDeviceLaunchBase + mm::kLaunchShaderTableAt) + 4 * id;
+      mem_check(entry, 4, false);
+      call(memory_.load32(entry));
+      next = t.pc;
+      break;
+    }
+    case Opcode::kRet:
+      if (t.returns.empty()) fault(t, "ret with an empty return stack (raygen ends with halt)");
+      next = t.returns.back();
+      t.returns.pop_back();
+      break;
+    case Opcode::kHalt: t.done = true; break;
+    case Opcode::kTrace:
+    case Opcode::kTracea: {
+      const Vec a = raw(0), b = raw(1);
+      TraceRay ray;
+      for (int i = 0; i < 3; ++i) {
+        ray.origin[i] = std::bit_cast<float>(a[i]);
+        ray.direction[i] = std::bit_cast<float>(b[i]);
+      }
+      ray.t_min = std::bit_cast<float>(a[3]);
+      ray.t_max = std::bit_cast<float>(b[3]);
+      const bool any = in.opcode() == Opcode::kTracea;
+      TraceHit hit;
+      try {
+        hit = tracer_.trace(ray, any ? TraceMode::kAny : TraceMode::kClosest);
+      } catch (const Error& e) {
+        fault(t, e.what());
+      }
+      ++(any ? stats.any_rays : stats.closest_rays);
+      stats.nodes += hit.counters.nodes;
+      stats.leaves += hit.counters.leaves;
+      stats.tests += hit.counters.tests;
+      if (hit.hit) {
+        write({std::bit_cast<std::uint32_t>(hit.t), std::bit_cast<std::uint32_t>(hit.u),
+               std::bit_cast<std::uint32_t>(hit.v), hit.prim});
+      } else {
+        write({std::bit_cast<std::uint32_t>(std::numeric_limits<float>::infinity()), 0, 0, kMissPrim});
+      }
+      break;
+    }
+    case Opcode::kRdsr: {
+      const Lane& l = *t.lane;
+      const auto launch = [&](std::uint32_t at) { return memory_.load32(mm::kDeviceLaunchBase + at); };
+      const std::uint32_t width = launch(mm::kLaunchWidthAt);
+      switch (in.imm) {
+        case si::kSpecialPixel: write({l.pixel % width, l.pixel / width, l.pixel, 0}); break;
+        case si::kSpecialLaunch: write({width, launch(mm::kLaunchHeightAt), launch(mm::kLaunchSppAt), launch(mm::kLaunchMaxDepthAt)}); break;
+        case si::kSpecialThread: write({l.thread, l.core, l.chunk, l.lane}); break;
+        case si::kSpecialParams: write({mm::kDeviceLaunchBase, static_cast<std::uint32_t>(memory_.launch_block().size()), 0, 0}); break;
+        default: fault(t, fmt::format("illegal instruction: no special register {}", in.imm));
+      }
+      break;
+    }
+  }
+  t.pc = next;
+}
+
+}  // namespace rpu::functional

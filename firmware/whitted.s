@@ -1,0 +1,453 @@
+; Whitted ray tracing: the shading model of docs/shading.md, the one the reference
+; renderer implements, as firmware for the RPU shader cores. ABI: docs/shader-core.md.
+;
+; Registers kept by every routine:
+;   r15 = (launch block address, ray epsilon (float), max depth (int), 0)
+;   r14 = (random stream state, depth of the current ray (int), -, -)
+; Everything else is clobbered by calls; callers push what they need.
+
+.text
+
+; ---------------------------------------------------------------------------------
+; raygen: one pixel. spp jittered samples (docs/shading.md section 1), each traced by
+; shade_ray; the mean goes to the framebuffer as (r, g, b, 1).
+; r12 = (sample, column, row, n) with n = round(sqrt(spp)); r13 = colour sum.
+raygen:
+        li      r15.x, DEVICE_LAUNCH_BASE
+        ld1     r0.x, [r15 + LAUNCH_SCENE_AT]
+        ld1f    r15.y, [r0 + SCENE_RECORD_RAY_EPSILON_AT]
+        ld1     r15.z, [r15 + LAUNCH_MAX_DEPTH_AT]
+        li      r15.w, 0
+        li      r12, 0
+        ld1     r0.x, [r15 + LAUNCH_SPP_AT]
+        i2f     r0.y, r0.x
+        sqrt    r0.y, r0.y
+        lif     r0.z, 0.5
+        add     r0.y, r0.y, r0.z
+        flr     r0.y, r0.y
+        f2i     r12.w, r0.y
+        li      r13, 0
+sample_loop:
+        ; the sample's stream: h(seed ^ h(pixel ^ h(sample)))
+        mov     r11.x, r12.x
+        call    hash
+        rdsr    r0, pixel
+        xor     r11.x, r11.x, r0.z
+        call    hash
+        ld1     r0.x, [r15 + LAUNCH_SEED_AT]
+        xor     r11.x, r11.x, r0.x
+        call    hash
+        mov     r14.x, r11.x
+        ; r1.xy = the sample's position in the pixel
+        ld1     r0.x, [r15 + LAUNCH_SPP_AT]
+        ilti    r0.y, r0.x, 2
+        bz      r0.y, jitter
+        lif     r1.xy, 0.5
+        bra     have_offset
+jitter:
+        call    rand
+        mov     r1.x, r11.x
+        call    rand
+        mov     r1.y, r11.x
+        imul    r0.y, r12.w, r12.w
+        ieq     r0.y, r0.y, r0.x
+        bz      r0.y, have_offset       ; spp not square: uniform jitter
+        i2f     r2.xy, r12.yz           ; (column, row)
+        add     r1.xy, r1, r2
+        i2f     r2.x, r12.w
+        rcp     r2.x, r2.x
+        mul     r1.xy, r1, r2.x
+have_offset:
+        ; the lens sample: a pinhole camera draws it too, to keep the stream in step
+        call    rand
+        call    rand
+        ; direction = forward + (2 px/width - 1) right + (1 - 2 py/height) up
+        rdsr    r0, pixel
+        i2f     r0.xy, r0
+        add     r1.xy, r1, r0
+        rdsr    r0, launch
+        i2f     r0.xy, r0
+        rcp     r0.xy, r0
+        mul     r1.xy, r1, r0
+        add     r1.xy, r1, r1
+        lif     r0.z, 1.0
+        add     r1.x, r1.x, -r0.z
+        add     r1.y, r0.z, -r1.y
+        ldf     r2.xyz, [r15 + LAUNCH_FORWARD_AT]
+        ldf     r3.xyz, [r15 + LAUNCH_RIGHT_AT]
+        ldf     r4.xyz, [r15 + LAUNCH_UP_AT]
+        mad     r2.xyz, r3, r1.x, r2
+        mad     r2.xyz, r4, r1.y, r2
+        dp3     r3.x, r2, r2
+        rsq     r3.x, r3.x
+        mul     r1.xyz, r2, r3.x
+        lif     r1.w, inf
+        ldf     r0.xyz, [r15 + LAUNCH_ORIGIN_AT]
+        mov     r0.w, r15.w
+        li      r14.y, 0
+        push    r12
+        push    r13
+        call    shade_ray
+        pop     r13
+        pop     r12
+        add     r13.xyz, r13, r0
+        ; next sample: column + 1, wrapping to the next row after n
+        iaddi   r12.x, r12.x, 1
+        iaddi   r12.y, r12.y, 1
+        ieq     r0.x, r12.y, r12.w
+        bz      r0.x, same_row
+        li      r12.y, 0
+        iaddi   r12.z, r12.z, 1
+same_row:
+        ld1     r0.x, [r15 + LAUNCH_SPP_AT]
+        ilt     r0.y, r12.x, r0.x
+        bnz     r0.y, sample_loop
+        i2f     r0.x, r0.x
+        rcp     r0.x, r0.x
+        mul     r13.xyz, r13, r0.x
+        lif     r13.w, 1.0
+        ld1     r0.x, [r15 + LAUNCH_FRAMEBUFFER_AT]
+        rdsr    r1, pixel
+        shli    r1.z, r1.z, 4           ; FRAMEBUFFER_BYTES_PER_PIXEL = 16
+        iadd    r0.x, r0.x, r1.z
+        st      [r0], r13
+        halt
+
+; ---------------------------------------------------------------------------------
+; shade_ray: r0 = (origin, t_min), r1 = (direction, t_max) -> r0.xyz = colour.
+; A hit calls its material's shader through the shader table with
+; r0, r1 as given, r2 = hit record (t, u, v, triangle), r4.x = material address,
+; r5 = triangle record (vertex a, b, c, material).
+shade_ray:
+        trace   r2, r0, r1
+        iaddi   r3.x, r2.w, 1
+        bz      r3.x, shade_miss        ; triangle 0xffffffff: a miss
+        ld1     r3.x, [r15 + LAUNCH_TRIANGLES_AT]
+        imuli   r4.x, r2.w, TRIANGLE_BYTES
+        iadd    r3.x, r3.x, r4.x
+        ld      r5, [r3]
+        ld1     r4.x, [r15 + LAUNCH_MATERIALS_AT]
+        imuli   r6.x, r5.w, MATERIAL_BYTES
+        iadd    r4.x, r4.x, r6.x
+        ld1     r6.x, [r4 + MATERIAL_SHADER_AT]
+        calli   r6.x
+        ret
+shade_miss:
+        call    miss
+        ret
+
+; miss: r0.xyz = the scene's background.
+miss:
+        ld1     r3.x, [r15 + LAUNCH_SCENE_AT]
+        ldf     r0.xyz, [r3 + SCENE_RECORD_BACKGROUND_AT]
+        ret
+
+; ---------------------------------------------------------------------------------
+; hit_whitted: docs/shading.md sections 3 and 4.
+; Live: r1 = d, r3 = colour, r4 = (material, entering mask), r6 = P, r7 = (P + eps Ng, 0),
+; r12 = Ng, r13 = N.
+hit_whitted:
+        mad     r6.xyz, r1, r2.x, r0    ; P = o + t d
+        ld1     r7.x, [r15 + LAUNCH_POSITIONS_AT]
+        shli    r8.xyz, r5, 4           ; VERTEX_POSITION_BYTES = 16
+        iadd    r8.xyz, r8, r7.x
+        ldf     r9.xyz, [r8.x]
+        ldf     r10.xyz, [r8.y]
+        ldf     r11.xyz, [r8.z]
+        add     r10.xyz, r10, -r9       ; p1 - p0
+        add     r11.xyz, r11, -r9       ; p2 - p0
+        max     r12.x, |r10|.x, |r10|.y ; each edge over its largest component, so that
+        max     r12.x, r12.x, |r10|.z   ; the cross product cannot overflow a narrow format
+        rcp     r12.x, r12.x
+        mul     r10.xyz, r10, r12.x
+        max     r12.x, |r11|.x, |r11|.y
+        max     r12.x, r12.x, |r11|.z
+        rcp     r12.x, r12.x
+        mul     r11.xyz, r11, r12.x
+        mul     r12.xyz, r10.zxy, r11.yzx
+        mad     r8.xyz, r10.yzx, r11.zxy, -r12
+        call    unit
+        mov     r12.xyz, r8             ; Ng
+        mov     r13.xyz, r12            ; N = Ng unless the scene has vertex normals
+        ld1     r7.x, [r15 + LAUNCH_NORMALS_AT]
+        bz      r7.x, normals_done
+        shli    r8.xyz, r5, 4           ; VERTEX_NORMAL_BYTES = 16
+        iadd    r8.xyz, r8, r7.x
+        ldf     r9.xyz, [r8.x]
+        ldf     r10.xyz, [r8.y]
+        ldf     r11.xyz, [r8.z]
+        lif     r7.x, 1.0
+        add     r7.x, r7.x, -r2.y
+        add     r7.x, r7.x, -r2.z       ; w = 1 - u - v
+        mul     r9.xyz, r9, r7.x
+        mad     r9.xyz, r10, r2.y, r9
+        mad     r9.xyz, r11, r2.z, r9   ; w n0 + u n1 + v n2
+        dp3     r10.x, r9, r9
+        flt     r10.y, r15.w, r10.x
+        bz      r10.y, normals_done     ; a zero blend keeps Ng
+        rsq     r10.x, r10.x
+        mul     r13.xyz, r9, r10.x
+        dp3     r10.x, r13, r12
+        flt     r10.x, r10.x, r15.w
+        bz      r10.x, normals_done
+        mov     r13.xyz, -r13           ; turned to Ng's side
+normals_done:
+        dp3     r10.x, r1, r12
+        flt     r4.y, r10.x, r15.w      ; entering: d . Ng < 0
+        bnz     r4.y, facing
+        mov     r12.xyz, -r12           ; leaving: both normals face the viewer
+        mov     r13.xyz, -r13
+facing:
+        mad     r7.xyz, r12, r15.y, r6  ; P + eps Ng
+        mov     r7.w, r15.w
+        ldf     r3.xyz, [r4 + MATERIAL_AMBIENT_AT]
+
+        ; lights: r5 = (lights left, light address)
+        ld1     r5.x, [r15 + LAUNCH_SCENE_AT]
+        ld1     r5.x, [r5 + SCENE_RECORD_LIGHT_COUNT_AT]
+        ld1     r5.y, [r15 + LAUNCH_LIGHTS_AT]
+light_loop:
+        bz      r5.x, lights_done
+        ld1     r0.x, [r5.y + LIGHT_KIND_AT]
+        iaddi   r0.y, r0.x, -LIGHT_KIND_DIRECTIONAL
+        bnz     r0.y, positional
+        ldf     r8.xyz, [r5.y + LIGHT_DIRECTION_AT]
+        mov     r8.xyz, -r8             ; L = -direction
+        lif     r8.w, inf               ; distance
+        bra     have_l
+positional:
+        ldf     r9.xyz, [r5.y + LIGHT_POSITION_AT]
+        iaddi   r0.y, r0.x, -LIGHT_KIND_AREA
+        bnz     r0.y, point
+        call    rand                    ; a point of the rectangle
+        ldf     r10.xyz, [r5.y + LIGHT_EDGE_U_AT]
+        mad     r9.xyz, r10, r11.x, r9
+        call    rand
+        ldf     r10.xyz, [r5.y + LIGHT_EDGE_V_AT]
+        mad     r9.xyz, r10, r11.x, r9
+point:
+        add     r8.xyz, r9, -r6
+        call    unit                    ; L, distance
+have_l:
+        dp3     r9.x, r13, r8           ; N . L
+        fle     r0.y, r9.x, r15.w
+        bnz     r0.y, next_light
+        dp3     r9.y, r12, r8           ; Ng . L
+        fle     r0.y, r9.y, r15.w
+        bnz     r0.y, next_light
+        add     r8.w, r8.w, -r15.y      ; shadow ray over (0, distance - eps)
+        tracea  r0, r7, r8
+        iaddi   r0.w, r0.w, 1
+        bnz     r0.w, next_light        ; blocked
+        add     r10.x, r9.x, r9.x
+        mul     r2.xyz, r13, r10.x
+        add     r2.xyz, r2, -r8         ; R = 2 (N . L) N - L
+        dp3     r10.x, r2, -r1          ; R . V
+        mov     r2.w, r15.w             ; specular = 0 unless R . V > 0
+        flt     r0.y, r15.w, r10.x
+        bz      r0.y, no_specular
+        ld1f    r10.y, [r4 + MATERIAL_SHININESS_AT]
+        call    pow
+        mov     r2.w, r10.x
+no_specular:
+        ldf     r10.xyz, [r4 + MATERIAL_DIFFUSE_AT]
+        mul     r10.xyz, r10, r9.x
+        ldf     r11.xyz, [r4 + MATERIAL_SPECULAR_AT]
+        mad     r10.xyz, r11, r2.w, r10
+        ldf     r11.xyz, [r5.y + LIGHT_COLOR_AT]
+        mad     r3.xyz, r11, r10, r3
+next_light:
+        iaddi   r5.x, r5.x, -1
+        iaddi   r5.y, r5.y, LIGHT_BYTES
+        bra     light_loop
+lights_done:
+        ilt     r0.x, r14.y, r15.z
+        bz      r0.x, whitted_done      ; depth >= max depth: local shading only
+        ld1f    r9.x, [r4 + MATERIAL_REFLECTANCE_AT]
+        ld1f    r9.y, [r4 + MATERIAL_TRANSMITTANCE_AT]
+        flt     r0.x, r15.w, r9.x
+        bz      r0.x, no_reflection
+        dp3     r10.x, r1, r13
+        add     r10.x, r10.x, r10.x
+        mul     r11.xyz, r13, r10.x
+        add     r11.xyz, r1, -r11       ; d - 2 (d . N) N
+        push    r1
+        push    r3
+        push    r4
+        push    r6
+        push    r7
+        push    r9
+        push    r12
+        push    r13
+        mov     r0, r7
+        mov     r1.xyz, r11
+        lif     r1.w, inf
+        iaddi   r14.y, r14.y, 1
+        call    shade_ray
+        iaddi   r14.y, r14.y, -1
+        mov     r8.xyz, r0
+        pop     r13
+        pop     r12
+        pop     r9
+        pop     r7
+        pop     r6
+        pop     r4
+        pop     r3
+        pop     r1
+        mad     r3.xyz, r8, r9.x, r3    ; + kr trace(reflected)
+no_reflection:
+        flt     r0.x, r15.w, r9.y
+        bz      r0.x, whitted_done
+        ld1f    r10.x, [r4 + MATERIAL_IOR_AT]
+        rcp     r10.y, r10.x
+        sel     r10.z, r4.y, r10.y, r10.x   ; eta = entering ? 1/ior : ior
+        dp3     r10.w, r1, -r13             ; cos_i = -d . N
+        lif     r11.x, 1.0
+        mad     r11.y, -r10.w, r10.w, r11.x ; 1 - cos_i^2
+        mul     r11.z, r10.z, r10.z
+        mul     r11.y, r11.z, r11.y
+        add     r11.y, r11.x, -r11.y        ; k
+        flt     r0.x, r11.y, r15.w
+        bz      r0.x, refract
+        dp3     r10.x, r1, r13              ; total internal reflection: kt goes to the mirror ray
+        add     r10.x, r10.x, r10.x
+        mul     r11.xyz, r13, r10.x
+        add     r11.xyz, r1, -r11
+        mov     r0, r7
+        bra     transmitted
+refract:
+        sqrt    r11.y, r11.y
+        mul     r11.z, r10.z, r10.w
+        add     r11.z, r11.z, -r11.y        ; eta cos_i - sqrt(k)
+        mul     r8.xyz, r13, r11.z
+        mad     r8.xyz, r1, r10.z, r8       ; eta d + (eta cos_i - sqrt(k)) N
+        dp3     r11.x, r8, r8
+        rsq     r11.x, r11.x
+        mul     r11.xyz, r8, r11.x
+        mad     r0.xyz, r12, -r15.y, r6     ; from P - eps Ng
+        mov     r0.w, r15.w
+transmitted:
+        push    r3
+        push    r9
+        mov     r1.xyz, r11
+        lif     r1.w, inf
+        iaddi   r14.y, r14.y, 1
+        call    shade_ray
+        iaddi   r14.y, r14.y, -1
+        pop     r9
+        pop     r3
+        mad     r3.xyz, r0, r9.y, r3        ; + kt trace(transmitted)
+whitted_done:
+        mov     r0.xyz, r3
+        ret
+
+; ---------------------------------------------------------------------------------
+; unit: r8.xyz = r8.xyz / |r8.xyz| and r8.w = |r8.xyz|. The vector is first divided by
+; its largest component, so that its squared length neither overflows nor flushes in a
+; narrow format (fp16 squares overflow at 256). Clobbers r9.
+unit:
+        max     r9.x, |r8|.x, |r8|.y
+        max     r9.x, r9.x, |r8|.z
+        rcp     r9.y, r9.x
+        mul     r8.xyz, r8, r9.y
+        dp3     r9.z, r8, r8
+        sqrt    r8.w, r9.z
+        mul     r8.w, r8.w, r9.x
+        rsq     r9.z, r9.z
+        mul     r8.xyz, r8, r9.z
+        ret
+
+; ---------------------------------------------------------------------------------
+; rand: r11.x = the next number of the stream in [0, 1) (docs/shading.md section 1);
+; steps r14.x. Clobbers r11.
+rand:
+        mov     r11.y, r14.x
+        imuli   r14.x, r14.x, 747796405
+        iaddi   r14.x, r14.x, 2891336453
+        shri    r11.z, r11.y, 28
+        iaddi   r11.z, r11.z, 4
+        shr     r11.z, r11.y, r11.z
+        xor     r11.z, r11.z, r11.y
+        imuli   r11.z, r11.z, 277803737
+        shri    r11.y, r11.z, 22
+        xor     r11.y, r11.y, r11.z     ; the RXS-M-XS permutation of the old state
+        shri    r11.y, r11.y, 9
+        ori     r11.y, r11.y, 0x3f800000    ; 1.f with the top 23 bits as fraction
+        lif     r11.z, 1.0
+        add     r11.x, r11.y, -r11.z
+        ret
+
+; hash: r11.x = h(r11.x) = perm(r11.x * 747796405 + 2891336453). Clobbers r11.y.
+hash:
+        imuli   r11.x, r11.x, 747796405
+        iaddi   r11.x, r11.x, 2891336453
+        shri    r11.y, r11.x, 28
+        iaddi   r11.y, r11.y, 4
+        shr     r11.y, r11.x, r11.y
+        xor     r11.y, r11.y, r11.x
+        imuli   r11.y, r11.y, 277803737
+        shri    r11.x, r11.y, 22
+        xor     r11.x, r11.x, r11.y
+        ret
+
+; pow: r10.x = r10.x ^ r10.y for 0 < r10.x <= 1 and r10.y >= 0, as exp2(y log2 x):
+; log2 by x = m 2^e, m in [sqrt(1/2), sqrt(2)), log2 m = (2/ln 2) atanh((m-1)/(m+1))
+; to t^9 (error < 1e-9); exp2 by 2^i 2^(f - 1/2) sqrt(2), the Taylor series of
+; 2^g to g^6 (error < 2e-7). Clobbers r10, r11.
+pow:
+        shri    r10.z, r10.x, 23
+        iaddi   r10.z, r10.z, -127      ; e
+        andi    r10.w, r10.x, 0x007fffff
+        ori     r10.w, r10.w, 0x3f800000    ; m in [1, 2)
+        lif     r11.x, 1.41421356
+        fle     r11.y, r11.x, r10.w
+        bz      r11.y, pow_reduced
+        lif     r11.x, 0.5
+        mul     r10.w, r10.w, r11.x
+        iaddi   r10.z, r10.z, 1
+pow_reduced:
+        i2f     r10.z, r10.z
+        lif     r11.x, 1.0
+        add     r11.y, r10.w, -r11.x
+        add     r11.z, r10.w, r11.x
+        rcp     r11.z, r11.z
+        mul     r11.y, r11.y, r11.z     ; t = (m - 1) / (m + 1)
+        mul     r11.z, r11.y, r11.y     ; t^2
+        lif     r11.w, 0.3205988979753252   ; 2 / (9 ln 2)
+        lif     r11.x, 0.41219858311113244  ; 2 / (7 ln 2)
+        mad     r11.w, r11.w, r11.z, r11.x
+        lif     r11.x, 0.5770780163555854   ; 2 / (5 ln 2)
+        mad     r11.w, r11.w, r11.z, r11.x
+        lif     r11.x, 0.9617966939259756   ; 2 / (3 ln 2)
+        mad     r11.w, r11.w, r11.z, r11.x
+        lif     r11.x, 2.8853900817779268   ; 2 / ln 2
+        mad     r11.w, r11.w, r11.z, r11.x
+        mul     r11.w, r11.w, r11.y     ; log2 m
+        add     r10.z, r10.z, r11.w     ; log2 x
+        mul     r10.z, r10.z, r10.y     ; y = n log2 x <= 0
+        lif     r11.x, -126.0
+        max     r10.z, r10.z, r11.x
+        flr     r10.w, r10.z            ; i
+        add     r10.z, r10.z, -r10.w
+        lif     r11.x, 0.5
+        add     r10.z, r10.z, -r11.x    ; g = y - i - 1/2
+        lif     r11.w, 0.00015403530393381606   ; ln2^6 / 6!
+        lif     r11.x, 0.0013333558146428443    ; ln2^5 / 5!
+        mad     r11.w, r11.w, r10.z, r11.x
+        lif     r11.x, 0.009618129107628477     ; ln2^4 / 4!
+        mad     r11.w, r11.w, r10.z, r11.x
+        lif     r11.x, 0.05550410866482158      ; ln2^3 / 3!
+        mad     r11.w, r11.w, r10.z, r11.x
+        lif     r11.x, 0.2402265069591007       ; ln2^2 / 2!
+        mad     r11.w, r11.w, r10.z, r11.x
+        lif     r11.x, 0.6931471805599453       ; ln 2
+        mad     r11.w, r11.w, r10.z, r11.x
+        lif     r11.x, 1.0
+        mad     r11.w, r11.w, r10.z, r11.x      ; 2^g
+        f2i     r10.w, r10.w
+        iaddi   r10.w, r10.w, 127
+        shli    r10.w, r10.w, 23        ; 2^i as fp32 bits
+        mul     r11.w, r11.w, r10.w
+        lif     r11.x, 1.41421356
+        mul     r10.x, r11.w, r11.x
+        ret

@@ -1,0 +1,127 @@
+// The Device API with the functional backend: loading, launching, statistics, and
+// how a faulting shader is reported.
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "asm/assembler.hpp"
+#include "common/hardware_config.hpp"
+#include "device/device.hpp"
+#include "device/render_frame.hpp"
+#include "functional/scene_image.hpp"
+#include "scene/resolve.hpp"
+
+namespace rpu::device {
+namespace {
+
+isa::Firmware assemble_text(const std::string& text) {
+  return isa::assemble("test.s", [&](const std::filesystem::path&) { return std::optional<std::string>(text); });
+}
+
+struct Fixture {
+  Scene scene = resolve_scene("tests/isa/scenes/one_triangle.json");
+  functional::SceneImage si = functional::make_scene_image(scene, kd_build_config_for("default"), IsectMode::kWoop);
+};
+
+// Per pixel: one closest-hit ray from the camera position along -z, its t stored as
+// the pixel's red channel. 13 instructions per pixel.
+const char* kOneRayPerPixel = R"(
+raygen:
+        li      r15.x, DEVICE_LAUNCH_BASE
+        ldf     r0.xyz, [r15 + LAUNCH_ORIGIN_AT]
+        li      r0.w, 0
+        lif     r1.xy, 0.0
+        lif     r1.z, -1.0
+        lif     r1.w, inf
+        trace   r2, r0, r1
+        ld1     r3.x, [r15 + LAUNCH_FRAMEBUFFER_AT]
+        rdsr    r4, pixel
+        shli    r4.x, r4.z, 4
+        iadd    r3.x, r3.x, r4.x
+        st      [r3], r2
+        halt
+hit_whitted:
+        ret
+)";
+
+TEST(FunctionalDevice, StatisticsCountEveryInstructionAndRay) {
+  const Fixture f;
+  const auto dev = make_functional_device(hardware_config("tiny"), fp::kFp32);
+  RenderSettings s;
+  s.width = 5;
+  s.height = 3;
+  s.spp = 1;
+  render_frame(*dev, f.scene, f.si.image, assemble_text(kOneRayPerPixel), s);
+  const functional::ShaderStats st = dev->stats().shader;
+  EXPECT_EQ(st.pixels, 15u);
+  EXPECT_EQ(st.instructions(), 15u * 13u);
+  EXPECT_EQ(st.closest_rays, 15u);
+  EXPECT_EQ(st.any_rays, 0u);
+  const auto cls = [&](spec::isa::Class c) { return st.retired[static_cast<std::size_t>(c)]; };
+  EXPECT_EQ(cls(spec::isa::Class::kTrace), 15u);
+  EXPECT_EQ(cls(spec::isa::Class::kMem), 15u * 3u);      // ldf, ld1, st
+  EXPECT_EQ(cls(spec::isa::Class::kSpecial), 15u);       // rdsr
+  EXPECT_EQ(cls(spec::isa::Class::kBranch), 15u);        // halt
+  // No divergence: every issue step of a full chunk (2 on tiny) runs both threads;
+  // the last chunk of 15 pixels holds one.
+  EXPECT_EQ(st.chunk_issues, 8u * 13u);
+  for (const glm::vec4& p : dev->read_framebuffer()) EXPECT_EQ(p.x, 5.0f);  // the triangle at z = 0
+}
+
+TEST(FunctionalDevice, FirmwareWithoutTheScenesShaderIsRefused) {
+  const Fixture f;
+  const auto dev = make_functional_device(hardware_config("tiny"), fp::kFp32);
+  dev->load_image(f.si.image.bytes, f.scene.source);
+  try {
+    dev->load_firmware(assemble_text("raygen:\n halt\n"), shader_names(f.scene));
+    FAIL() << "firmware without hit_whitted was accepted";
+  } catch (const Error& e) {
+    EXPECT_STREQ(e.what(), "the firmware has no code label 'hit_whitted' for the scene's shader 'whitted'");
+  }
+}
+
+TEST(FunctionalDevice, LaunchBeforeLoadingIsAnError) {
+  const auto dev = make_functional_device(hardware_config("tiny"), fp::kFp32);
+  EXPECT_THROW(dev->launch({4, 4, 1, 0, 1}), Error);
+}
+
+// Pixels from 5 on load from an unmapped address. Whatever the host threads do, the
+// error names pixel 5, the first in pixel order.
+TEST(FunctionalDevice, TheFirstFaultingPixelIsReportedWhateverTheHostThreads) {
+  const Fixture f;
+  const char* firmware = R"(
+raygen:
+        rdsr    r0, pixel
+        ilti    r1.x, r0.z, 5
+        bnz     r1.x, fine
+        li      r2.x, 0x30000000
+        ld      r3, [r2]
+fine:
+        halt
+hit_whitted:
+        ret
+)";
+  for (const int threads : {1, 2}) {
+    FunctionalOptions o;
+    o.host_threads = threads;
+    const auto dev = make_functional_device(hardware_config("default"), fp::kFp32, o);
+    RenderSettings s;
+    s.width = 16;
+    s.height = 16;
+    s.spp = 1;
+    try {
+      render_frame(*dev, f.scene, f.si.image, assemble_text(firmware), s);
+      FAIL() << "the fault was not reported";
+    } catch (const Error& e) {
+      const std::string m = e.what();
+      EXPECT_NE(m.find("shader fault in thread 5 (core 0, chunk 1, lane 1; pixel 5, 0) at pc 4 (ld r3, [r2])"),
+                std::string::npos)
+          << m;
+      EXPECT_NE(m.find("load of 16 bytes at address 0x30000000 is outside the device memory"), std::string::npos)
+          << m;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace rpu::device
