@@ -36,14 +36,20 @@ DeviceMemory::Access DeviceMemory::check(std::uint32_t address, std::uint32_t by
   if (address % 4) return {false, fmt::format("misaligned access at address {:#010x} (needs 4-byte alignment)", address)};
   const Segment* s = find(address);
   const std::uint64_t end = std::uint64_t{address} + bytes;
-  if (!s || end - s->base > s->size) {
+  const char* what = write ? "store" : "load";
+  if (!s) {
     const bool stack = address >= mm::kDeviceStackBase && address < mm::kDeviceFramebufferBase;
-    return {false, fmt::format("{} of {} bytes at address {:#010x} is outside the device memory{}",
-                               write ? "store" : "load", bytes, address,
-                               s ? fmt::format(" (past the end of the {} segment, {} bytes at {:#010x})", s->name,
-                                               s->size, s->base)
-                                 : stack ? std::string(" (the stack is reached only by push and pop)")
-                                         : std::string())};
+    return {false, stack ? fmt::format("{} of {} bytes at address {:#010x} is in the stack segment, which only push "
+                                       "and pop reach",
+                                       what, bytes, address)
+                         : fmt::format("{} of {} bytes at address {:#010x} is outside the device memory", what, bytes,
+                                       address)};
+  }
+  if (end - s->base > s->size) {
+    // It starts inside a segment: say which one it runs out of, not "outside the memory".
+    return {false, fmt::format("{} of {} bytes at address {:#010x} runs past the end of the {} segment ({} bytes at "
+                               "{:#010x})",
+                               what, bytes, address, s->name, s->size, s->base)};
   }
   if (s->base == mm::kDeviceFramebufferBase) {
     const std::uint64_t own = std::uint64_t{mm::kDeviceFramebufferBase} + std::uint64_t{pixel} * mm::kFramebufferBytesPerPixel;

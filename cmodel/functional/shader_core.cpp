@@ -218,7 +218,11 @@ void ShaderCore::execute(const Ops& ops, Thread& t, ShaderStats& stats) {
       default: break;
     }
   }
-  if (writes) check_reg(in.dst, "destination");
+  if (writes) {
+    // st/st1 name the register they store in the dst field: it is read, not written.
+    const bool store = in.opcode() == Opcode::kSt || in.opcode() == Opcode::kSt1;
+    check_reg(in.dst, store ? "data" : "destination");
+  }
   for (int s = 0; s < 3; ++s) {
     if (reads[s]) check_reg(in.src[s].reg, "source");
   }

@@ -12,6 +12,7 @@
 //   fault "text"         the run faults and its message contains text
 // A lane value is an integer (decimal or 0x hex: raw bits) or a number with a '.'
 // or exponent, inf, -inf, nan (the fp32 bits of that float).
+// Programs in fp32 run twice, on the fast32 and on the soft float path; both must match.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -147,8 +148,6 @@ TEST_P(IsaProgram, EndStateMatchesExp) {
   const isa::Firmware firmware = isa::assemble(source);
 
   device::Launch launch{e.width, e.height, 1, 0, 1};
-  functional::DeviceMemory memory(si.image.bytes, device::make_launch_block(si.image.bytes, si.layout, launch, {}),
-                                  firmware.data, static_cast<std::uint32_t>(e.width * e.height));
   const functional::Tracer tracer(si.image.bytes, si.layout, format, config->stack_depth);
   functional::ShaderCoreConfig cc;
   cc.registers = config->registers;
@@ -156,38 +155,48 @@ TEST_P(IsaProgram, EndStateMatchesExp) {
   cc.call_depth = config->call_depth;
   cc.stack_bytes = static_cast<std::uint32_t>(config->stack_bytes);
   cc.watchdog = 100'000;
-  functional::ShaderCore core(firmware, memory, tracer, format, cc);
   const std::uint32_t pixel = static_cast<std::uint32_t>(e.width * e.height - 1);
   const functional::ShaderCore::Lane lane{0, 0, 0, 0, pixel};
-  functional::ShaderStats stats;
-  std::vector<std::vector<Vec>> regs;
-  if (e.fault) {
-    try {
-      core.run_chunk({&lane, 1}, stats, &regs);
-      FAIL() << source.string() << ": expected a fault containing \"" << *e.fault << "\", but the program halted";
-    } catch (const functional::ShaderFault& f) {
-      EXPECT_NE(std::string(f.what()).find(*e.fault), std::string::npos)
-          << source.string() << ": fault message\n  " << f.what() << "\ndoes not contain\n  " << *e.fault;
+  // fp32 programs run on both float paths (host floats under FTZ/DAZ, and the soft
+  // path), which must agree bit for bit; other formats have only the soft path.
+  for (const bool fast : {true, false}) {
+    if (fast && format != fp::kFp32) continue;
+    SCOPED_TRACE(fast ? "fp32 fast path (fp::fast32)" : "soft path (fp::soft)");
+    functional::DeviceMemory memory(si.image.bytes,
+                                    device::make_launch_block(si.image.bytes, si.layout, launch, {}), firmware.data,
+                                    static_cast<std::uint32_t>(e.width * e.height));
+    functional::ShaderCore core(firmware, memory, tracer, format, cc, fast);
+    functional::ShaderStats stats;
+    std::vector<std::vector<Vec>> regs;
+    if (e.fault) {
+      try {
+        core.run_chunk({&lane, 1}, stats, &regs);
+        ADD_FAILURE() << source.string() << ": expected a fault containing \"" << *e.fault
+                      << "\", but the program halted";
+      } catch (const functional::ShaderFault& f) {
+        EXPECT_NE(std::string(f.what()).find(*e.fault), std::string::npos)
+            << source.string() << ": fault message\n  " << f.what() << "\ndoes not contain\n  " << *e.fault;
+      }
+      continue;
     }
-    return;
-  }
-  core.run_chunk({&lane, 1}, stats, &regs);
-  ASSERT_EQ(regs.size(), 1u);
-  for (const LaneCheck& c : e.checks) {
-    Vec have{};
-    if (c.reg < 0) {
-      const auto fb = memory.framebuffer().subspan(pixel * 16, 16);
-      std::memcpy(have.data(), fb.data(), 16);
-    } else {
-      ASSERT_LT(c.reg, static_cast<int>(regs[0].size())) << exp_file.string() << ":" << c.line;
-      have = regs[0][static_cast<std::size_t>(c.reg)];
-    }
-    for (std::size_t i = 0; i < c.lanes.size() && i < c.values.size(); ++i) {
-      const std::uint32_t got = have[static_cast<std::size_t>(c.lanes[i])];
-      EXPECT_EQ(got, c.values[i]) << fmt::format(
-          "{}:{}: {}.{} is {:#010x} ({}), expected {:#010x} ({})", exp_file.string(), c.line,
-          c.reg < 0 ? std::string("fb") : fmt::format("r{}", c.reg), "xyzw"[c.lanes[i]], got,
-          std::bit_cast<float>(got), c.values[i], std::bit_cast<float>(c.values[i]));
+    core.run_chunk({&lane, 1}, stats, &regs);
+    ASSERT_EQ(regs.size(), 1u);
+    for (const LaneCheck& c : e.checks) {
+      Vec have{};
+      if (c.reg < 0) {
+        const auto fb = memory.framebuffer().subspan(pixel * 16, 16);
+        std::memcpy(have.data(), fb.data(), 16);
+      } else {
+        ASSERT_LT(c.reg, static_cast<int>(regs[0].size())) << exp_file.string() << ":" << c.line;
+        have = regs[0][static_cast<std::size_t>(c.reg)];
+      }
+      for (std::size_t i = 0; i < c.lanes.size() && i < c.values.size(); ++i) {
+        const std::uint32_t got = have[static_cast<std::size_t>(c.lanes[i])];
+        EXPECT_EQ(got, c.values[i]) << fmt::format(
+            "{}:{}: {}.{} is {:#010x} ({}), expected {:#010x} ({})", exp_file.string(), c.line,
+            c.reg < 0 ? std::string("fb") : fmt::format("r{}", c.reg), "xyzw"[c.lanes[i]], got,
+            std::bit_cast<float>(got), c.values[i], std::bit_cast<float>(c.values[i]));
+      }
     }
   }
 }
