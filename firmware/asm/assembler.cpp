@@ -189,8 +189,9 @@ class Assembler final : public assembler::SymbolValues {
   Assembly run(const std::filesystem::path& file) {
     try {
       read_main(file);
-      layout();
-      emit();
+      // Statements that failed to parse are left out; the rest still lay out and
+      // emit, so that their errors are reported in the same run.
+      if (layout()) emit();
     } catch (const TooManyErrors&) {
       errors_.push_back(fmt::format("too many errors, stopped after {}", kMaxErrors));
     }
@@ -245,9 +246,7 @@ class Assembler final : public assembler::SymbolValues {
     resolving_.push_back(name);
     const std::optional<std::int64_t> v = evaluate(pool_, def.expr, def.loc, *this);
     resolving_.pop_back();
-    // `def` may not be referenced across evaluate(): symbols_ is a map (stable), so it can.
-    const Location at{def.loc.file, def.loc.line, pool_[static_cast<std::size_t>(def.expr)].column};
-    if (v && fit32(*v, at, fmt::format(".equ {}", name))) {
+    if (v && fit32(*v, def.loc, fmt::format(".equ {}", name))) {
       def.state = SymbolDef::State::kDone;
       def.value = *v;
       return def.value;
@@ -780,6 +779,7 @@ class Assembler final : public assembler::SymbolValues {
     if (!source(c, line, op.src, spec, "mem", false, false)) return false;
     if (c.peek().is("+") || c.peek().is("-")) {
       // The sign belongs to the offset expression: [r1 - 4 + 2] has offset -2, as in C.
+      op.loc.column = c.peek().column;
       ExprError e;
       Cursor inner{c.tokens, c.pos, c.end};
       const std::optional<int> root = assembler::parse_expression(c.tokens, inner.pos, c.end, pool_, e);
@@ -856,7 +856,8 @@ class Assembler final : public assembler::SymbolValues {
     return std::nullopt;
   }
 
-  void layout() {
+  // Addresses of every statement and label; false if they cannot be trusted.
+  bool layout() {
     std::uint64_t pc = 0;
     std::uint64_t offset = 0;
     for (Statement& s : statements_) {
@@ -899,16 +900,17 @@ class Assembler final : public assembler::SymbolValues {
         error(s.loc, fmt::format("data section of {} bytes, expected at most {} (the device's data window "
                                  "DEVICE_DATA_BASE..DEVICE_STACK_BASE)",
                                  offset + s.bytes, kDataLimit));
-        return;
+        return false;
       }
       offset += s.bytes;
     }
     if (pc > UINT32_MAX) {
       errors_.push_back(fmt::format("{}: error: {} instructions, expected at most {}", files_[0].name, pc, UINT32_MAX));
-      return;
+      return false;
     }
     result_.firmware.code.assign(pc, 0);
     result_.firmware.data.assign(offset, 0);
+    return true;
   }
 
   std::optional<std::uint32_t> operand_value(const ParsedOperand& op, std::string_view what) {
@@ -961,7 +963,6 @@ class Assembler final : public assembler::SymbolValues {
   }
 
   void emit() {
-    if (!errors_.empty()) return;  // layout failed: addresses are not to be trusted
     Firmware& fw = result_.firmware;
     for (const Statement& s : statements_) {
       std::uint32_t at_byte = s.address;
