@@ -166,6 +166,8 @@ struct Split {
   double cost = std::numeric_limits<double>::infinity();
   int axis = -1;
   float pos = 0.0f;
+  // The sweep's counts at the plane, which are exactly the children's triangle counts.
+  std::uint32_t below = 0, above = 0;
 };
 
 // A coordinate as the units load it: rounded to nearest even into the format, with
@@ -178,7 +180,8 @@ float round_into(fp::Format f, float x) {
 class Builder {
  public:
   Builder(const Scene& scene, const KdBuildConfig& config, KdTree& tree)
-      : scene_(scene), config_(config), tree_(tree), grid_(config.format), sides_(scene.triangles.size()) {
+      : scene_(scene), config_(config), tree_(tree), grid_(config.format), sides_(scene.triangles.size()),
+        straddlers_(scene.triangles.size() + 1) {
     round_vertices();
   }
 
@@ -289,6 +292,8 @@ class Builder {
           best_score = score;
           best.axis = k;
           best.pos = c == 0.0f ? 0.0f : c;
+          best.below = below;
+          best.above = above;
         }
       };
       // The cheaper end of the gap above position q, whose plane candidates are
@@ -348,22 +353,36 @@ class Builder {
 
   // W&H: a triangle goes below when its extent starts at or before the plane and
   // above when it ends at or after it; touching counts (the closed-box rule). One pass
-  // suffices because a triangle's start event comes before its end event.
-  void classify(const std::vector<Event>& ev, float split) {
-    for (const Event& e : ev) {
-      Side& side = sides_[e.tri()];
-      switch (e.kind()) {
-        case kStart:
-          side = e.pos > split ? Side::kAbove : Side::kBoth;
-          break;
-        case kEnd:
-          if (e.pos < split) side = Side::kBelow;
-          break;
-        default:  // planar
-          side = e.pos < split ? Side::kBelow : e.pos > split ? Side::kAbove : Side::kBoth;
-          break;
-      }
+  // over the sorted list suffices because a triangle's start event comes before its end
+  // event. The pass is split where the positions cross the plane, so that within each
+  // part the side follows from the event kind without a branch on it (the kinds come
+  // in random order; the positions do not). Writes the triangles on both sides to
+  // straddlers_ and returns how many there are.
+  std::size_t classify(const std::vector<Event>& ev, float split) {
+    const Event* e = ev.data();
+    const Event* const end = e + ev.size();
+    std::uint32_t* const first = straddlers_.data();
+    std::uint32_t* out = first;
+    // Before the plane: a start leaves the triangle on both sides until its end (if
+    // any) before the plane makes it below.
+    for (; e != end && e->pos < split; ++e) sides_[e->tri()] = e->kind() == kStart ? Side::kBoth : Side::kBelow;
+    // On the plane: every triangle touches it. Planar ones and those ending here are
+    // complete; the ones starting here end above.
+    for (; e != end && e->pos == split; ++e) {
+      sides_[e->tri()] = Side::kBoth;
+      *out = e->tri();
+      out += e->kind() != kStart;
     }
+    // Above the plane: starts and planar events are above; an end closes a triangle
+    // that started at or before the plane, which is then on both sides.
+    for (; e != end; ++e) {
+      Side& side = sides_[e->tri()];
+      const bool is_end = e->kind() == kEnd;
+      *out = e->tri();
+      out += is_end && side == Side::kBoth;
+      side = is_end ? side : Side::kAbove;
+    }
+    return static_cast<std::size_t>(out - first);
   }
 
   // The extent of a triangle that straddles a plane, inside one child's box: its
@@ -492,35 +511,31 @@ class Builder {
       return;
     }
     const int k = split.axis;
-    classify(events[k], split.pos);
+    const std::size_t n_below = split.below, n_above = split.above;
+    const std::size_t n_straddlers = classify(events[k], split.pos);
+    const std::uint32_t* const straddlers = straddlers_.data();
 
     Box below_box = box, above_box = box;
     below_box.hi[k] = split.pos;
     above_box.lo[k] = split.pos;
 
-    std::vector<std::uint32_t> straddlers;
-    std::size_t n_below = 0, n_above = 0;
-    for (const Event& e : events[k]) {
-      if (e.kind() == kEnd) continue;  // one start or planar event per triangle
-      const Side s = sides_[e.tri()];
-      n_below += s != Side::kAbove;
-      n_above += s != Side::kBelow;
-      if (s == Side::kBoth) straddlers.push_back(e.tri());
-    }
     // A child that will be a leaf needs only its triangles, not events.
     const bool below_leaf = must_be_leaf(n_below, depth + 1), above_leaf = must_be_leaf(n_above, depth + 1);
     std::vector<std::uint32_t> below_tris, above_tris;
-    for (const Event& e : events[k]) {
-      if (e.kind() == kEnd) continue;
-      const Side s = sides_[e.tri()];
-      if (below_leaf && s != Side::kAbove) below_tris.push_back(e.tri());
-      if (above_leaf && s != Side::kBelow) above_tris.push_back(e.tri());
+    if (below_leaf || above_leaf) {
+      for (const Event& e : events[k]) {
+        if (e.kind() == kEnd) continue;  // one start or planar event per triangle
+        const Side s = sides_[e.tri()];
+        if (below_leaf && s != Side::kAbove) below_tris.push_back(e.tri());
+        if (above_leaf && s != Side::kBelow) above_tris.push_back(e.tri());
+      }
     }
 
     // W&H: triangles on one side keep their events, in order; straddlers get new
     // events for each child, sorted on their own (few) and merged in.
     EventLists new_below, new_above, below, above;
-    for (const std::uint32_t t : straddlers) {
+    for (std::size_t i = 0; i < n_straddlers; ++i) {
+      const std::uint32_t t = straddlers[i];
       if (!below_leaf) add_events(new_below, child_extent(t, below_box), t);
       if (!above_leaf) add_events(new_above, child_extent(t, above_box), t);
     }
@@ -530,8 +545,8 @@ class Builder {
         std::sort(new_above[axis].begin(), new_above[axis].end());
         // At most two events per one-sided triangle; the lists are cut to size after
         // the splice, which saves a counting pass over the parent list.
-        if (!below_leaf) below[axis].resize(2 * (n_below - straddlers.size()) + new_below[axis].size());
-        if (!above_leaf) above[axis].resize(2 * (n_above - straddlers.size()) + new_above[axis].size());
+        if (!below_leaf) below[axis].resize(2 * (n_below - n_straddlers) + new_below[axis].size());
+        if (!above_leaf) above[axis].resize(2 * (n_above - n_straddlers) + new_above[axis].size());
         const auto [end_below, end_above] =
             splice(events[axis], new_below[axis], new_above[axis], below_leaf ? nullptr : below[axis].data(),
                    above_leaf ? nullptr : above[axis].data());
@@ -560,6 +575,9 @@ class Builder {
   KdTree& tree_;
   Grid grid_;
   std::vector<Side> sides_;
+  // classify's output: one slot per triangle and one that the branch-free pass may
+  // write without keeping.
+  std::vector<std::uint32_t> straddlers_;
   std::vector<glm::vec3> positions_;  // the scene's vertices rounded into the format
   double margin_ = 0.0;               // added around every triangle, in scene units
   Box root_;
