@@ -448,22 +448,27 @@ class Builder {
 
   // One pass over a parent list: each one-sided event is merged with that side's new
   // (sorted) straddler events straight into the child list, so every event is written
-  // once. A null output is a child that becomes a leaf and needs no events.
+  // once. The sides come in random order, so rather than branch on them the pass
+  // writes each event to both outputs and advances the one that keeps it: an output
+  // keeps the events of side `keep` (kBoth for a child that becomes a leaf and needs
+  // no events: no straddler's event is ever kept) and has room for one event more than
+  // it keeps. A new event is written before the first parent event it precedes, of
+  // either side, since the ones of its own side come after that one too.
   std::pair<Event*, Event*> splice(const std::vector<Event>& parent, const std::vector<Event>& new_below,
-                                   const std::vector<Event>& new_above, Event* below, Event* above) const {
-    auto nb = new_below.begin(), na = new_above.begin();
+                                   const std::vector<Event>& new_above, Event* below, Event* above,
+                                   Side keep_below, Side keep_above) const {
+    const Event *nb = new_below.data(), *const nb_end = nb + new_below.size();
+    const Event *na = new_above.data(), *const na_end = na + new_above.size();
     for (const Event& e : parent) {
+      for (; nb != nb_end && *nb < e; ++nb) *below++ = *nb;
+      for (; na != na_end && *na < e; ++na) *above++ = *na;
       const Side s = sides_[e.tri()];
-      if (s == Side::kBelow && below != nullptr) {
-        for (; nb != new_below.end() && *nb < e; ++nb) *below++ = *nb;
-        *below++ = e;
-      } else if (s == Side::kAbove && above != nullptr) {
-        for (; na != new_above.end() && *na < e; ++na) *above++ = *na;
-        *above++ = e;
-      }
+      *below = e;
+      below += s == keep_below;
+      *above = e;
+      above += s == keep_above;
     }
-    return {below == nullptr ? below : std::copy(nb, new_below.end(), below),
-            above == nullptr ? above : std::copy(na, new_above.end(), above)};
+    return {std::copy(nb, nb_end, below), std::copy(na, na_end, above)};
   }
 
   bool must_be_leaf(std::size_t n, int depth) const {
@@ -543,15 +548,18 @@ class Builder {
       for (int axis = 0; axis < 3; ++axis) {
         std::sort(new_below[axis].begin(), new_below[axis].end());
         std::sort(new_above[axis].begin(), new_above[axis].end());
-        // At most two events per one-sided triangle; the lists are cut to size after
-        // the splice, which saves a counting pass over the parent list.
-        if (!below_leaf) below[axis].resize(2 * (n_below - n_straddlers) + new_below[axis].size());
-        if (!above_leaf) above[axis].resize(2 * (n_above - n_straddlers) + new_above[axis].size());
+        // At most two events per one-sided triangle, and one slot the splice may write
+        // without keeping; the lists are cut to size after the splice, which saves a
+        // counting pass over the parent list.
+        Event sink;  // the output of a leaf child
+        if (!below_leaf) below[axis].resize(2 * (n_below - n_straddlers) + new_below[axis].size() + 1);
+        if (!above_leaf) above[axis].resize(2 * (n_above - n_straddlers) + new_above[axis].size() + 1);
         const auto [end_below, end_above] =
-            splice(events[axis], new_below[axis], new_above[axis], below_leaf ? nullptr : below[axis].data(),
-                   above_leaf ? nullptr : above[axis].data());
-        below[axis].resize(static_cast<std::size_t>(end_below - below[axis].data()));
-        above[axis].resize(static_cast<std::size_t>(end_above - above[axis].data()));
+            splice(events[axis], new_below[axis], new_above[axis], below_leaf ? &sink : below[axis].data(),
+                   above_leaf ? &sink : above[axis].data(), below_leaf ? Side::kBoth : Side::kBelow,
+                   above_leaf ? Side::kBoth : Side::kAbove);
+        if (!below_leaf) below[axis].resize(static_cast<std::size_t>(end_below - below[axis].data()));
+        if (!above_leaf) above[axis].resize(static_cast<std::size_t>(end_above - above[axis].data()));
         std::vector<Event>().swap(events[axis]);
       }
     }
