@@ -82,6 +82,47 @@ struct Event {
 
 using EventLists = std::array<std::vector<Event>, 3>;
 
+// Lists shorter than this are sorted by comparison; a radix sort's per-pass setup
+// costs more than it saves there.
+constexpr std::size_t kRadixSortMin = 64;
+
+// An event's (position, kind) as an unsigned integer in the same order: the
+// position's fp32 bits with negative values flipped (and -0 taken as +0, which the
+// float comparison treats as equal), then the kind in two bits.
+std::uint64_t position_kind_key(const Event& e) {
+  const std::uint32_t bits = std::bit_cast<std::uint32_t>(e.pos + 0.0f);
+  const std::uint32_t ordered = bits ^ ((std::uint32_t{0} - (bits >> 31)) | 0x80000000u);
+  return (std::uint64_t{ordered} << 2) | e.kind();
+}
+
+// Sorts a list generated in triangle order into W&H's event order. Long lists get an
+// LSD radix sort by (position, kind) on bytes, skipping the bytes all events share;
+// it is stable, so the triangle order breaks ties as the comparison does. The radix
+// sort has no data-dependent branches, where a comparison sort mispredicts about one
+// comparison in two. `scratch` is its buffer, reused across calls.
+void sort_events(std::vector<Event>& ev, std::vector<Event>& scratch) {
+  if (ev.size() < kRadixSortMin) {
+    std::sort(ev.begin(), ev.end());
+    return;
+  }
+  constexpr int kBytes = 5;  // 34 key bits
+  std::array<std::array<std::uint32_t, 256>, kBytes> counts{};
+  for (const Event& e : ev) {
+    const std::uint64_t key = position_kind_key(e);
+    for (int b = 0; b < kBytes; ++b) ++counts[b][(key >> (8 * b)) & 0xff];
+  }
+  scratch.resize(ev.size());
+  const std::uint64_t first_key = position_kind_key(ev.front());
+  for (int b = 0; b < kBytes; ++b) {
+    std::array<std::uint32_t, 256>& offset = counts[b];
+    if (offset[(first_key >> (8 * b)) & 0xff] == ev.size()) continue;  // every event has this byte
+    std::uint32_t sum = 0;
+    for (std::uint32_t& c : offset) sum += std::exchange(c, sum);
+    for (const Event& e : ev) scratch[offset[(position_kind_key(e) >> (8 * b)) & 0xff]++] = e;
+    ev.swap(scratch);
+  }
+}
+
 void add_events(EventLists& lists, const Extent& e, std::uint32_t tri) {
   for (int k = 0; k < 3; ++k) {
     if (e.lo[k] == e.hi[k]) {
@@ -209,7 +250,7 @@ class Builder {
       add_events(events, bounds_[i], static_cast<std::uint32_t>(i));
     }
     // W&H: the one sort; every node below keeps the order by splicing.
-    for (EventLists::value_type& list : events) std::sort(list.begin(), list.end());
+    for (EventLists::value_type& list : events) sort_events(list, sort_scratch_);
     if (must_be_leaf(n, 0)) {
       make_leaf(new_node(), triangles_of(events[0]));
     } else {
@@ -539,6 +580,8 @@ class Builder {
     // W&H: triangles on one side keep their events, in order; straddlers get new
     // events for each child, sorted on their own (few) and merged in.
     EventLists new_below, new_above, below, above;
+    // In triangle order, as sort_events needs.
+    std::sort(straddlers_.begin(), straddlers_.begin() + static_cast<std::ptrdiff_t>(n_straddlers));
     for (std::size_t i = 0; i < n_straddlers; ++i) {
       const std::uint32_t t = straddlers[i];
       if (!below_leaf) add_events(new_below, child_extent(t, below_box), t);
@@ -546,8 +589,8 @@ class Builder {
     }
     if (!below_leaf || !above_leaf) {
       for (int axis = 0; axis < 3; ++axis) {
-        std::sort(new_below[axis].begin(), new_below[axis].end());
-        std::sort(new_above[axis].begin(), new_above[axis].end());
+        sort_events(new_below[axis], sort_scratch_);
+        sort_events(new_above[axis], sort_scratch_);
         // At most two events per one-sided triangle, and one slot the splice may write
         // without keeping; the lists are cut to size after the splice, which saves a
         // counting pass over the parent list.
@@ -586,6 +629,7 @@ class Builder {
   // classify's output: one slot per triangle and one that the branch-free pass may
   // write without keeping.
   std::vector<std::uint32_t> straddlers_;
+  std::vector<Event> sort_scratch_;
   std::vector<glm::vec3> positions_;  // the scene's vertices rounded into the format
   double margin_ = 0.0;               // added around every triangle, in scene units
   Box root_;
