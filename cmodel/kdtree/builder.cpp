@@ -491,13 +491,13 @@ class Builder {
   // (sorted) straddler events straight into the child list, so every event is written
   // once. The sides come in random order, so rather than branch on them the pass
   // writes each event to both outputs and advances the one that keeps it: an output
-  // keeps the events of side `keep` (kBoth for a child that becomes a leaf and needs
-  // no events: no straddler's event is ever kept) and has room for one event more than
-  // it keeps. A new event is written before the first parent event it precedes, of
+  // keeps its side's events unless its child becomes a leaf and needs none (it then
+  // points at one event that is overwritten), and has room for one event more than it
+  // keeps. A new event is written before the first parent event it precedes, of
   // either side, since the ones of its own side come after that one too.
   std::pair<Event*, Event*> splice(const std::vector<Event>& parent, const std::vector<Event>& new_below,
                                    const std::vector<Event>& new_above, Event* below, Event* above,
-                                   Side keep_below, Side keep_above) const {
+                                   bool keep_below, bool keep_above) const {
     const Event *nb = new_below.data(), *const nb_end = nb + new_below.size();
     const Event *na = new_above.data(), *const na_end = na + new_above.size();
     for (const Event& e : parent) {
@@ -505,9 +505,9 @@ class Builder {
       for (; na != na_end && *na < e; ++na) *above++ = *na;
       const Side s = sides_[e.tri()];
       *below = e;
-      below += s == keep_below;
+      below += (s == Side::kBelow) & keep_below;
       *above = e;
-      above += s == keep_above;
+      above += (s == Side::kAbove) & keep_above;
     }
     return {std::copy(nb, nb_end, below), std::copy(na, na_end, above)};
   }
@@ -599,8 +599,7 @@ class Builder {
         if (!above_leaf) above[axis].resize(2 * (n_above - n_straddlers) + new_above[axis].size() + 1);
         const auto [end_below, end_above] =
             splice(events[axis], new_below[axis], new_above[axis], below_leaf ? &sink : below[axis].data(),
-                   above_leaf ? &sink : above[axis].data(), below_leaf ? Side::kBoth : Side::kBelow,
-                   above_leaf ? Side::kBoth : Side::kAbove);
+                   above_leaf ? &sink : above[axis].data(), !below_leaf, !above_leaf);
         if (!below_leaf) below[axis].resize(static_cast<std::size_t>(end_below - below[axis].data()));
         if (!above_leaf) above[axis].resize(static_cast<std::size_t>(end_above - above[axis].data()));
         std::vector<Event>().swap(events[axis]);
