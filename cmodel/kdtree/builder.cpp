@@ -232,7 +232,8 @@ class Builder {
   void run() {
     const std::size_t n = scene_.triangles.size();
     bounds_.resize(n);
-    EventLists events;
+    levels_.resize(static_cast<std::size_t>(config_.max_depth) + 1);
+    EventLists& events = levels_[0].below;
     for (EventLists::value_type& list : events) list.reserve(2 * n);
     for (std::size_t i = 0; i < n; ++i) {
       Extent e;
@@ -252,9 +253,9 @@ class Builder {
     // W&H: the one sort; every node below keeps the order by splicing.
     for (EventLists::value_type& list : events) sort_events(list, sort_scratch_);
     if (must_be_leaf(n, 0)) {
-      make_leaf(new_node(), triangles_of(events[0]));
+      make_leaf(new_node(), events[0], Side::kBoth);
     } else {
-      build(std::move(events), root_, n, 0);
+      build(events, root_, n, 0);
     }
   }
 
@@ -516,24 +517,30 @@ class Builder {
     return n <= config_.max_leaf_prims || depth >= config_.max_depth;
   }
 
-  // A leaf's triangles: one start or planar event per triangle in any axis list.
-  static std::vector<std::uint32_t> triangles_of(const std::vector<Event>& ev) {
-    std::vector<std::uint32_t> tris;
+  // Appends a leaf's triangles to `out`: one start or planar event per triangle in any
+  // axis list, of those on side `side` or both (kBoth: all).
+  void append_triangles(const std::vector<Event>& ev, Side side, std::vector<std::uint32_t>& out) const {
+    const Side other = side == Side::kBelow ? Side::kAbove : Side::kBelow;
     for (const Event& e : ev) {
-      if (e.kind() != kEnd) tris.push_back(e.tri());
+      if (e.kind() != kEnd && (side == Side::kBoth || sides_[e.tri()] != other)) out.push_back(e.tri());
     }
-    return tris;
   }
 
-  void make_leaf(std::uint32_t index, const std::vector<std::uint32_t>& tris) {
-    const std::size_t first = tree_.prim_refs.size();
-    if (tris.size() > KdNode::kMaxIndex || first + tris.size() > std::numeric_limits<std::uint32_t>::max()) {
+  // Makes node `index` the leaf of the references from `first` on.
+  void make_leaf(std::uint32_t index, std::size_t first) {
+    const std::size_t count = tree_.prim_refs.size() - first;
+    if (count > KdNode::kMaxIndex || tree_.prim_refs.size() > std::numeric_limits<std::uint32_t>::max()) {
       throw Error(fmt::format("kd-tree for '{}' needs more primitive references than the kd-node "
                               "fields hold; raise max_leaf_prims or lower max_depth",
                               scene_.source));
     }
-    tree_.prim_refs.insert(tree_.prim_refs.end(), tris.begin(), tris.end());
-    tree_.nodes[index] = KdNode::leaf(static_cast<std::uint32_t>(tris.size()), static_cast<std::uint32_t>(first));
+    tree_.nodes[index] = KdNode::leaf(static_cast<std::uint32_t>(count), static_cast<std::uint32_t>(first));
+  }
+
+  void make_leaf(std::uint32_t index, const std::vector<Event>& ev, Side side) {
+    const std::size_t first = tree_.prim_refs.size();
+    append_triangles(ev, side, tree_.prim_refs);
+    make_leaf(index, first);
   }
 
   std::uint32_t new_node() {
@@ -547,78 +554,102 @@ class Builder {
     return static_cast<std::uint32_t>(index);
   }
 
-  // Builds the subtree of a node that may be split; `events` are its sorted lists.
-  void build(EventLists events, const Box& box, std::size_t n, int depth) {
+  // A consumed list keeps its storage for the next node at its depth, unless it is
+  // large: the few large nodes allocate afresh, and what the pool holds stays small.
+  static void recycle(std::vector<Event>& list) {
+    constexpr std::size_t kKeptEvents = 4096;
+    if (list.capacity() > kKeptEvents) {
+      std::vector<Event>().swap(list);
+    } else {
+      list.clear();
+    }
+  }
+
+  // Builds the subtree of a node that may be split; `events` are its sorted lists,
+  // which it consumes.
+  void build(EventLists& events, const Box& box, std::size_t n, int depth) {
     const std::uint32_t index = new_node();
     const Split split = find_split(events, box, n);
     // W&H's automatic termination: split only when it is cheaper than intersecting all n.
     if (split.axis < 0 || split.cost >= config_.intersection_cost * static_cast<double>(n)) {
-      make_leaf(index, triangles_of(events[0]));
+      make_leaf(index, events[0], Side::kBoth);
+      for (std::vector<Event>& list : events) recycle(list);
       return;
     }
     const int k = split.axis;
     const std::size_t n_below = split.below, n_above = split.above;
     const std::size_t n_straddlers = classify(events[k], split.pos);
-    const std::uint32_t* const straddlers = straddlers_.data();
 
     Box below_box = box, above_box = box;
     below_box.hi[k] = split.pos;
     above_box.lo[k] = split.pos;
 
-    // A child that will be a leaf needs only its triangles, not events.
+    // A child that will be a leaf needs only its triangles, not events. The below one
+    // is the next node; the above one's references wait until the below subtree is done.
     const bool below_leaf = must_be_leaf(n_below, depth + 1), above_leaf = must_be_leaf(n_above, depth + 1);
-    std::vector<std::uint32_t> below_tris, above_tris;
-    if (below_leaf || above_leaf) {
-      for (const Event& e : events[k]) {
-        if (e.kind() == kEnd) continue;  // one start or planar event per triangle
-        const Side s = sides_[e.tri()];
-        if (below_leaf && s != Side::kAbove) below_tris.push_back(e.tri());
-        if (above_leaf && s != Side::kBelow) above_tris.push_back(e.tri());
-      }
+    Level& children = levels_[static_cast<std::size_t>(depth) + 1];
+    if (below_leaf) make_leaf(new_node(), events[k], Side::kBelow);
+    if (above_leaf) {
+      children.above_leaf.clear();
+      append_triangles(events[k], Side::kAbove, children.above_leaf);
     }
 
-    // W&H: triangles on one side keep their events, in order; straddlers get new
-    // events for each child, sorted on their own (few) and merged in.
-    EventLists new_below, new_above, below, above;
-    // In triangle order, as sort_events needs.
-    std::sort(straddlers_.begin(), straddlers_.begin() + static_cast<std::ptrdiff_t>(n_straddlers));
-    for (std::size_t i = 0; i < n_straddlers; ++i) {
-      const std::uint32_t t = straddlers[i];
-      if (!below_leaf) add_events(new_below, child_extent(t, below_box), t);
-      if (!above_leaf) add_events(new_above, child_extent(t, above_box), t);
-    }
     if (!below_leaf || !above_leaf) {
+      // W&H: triangles on one side keep their events, in order; straddlers get new
+      // events for each child, sorted on their own (few) and merged in. Generated in
+      // triangle order, as sort_events needs.
+      EventLists& new_below = new_below_;
+      EventLists& new_above = new_above_;
+      for (int axis = 0; axis < 3; ++axis) {
+        new_below[axis].clear();
+        new_above[axis].clear();
+      }
+      std::sort(straddlers_.begin(), straddlers_.begin() + static_cast<std::ptrdiff_t>(n_straddlers));
+      for (std::size_t i = 0; i < n_straddlers; ++i) {
+        const std::uint32_t t = straddlers_[i];
+        if (!below_leaf) add_events(new_below, child_extent(t, below_box), t);
+        if (!above_leaf) add_events(new_above, child_extent(t, above_box), t);
+      }
       for (int axis = 0; axis < 3; ++axis) {
         sort_events(new_below[axis], sort_scratch_);
         sort_events(new_above[axis], sort_scratch_);
         // At most two events per one-sided triangle, and one slot the splice may write
         // without keeping; the lists are cut to size after the splice, which saves a
         // counting pass over the parent list.
+        std::vector<Event>& below = children.below[axis];
+        std::vector<Event>& above = children.above[axis];
         Event sink;  // the output of a leaf child
-        if (!below_leaf) below[axis].resize(2 * (n_below - n_straddlers) + new_below[axis].size() + 1);
-        if (!above_leaf) above[axis].resize(2 * (n_above - n_straddlers) + new_above[axis].size() + 1);
+        if (!below_leaf) below.resize(2 * (n_below - n_straddlers) + new_below[axis].size() + 1);
+        if (!above_leaf) above.resize(2 * (n_above - n_straddlers) + new_above[axis].size() + 1);
         const auto [end_below, end_above] =
-            splice(events[axis], new_below[axis], new_above[axis], below_leaf ? &sink : below[axis].data(),
-                   above_leaf ? &sink : above[axis].data(), !below_leaf, !above_leaf);
-        if (!below_leaf) below[axis].resize(static_cast<std::size_t>(end_below - below[axis].data()));
-        if (!above_leaf) above[axis].resize(static_cast<std::size_t>(end_above - above[axis].data()));
-        std::vector<Event>().swap(events[axis]);
+            splice(events[axis], new_below[axis], new_above[axis], below_leaf ? &sink : below.data(),
+                   above_leaf ? &sink : above.data(), !below_leaf, !above_leaf);
+        if (!below_leaf) below.resize(static_cast<std::size_t>(end_below - below.data()));
+        if (!above_leaf) above.resize(static_cast<std::size_t>(end_above - above.data()));
       }
     }
+    for (std::vector<Event>& list : events) recycle(list);
 
-    if (below_leaf) {
-      make_leaf(new_node(), below_tris);
-    } else {
-      build(std::move(below), below_box, n_below, depth + 1);
-    }
+    if (!below_leaf) build(children.below, below_box, n_below, depth + 1);
     const std::uint32_t above_index = static_cast<std::uint32_t>(tree_.nodes.size());
     tree_.nodes[index] = KdNode::inner(k, above_index, split.pos);
     if (above_leaf) {
-      make_leaf(new_node(), above_tris);
+      const std::size_t first = tree_.prim_refs.size();
+      tree_.prim_refs.insert(tree_.prim_refs.end(), children.above_leaf.begin(), children.above_leaf.end());
+      make_leaf(new_node(), first);
     } else {
-      build(std::move(above), above_box, n_above, depth + 1);
+      build(children.above, above_box, n_above, depth + 1);
     }
   }
+
+  // Scratch of one depth of the tree, reused by every node there: the event lists of
+  // the two children of the node being split at the depth above (the build is depth
+  // first, so both are consumed before the next node there is split), and the
+  // references of an above child that is a leaf.
+  struct Level {
+    EventLists below, above;
+    std::vector<std::uint32_t> above_leaf;
+  };
 
   const Scene& scene_;
   const KdBuildConfig& config_;
@@ -629,6 +660,8 @@ class Builder {
   // write without keeping.
   std::vector<std::uint32_t> straddlers_;
   std::vector<Event> sort_scratch_;
+  std::vector<Level> levels_;           // one per depth
+  EventLists new_below_, new_above_;   // the straddlers' events in the node being split
   std::vector<glm::vec3> positions_;  // the scene's vertices rounded into the format
   double margin_ = 0.0;               // added around every triangle, in scene units
   Box root_;
