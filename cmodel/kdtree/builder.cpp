@@ -313,7 +313,9 @@ class Builder {
   // A + ps + pp at q, above: N - B - pe - pp), so the score, linear in c with slope
   // side * (below - above), is smallest at one end of the gap: next_up(q) when below
   // >= above (on a tie the lower plane, as a sweep trying both in order keeps it),
-  // next_down(q') otherwise. Only that end is costed, unless it lies outside the box.
+  // next_down(q') otherwise. Only that end is costed. Event positions lie in the
+  // node's box, so only the gaps below the first and above the last position can
+  // reach beyond it.
   Split find_split(const EventLists& events, const Box& box, std::size_t n) const {
     // The sweep minimises bonus * (A_below * N_below + A_above * N_above) with A half a
     // child's surface area; the cost formula is applied to the winner only.
@@ -327,9 +329,7 @@ class Builder {
       const double da = double(box.hi[a]) - box.lo[a], db = double(box.hi[b]) - box.lo[b];
       const double cap = da * db, side = da + db, lo = box.lo[k], hi = box.hi[k];
       const auto inside = [&](float c) { return box.lo[k] < c && c < box.hi[k]; };
-      const auto try_plane = [&](float c, std::uint32_t below, std::uint32_t above) {
-        const double score = ((cap + (c - lo) * side) * below + (cap + (hi - c) * side) * above) *
-                             (below == 0 || above == 0 ? keep : 1.0);
+      const auto consider = [&](double score, float c, std::uint32_t below, std::uint32_t above) {
         if (score < best_score) {
           best_score = score;
           best.axis = k;
@@ -338,52 +338,54 @@ class Builder {
           best.above = above;
         }
       };
-      // The cheaper end of the gap above position q, whose plane candidates are
-      // `lower` = next_up(q) and next_down(q_next), or none after the last position. On
-      // an exact tie of the counts both ends are costed, so that the rounding of the two
-      // scores decides as it would in a sweep that costs every candidate: the tree is
-      // bit-identical to that sweep's (checked with kdtree_table --hash).
-      const auto try_gap = [&](float lower, const Event* upper_event, std::uint32_t below, std::uint32_t above) {
-        const auto upper = [&] { return upper_event != nullptr ? grid_.next_down(upper_event->pos) : kInf; };
-        if (below == above) {
-          if (inside(lower)) try_plane(lower, below, above);
-          if (const float c = upper(); inside(c)) try_plane(c, below, above);
-        } else if (below > above) {
-          if (inside(lower)) {
-            try_plane(lower, below, above);
-          } else if (const float c = upper(); inside(c)) {
-            try_plane(c, below, above);
-          }
-        } else if (const float c = upper(); inside(c)) {
-          try_plane(c, below, above);
-        } else if (inside(lower)) {
-          try_plane(lower, below, above);
-        }
+      const auto area_score = [&](float c, std::uint32_t below, std::uint32_t above) {
+        return (cap + (c - lo) * side) * below + (cap + (hi - c) * side) * above;
       };
-      // Integer counts: the kinds are tallied without conversions to double.
+      // Planes between the first and the last position have triangles on both sides,
+      // so the empty bonus (a factor 1 there, which is exact) is only applied outside.
+      const auto try_plane = [&](float c, std::uint32_t below, std::uint32_t above) {
+        consider(area_score(c, below, above), c, below, above);
+      };
+      const auto try_outer_plane = [&](float c, std::uint32_t below, std::uint32_t above) {
+        consider(area_score(c, below, above) * (below == 0 || above == 0 ? keep : 1.0), c, below, above);
+      };
+      // Counts: #(lo <= q) and #(hi < q), one compare each per event on its code
+      // (kind << 30 | triangle): a start or planar event has lo at its position, an
+      // end or planar event hi.
+      constexpr std::uint32_t kPlanarCode = kPlanar << kTriBits, kStartCode = kStart << kTriBits;
       const std::vector<Event>& ev = events[k];
       const Event* e = ev.data();
       const Event* const end = e + ev.size();
-      std::uint32_t starts_before = 0, ends_before = 0;
-      if (e != end) {
-        const float down = grid_.next_down(e->pos);  // the gap below the first position
-        if (inside(down)) try_plane(down, 0, total);
-      }
+      if (const float down = grid_.next_down(e->pos); inside(down)) try_outer_plane(down, 0, total);  // below the first position
+      std::uint32_t lo_at_or_below = 0, hi_below = 0;
       bool adjacent_below = false;  // the previous position is one grid step below q
-      while (e != end) {
+      for (;;) {
         const float q = e->pos;
-        std::uint32_t kinds[3] = {0, 0, 0};  // end, planar, start
-        for (; e != end && e->pos == q; ++e) ++kinds[e->kind()];
-        const std::uint32_t pe = kinds[kEnd], pp = kinds[kPlanar], ps = kinds[kStart];
-        const std::uint32_t below_q = starts_before + ps + pp, above_q = total - ends_before;
+        const std::uint32_t above_q = total - hi_below;  // the plane at q: #(hi >= q)
+        do {
+          lo_at_or_below += e->code >= kPlanarCode;
+          hi_below += e->code < kStartCode;
+          ++e;
+        } while (e != end && e->pos == q);
+        // The gap above q: below #(lo <= q), above #(hi > q).
+        const std::uint32_t below = lo_at_or_below, above = total - hi_below;
         const float up = grid_.next_up(q);
-        const bool adjacent_above = e != end && up == e->pos;
-        if (!adjacent_above) {
-          try_gap(up, e != end ? e : nullptr, below_q, above_q - pe - pp);
+        if (e == end) {
+          // The last gap has only its lower end, which may lie on the box.
+          if (up < box.hi[k]) try_outer_plane(up, below, above);
+          if (adjacent_below) try_plane(q, below, above_q);
+          break;
         }
-        if (adjacent_below || adjacent_above) try_plane(q, below_q, above_q);
-        starts_before = below_q;
-        ends_before += pe + pp;
+        // Both ends of an inner gap lie strictly inside the box. The cheaper end is
+        // costed (both on an exact tie of the counts, so that the rounding of the two
+        // scores decides as in a sweep that costs every candidate: the tree is
+        // bit-identical to that sweep's, checked with kdtree_table --hash).
+        const bool adjacent_above = up == e->pos;
+        if (!adjacent_above) {
+          if (below >= above) try_plane(up, below, above);
+          if (below <= above) try_plane(grid_.next_down(e->pos), below, above);
+        }
+        if (adjacent_below || adjacent_above) try_plane(q, below, above_q);
         adjacent_below = adjacent_above;
       }
     }
