@@ -503,9 +503,16 @@ class Builder {
                                    bool keep_below, bool keep_above) const {
     const Event *nb = new_below.data(), *const nb_end = nb + new_below.size();
     const Event *na = new_above.data(), *const na_end = na + new_above.size();
+    const auto first_new = [&] {  // no new event lies below this position
+      return std::min(nb != nb_end ? nb->pos : kInf, na != na_end ? na->pos : kInf);
+    };
+    float next_new = first_new();
     for (const Event& e : parent) {
-      for (; nb != nb_end && *nb < e; ++nb) *below++ = *nb;
-      for (; na != na_end && *na < e; ++na) *above++ = *na;
+      if (e.pos >= next_new) {  // rare: new events may come first
+        for (; nb != nb_end && *nb < e; ++nb) *below++ = *nb;
+        for (; na != na_end && *na < e; ++na) *above++ = *na;
+        next_new = first_new();
+      }
       const Side s = sides_[e.tri()];
       *below = e;
       below += (s == Side::kBelow) & keep_below;
