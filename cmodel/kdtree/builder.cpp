@@ -169,6 +169,10 @@ class Grid {
         max_finite_(as_float(f, f.max_finite(false))) {}
 
   float max_finite() const { return max_finite_; }
+  // One unit in the format's last place, in fp32 fraction bits: the distance between
+  // the bits of neighbouring normal numbers of one sign (a carry moves to the next
+  // binade).
+  std::uint32_t step() const { return step_; }
   // The largest grid value <= x and the smallest >= x, for finite x within the
   // format's range (the builder checks the range before it rounds).
   float down(float x) const {
@@ -354,39 +358,55 @@ class Builder {
       // end or planar event hi.
       constexpr std::uint32_t kPlanarCode = kPlanar << kTriBits, kStartCode = kStart << kTriBits;
       const std::vector<Event>& ev = events[k];
-      const Event* e = ev.data();
-      const Event* const end = e + ev.size();
-      if (const float down = grid_.next_down(e->pos); inside(down)) try_outer_plane(down, 0, total);  // below the first position
-      std::uint32_t lo_at_or_below = 0, hi_below = 0;
-      bool adjacent_below = false;  // the previous position is one grid step below q
-      for (;;) {
-        const float q = e->pos;
-        const std::uint32_t above_q = total - hi_below;  // the plane at q: #(hi >= q)
-        do {
-          lo_at_or_below += e->code >= kPlanarCode;
-          hi_below += e->code < kStartCode;
-          ++e;
-        } while (e != end && e->pos == q);
-        // The gap above q: below #(lo <= q), above #(hi > q).
-        const std::uint32_t below = lo_at_or_below, above = total - hi_below;
-        const float up = grid_.next_up(q);
-        if (e == end) {
-          // The last gap has only its lower end, which may lie on the box.
-          if (up < box.hi[k]) try_outer_plane(up, below, above);
-          if (adjacent_below) try_plane(q, below, above_q);
-          break;
+      const Event* const end = ev.data() + ev.size();
+      if (const float down = grid_.next_down(ev.front().pos); inside(down)) {
+        try_outer_plane(down, 0, total);  // below the first position
+      }
+      // `next_up` and `next_down` give the grid neighbours of the positions between the
+      // first and the last; the outer planes use the grid's.
+      const auto sweep = [&](auto next_up, auto next_down) {
+        const Event* e = ev.data();
+        std::uint32_t lo_at_or_below = 0, hi_below = 0;
+        bool adjacent_below = false;  // the previous position is one grid step below q
+        for (;;) {
+          const float q = e->pos;
+          const std::uint32_t above_q = total - hi_below;  // the plane at q: #(hi >= q)
+          do {
+            lo_at_or_below += e->code >= kPlanarCode;
+            hi_below += e->code < kStartCode;
+            ++e;
+          } while (e != end && e->pos == q);
+          // The gap above q: below #(lo <= q), above #(hi > q).
+          const std::uint32_t below = lo_at_or_below, above = total - hi_below;
+          if (e == end) {
+            // The last gap has only its lower end, which may lie on the box.
+            if (const float up = grid_.next_up(q); up < box.hi[k]) try_outer_plane(up, below, above);
+            if (adjacent_below) try_plane(q, below, above_q);
+            return;
+          }
+          // Both ends of an inner gap lie strictly inside the box. The cheaper end is
+          // costed (both on an exact tie of the counts, so that the rounding of the two
+          // scores decides as in a sweep that costs every candidate: the tree is
+          // bit-identical to that sweep's, checked with kdtree_table --hash).
+          const float up = next_up(q);
+          const bool adjacent_above = up == e->pos;
+          if (!adjacent_above) {
+            if (below >= above) try_plane(up, below, above);
+            if (below <= above) try_plane(next_down(e->pos), below, above);
+          }
+          if (adjacent_below || adjacent_above) try_plane(q, below, above_q);
+          adjacent_below = adjacent_above;
         }
-        // Both ends of an inner gap lie strictly inside the box. The cheaper end is
-        // costed (both on an exact tie of the counts, so that the rounding of the two
-        // scores decides as in a sweep that costs every candidate: the tree is
-        // bit-identical to that sweep's, checked with kdtree_table --hash).
-        const bool adjacent_above = up == e->pos;
-        if (!adjacent_above) {
-          if (below >= above) try_plane(up, below, above);
-          if (below <= above) try_plane(grid_.next_down(e->pos), below, above);
-        }
-        if (adjacent_below || adjacent_above) try_plane(q, below, above_q);
-        adjacent_below = adjacent_above;
+      };
+      if (box.lo[k] > 0.0f || box.hi[k] < 0.0f) {
+        // In a box that does not contain zero, the positions other than the last are
+        // normal numbers of one sign whose grid neighbours are one step of the fp32
+        // bits away (the bits of a negative float grow with its magnitude).
+        const std::uint32_t step = box.lo[k] > 0.0f ? grid_.step() : 0u - grid_.step();
+        sweep([step](float q) { return std::bit_cast<float>(std::bit_cast<std::uint32_t>(q) + step); },
+              [step](float q) { return std::bit_cast<float>(std::bit_cast<std::uint32_t>(q) - step); });
+      } else {
+        sweep([this](float q) { return grid_.next_up(q); }, [this](float q) { return grid_.next_down(q); });
       }
     }
     if (best.axis >= 0) {
