@@ -18,6 +18,8 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <memory>
+#include <new>
 #include <string>
 #include <utility>
 #include <vector>
@@ -80,7 +82,22 @@ struct Event {
   bool operator<(const Event& o) const { return pos < o.pos || (pos == o.pos && code < o.code); }
 };
 
-using EventLists = std::array<std::vector<Event>, 3>;
+// An allocator that default-initialises where std::allocator value-initialises, so that
+// an event list resized for the splice to overwrite is not zeroed first.
+template <class T>
+struct UninitialisedAllocator : std::allocator<T> {
+  template <class U>
+  struct rebind {
+    using other = UninitialisedAllocator<U>;
+  };
+  template <class U>
+  void construct(U* p) noexcept {
+    ::new (static_cast<void*>(p)) U;
+  }
+};
+
+using EventList = std::vector<Event, UninitialisedAllocator<Event>>;
+using EventLists = std::array<EventList, 3>;
 
 // Lists shorter than this are sorted by comparison; a radix sort's per-pass setup
 // costs more than it saves there.
@@ -100,7 +117,7 @@ std::uint64_t position_kind_key(const Event& e) {
 // it is stable, so the triangle order breaks ties as the comparison does. The radix
 // sort has no data-dependent branches, where a comparison sort mispredicts about one
 // comparison in two. `scratch` is its buffer, reused across calls.
-void sort_events(std::vector<Event>& ev, std::vector<Event>& scratch) {
+void sort_events(EventList& ev, EventList& scratch) {
   if (ev.size() < kRadixSortMin) {
     std::sort(ev.begin(), ev.end());
     return;
@@ -357,7 +374,7 @@ class Builder {
       // (kind << 30 | triangle): a start or planar event has lo at its position, an
       // end or planar event hi.
       constexpr std::uint32_t kPlanarCode = kPlanar << kTriBits, kStartCode = kStart << kTriBits;
-      const std::vector<Event>& ev = events[k];
+      const EventList& ev = events[k];
       const Event* const end = ev.data() + ev.size();
       if (const float down = grid_.next_down(ev.front().pos); inside(down)) {
         try_outer_plane(down, 0, total);  // below the first position
@@ -422,7 +439,7 @@ class Builder {
   // part the side follows from the event kind without a branch on it (the kinds come
   // in random order; the positions do not). Writes the triangles on both sides to
   // straddlers_ and returns how many there are.
-  std::size_t classify(const std::vector<Event>& ev, float split) {
+  std::size_t classify(const EventList& ev, float split) {
     const Event* e = ev.data();
     const Event* const end = e + ev.size();
     std::uint32_t* const first = straddlers_.data();
@@ -518,8 +535,8 @@ class Builder {
   // points at one event that is overwritten), and has room for one event more than it
   // keeps. A new event is written before the first parent event it precedes, of
   // either side, since the ones of its own side come after that one too.
-  std::pair<Event*, Event*> splice(const std::vector<Event>& parent, const std::vector<Event>& new_below,
-                                   const std::vector<Event>& new_above, Event* below, Event* above,
+  std::pair<Event*, Event*> splice(const EventList& parent, const EventList& new_below,
+                                   const EventList& new_above, Event* below, Event* above,
                                    bool keep_below, bool keep_above) const {
     const Event *nb = new_below.data(), *const nb_end = nb + new_below.size();
     const Event *na = new_above.data(), *const na_end = na + new_above.size();
@@ -548,7 +565,7 @@ class Builder {
 
   // Appends a leaf's triangles to `out`: one start or planar event per triangle in any
   // axis list, of those on side `side` or both (kBoth: all).
-  void append_triangles(const std::vector<Event>& ev, Side side, std::vector<std::uint32_t>& out) const {
+  void append_triangles(const EventList& ev, Side side, std::vector<std::uint32_t>& out) const {
     const Side other = side == Side::kBelow ? Side::kAbove : Side::kBelow;
     for (const Event& e : ev) {
       if (e.kind() != kEnd && (side == Side::kBoth || sides_[e.tri()] != other)) out.push_back(e.tri());
@@ -566,7 +583,7 @@ class Builder {
     tree_.nodes[index] = KdNode::leaf(static_cast<std::uint32_t>(count), static_cast<std::uint32_t>(first));
   }
 
-  void make_leaf(std::uint32_t index, const std::vector<Event>& ev, Side side) {
+  void make_leaf(std::uint32_t index, const EventList& ev, Side side) {
     const std::size_t first = tree_.prim_refs.size();
     append_triangles(ev, side, tree_.prim_refs);
     make_leaf(index, first);
@@ -585,10 +602,10 @@ class Builder {
 
   // A consumed list keeps its storage for the next node at its depth, unless it is
   // large: the few large nodes allocate afresh, and what the pool holds stays small.
-  static void recycle(std::vector<Event>& list) {
+  static void recycle(EventList& list) {
     constexpr std::size_t kKeptEvents = 4096;
     if (list.capacity() > kKeptEvents) {
-      std::vector<Event>().swap(list);
+      EventList().swap(list);
     } else {
       list.clear();
     }
@@ -602,7 +619,7 @@ class Builder {
     // W&H's automatic termination: split only when it is cheaper than intersecting all n.
     if (split.axis < 0 || split.cost >= config_.intersection_cost * static_cast<double>(n)) {
       make_leaf(index, events[0], Side::kBoth);
-      for (std::vector<Event>& list : events) recycle(list);
+      for (EventList& list : events) recycle(list);
       return;
     }
     const int k = split.axis;
@@ -645,8 +662,8 @@ class Builder {
         // At most two events per one-sided triangle, and one slot the splice may write
         // without keeping; the lists are cut to size after the splice, which saves a
         // counting pass over the parent list.
-        std::vector<Event>& below = children.below[axis];
-        std::vector<Event>& above = children.above[axis];
+        EventList& below = children.below[axis];
+        EventList& above = children.above[axis];
         Event sink;  // the output of a leaf child
         if (!below_leaf) below.resize(2 * (n_below - n_straddlers) + new_below[axis].size() + 1);
         if (!above_leaf) above.resize(2 * (n_above - n_straddlers) + new_above[axis].size() + 1);
@@ -657,7 +674,7 @@ class Builder {
         if (!above_leaf) above.resize(static_cast<std::size_t>(end_above - above.data()));
       }
     }
-    for (std::vector<Event>& list : events) recycle(list);
+    for (EventList& list : events) recycle(list);
 
     if (!below_leaf) build(children.below, below_box, n_below, depth + 1);
     const std::uint32_t above_index = static_cast<std::uint32_t>(tree_.nodes.size());
@@ -688,7 +705,7 @@ class Builder {
   // classify's output: one slot per triangle and one that the branch-free pass may
   // write without keeping.
   std::vector<std::uint32_t> straddlers_;
-  std::vector<Event> sort_scratch_;
+  EventList sort_scratch_;
   std::vector<Level> levels_;           // one per depth
   EventLists new_below_, new_above_;   // the straddlers' events in the node being split
   std::vector<glm::vec3> positions_;  // the scene's vertices rounded into the format
