@@ -222,7 +222,8 @@ class Grid {
   float min_normal_, max_finite_;
 };
 
-enum class Side : std::uint8_t { kBoth, kBelow, kAbove };
+// The splice advances its below output by bit 0 and its above output by bit 1.
+enum class Side : std::uint8_t { kBoth = 0, kBelow = 1, kAbove = 2 };
 
 struct Split {
   double cost = std::numeric_limits<double>::infinity();
@@ -544,17 +545,18 @@ class Builder {
       return std::min(nb != nb_end ? nb->pos : kInf, na != na_end ? na->pos : kInf);
     };
     float next_new = first_new();
+    const unsigned below_bit = keep_below ? 1u : 0u, above_bit = keep_above ? 2u : 0u;
     for (const Event& e : parent) {
       if (e.pos >= next_new) {  // rare: new events may come first
         for (; nb != nb_end && *nb < e; ++nb) *below++ = *nb;
         for (; na != na_end && *na < e; ++na) *above++ = *na;
         next_new = first_new();
       }
-      const Side s = sides_[e.tri()];
+      const auto s = static_cast<unsigned>(sides_[e.tri()]);
       *below = e;
-      below += (s == Side::kBelow) & keep_below;
+      below += s & below_bit;
       *above = e;
-      above += (s == Side::kAbove) & keep_above;
+      above += (s & above_bit) >> 1;
     }
     return {std::copy(nb, nb_end, below), std::copy(na, na_end, above)};
   }
