@@ -457,12 +457,14 @@ class Builder {
     }
     // Above the plane: starts and planar events are above; an end closes a triangle
     // that started at or before the plane, which is then on both sides.
+    // In masks, so that the compiler does not branch on the kind.
     for (; e != end; ++e) {
-      Side& side = sides_[e->tri()];
-      const bool is_end = e->kind() == kEnd;
-      *out = e->tri();
-      out += is_end && side == Side::kBoth;
-      side = is_end ? side : Side::kAbove;
+      const std::uint32_t t = e->tri();
+      const auto side = static_cast<unsigned>(sides_[t]);
+      const unsigned is_end = e->kind() == kEnd, keep = 0u - is_end;
+      *out = t;
+      out += is_end & static_cast<unsigned>(side == static_cast<unsigned>(Side::kBoth));
+      sides_[t] = static_cast<Side>((side & keep) | (static_cast<unsigned>(Side::kAbove) & ~keep));
     }
     return static_cast<std::size_t>(out - first);
   }
