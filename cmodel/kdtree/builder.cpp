@@ -151,14 +151,22 @@ void add_events(EventLists& lists, const Extent& e, std::uint32_t tri) {
   }
 }
 
+// The float after and before a finite float, as std::nextafter gives them, inline.
+float float_above(float f) {
+  if (f == 0.0f) return std::numeric_limits<float>::denorm_min();
+  const std::uint32_t bits = std::bit_cast<std::uint32_t>(f);
+  return std::bit_cast<float>(f > 0.0f ? bits + 1 : bits - 1);
+}
+float float_below(float f) { return -float_above(-f); }
+
 float round_down(double x) {
   float f = static_cast<float>(x);
-  if (double(f) > x) f = std::nextafter(f, -kInf);
+  if (double(f) > x) f = float_below(f);
   return f;
 }
 float round_up(double x) {
   float f = static_cast<float>(x);
-  if (double(f) < x) f = std::nextafter(f, kInf);
+  if (double(f) < x) f = float_above(f);
   return f;
 }
 
@@ -477,20 +485,24 @@ class Builder {
   Extent child_extent(std::uint32_t tri, const Box& box) const {
     const Extent loose = intersect(bounds_[tri], box);
     if (!config_.perfect_splits) return loose;
+    // Computed vertices carry double rounding error relative to `scale`; they are widened
+    // by far less than an fp32 ulp more than the rounded input vertices, so that the
+    // extent stays conservative.
+    double scale = 0.0;
+    for (int v = 0; v < 3; ++v) {
+      for (int k = 0; k < 3; ++k) scale = std::max(scale, std::abs(double(positions_[scene_.triangles[tri][v]][k])));
+    }
+    for (int k = 0; k < 3; ++k) scale = std::max({scale, std::abs(double(box.lo[k])), std::abs(double(box.hi[k]))});
+    const double exact_widening = margin_, clipped_widening = margin_ + scale * 0x1p-40;
     struct Vertex {
       glm::dvec3 p;
-      bool exact;  // a rounded input vertex: its coordinates carry no clipping error
+      double widening;
     };
     std::array<Vertex, 9> buffers[2];
     Vertex* poly = buffers[0].data();
     Vertex* clipped = buffers[1].data();
     std::size_t count = 3;
-    double scale = 0.0;
-    for (int v = 0; v < 3; ++v) {
-      poly[v] = {glm::dvec3(positions_[scene_.triangles[tri][v]]), true};
-      for (int k = 0; k < 3; ++k) scale = std::max(scale, std::abs(poly[v].p[k]));
-    }
-    for (int k = 0; k < 3; ++k) scale = std::max({scale, std::abs(double(box.lo[k])), std::abs(double(box.hi[k]))});
+    for (int v = 0; v < 3; ++v) poly[v] = {glm::dvec3(positions_[scene_.triangles[tri][v]]), exact_widening};
     for (int plane = 0; plane < 6 && count > 0; ++plane) {
       const int k = plane / 2;
       const double at = plane % 2 == 0 ? box.lo[k] - margin_ : box.hi[k] + margin_;
@@ -500,11 +512,11 @@ class Builder {
       std::size_t out = 0;
       for (std::size_t v = 0; v < count; ++v) {
         const Vertex& cur = poly[v];
-        const Vertex& nxt = poly[(v + 1) % count];
+        const Vertex& nxt = poly[v + 1 == count ? 0 : v + 1];
         const double dc = sign * (cur.p[k] - at), dn = sign * (nxt.p[k] - at);
         if (dc >= 0.0) clipped[out++] = cur;
         if ((dc >= 0.0) != (dn >= 0.0)) {
-          Vertex x{cur.p + (dc / (dc - dn)) * (nxt.p - cur.p), false};
+          Vertex x{cur.p + (dc / (dc - dn)) * (nxt.p - cur.p), clipped_widening};
           x.p[k] = at;
           clipped[out++] = x;
         }
@@ -513,16 +525,12 @@ class Builder {
       std::swap(poly, clipped);
     }
     if (count == 0) return loose;  // only a touch the clipping rounded away
-    // Computed vertices carry double rounding error relative to `scale`; widen them by
-    // far less than an fp32 ulp before rounding outward, so the extent stays conservative.
-    const double clip_error = scale * 0x1p-40;
     Extent tight;
     for (int k = 0; k < 3; ++k) {
       double lo = std::numeric_limits<double>::infinity(), hi = -lo;
       for (std::size_t v = 0; v < count; ++v) {
-        const double m = margin_ + (poly[v].exact ? 0.0 : clip_error);
-        lo = std::min(lo, poly[v].p[k] - m);
-        hi = std::max(hi, poly[v].p[k] + m);
+        lo = std::min(lo, poly[v].p[k] - poly[v].widening);
+        hi = std::max(hi, poly[v].p[k] + poly[v].widening);
       }
       tight.lo[k] = grid_.down(round_down(lo));
       tight.hi[k] = grid_.up(round_up(hi));
