@@ -18,6 +18,8 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <memory>
+#include <new>
 #include <string>
 #include <utility>
 #include <vector>
@@ -80,7 +82,63 @@ struct Event {
   bool operator<(const Event& o) const { return pos < o.pos || (pos == o.pos && code < o.code); }
 };
 
-using EventLists = std::array<std::vector<Event>, 3>;
+// An allocator that default-initialises where std::allocator value-initialises, so that
+// an event list resized for the splice to overwrite is not zeroed first.
+template <class T>
+struct UninitialisedAllocator : std::allocator<T> {
+  template <class U>
+  struct rebind {
+    using other = UninitialisedAllocator<U>;
+  };
+  template <class U>
+  void construct(U* p) noexcept {
+    ::new (static_cast<void*>(p)) U;
+  }
+};
+
+using EventList = std::vector<Event, UninitialisedAllocator<Event>>;
+using EventLists = std::array<EventList, 3>;
+
+// Lists shorter than this are sorted by comparison; a radix sort's per-pass setup
+// costs more than it saves there.
+constexpr std::size_t kRadixSortMin = 64;
+
+// An event's (position, kind) as an unsigned integer in the same order: the
+// position's fp32 bits with negative values flipped (and -0 taken as +0, which the
+// float comparison treats as equal), then the kind in two bits.
+std::uint64_t position_kind_key(const Event& e) {
+  const std::uint32_t bits = std::bit_cast<std::uint32_t>(e.pos + 0.0f);
+  const std::uint32_t ordered = bits ^ ((std::uint32_t{0} - (bits >> 31)) | 0x80000000u);
+  return (std::uint64_t{ordered} << 2) | e.kind();
+}
+
+// Sorts a list generated in triangle order into W&H's event order. Long lists get an
+// LSD radix sort by (position, kind) on bytes, skipping the bytes all events share;
+// it is stable, so the triangle order breaks ties as the comparison does. The radix
+// sort has no data-dependent branches, where a comparison sort mispredicts about one
+// comparison in two. `scratch` is its buffer, reused across calls.
+void sort_events(EventList& ev, EventList& scratch) {
+  if (ev.size() < kRadixSortMin) {
+    std::sort(ev.begin(), ev.end());
+    return;
+  }
+  constexpr int kBytes = 5;  // 34 key bits
+  std::array<std::array<std::uint32_t, 256>, kBytes> counts{};
+  for (const Event& e : ev) {
+    const std::uint64_t key = position_kind_key(e);
+    for (int b = 0; b < kBytes; ++b) ++counts[b][(key >> (8 * b)) & 0xff];
+  }
+  scratch.resize(ev.size());
+  const std::uint64_t first_key = position_kind_key(ev.front());
+  for (int b = 0; b < kBytes; ++b) {
+    std::array<std::uint32_t, 256>& offset = counts[b];
+    if (offset[(first_key >> (8 * b)) & 0xff] == ev.size()) continue;  // every event has this byte
+    std::uint32_t sum = 0;
+    for (std::uint32_t& c : offset) sum += std::exchange(c, sum);
+    for (const Event& e : ev) scratch[offset[(position_kind_key(e) >> (8 * b)) & 0xff]++] = e;
+    ev.swap(scratch);
+  }
+}
 
 void add_events(EventLists& lists, const Extent& e, std::uint32_t tri) {
   for (int k = 0; k < 3; ++k) {
@@ -93,14 +151,22 @@ void add_events(EventLists& lists, const Extent& e, std::uint32_t tri) {
   }
 }
 
+// The float after and before a finite float, as std::nextafter gives them, inline.
+float float_above(float f) {
+  if (f == 0.0f) return std::numeric_limits<float>::denorm_min();
+  const std::uint32_t bits = std::bit_cast<std::uint32_t>(f);
+  return std::bit_cast<float>(f > 0.0f ? bits + 1 : bits - 1);
+}
+float float_below(float f) { return -float_above(-f); }
+
 float round_down(double x) {
   float f = static_cast<float>(x);
-  if (double(f) > x) f = std::nextafter(f, -kInf);
+  if (double(f) > x) f = float_below(f);
   return f;
 }
 float round_up(double x) {
   float f = static_cast<float>(x);
-  if (double(f) < x) f = std::nextafter(f, kInf);
+  if (double(f) < x) f = float_above(f);
   return f;
 }
 
@@ -128,6 +194,10 @@ class Grid {
         max_finite_(as_float(f, f.max_finite(false))) {}
 
   float max_finite() const { return max_finite_; }
+  // One unit in the format's last place, in fp32 fraction bits: the distance between
+  // the bits of neighbouring normal numbers of one sign (a carry moves to the next
+  // binade).
+  std::uint32_t step() const { return step_; }
   // The largest grid value <= x and the smallest >= x, for finite x within the
   // format's range (the builder checks the range before it rounds).
   float down(float x) const {
@@ -160,12 +230,15 @@ class Grid {
   float min_normal_, max_finite_;
 };
 
-enum class Side : std::uint8_t { kBoth, kBelow, kAbove };
+// The splice advances its below output by bit 0 and its above output by bit 1.
+enum class Side : std::uint8_t { kBoth = 0, kBelow = 1, kAbove = 2 };
 
 struct Split {
   double cost = std::numeric_limits<double>::infinity();
   int axis = -1;
   float pos = 0.0f;
+  // The sweep's counts at the plane, which are exactly the children's triangle counts.
+  std::uint32_t below = 0, above = 0;
 };
 
 // A coordinate as the units load it: rounded to nearest even into the format, with
@@ -178,7 +251,8 @@ float round_into(fp::Format f, float x) {
 class Builder {
  public:
   Builder(const Scene& scene, const KdBuildConfig& config, KdTree& tree)
-      : scene_(scene), config_(config), tree_(tree), grid_(config.format), sides_(scene.triangles.size()) {
+      : scene_(scene), config_(config), tree_(tree), grid_(config.format), sides_(scene.triangles.size()),
+        straddlers_(scene.triangles.size() + 1) {
     round_vertices();
   }
 
@@ -187,30 +261,34 @@ class Builder {
 
   void run() {
     const std::size_t n = scene_.triangles.size();
-    bounds_.resize(n);
-    EventLists events;
+    triangles_.resize(n);
+    levels_.resize(static_cast<std::size_t>(config_.max_depth) + 1);
+    EventLists& events = levels_[0].below;
     for (EventLists::value_type& list : events) list.reserve(2 * n);
     for (std::size_t i = 0; i < n; ++i) {
+      Triangle& t = triangles_[i];
+      for (int v = 0; v < 3; ++v) t.vertices[v] = positions_[scene_.triangles[i][v]];
       Extent e;
       for (int k = 0; k < 3; ++k) {
         double lo = std::numeric_limits<double>::infinity(), hi = -lo;
         for (int v = 0; v < 3; ++v) {
-          const double x = positions_[scene_.triangles[i][v]][k];
+          const double x = t.vertices[v][k];
           lo = std::min(lo, x);
           hi = std::max(hi, x);
         }
         e.lo[k] = grid_.down(round_down(lo - margin_));
         e.hi[k] = grid_.up(round_up(hi + margin_));
       }
-      bounds_[i] = intersect(e, root_);
-      add_events(events, bounds_[i], static_cast<std::uint32_t>(i));
+      t.bounds = intersect(e, root_);
+      add_events(events, t.bounds, static_cast<std::uint32_t>(i));
     }
+    std::vector<glm::vec3>().swap(positions_);  // the records hold what the build needs
     // W&H: the one sort; every node below keeps the order by splicing.
-    for (EventLists::value_type& list : events) std::sort(list.begin(), list.end());
+    for (EventLists::value_type& list : events) sort_events(list, sort_scratch_);
     if (must_be_leaf(n, 0)) {
-      make_leaf(new_node(), triangles_of(events[0]));
+      make_leaf(new_node(), events[0], Side::kBoth);
     } else {
-      build(std::move(events), root_, n, 0);
+      build(events, root_, n, 0);
     }
   }
 
@@ -268,7 +346,9 @@ class Builder {
   // A + ps + pp at q, above: N - B - pe - pp), so the score, linear in c with slope
   // side * (below - above), is smallest at one end of the gap: next_up(q) when below
   // >= above (on a tie the lower plane, as a sweep trying both in order keeps it),
-  // next_down(q') otherwise. Only that end is costed, unless it lies outside the box.
+  // next_down(q') otherwise. Only that end is costed. Event positions lie in the
+  // node's box, so only the gaps below the first and above the last position can
+  // reach beyond it.
   Split find_split(const EventLists& events, const Box& box, std::size_t n) const {
     // The sweep minimises bonus * (A_below * N_below + A_above * N_above) with A half a
     // child's surface area; the cost formula is applied to the winner only.
@@ -282,62 +362,80 @@ class Builder {
       const double da = double(box.hi[a]) - box.lo[a], db = double(box.hi[b]) - box.lo[b];
       const double cap = da * db, side = da + db, lo = box.lo[k], hi = box.hi[k];
       const auto inside = [&](float c) { return box.lo[k] < c && c < box.hi[k]; };
-      const auto try_plane = [&](float c, std::uint32_t below, std::uint32_t above) {
-        const double score = ((cap + (c - lo) * side) * below + (cap + (hi - c) * side) * above) *
-                             (below == 0 || above == 0 ? keep : 1.0);
+      const auto consider = [&](double score, float c, std::uint32_t below, std::uint32_t above) {
         if (score < best_score) {
           best_score = score;
           best.axis = k;
           best.pos = c == 0.0f ? 0.0f : c;
+          best.below = below;
+          best.above = above;
         }
       };
-      // The cheaper end of the gap above position q, whose plane candidates are
-      // `lower` = next_up(q) and next_down(q_next), or none after the last position. On
-      // an exact tie of the counts both ends are costed, so that the rounding of the two
-      // scores decides as it would in a sweep that costs every candidate: the tree is
-      // bit-identical to that sweep's (checked with kdtree_table --hash).
-      const auto try_gap = [&](float lower, const Event* upper_event, std::uint32_t below, std::uint32_t above) {
-        const auto upper = [&] { return upper_event != nullptr ? grid_.next_down(upper_event->pos) : kInf; };
-        if (below == above) {
-          if (inside(lower)) try_plane(lower, below, above);
-          if (const float c = upper(); inside(c)) try_plane(c, below, above);
-        } else if (below > above) {
-          if (inside(lower)) {
-            try_plane(lower, below, above);
-          } else if (const float c = upper(); inside(c)) {
-            try_plane(c, below, above);
-          }
-        } else if (const float c = upper(); inside(c)) {
-          try_plane(c, below, above);
-        } else if (inside(lower)) {
-          try_plane(lower, below, above);
-        }
+      const auto area_score = [&](float c, std::uint32_t below, std::uint32_t above) {
+        return (cap + (c - lo) * side) * below + (cap + (hi - c) * side) * above;
       };
-      // Integer counts: the kinds are tallied without conversions to double.
-      const std::vector<Event>& ev = events[k];
-      const Event* e = ev.data();
-      const Event* const end = e + ev.size();
-      std::uint32_t starts_before = 0, ends_before = 0;
-      if (e != end) {
-        const float down = grid_.next_down(e->pos);  // the gap below the first position
-        if (inside(down)) try_plane(down, 0, total);
+      // Planes between the first and the last position have triangles on both sides,
+      // so the empty bonus (a factor 1 there, which is exact) is only applied outside.
+      const auto try_plane = [&](float c, std::uint32_t below, std::uint32_t above) {
+        consider(area_score(c, below, above), c, below, above);
+      };
+      const auto try_outer_plane = [&](float c, std::uint32_t below, std::uint32_t above) {
+        consider(area_score(c, below, above) * (below == 0 || above == 0 ? keep : 1.0), c, below, above);
+      };
+      // Counts: #(lo <= q) and #(hi < q), one compare each per event on its code
+      // (kind << 30 | triangle): a start or planar event has lo at its position, an
+      // end or planar event hi.
+      constexpr std::uint32_t kPlanarCode = kPlanar << kTriBits, kStartCode = kStart << kTriBits;
+      const EventList& ev = events[k];
+      const Event* const end = ev.data() + ev.size();
+      if (const float down = grid_.next_down(ev.front().pos); inside(down)) {
+        try_outer_plane(down, 0, total);  // below the first position
       }
-      bool adjacent_below = false;  // the previous position is one grid step below q
-      while (e != end) {
-        const float q = e->pos;
-        std::uint32_t kinds[3] = {0, 0, 0};  // end, planar, start
-        for (; e != end && e->pos == q; ++e) ++kinds[e->kind()];
-        const std::uint32_t pe = kinds[kEnd], pp = kinds[kPlanar], ps = kinds[kStart];
-        const std::uint32_t below_q = starts_before + ps + pp, above_q = total - ends_before;
-        const float up = grid_.next_up(q);
-        const bool adjacent_above = e != end && up == e->pos;
-        if (!adjacent_above) {
-          try_gap(up, e != end ? e : nullptr, below_q, above_q - pe - pp);
+      // `next_up` and `next_down` give the grid neighbours of the positions between the
+      // first and the last; the outer planes use the grid's.
+      const auto sweep = [&](auto next_up, auto next_down) {
+        const Event* e = ev.data();
+        std::uint32_t lo_at_or_below = 0, hi_below = 0;
+        bool adjacent_below = false;  // the previous position is one grid step below q
+        for (;;) {
+          const float q = e->pos;
+          const std::uint32_t above_q = total - hi_below;  // the plane at q: #(hi >= q)
+          do {
+            lo_at_or_below += e->code >= kPlanarCode;
+            hi_below += e->code < kStartCode;
+            ++e;
+          } while (e != end && e->pos == q);
+          // The gap above q: below #(lo <= q), above #(hi > q).
+          const std::uint32_t below = lo_at_or_below, above = total - hi_below;
+          if (e == end) {
+            // The last gap has only its lower end, which may lie on the box.
+            if (const float up = grid_.next_up(q); up < box.hi[k]) try_outer_plane(up, below, above);
+            if (adjacent_below) try_plane(q, below, above_q);
+            return;
+          }
+          // Both ends of an inner gap lie strictly inside the box. The cheaper end is
+          // costed (both on an exact tie of the counts, so that the rounding of the two
+          // scores decides as in a sweep that costs every candidate: the tree is
+          // bit-identical to that sweep's, checked with kdtree_table --hash).
+          const float up = next_up(q);
+          const bool adjacent_above = up == e->pos;
+          if (!adjacent_above) {
+            if (below >= above) try_plane(up, below, above);
+            if (below <= above) try_plane(next_down(e->pos), below, above);
+          }
+          if (adjacent_below || adjacent_above) try_plane(q, below, above_q);
+          adjacent_below = adjacent_above;
         }
-        if (adjacent_below || adjacent_above) try_plane(q, below_q, above_q);
-        starts_before = below_q;
-        ends_before += pe + pp;
-        adjacent_below = adjacent_above;
+      };
+      if (box.lo[k] > 0.0f || box.hi[k] < 0.0f) {
+        // In a box that does not contain zero, the positions other than the last are
+        // normal numbers of one sign whose grid neighbours are one step of the fp32
+        // bits away (the bits of a negative float grow with its magnitude).
+        const std::uint32_t step = box.lo[k] > 0.0f ? grid_.step() : 0u - grid_.step();
+        sweep([step](float q) { return std::bit_cast<float>(std::bit_cast<std::uint32_t>(q) + step); },
+              [step](float q) { return std::bit_cast<float>(std::bit_cast<std::uint32_t>(q) - step); });
+      } else {
+        sweep([this](float q) { return grid_.next_up(q); }, [this](float q) { return grid_.next_down(q); });
       }
     }
     if (best.axis >= 0) {
@@ -348,22 +446,38 @@ class Builder {
 
   // W&H: a triangle goes below when its extent starts at or before the plane and
   // above when it ends at or after it; touching counts (the closed-box rule). One pass
-  // suffices because a triangle's start event comes before its end event.
-  void classify(const std::vector<Event>& ev, float split) {
-    for (const Event& e : ev) {
-      Side& side = sides_[e.tri()];
-      switch (e.kind()) {
-        case kStart:
-          side = e.pos > split ? Side::kAbove : Side::kBoth;
-          break;
-        case kEnd:
-          if (e.pos < split) side = Side::kBelow;
-          break;
-        default:  // planar
-          side = e.pos < split ? Side::kBelow : e.pos > split ? Side::kAbove : Side::kBoth;
-          break;
-      }
+  // over the sorted list suffices because a triangle's start event comes before its end
+  // event. The pass is split where the positions cross the plane, so that within each
+  // part the side follows from the event kind without a branch on it (the kinds come
+  // in random order; the positions do not). Writes the triangles on both sides to
+  // straddlers_ and returns how many there are.
+  std::size_t classify(const EventList& ev, float split) {
+    const Event* e = ev.data();
+    const Event* const end = e + ev.size();
+    std::uint32_t* const first = straddlers_.data();
+    std::uint32_t* out = first;
+    // Before the plane: a start leaves the triangle on both sides until its end (if
+    // any) before the plane makes it below.
+    for (; e != end && e->pos < split; ++e) sides_[e->tri()] = e->kind() == kStart ? Side::kBoth : Side::kBelow;
+    // On the plane: every triangle touches it. Planar ones and those ending here are
+    // complete; the ones starting here end above.
+    for (; e != end && e->pos == split; ++e) {
+      sides_[e->tri()] = Side::kBoth;
+      *out = e->tri();
+      out += e->kind() != kStart;
     }
+    // Above the plane: starts and planar events are above; an end closes a triangle
+    // that started at or before the plane, which is then on both sides.
+    // In masks, so that the compiler does not branch on the kind.
+    for (; e != end; ++e) {
+      const std::uint32_t t = e->tri();
+      const auto side = static_cast<unsigned>(sides_[t]);
+      const unsigned is_end = e->kind() == kEnd, keep = 0u - is_end;
+      *out = t;
+      out += is_end & static_cast<unsigned>(side == static_cast<unsigned>(Side::kBoth));
+      sides_[t] = static_cast<Side>((side & keep) | (static_cast<unsigned>(Side::kAbove) & ~keep));
+    }
+    return static_cast<std::size_t>(out - first);
   }
 
   // The extent of a triangle that straddles a plane, inside one child's box: its
@@ -372,36 +486,41 @@ class Builder {
   // margin (W&H's "perfect splits"; Sutherland-Hodgman in double against the child box
   // grown by the margin).
   Extent child_extent(std::uint32_t tri, const Box& box) const {
-    const Extent loose = intersect(bounds_[tri], box);
+    const Triangle& t = triangles_[tri];
+    const Extent loose = intersect(t.bounds, box);
     if (!config_.perfect_splits) return loose;
+    // Computed vertices carry double rounding error relative to `scale`; they are widened
+    // by far less than an fp32 ulp more than the rounded input vertices, so that the
+    // extent stays conservative.
+    double scale = 0.0;
+    for (int v = 0; v < 3; ++v) {
+      for (int k = 0; k < 3; ++k) scale = std::max(scale, std::abs(double(t.vertices[v][k])));
+    }
+    for (int k = 0; k < 3; ++k) scale = std::max({scale, std::abs(double(box.lo[k])), std::abs(double(box.hi[k]))});
+    const double exact_widening = margin_, clipped_widening = margin_ + scale * 0x1p-40;
     struct Vertex {
       glm::dvec3 p;
-      bool exact;  // a rounded input vertex: its coordinates carry no clipping error
+      double widening;
     };
     std::array<Vertex, 9> buffers[2];
     Vertex* poly = buffers[0].data();
     Vertex* clipped = buffers[1].data();
     std::size_t count = 3;
-    double scale = 0.0;
-    for (int v = 0; v < 3; ++v) {
-      poly[v] = {glm::dvec3(positions_[scene_.triangles[tri][v]]), true};
-      for (int k = 0; k < 3; ++k) scale = std::max(scale, std::abs(poly[v].p[k]));
-    }
-    for (int k = 0; k < 3; ++k) scale = std::max({scale, std::abs(double(box.lo[k])), std::abs(double(box.hi[k]))});
+    for (int v = 0; v < 3; ++v) poly[v] = {glm::dvec3(t.vertices[v]), exact_widening};
     for (int plane = 0; plane < 6 && count > 0; ++plane) {
       const int k = plane / 2;
       const double at = plane % 2 == 0 ? box.lo[k] - margin_ : box.hi[k] + margin_;
       const double sign = plane % 2 == 0 ? 1.0 : -1.0;  // inside: sign * (x - at) >= 0
       // Most planes leave the polygon whole (the widened bounds already lie inside).
-      if ((plane % 2 == 0 ? bounds_[tri].lo[k] >= box.lo[k] : bounds_[tri].hi[k] <= box.hi[k])) continue;
+      if ((plane % 2 == 0 ? t.bounds.lo[k] >= box.lo[k] : t.bounds.hi[k] <= box.hi[k])) continue;
       std::size_t out = 0;
       for (std::size_t v = 0; v < count; ++v) {
         const Vertex& cur = poly[v];
-        const Vertex& nxt = poly[(v + 1) % count];
+        const Vertex& nxt = poly[v + 1 == count ? 0 : v + 1];
         const double dc = sign * (cur.p[k] - at), dn = sign * (nxt.p[k] - at);
         if (dc >= 0.0) clipped[out++] = cur;
         if ((dc >= 0.0) != (dn >= 0.0)) {
-          Vertex x{cur.p + (dc / (dc - dn)) * (nxt.p - cur.p), false};
+          Vertex x{cur.p + (dc / (dc - dn)) * (nxt.p - cur.p), clipped_widening};
           x.p[k] = at;
           clipped[out++] = x;
         }
@@ -410,16 +529,12 @@ class Builder {
       std::swap(poly, clipped);
     }
     if (count == 0) return loose;  // only a touch the clipping rounded away
-    // Computed vertices carry double rounding error relative to `scale`; widen them by
-    // far less than an fp32 ulp before rounding outward, so the extent stays conservative.
-    const double clip_error = scale * 0x1p-40;
     Extent tight;
     for (int k = 0; k < 3; ++k) {
       double lo = std::numeric_limits<double>::infinity(), hi = -lo;
       for (std::size_t v = 0; v < count; ++v) {
-        const double m = margin_ + (poly[v].exact ? 0.0 : clip_error);
-        lo = std::min(lo, poly[v].p[k] - m);
-        hi = std::max(hi, poly[v].p[k] + m);
+        lo = std::min(lo, poly[v].p[k] - poly[v].widening);
+        hi = std::max(hi, poly[v].p[k] + poly[v].widening);
       }
       tight.lo[k] = grid_.down(round_down(lo));
       tight.hi[k] = grid_.up(round_up(hi));
@@ -429,46 +544,65 @@ class Builder {
 
   // One pass over a parent list: each one-sided event is merged with that side's new
   // (sorted) straddler events straight into the child list, so every event is written
-  // once. A null output is a child that becomes a leaf and needs no events.
-  std::pair<Event*, Event*> splice(const std::vector<Event>& parent, const std::vector<Event>& new_below,
-                                   const std::vector<Event>& new_above, Event* below, Event* above) const {
-    auto nb = new_below.begin(), na = new_above.begin();
+  // once. The sides come in random order, so rather than branch on them the pass
+  // writes each event to both outputs and advances the one that keeps it: an output
+  // keeps its side's events unless its child becomes a leaf and needs none (it then
+  // points at one event that is overwritten), and has room for one event more than it
+  // keeps. A new event is written before the first parent event it precedes, of
+  // either side, since the ones of its own side come after that one too.
+  std::pair<Event*, Event*> splice(const EventList& parent, const EventList& new_below,
+                                   const EventList& new_above, Event* below, Event* above,
+                                   bool keep_below, bool keep_above) const {
+    const Event *nb = new_below.data(), *const nb_end = nb + new_below.size();
+    const Event *na = new_above.data(), *const na_end = na + new_above.size();
+    const auto first_new = [&] {  // no new event lies below this position
+      return std::min(nb != nb_end ? nb->pos : kInf, na != na_end ? na->pos : kInf);
+    };
+    float next_new = first_new();
+    const unsigned below_bit = keep_below ? 1u : 0u, above_bit = keep_above ? 2u : 0u;
     for (const Event& e : parent) {
-      const Side s = sides_[e.tri()];
-      if (s == Side::kBelow && below != nullptr) {
-        for (; nb != new_below.end() && *nb < e; ++nb) *below++ = *nb;
-        *below++ = e;
-      } else if (s == Side::kAbove && above != nullptr) {
-        for (; na != new_above.end() && *na < e; ++na) *above++ = *na;
-        *above++ = e;
+      if (e.pos >= next_new) {  // rare: new events may come first
+        for (; nb != nb_end && *nb < e; ++nb) *below++ = *nb;
+        for (; na != na_end && *na < e; ++na) *above++ = *na;
+        next_new = first_new();
       }
+      const auto s = static_cast<unsigned>(sides_[e.tri()]);
+      *below = e;
+      below += s & below_bit;
+      *above = e;
+      above += (s & above_bit) >> 1;
     }
-    return {below == nullptr ? below : std::copy(nb, new_below.end(), below),
-            above == nullptr ? above : std::copy(na, new_above.end(), above)};
+    return {std::copy(nb, nb_end, below), std::copy(na, na_end, above)};
   }
 
   bool must_be_leaf(std::size_t n, int depth) const {
     return n <= config_.max_leaf_prims || depth >= config_.max_depth;
   }
 
-  // A leaf's triangles: one start or planar event per triangle in any axis list.
-  static std::vector<std::uint32_t> triangles_of(const std::vector<Event>& ev) {
-    std::vector<std::uint32_t> tris;
+  // Appends a leaf's triangles to `out`: one start or planar event per triangle in any
+  // axis list, of those on side `side` or both (kBoth: all).
+  void append_triangles(const EventList& ev, Side side, std::vector<std::uint32_t>& out) const {
+    const Side other = side == Side::kBelow ? Side::kAbove : Side::kBelow;
     for (const Event& e : ev) {
-      if (e.kind() != kEnd) tris.push_back(e.tri());
+      if (e.kind() != kEnd && (side == Side::kBoth || sides_[e.tri()] != other)) out.push_back(e.tri());
     }
-    return tris;
   }
 
-  void make_leaf(std::uint32_t index, const std::vector<std::uint32_t>& tris) {
-    const std::size_t first = tree_.prim_refs.size();
-    if (tris.size() > KdNode::kMaxIndex || first + tris.size() > std::numeric_limits<std::uint32_t>::max()) {
+  // Makes node `index` the leaf of the references from `first` on.
+  void make_leaf(std::uint32_t index, std::size_t first) {
+    const std::size_t count = tree_.prim_refs.size() - first;
+    if (count > KdNode::kMaxIndex || tree_.prim_refs.size() > std::numeric_limits<std::uint32_t>::max()) {
       throw Error(fmt::format("kd-tree for '{}' needs more primitive references than the kd-node "
                               "fields hold; raise max_leaf_prims or lower max_depth",
                               scene_.source));
     }
-    tree_.prim_refs.insert(tree_.prim_refs.end(), tris.begin(), tris.end());
-    tree_.nodes[index] = KdNode::leaf(static_cast<std::uint32_t>(tris.size()), static_cast<std::uint32_t>(first));
+    tree_.nodes[index] = KdNode::leaf(static_cast<std::uint32_t>(count), static_cast<std::uint32_t>(first));
+  }
+
+  void make_leaf(std::uint32_t index, const EventList& ev, Side side) {
+    const std::size_t first = tree_.prim_refs.size();
+    append_triangles(ev, side, tree_.prim_refs);
+    make_leaf(index, first);
   }
 
   std::uint32_t new_node() {
@@ -482,88 +616,127 @@ class Builder {
     return static_cast<std::uint32_t>(index);
   }
 
-  // Builds the subtree of a node that may be split; `events` are its sorted lists.
-  void build(EventLists events, const Box& box, std::size_t n, int depth) {
+  // A consumed list keeps its storage for the next node at its depth, unless it is
+  // large: the few large nodes allocate afresh, and what the pool holds stays small.
+  static void recycle(EventList& list) {
+    constexpr std::size_t kKeptEvents = 4096;
+    if (list.capacity() > kKeptEvents) {
+      EventList().swap(list);
+    } else {
+      list.clear();
+    }
+  }
+
+  // Builds the subtree of a node that may be split; `events` are its sorted lists,
+  // which it consumes.
+  void build(EventLists& events, const Box& box, std::size_t n, int depth) {
     const std::uint32_t index = new_node();
     const Split split = find_split(events, box, n);
     // W&H's automatic termination: split only when it is cheaper than intersecting all n.
     if (split.axis < 0 || split.cost >= config_.intersection_cost * static_cast<double>(n)) {
-      make_leaf(index, triangles_of(events[0]));
+      make_leaf(index, events[0], Side::kBoth);
+      for (EventList& list : events) recycle(list);
       return;
     }
     const int k = split.axis;
-    classify(events[k], split.pos);
+    const std::size_t n_below = split.below, n_above = split.above;
+    const std::size_t n_straddlers = classify(events[k], split.pos);
 
     Box below_box = box, above_box = box;
     below_box.hi[k] = split.pos;
     above_box.lo[k] = split.pos;
 
-    std::vector<std::uint32_t> straddlers;
-    std::size_t n_below = 0, n_above = 0;
-    for (const Event& e : events[k]) {
-      if (e.kind() == kEnd) continue;  // one start or planar event per triangle
-      const Side s = sides_[e.tri()];
-      n_below += s != Side::kAbove;
-      n_above += s != Side::kBelow;
-      if (s == Side::kBoth) straddlers.push_back(e.tri());
-    }
-    // A child that will be a leaf needs only its triangles, not events.
+    // A child that will be a leaf needs only its triangles, not events. The below one
+    // is the next node; the above one's references wait until the below subtree is done.
     const bool below_leaf = must_be_leaf(n_below, depth + 1), above_leaf = must_be_leaf(n_above, depth + 1);
-    std::vector<std::uint32_t> below_tris, above_tris;
-    for (const Event& e : events[k]) {
-      if (e.kind() == kEnd) continue;
-      const Side s = sides_[e.tri()];
-      if (below_leaf && s != Side::kAbove) below_tris.push_back(e.tri());
-      if (above_leaf && s != Side::kBelow) above_tris.push_back(e.tri());
+    Level& children = levels_[static_cast<std::size_t>(depth) + 1];
+    if (below_leaf) make_leaf(new_node(), events[k], Side::kBelow);
+    if (above_leaf) {
+      children.above_leaf.clear();
+      append_triangles(events[k], Side::kAbove, children.above_leaf);
     }
 
-    // W&H: triangles on one side keep their events, in order; straddlers get new
-    // events for each child, sorted on their own (few) and merged in.
-    EventLists new_below, new_above, below, above;
-    for (const std::uint32_t t : straddlers) {
-      if (!below_leaf) add_events(new_below, child_extent(t, below_box), t);
-      if (!above_leaf) add_events(new_above, child_extent(t, above_box), t);
-    }
     if (!below_leaf || !above_leaf) {
+      // W&H: triangles on one side keep their events, in order; straddlers get new
+      // events for each child, sorted on their own (few) and merged in. Generated in
+      // triangle order, as sort_events needs.
+      EventLists& new_below = new_below_;
+      EventLists& new_above = new_above_;
       for (int axis = 0; axis < 3; ++axis) {
-        std::sort(new_below[axis].begin(), new_below[axis].end());
-        std::sort(new_above[axis].begin(), new_above[axis].end());
-        // At most two events per one-sided triangle; the lists are cut to size after
-        // the splice, which saves a counting pass over the parent list.
-        if (!below_leaf) below[axis].resize(2 * (n_below - straddlers.size()) + new_below[axis].size());
-        if (!above_leaf) above[axis].resize(2 * (n_above - straddlers.size()) + new_above[axis].size());
+        new_below[axis].clear();
+        new_above[axis].clear();
+      }
+      std::sort(straddlers_.begin(), straddlers_.begin() + static_cast<std::ptrdiff_t>(n_straddlers));
+      for (std::size_t i = 0; i < n_straddlers; ++i) {
+        // The records are read in index order but far apart: fetch a few ahead.
+        constexpr std::size_t kPrefetch = 8;
+        if (i + kPrefetch < n_straddlers) __builtin_prefetch(&triangles_[straddlers_[i + kPrefetch]]);
+        const std::uint32_t t = straddlers_[i];
+        if (!below_leaf) add_events(new_below, child_extent(t, below_box), t);
+        if (!above_leaf) add_events(new_above, child_extent(t, above_box), t);
+      }
+      for (int axis = 0; axis < 3; ++axis) {
+        sort_events(new_below[axis], sort_scratch_);
+        sort_events(new_above[axis], sort_scratch_);
+        // At most two events per one-sided triangle, and one slot the splice may write
+        // without keeping; the lists are cut to size after the splice, which saves a
+        // counting pass over the parent list.
+        EventList& below = children.below[axis];
+        EventList& above = children.above[axis];
+        Event sink;  // the output of a leaf child
+        if (!below_leaf) below.resize(2 * (n_below - n_straddlers) + new_below[axis].size() + 1);
+        if (!above_leaf) above.resize(2 * (n_above - n_straddlers) + new_above[axis].size() + 1);
         const auto [end_below, end_above] =
-            splice(events[axis], new_below[axis], new_above[axis], below_leaf ? nullptr : below[axis].data(),
-                   above_leaf ? nullptr : above[axis].data());
-        below[axis].resize(static_cast<std::size_t>(end_below - below[axis].data()));
-        above[axis].resize(static_cast<std::size_t>(end_above - above[axis].data()));
-        std::vector<Event>().swap(events[axis]);
+            splice(events[axis], new_below[axis], new_above[axis], below_leaf ? &sink : below.data(),
+                   above_leaf ? &sink : above.data(), !below_leaf, !above_leaf);
+        if (!below_leaf) below.resize(static_cast<std::size_t>(end_below - below.data()));
+        if (!above_leaf) above.resize(static_cast<std::size_t>(end_above - above.data()));
       }
     }
+    for (EventList& list : events) recycle(list);
 
-    if (below_leaf) {
-      make_leaf(new_node(), below_tris);
-    } else {
-      build(std::move(below), below_box, n_below, depth + 1);
-    }
+    if (!below_leaf) build(children.below, below_box, n_below, depth + 1);
     const std::uint32_t above_index = static_cast<std::uint32_t>(tree_.nodes.size());
     tree_.nodes[index] = KdNode::inner(k, above_index, split.pos);
     if (above_leaf) {
-      make_leaf(new_node(), above_tris);
+      const std::size_t first = tree_.prim_refs.size();
+      tree_.prim_refs.insert(tree_.prim_refs.end(), children.above_leaf.begin(), children.above_leaf.end());
+      make_leaf(new_node(), first);
     } else {
-      build(std::move(above), above_box, n_above, depth + 1);
+      build(children.above, above_box, n_above, depth + 1);
     }
   }
+
+  // Scratch of one depth of the tree, reused by every node there: the event lists of
+  // the two children of the node being split at the depth above (the build is depth
+  // first, so both are consumed before the next node there is split), and the
+  // references of an above child that is a leaf.
+  struct Level {
+    EventLists below, above;
+    std::vector<std::uint32_t> above_leaf;
+  };
 
   const Scene& scene_;
   const KdBuildConfig& config_;
   KdTree& tree_;
   Grid grid_;
   std::vector<Side> sides_;
+  // classify's output: one slot per triangle and one that the branch-free pass may
+  // write without keeping.
+  std::vector<std::uint32_t> straddlers_;
+  EventList sort_scratch_;
+  std::vector<Level> levels_;           // one per depth
+  EventLists new_below_, new_above_;   // the straddlers' events in the node being split
   std::vector<glm::vec3> positions_;  // the scene's vertices rounded into the format
   double margin_ = 0.0;               // added around every triangle, in scene units
   Box root_;
-  std::vector<Extent> bounds_;  // each triangle's widened bounding box on the grid, within the root
+  // What clipping a triangle reads, in one cache line: the build visits triangles in no
+  // spatial order, and separate arrays of vertices and bounds cost a cache miss each.
+  struct alignas(64) Triangle {
+    std::array<glm::vec3, 3> vertices;  // rounded into the format
+    Extent bounds;                      // widened bounding box on the grid, within the root
+  };
+  std::vector<Triangle> triangles_;
 };
 
 void check_config(const Scene& scene, const KdBuildConfig& c) {
