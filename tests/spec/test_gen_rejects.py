@@ -14,6 +14,8 @@ cases = {
     "field past its record": ("memory_map.toml", "camera]\nbytes = 64", "camera]\nbytes = 56"),
     "misaligned field": ("memory_map.toml", "a_at = 0 ", "a_at = 2 "),
     "section alignment not a power of two": ("memory_map.toml", "section_alignment = 64", "section_alignment = 48"),
+    "fp op not in the soft model": ("fp_units.toml", '"fract"]', '"fract", "cbrt"]'),
+    "fp op in two units": ("fp_units.toml", '"div", "rcp"', '"div", "add"'),
 }
 failures = 0
 for what, (table, old, new) in cases.items():
