@@ -18,7 +18,6 @@ import shutil
 import subprocess
 import sys
 import time
-import tomllib
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 RTL = ROOT / "rtl"
@@ -26,12 +25,19 @@ SIM_TOP = ROOT / "sim" / "rpu_fp_cosim_top.sv"
 NETLIST_TB = ROOT / "sim" / "rpu_fp_netlist_tb.sv"
 
 
+sys.path.insert(0, str(ROOT / "spec"))
+import gen  # noqa: E402  (spec/gen.py: loads and validates the tables)
+
+
 def spec() -> tuple[dict, list[dict]]:
-    with (ROOT / "spec" / "formats.toml").open("rb") as f:
-        formats = {x["name"]: x for x in tomllib.load(f)["format"]}
-    with (ROOT / "spec" / "fp_units.toml").open("rb") as f:
-        units = tomllib.load(f)["unit"]
-    return formats, units
+    tables = gen.load(ROOT / "spec")
+    formats = {x["name"]: x for x in tables["formats"]["format"]}
+    return formats, tables["fp_units"]["unit"]
+
+
+def port_widths() -> tuple[int, int]:
+    tables = gen.load(ROOT / "spec")
+    return gen.fp_op_bits(tables), tables["fp_units"]["port"]["tag_bits"]
 
 
 def rtl_sources() -> list[pathlib.Path]:
@@ -107,17 +113,23 @@ def synth(args) -> int:
 
     # Every op of the unit through the netlist, with vectors from the C++ model.
     tb = out / f"{stem}.vvp"
-    r = run([args.iverilog, "-g2012", "-o", tb, "-s", "rpu_fp_netlist_tb", args.pkg, NETLIST_TB, netlist])
+    op_bits, tag_bits = port_widths()
+    r = run([args.iverilog, "-g2012", "-o", tb, "-s", "rpu_fp_netlist_tb",
+             f"-Prpu_fp_netlist_tb.OpBits={op_bits}", f"-Prpu_fp_netlist_tb.TagBits={tag_bits}",
+             NETLIST_TB, netlist])
     if r.returncode != 0:
         print(f"synth FAIL: iverilog:\n{r.stdout}{r.stderr}")
         return 1
+    # args.vectors random vectors in all, shared evenly by the unit's ops, plus an even
+    # sample of each op's edge and constructed vectors (a quarter as many).
     unit = next(u for u in units if u["name"] == args.unit)
+    per_op = -(-args.vectors // len(unit["ops"]))
     total = 0
     start = time.monotonic()
     for op in unit["ops"]:
         vectors = out / f"{stem}_{op}.vec"
-        r = run([args.cosim, "--format", args.format, "--op", op, "--count", args.vectors,
-                 "--edge-limit", args.vectors // 4, "--write-vectors", vectors])
+        r = run([args.cosim, "--format", args.format, "--op", op, "--count", per_op,
+                 "--edge-limit", max(1, per_op // 4), "--write-vectors", vectors])
         if r.returncode != 0:
             print(f"synth FAIL: {args.cosim} --write-vectors:\n{r.stdout}{r.stderr}")
             return 1
@@ -195,7 +207,7 @@ def main() -> int:
     p.add_argument("--pkg", required=True)
     p.add_argument("--cosim", required=True, help="the fp_cosim binary (writes the vectors)")
     p.add_argument("--out", required=True)
-    p.add_argument("--vectors", type=int, default=10000, help="random vectors per op")
+    p.add_argument("--vectors", type=int, default=10000, help="random vectors, shared by the unit's ops")
     p.add_argument("--yosys", default=shutil.which("yosys"))
     p.add_argument("--iverilog", default=shutil.which("iverilog"))
     p.add_argument("--vvp", default=shutil.which("vvp"))

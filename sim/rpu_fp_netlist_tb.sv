@@ -4,8 +4,13 @@
 // the model's result and tag. Stops at the first mismatch with the vector, operands,
 // both results and the cycle.
 //   vvp tb.vvp +vectors=FILE [+seed=N]
+// Icarus 11 does not read rpu_pkg.sv (`int unsigned` localparams), so flow.py passes
+// the port widths from the spec as parameters (iverilog -P).
 `timescale 1ns / 1ps
-module rpu_fp_netlist_tb;
+module rpu_fp_netlist_tb #(
+  parameter integer OpBits = 1,
+  parameter integer TagBits = 1
+);
 
   localparam integer MaxVectors = 1 << 18;
   localparam integer StallPercent = 6;
@@ -15,12 +20,12 @@ module rpu_fp_netlist_tb;
   reg                               rst_n = 1'b0;
   reg                               req_valid = 1'b0;
   wire                              req_ready;
-  reg  [rpu_pkg::FpOpBits-1:0]      req_op = '0;
-  reg  [rpu_pkg::FpTagBits-1:0]     req_tag = '0;
+  reg  [OpBits-1:0]      req_op = '0;
+  reg  [TagBits-1:0]     req_tag = '0;
   reg  [31:0]                       req_a = '0, req_b = '0, req_c = '0;
   wire                              rsp_valid;
   reg                               rsp_ready = 1'b0;
-  wire [rpu_pkg::FpTagBits-1:0]     rsp_tag;
+  wire [TagBits-1:0]     rsp_tag;
   wire [31:0]                       rsp_result;
 
   rpu_fp_cosim_top dut (
@@ -65,7 +70,7 @@ module rpu_fp_netlist_tb;
     end
     $fclose(fd);
 
-    req_op = op[rpu_pkg::FpOpBits-1:0];
+    req_op = op[OpBits-1:0];
     repeat (4) begin
       #1 clk = 1'b1;
       #1 clk = 1'b0;
@@ -82,13 +87,13 @@ module rpu_fp_netlist_tb;
         req_a = va[sent];
         req_b = vb[sent];
         req_c = vc[sent];
-        req_tag = sent[rpu_pkg::FpTagBits-1:0];
+        req_tag = sent[TagBits-1:0];
       end
       #1;
       if (rsp_valid && rsp_ready) begin
-        if (rsp_result !== ve[got] || rsp_tag !== got[rpu_pkg::FpTagBits-1:0]) begin
+        if (rsp_result !== ve[got] || rsp_tag !== got[TagBits-1:0]) begin
           $display("netlist FAIL: op %0d, cycle %0d, vector %0d: a = %h b = %h c = %h expected %h tag %h actual %h tag %h",
-                   op, cycle, got, va[got], vb[got], vc[got], ve[got], got[rpu_pkg::FpTagBits-1:0],
+                   op, cycle, got, va[got], vb[got], vc[got], ve[got], got[TagBits-1:0],
                    rsp_result, rsp_tag);
           $finish_and_return(1);
         end
