@@ -1,11 +1,12 @@
-// Icarus testbench for a Yosys netlist of rpu_fp_cosim_top (rtl/flow.py synth): reads
+// Testbench for a Yosys netlist of rpu_fp_cosim_top (rtl/flow.py synth), for Verilator
+// (--binary, the default) or Icarus: reads
 // the vectors and soft-model results that fp_cosim --write-vectors wrote, drives them
 // through the valid/ready port with random stalls, and compares every response with
 // the model's result and tag. Stops at the first mismatch with the vector, operands,
 // both results and the cycle.
-//   vvp tb.vvp +vectors=FILE [+seed=N]
+//   Vrpu_fp_netlist_tb +vectors=FILE [+seed=N]   or   vvp tb.vvp +vectors=FILE [+seed=N]
 // Icarus 11 does not read rpu_pkg.sv (`int unsigned` localparams), so flow.py passes
-// the port widths from the spec as parameters (iverilog -P).
+// the port widths from the spec as parameters.
 `timescale 1ns / 1ps
 module rpu_fp_netlist_tb #(
   parameter integer OpBits = 1,
@@ -48,24 +49,24 @@ module rpu_fp_netlist_tb #(
   initial begin
     if (!$value$plusargs("vectors=%s", path)) begin
       $display("netlist FAIL: no +vectors=FILE");
-      $finish_and_return(2);
+      $fatal(2);
     end
     if (!$value$plusargs("seed=%d", seed)) seed = 1;
     fd = $fopen(path, "r");
     if (fd == 0) begin
       $display("netlist FAIL: cannot open %0s", path);
-      $finish_and_return(2);
+      $fatal(2);
     end
     ok = $fscanf(fd, "%h %d\n", op, n);
     if (ok != 2 || n > MaxVectors) begin
       $display("netlist FAIL: bad header in %0s (or more than %0d vectors)", path, MaxVectors);
-      $finish_and_return(2);
+      $fatal(2);
     end
     for (i = 0; i < n; i = i + 1) begin
       ok = $fscanf(fd, "%h %h %h %h\n", va[i], vb[i], vc[i], ve[i]);
       if (ok != 4) begin
         $display("netlist FAIL: %0s: vector %0d unreadable", path, i);
-        $finish_and_return(2);
+        $fatal(2);
       end
     end
     $fclose(fd);
@@ -95,7 +96,7 @@ module rpu_fp_netlist_tb #(
           $display("netlist FAIL: op %0d, cycle %0d, vector %0d: a = %h b = %h c = %h expected %h tag %h actual %h tag %h",
                    op, cycle, got, va[got], vb[got], vc[got], ve[got], got[TagBits-1:0],
                    rsp_result, rsp_tag);
-          $finish_and_return(1);
+          $fatal(1);
         end
         got = got + 1;
         last = cycle;
@@ -105,7 +106,7 @@ module rpu_fp_netlist_tb #(
       if (sent == got) last = cycle;
       if (cycle - last > Timeout) begin
         $display("netlist FAIL: op %0d: no response for %0d cycles at cycle %0d (vector %0d)", op, Timeout, cycle, got);
-        $finish_and_return(1);
+        $fatal(1);
       end
       clk = 1'b1;
       #1 clk = 1'b0;
