@@ -14,7 +14,8 @@
 // (Steps = FracBits + 3 rounded up to a multiple of StepsPerCycle), the latency from
 // req_valid_i && req_ready_o to rsp_valid_o is Cycles + 2 for div, rcp and sqrt and
 // 2 * Cycles + 3 for rsqrt; req_ready_o is high only when the unit is idle, so the
-// initiation interval is the latency plus one. fp32 with StepsPerCycle = 2: 15 / 31.
+// initiation interval is the latency plus one. fp32 with StepsPerCycle = 2: latency
+// 15 (rsqrt 29), interval 16 (30).
 module rpu_fp_divsqrt #(
   parameter int unsigned ExpBits       = rpu_pkg::FormatFp32ExponentBits,
   parameter int unsigned FracBits      = rpu_pkg::FormatFp32FractionBits,
