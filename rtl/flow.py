@@ -226,7 +226,9 @@ def area(args) -> int:
             s = rows.get((u["name"], n))
             cells.append(f"{s['cells']} cells, {s['flops']} flops, {s['transistors']} T" if s else "—")
         print(f"| {u['name']} | " + " | ".join(cells) + " |")
-    print("\nT: transistors by `stat -tech cmos`. Run times (wall, on the shared 2-core machine):\n")
+    print("\nT: transistors by `stat -tech cmos`. Run times (wall, on the shared 2-core machine; "
+          "the netlist simulation's build goes through ccache, so a netlist built before costs "
+          "seconds, a new fp32 fma netlist about 30-40 s):\n")
     print("| unit | format | yosys s | netlist vectors | simulator | build s | simulation s |\n|---|---|---|---|---|---|---|")
     order = {(u["name"], n): (i, j) for i, u in enumerate(units) for j, n in enumerate(formats)}
     for (unit, fmt), s in sorted(rows.items(), key=lambda kv: order.get(kv[0], (99, 99))):

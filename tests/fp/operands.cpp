@@ -24,7 +24,6 @@ std::optional<std::pair<std::uint32_t, std::uint32_t>> significands_with_product
   return std::nullopt;
 }
 
-
 }  // namespace
 
 std::uint32_t soft_result(Op op, Format f, const Operands& v) {
