@@ -27,7 +27,7 @@ class SpecError(Exception):
 
 def load(spec_dir: pathlib.Path) -> dict:
     spec = {}
-    for name in ("formats", "memory_map", "configs", "isa"):
+    for name in ("formats", "memory_map", "configs", "isa", "fp_units"):
         path = spec_dir / f"{name}.toml"
         try:
             with path.open("rb") as f:
@@ -170,6 +170,44 @@ def validate_isa(isa: dict) -> None:
         names.add(sr["name"])
         indices.add(sr["index"])
 
+    units = spec["fp_units"]
+    port = units["port"]
+    if port["operand_bits"] != 32:
+        raise SpecError("spec/fp_units.toml: port.operand_bits must be 32 (fp32 and int32 operands)")
+    if not 1 <= port["tag_bits"] <= 32:
+        raise SpecError("spec/fp_units.toml: port.tag_bits must be in 1..32")
+    op_names = set()
+    for u in units.get("unit", []):
+        if not IDENT.match(u.get("name", "")):
+            raise SpecError(f"spec/fp_units.toml: unit '{u.get('name', '?')}': name must match {IDENT.pattern}")
+        for op in u["ops"]:
+            if op not in FP_OPS:
+                raise SpecError(f"spec/fp_units.toml: unit '{u['name']}': unknown op '{op}' "
+                                f"(rpu::fp::soft has {', '.join(FP_OPS)})")
+            if op in op_names:
+                raise SpecError(f"spec/fp_units.toml: op '{op}' is in two units")
+            op_names.add(op)
+
+
+# rpu::fp::soft's operations (cmodel/fp/soft.hpp) with their operand count.
+FP_OPS = {"add": 2, "sub": 2, "mul": 2, "fma": 3, "div": 2, "rcp": 1, "sqrt": 1, "rsqrt": 1,
+          "min": 2, "max": 2, "floor": 1, "fract": 1, "eq": 2, "ne": 2, "lt": 2, "le": 2,
+          "gt": 2, "ge": 2, "from_fp32": 1, "to_fp32": 1, "from_int32": 1, "to_int32": 1}
+
+
+def fp_ops(spec: dict) -> list[tuple[str, str]]:
+    """(op, unit) in code order: the op code is the index."""
+    return [(op, u["name"]) for u in spec["fp_units"]["unit"] for op in u["ops"]]
+
+
+def fp_units(spec: dict) -> list[str]:
+    """Unit names; the index is the unit's number (FpUnit<Name> in rpu_pkg)."""
+    return [u["name"] for u in spec["fp_units"]["unit"]]
+
+
+def fp_op_bits(spec: dict) -> int:
+    return max(1, (len(fp_ops(spec)) - 1).bit_length())
+
 
 def camel(name: str) -> str:
     return "".join(p[:1].upper() + p[1:] for p in name.split("_"))
@@ -217,6 +255,21 @@ def gen_cpp(spec: dict) -> str:
             if isinstance(value, int):
                 out.append(f"inline constexpr std::uint32_t k{camel(section)}{camel(key)} = {cpp_uint(value)};")
     out += ["}  // namespace memory", ""]
+
+    port = spec["fp_units"]["port"]
+    ops = fp_ops(spec)
+    out += ["// The RTL floating-point units' ops (spec/fp_units.toml); the value is the op code.",
+            "enum class FpOp : std::uint8_t {"]
+    out += [f"  k{camel(op)} = {i}," for i, (op, _) in enumerate(ops)]
+    out += ["};", "", "struct FpOpSpec {", "  FpOp op;", "  std::string_view name;",
+            "  std::string_view unit;", "  int arity;", "};", "",
+            f"inline constexpr int kFpOperandBits = {port['operand_bits']};",
+            f"inline constexpr int kFpTagBits = {port['tag_bits']};",
+            f"inline constexpr int kFpOpBits = {fp_op_bits(spec)};",
+            f"inline constexpr std::array<FpOpSpec, {len(ops)}> kFpOps{{{{"]
+    out += [f"    {{FpOp::k{camel(op)}, {cpp_string(op)}, {cpp_string(unit)}, {FP_OPS[op]}}},"
+            for op, unit in ops]
+    out += ["}};", ""]
 
     configs = spec["configs"]["config"]
     out += ["struct HardwareConfig {", "  std::string_view name;", "  std::string_view doc;"]
@@ -324,6 +377,26 @@ def gen_sv(spec: dict) -> str:
     out.append("  } opcode_e;")
     for sr in isa["special"]:
         out.append(f"  localparam int unsigned Special{camel(sr['name'])} = {sr['index']};")
+    port = spec["fp_units"]["port"]
+    ops = fp_ops(spec)
+    op_bits = fp_op_bits(spec)
+    out += ["", "  // Floating-point units (spec/fp_units.toml, docs/rtl.md).",
+            f"  localparam int unsigned FpOperandBits = {port['operand_bits']};",
+            f"  localparam int unsigned FpTagBits = {port['tag_bits']};",
+            f"  localparam int unsigned FpOpBits = {op_bits};"]
+    out += [f"  localparam int unsigned FpUnit{camel(u)} = {i};" for i, u in enumerate(fp_units(spec))]
+    out += [
+            f"  typedef enum logic [{op_bits - 1}:0] {{"]
+    out += [f"    FpOp{camel(op)} = {op_bits}'d{i}{',' if i + 1 < len(ops) else ''}  // {unit}"
+            for i, (op, unit) in enumerate(ops)]
+    out += ["  } fp_op_e;", "",
+            "  // A request: operands right-aligned, bits above the format's width ignored.",
+            "  typedef struct packed {", "    fp_op_e op;", "    logic [FpTagBits-1:0] tag;",
+            "    logic [FpOperandBits-1:0] a;", "    logic [FpOperandBits-1:0] b;",
+            "    logic [FpOperandBits-1:0] c;", "  } fp_req_t;", "",
+            "  // A response: format bits, 0/1 for a compare, int32 bits for to_int32.",
+            "  typedef struct packed {", "    logic [FpTagBits-1:0] tag;",
+            "    logic [FpOperandBits-1:0] result;", "  } fp_rsp_t;"]
     out += ["", "endpackage", ""]
     return "\n".join(out)
 
@@ -376,8 +449,11 @@ def write_if_changed(path: pathlib.Path, text: str) -> None:
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--spec-dir", type=pathlib.Path, required=True)
-    ap.add_argument("--cpp", type=pathlib.Path, required=True)
-    ap.add_argument("--sv", type=pathlib.Path, required=True)
+    ap.add_argument("--cpp", type=pathlib.Path)
+    ap.add_argument("--sv", type=pathlib.Path)
+    ap.add_argument("--list", choices=("formats", "fp-ops"),
+                    help="print 'name exponent_bits fraction_bits' per format, or 'op unit' "
+                         "per FP op, one a line (CMake reads these at configure time)")
     ap.add_argument("--isa-doc", type=pathlib.Path, help="write docs/isa.md here")
     args = ap.parse_args()
     try:
@@ -385,6 +461,16 @@ def main() -> int:
     except (SpecError, KeyError, OSError) as e:
         print(f"spec/gen.py: error: {e}", file=sys.stderr)
         return 1
+    if args.list == "formats":
+        for f in spec["formats"]["format"]:
+            print(f["name"], f["exponent_bits"], f["fraction_bits"])
+        return 0
+    if args.list == "fp-ops":
+        for op, unit in fp_ops(spec):
+            print(op, unit)
+        return 0
+    if args.cpp is None or args.sv is None:
+        ap.error("--cpp and --sv are required unless --list is given")
     write_if_changed(args.cpp, gen_cpp(spec))
     write_if_changed(args.sv, gen_sv(spec))
     if args.isa_doc:

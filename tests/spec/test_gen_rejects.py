@@ -20,6 +20,8 @@ cases = {
     "unknown latency class": ("isa.toml", 'class = "sfu"', 'class = "fancy"'),
     "operand without its field": ("isa.toml", 'format = "R"\noperands = ["d", "a", "b", "c"]', 'format = "I"\noperands = ["d", "a", "b", "c"]'),
     "more registers than the encoding names": ("configs.toml", "registers = 32", "registers = 65"),
+    "fp op not in the soft model": ("fp_units.toml", '"fract"]', '"fract", "cbrt"]'),
+    "fp op in two units": ("fp_units.toml", '"div", "rcp"', '"div", "add"'),
 }
 failures = 0
 for what, (table, old, new) in cases.items():

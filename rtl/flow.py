@@ -1,0 +1,266 @@
+#!/usr/bin/env python3
+"""Lint, synthesis and netlist simulation of the RTL floating-point units (docs/rtl.md).
+
+Formats and units come from spec/formats.toml and spec/fp_units.toml, the same tables
+gen.py turns into rpu_pkg.sv, so nothing here repeats a width or a unit list.
+
+    flow.py lint  --verilator verilator --pkg build/ci/generated/rtl/rpu_pkg.sv
+    flow.py synth --unit fma --format fp16 --pkg ... --cosim build/ci/sim/fp_cosim --out DIR
+    flow.py area  --from DIR > docs/area.md
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import pathlib
+import re
+import shutil
+import subprocess
+import sys
+import time
+
+ROOT = pathlib.Path(__file__).resolve().parent.parent
+RTL = ROOT / "rtl"
+SIM_TOP = ROOT / "sim" / "rpu_fp_cosim_top.sv"
+NETLIST_TB = ROOT / "sim" / "rpu_fp_netlist_tb.sv"
+
+
+sys.path.insert(0, str(ROOT / "spec"))
+import gen  # noqa: E402  (spec/gen.py: loads and validates the tables)
+
+
+def spec() -> tuple[dict, list[dict]]:
+    tables = gen.load(ROOT / "spec")
+    formats = {x["name"]: x for x in tables["formats"]["format"]}
+    return formats, tables["fp_units"]["unit"]
+
+
+def port_widths() -> tuple[int, int]:
+    tables = gen.load(ROOT / "spec")
+    return gen.fp_op_bits(tables), tables["fp_units"]["port"]["tag_bits"]
+
+
+def rtl_sources() -> list[pathlib.Path]:
+    return sorted(RTL.glob("*.sv"))
+
+
+def run(cmd: list, **kw) -> subprocess.CompletedProcess:
+    return subprocess.run([str(c) for c in cmd], capture_output=True, text=True, **kw)
+
+
+def lint(args) -> int:
+    """verilator --lint-only -Wall on every unit in every format, and on the sim top."""
+    formats, units = spec()
+    failures = 0
+    jobs = []
+    for unit in units:
+        for name, f in formats.items():
+            jobs.append((f"rpu_fp_{unit['name']} {name}", [f"rpu_fp_{unit['name']}"],
+                         [f"-GExpBits={f['exponent_bits']}", f"-GFracBits={f['fraction_bits']}"], []))
+    for i, unit in enumerate(units):
+        jobs.append((f"rpu_fp_cosim_top {unit['name']}", ["rpu_fp_cosim_top"], [f"-GUnit={i}"], [SIM_TOP]))
+    for what, (top,), params, extra in jobs:
+        r = run([args.verilator, "--lint-only", "-Wall", RTL / "lint.vlt", args.pkg, *rtl_sources(), *extra,
+                 "--top-module", top, *params])
+        ok = r.returncode == 0 and "%Warning" not in r.stderr
+        print(f"{'ok  ' if ok else 'FAIL'} lint {what}")
+        if not ok:
+            print(r.stdout + r.stderr)
+            failures += 1
+    return 1 if failures else 0
+
+
+def synth(args) -> int:
+    """Yosys synth of one unit and format, then the netlist against the model's vectors."""
+    formats, units = spec()
+    names = [u["name"] for u in units]
+    if args.unit not in names or args.format not in formats:
+        print(f"flow.py: unknown unit or format; units {names}, formats {list(formats)}", file=sys.stderr)
+        return 2
+    f = formats[args.format]
+    out = pathlib.Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    stem = f"{args.unit}_{args.format}"
+    netlist = out / f"{stem}.v"
+    log = out / f"{stem}.yosys.log"
+    reads = " ".join(str(p) for p in [args.pkg, *rtl_sources(), SIM_TOP])
+    script = "; ".join([
+        f"read_verilog -sv {reads}",
+        f"hierarchy -check -top rpu_fp_cosim_top -chparam Unit {names.index(args.unit)} "
+        f"-chparam ExpBits {f['exponent_bits']} -chparam FracBits {f['fraction_bits']}",
+        "synth -flatten -top rpu_fp_cosim_top",
+        "splitnets",
+        "stat",
+        "stat -tech cmos",
+        f"write_verilog -noattr {netlist}",
+    ])
+    start = time.monotonic()
+    r = run([args.yosys, "-p", script])
+    synth_seconds = time.monotonic() - start
+    log.write_text(r.stdout + r.stderr)
+    if r.returncode != 0:
+        print(f"synth FAIL: yosys exited {r.returncode}; log in {log}\n{r.stderr[-3000:]}")
+        return 1
+    # Yosys 0.23 reports some mis-read constructs only as warnings (arrays of packed
+    # structs become 1-bit flops, TOOLCHAIN.md), so any warning fails the run.
+    warnings = [l for l in r.stdout.splitlines() if l.startswith("Warning:")]
+    if warnings:
+        print("synth FAIL: yosys warnings:\n" + "\n".join(warnings))
+        return 1
+    stats = parse_stat(r.stdout)
+    stats.update(unit=args.unit, format=args.format, exponent_bits=f["exponent_bits"],
+                 fraction_bits=f["fraction_bits"], synth_seconds=round(synth_seconds, 1))
+
+    # Every op of the unit through the netlist, with vectors from the C++ model.
+    start = time.monotonic()
+    simulate = build_netlist_sim(args, out, stem, netlist)
+    if simulate is None:
+        return 1
+    stats.update(netlist_build_seconds=round(time.monotonic() - start, 1))
+    # args.vectors random vectors in all, shared evenly by the unit's ops, plus an even
+    # sample of each op's edge and constructed vectors (a quarter as many).
+    unit = next(u for u in units if u["name"] == args.unit)
+    per_op = -(-args.vectors // len(unit["ops"]))
+    total = 0
+    start = time.monotonic()
+    for op in unit["ops"]:
+        vectors = out / f"{stem}_{op}.vec"
+        r = run([args.cosim, "--format", args.format, "--op", op, "--count", per_op,
+                 "--edge-limit", max(1, per_op // 4), "--write-vectors", vectors])
+        if r.returncode != 0:
+            print(f"synth FAIL: {args.cosim} --write-vectors:\n{r.stdout}{r.stderr}")
+            return 1
+        r = run([*simulate, f"+vectors={vectors}"])
+        text = r.stdout + r.stderr
+        if r.returncode != 0 or "netlist ok" not in text:
+            print(f"synth FAIL: netlist of {args.unit} in {args.format}, op {op}:\n{text}")
+            return 1
+        n = int(re.search(r"netlist ok: op \d+: (\d+) vectors", text).group(1))
+        total += n
+        print(f"ok   netlist {args.unit} {args.format} {op}: {n} vectors")
+        vectors.unlink()
+    stats.update(netlist_vectors=total, netlist_seconds=round(time.monotonic() - start, 1),
+                 netlist_simulator=args.sim)
+    (out / f"{stem}.json").write_text(json.dumps(stats, indent=1) + "\n")
+    print(f"synth ok: {args.unit} {args.format}: {stats['cells']} cells ({stats['flops']} flops), "
+          f"{stats.get('transistors', '?')} CMOS transistors; {total} netlist vectors match")
+    return 0
+
+
+def build_netlist_sim(args, out: pathlib.Path, stem: str, netlist: pathlib.Path) -> list | None:
+    """Compiles the testbench with the netlist; returns the command that runs it.
+
+    Verilator by default: Icarus is exact on Yosys netlists but event-driven, and the
+    glitches of a multiplier's gate netlist made it take minutes per netlist (fp32 fma:
+    12k vectors in 340 s against under a second for the Verilated netlist, which costs
+    about 30 s to compile). Verilator 5.006 mis-simulated some netlists without
+    splitnets (TOOLCHAIN.md); a mis-simulation shows up as a mismatch here.
+    """
+    op_bits, tag_bits = port_widths()
+    start = time.monotonic()
+    if args.sim == "icarus":
+        tb = out / f"{stem}.vvp"
+        r = run([args.iverilog, "-g2012", "-o", tb, "-s", "rpu_fp_netlist_tb",
+                 f"-Prpu_fp_netlist_tb.OpBits={op_bits}", f"-Prpu_fp_netlist_tb.TagBits={tag_bits}",
+                 NETLIST_TB, netlist])
+        command = [args.vvp, "-n", tb]
+    else:
+        obj = out / f"{stem}.obj"
+        shutil.rmtree(obj, ignore_errors=True)
+        # The netlist is not lint-clean code (Yosys names, unused outputs); the RTL is
+        # linted by rtl.lint. The C++ is compiled at -O0: compile time dominates here.
+        env = dict(os.environ)
+        if shutil.which("ccache"):
+            env["OBJCACHE"] = "ccache"
+        r = run([args.verilator, "--binary", "-Wno-fatal", "-Wno-lint", "-Wno-style",
+                 "--x-assign", "unique", "--x-initial", "unique", "--top-module", "rpu_fp_netlist_tb",
+                 f"-GOpBits={op_bits}", f"-GTagBits={tag_bits}", "-Mdir", obj, "-j", "1",
+                 "-CFLAGS", "-O0", NETLIST_TB, netlist], env=env)
+        # Registers and X start random but reproducible (STYLE.md 7).
+        command = [obj / "Vrpu_fp_netlist_tb", "+verilator+rand+reset+2", "+verilator+seed+1"]
+    if r.returncode != 0:
+        print(f"synth FAIL: building the {args.sim} netlist simulation:\n{r.stdout[-3000:]}{r.stderr[-3000:]}")
+        return None
+    print(f"ok   {args.sim} netlist simulation built in {time.monotonic() - start:.1f} s")
+    return command
+
+
+def parse_stat(text: str) -> dict:
+    """Cell counts from `stat`, transistors from `stat -tech cmos` (the last report)."""
+    reports = text.split("Printing statistics.")
+    first = reports[1] if len(reports) > 1 else text
+    cells = int(re.search(r"Number of cells:\s+(\d+)", first).group(1))
+    kinds = {m.group(1): int(m.group(2)) for m in re.finditer(r"^\s+(\$_\w+_)\s+(\d+)", first, re.M)}
+    flops = sum(n for k, n in kinds.items() if "DFF" in k or "SDFF" in k or "DLATCH" in k)
+    stats = {"cells": cells, "flops": flops, "cell_kinds": kinds}
+    m = re.search(r"Estimated number of transistors:\s+(\d+)", reports[-1])
+    if m:
+        stats["transistors"] = int(m.group(1))
+    return stats
+
+
+def area(args) -> int:
+    """docs/area.md from the JSON files synth wrote."""
+    formats, units = spec()
+    rows = {}
+    for p in sorted(pathlib.Path(getattr(args, "from")).glob("*.json")):
+        s = json.loads(p.read_text())
+        rows[(s["unit"], s["format"])] = s
+    if not rows:
+        print("flow.py area: no synthesis results; run ctest -L synth first", file=sys.stderr)
+        return 1
+    used = [n for n in formats if any(k[1] == n for k in rows)]
+    print("# Area of the floating-point units\n")
+    print("Generated by `rtl/flow.py area` from the runs of `ctest --preset ci -L synth` (Debian's "
+          "Yosys 0.23, `synth -flatten`, generic gates; `stat` cell counts, `stat -tech cmos` "
+          "transistor estimates). Relative numbers, not a process: no timing, no technology "
+          "mapping. Each netlist was simulated against vectors and results of the C++ soft "
+          "model (second table). Regenerate:\n")
+    print("```sh\nctest --preset ci -L synth\npython3 rtl/flow.py area --from build/ci/sim/synth > docs/area.md\n```\n")
+    print("| unit | " + " | ".join(f"{n} (E{formats[n]['exponent_bits']}M{formats[n]['fraction_bits']})" for n in used) + " |")
+    print("|---|" + "---|" * len(used))
+    for u in units:
+        cells = []
+        for n in used:
+            s = rows.get((u["name"], n))
+            cells.append(f"{s['cells']} cells, {s['flops']} flops, {s['transistors']} T" if s else "—")
+        print(f"| {u['name']} | " + " | ".join(cells) + " |")
+    print("\nT: transistors by `stat -tech cmos`. Run times (wall, on the shared 2-core machine; "
+          "the netlist simulation's build goes through ccache, so a netlist built before costs "
+          "seconds, a new fp32 fma netlist about 30-40 s):\n")
+    print("| unit | format | yosys s | netlist vectors | simulator | build s | simulation s |\n|---|---|---|---|---|---|---|")
+    order = {(u["name"], n): (i, j) for i, u in enumerate(units) for j, n in enumerate(formats)}
+    for (unit, fmt), s in sorted(rows.items(), key=lambda kv: order.get(kv[0], (99, 99))):
+        print(f"| {unit} | {fmt} | {s['synth_seconds']} | {s['netlist_vectors']} | "
+              f"{s.get('netlist_simulator', '?')} | {s.get('netlist_build_seconds', '-')} | {s['netlist_seconds']} |")
+    return 0
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    sub = ap.add_subparsers(dest="cmd", required=True)
+    p = sub.add_parser("lint")
+    p.add_argument("--verilator", default=shutil.which("verilator"))
+    p.add_argument("--pkg", required=True, help="the generated rpu_pkg.sv")
+    p = sub.add_parser("synth")
+    p.add_argument("--unit", required=True)
+    p.add_argument("--format", required=True)
+    p.add_argument("--pkg", required=True)
+    p.add_argument("--cosim", required=True, help="the fp_cosim binary (writes the vectors)")
+    p.add_argument("--out", required=True)
+    p.add_argument("--vectors", type=int, default=10000, help="random vectors, shared by the unit's ops")
+    p.add_argument("--sim", choices=("verilator", "icarus"), default="verilator",
+                   help="netlist simulator (default verilator; see build_netlist_sim)")
+    p.add_argument("--verilator", default=shutil.which("verilator"))
+    p.add_argument("--yosys", default=shutil.which("yosys"))
+    p.add_argument("--iverilog", default=shutil.which("iverilog"))
+    p.add_argument("--vvp", default=shutil.which("vvp"))
+    p = sub.add_parser("area")
+    p.add_argument("--from", required=True, help="directory of synth's JSON files")
+    args = ap.parse_args()
+    return {"lint": lint, "synth": synth, "area": area}[args.cmd](args)
+
+
+if __name__ == "__main__":
+    sys.exit(main())

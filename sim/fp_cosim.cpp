@@ -1,0 +1,321 @@
+// Co-simulation of the RTL floating-point units against rpu::fp::soft, the golden
+// model (docs/rtl.md). For one op and format, every vector (edge classes, constructed
+// cases, then random operands from the generator the MPFR tests use) goes through the
+// unit's valid/ready port with random stalls on both sides; each response is paired
+// with its request by tag and compared bit for bit with the soft model. The first
+// mismatch stops the run and prints op, format, operands, both results and the cycle.
+//
+//   fp_cosim --unit fma --format fp32 --op add [--count N] [--seed S]
+//   fp_cosim --format fp16 --op div --count N --write-vectors FILE   (for the netlist)
+#include <CLI/CLI.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cinttypes>
+#include <cstdint>
+#include <cstdio>
+#include <deque>
+#include <fstream>
+#include <functional>
+#include <random>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "fp/format.hpp"
+#include "fp_unit_model.hpp"
+#include "operands.hpp"
+#include "oracle.hpp"
+#include "rpu/spec.hpp"
+
+namespace rpu::sim {
+namespace {
+
+using fp::Format;
+using fp::Operands;
+
+struct OpChoice {
+  const spec::FpOpSpec* spec;      // the op code and unit (spec/fp_units.toml)
+  const fp::oracle::OpInfo* info;  // the op as the operand generator knows it
+};
+
+OpChoice find_op(std::string_view name) {
+  OpChoice choice{nullptr, nullptr};
+  for (const spec::FpOpSpec& s : spec::kFpOps) {
+    if (s.name == name) choice.spec = &s;
+  }
+  for (const fp::oracle::OpInfo& i : fp::oracle::all_ops()) {
+    if (i.name == name) choice.info = &i;
+  }
+  if (choice.spec == nullptr || choice.info == nullptr) {
+    // Built by appending: GCC 12 at -O3 warns (-Wrestrict) on "literal" + std::string.
+    std::string message = "unknown op '";
+    message.append(name).append("'; spec/fp_units.toml has");
+    for (const spec::FpOpSpec& s : spec::kFpOps) message.append(" ").append(s.name);
+    throw CLI::ValidationError("--op", message);
+  }
+  return choice;
+}
+
+// Operands as the format reads them: from_fp32 takes fp32 bits, from_int32 an int32.
+Format input_format(fp::Op op, Format f) { return op == fp::Op::kFromFp32 ? fp::kFp32 : f; }
+bool full_width_input(fp::Op op) { return op == fp::Op::kFromFp32 || op == fp::Op::kFromInt32; }
+
+std::string describe_operand(fp::Op op, Format f, std::uint32_t bits) {
+  char text[96];
+  if (op == fp::Op::kFromInt32) {
+    std::snprintf(text, sizeof text, "0x%08" PRIx32 " (%" PRId32 ")", bits, static_cast<std::int32_t>(bits));
+  } else {
+    const Format in = input_format(op, f);
+    std::snprintf(text, sizeof text, "0x%0*" PRIx32 " (%.9g)", (in.width() + 3) / 4, bits,
+                  fp::oracle::to_double(in, bits & in.all_bits()));
+  }
+  return text;
+}
+
+std::string describe_result(const fp::oracle::OpInfo& info, Format f, std::uint32_t bits) {
+  char text[96];
+  if (info.result == fp::oracle::Result::kBool) {
+    std::snprintf(text, sizeof text, "0x%" PRIx32 " (%s)", bits, bits == 1 ? "true" : bits == 0 ? "false" : "not 0/1");
+  } else if (info.result == fp::oracle::Result::kInt32) {
+    std::snprintf(text, sizeof text, "0x%08" PRIx32 " (%" PRId32 ")", bits, static_cast<std::int32_t>(bits));
+  } else {
+    const Format out = info.op == fp::Op::kToFp32 ? fp::kFp32 : f;
+    std::snprintf(text, sizeof text, "0x%0*" PRIx32 " (%.9g)", (out.width() + 3) / 4, bits,
+                  fp::oracle::to_double(out, bits & out.all_bits()));
+  }
+  return text;
+}
+
+// Edge classes and constructed cases first (as tests/fp checks them against MPFR),
+// then `count` random operand sets.
+class VectorSource {
+ public:
+  VectorSource(const fp::oracle::OpInfo& info, Format f, std::int64_t count, std::uint64_t seed)
+      : random_(info.op, f, seed), count_(count) {
+    const std::vector<std::uint32_t> edges = fp::edge_values(input_format(info.op, f));
+    if (info.op != fp::Op::kFromInt32) {
+      for (std::uint32_t a : edges) {
+        if (info.arity == 1) {
+          fixed_.push_back({a, 0, 0});
+          continue;
+        }
+        for (std::uint32_t b : edges) {
+          if (info.arity == 2) {
+            fixed_.push_back({a, b, 0});
+            continue;
+          }
+          for (std::uint32_t c : edges) fixed_.push_back({a, b, c});
+        }
+      }
+    }
+    for (const Operands& v : fp::constructed(info.op, f)) fixed_.push_back(v);
+  }
+
+  std::int64_t size() const { return static_cast<std::int64_t>(fixed_.size()) + count_; }
+  std::int64_t edge_count() const { return static_cast<std::int64_t>(fixed_.size()); }
+  Operands at(std::int64_t i) {
+    return i < edge_count() ? fixed_[static_cast<std::size_t>(i)] : random_.next();
+  }
+
+ private:
+  std::vector<Operands> fixed_;
+  fp::OperandSource random_;
+  std::int64_t count_;
+};
+
+struct Pending {
+  std::int64_t index;
+  std::uint64_t accepted;  // cycle of the request transfer
+  Operands operands;
+  std::uint32_t expected;
+};
+
+struct Options {
+  std::string unit, format, op, write_vectors;
+  std::int64_t count = 1'000'000;
+  std::int64_t edge_limit = 0;
+  std::uint64_t seed = 0;
+  unsigned stall_percent = 6;
+  bool quiet = false;
+};
+
+std::uint64_t default_seed(const Options& o) {
+  std::string key = "cosim/";
+  key.append(o.op).append("/").append(o.format);
+  return std::hash<std::string>{}(key);
+}
+
+// The netlist testbench's input: a header "op_code count", then one vector a line as
+// hex "a b c expected" (the model's result), read by sim/rpu_fp_netlist_tb.sv. With an
+// edge limit, an even sample of the edge and constructed vectors is kept (a gate-level
+// simulation is some thousand times slower than the Verilated RTL).
+int write_vectors(const Options& o, const OpChoice& op, Format f) {
+  VectorSource source(*op.info, f, o.count, o.seed);
+  std::vector<std::int64_t> picked;
+  const std::int64_t edges = source.edge_count();
+  const std::int64_t stride = o.edge_limit > 0 ? std::max<std::int64_t>(1, (edges + o.edge_limit - 1) / o.edge_limit) : 1;
+  for (std::int64_t i = 0; i < edges; i += stride) picked.push_back(i);
+  for (std::int64_t i = edges; i < source.size(); ++i) picked.push_back(i);
+  std::ofstream out(o.write_vectors);
+  if (!out) {
+    std::fprintf(stderr, "fp_cosim: cannot write %s\n", o.write_vectors.c_str());
+    return 2;
+  }
+  char line[64];
+  std::snprintf(line, sizeof line, "%x %zu\n", static_cast<unsigned>(op.spec->op), picked.size());
+  out << line;
+  for (const std::int64_t i : picked) {
+    const Operands v = source.at(i);
+    std::snprintf(line, sizeof line, "%08" PRIx32 " %08" PRIx32 " %08" PRIx32 " %08" PRIx32 "\n", v.a, v.b, v.c,
+                  fp::soft_result(op.info->op, f, v));
+    out << line;
+  }
+  std::printf("fp_cosim: wrote %zu vectors for %s %s to %s\n", picked.size(), o.op.c_str(),
+              o.format.c_str(), o.write_vectors.c_str());
+  return out ? 0 : 2;
+}
+
+int run(const Options& o, const OpChoice& op, Format f) {
+  if (op.spec->unit != o.unit) {
+    std::fprintf(stderr, "fp_cosim: op %s runs on the %.*s unit, not %s (spec/fp_units.toml)\n", o.op.c_str(),
+                 static_cast<int>(op.spec->unit.size()), op.spec->unit.data(), o.unit.c_str());
+    return 2;
+  }
+  std::unique_ptr<FpUnitModel> model = make_fp_unit_model(o.unit, o.format, o.seed);
+  if (!model) {
+    std::fprintf(stderr, "fp_cosim: no model for unit %s in format %s; built:", o.unit.c_str(), o.format.c_str());
+    for (const FpUnitModelName& n : fp_unit_models()) std::fprintf(stderr, " %s/%s", n.unit.c_str(), n.format.c_str());
+    std::fprintf(stderr, "\n");
+    return 2;
+  }
+
+  VectorSource source(*op.info, f, o.count, o.seed);
+  std::mt19937_64 rng(o.seed ^ 0x5bd1e995u);  // stalls and the junk in ignored bits
+  const auto percent = [&rng] { return static_cast<unsigned>(rng() % 100); };
+  const std::uint32_t tag_mask = (std::uint64_t{1} << spec::kFpTagBits) - 1;
+  const std::uint32_t high_bits = ~f.all_bits();
+  const auto op_code = static_cast<std::uint32_t>(op.spec->op);
+  constexpr std::uint64_t kTimeout = 1000;  // cycles without a response while one is owed
+
+  FpUnitInputs in;
+  for (int i = 0; i < 4; ++i) {  // reset
+    model->settle(in);
+    model->clock();
+  }
+  in.rst_n = true;
+
+  std::deque<Pending> pending;
+  std::int64_t next = 0, checked = 0;
+  std::uint64_t cycle = 0, last_progress = 0;
+  std::uint64_t min_latency = ~std::uint64_t{0}, max_latency = 0;
+  Operands current{};
+  std::uint32_t current_expected = 0;
+  bool have_current = false;
+  const auto start = std::chrono::steady_clock::now();
+
+  while (checked < source.size()) {
+    if (!have_current && next < source.size()) {
+      current = source.at(next);
+      current_expected = fp::soft_result(op.info->op, f, current);
+      have_current = true;
+      // Bits the unit must ignore get random values: the operands beyond the arity and,
+      // for format operands, everything above the format's width.
+      const std::uint32_t junk = full_width_input(op.info->op) ? 0 : high_bits;
+      in.req_a = current.a | (static_cast<std::uint32_t>(rng()) & junk);
+      in.req_b = op.info->arity >= 2 ? current.b | (static_cast<std::uint32_t>(rng()) & junk) : static_cast<std::uint32_t>(rng());
+      in.req_c = op.info->arity >= 3 ? current.c | (static_cast<std::uint32_t>(rng()) & junk) : static_cast<std::uint32_t>(rng());
+      in.req_op = op_code;
+      in.req_tag = static_cast<std::uint32_t>(next) & tag_mask;
+    }
+    in.req_valid = have_current && percent() >= o.stall_percent;
+    in.rsp_ready = percent() >= o.stall_percent;
+    const FpUnitOutputs out = model->settle(in);
+
+    if (out.rsp_valid && in.rsp_ready) {
+      if (pending.empty()) {
+        std::fprintf(stderr, "cosim FAIL: %s %s: cycle %" PRIu64 ": a response (tag 0x%" PRIx32 ") with no request\n",
+                     o.op.c_str(), o.format.c_str(), cycle, out.rsp_tag);
+        return 1;
+      }
+      const Pending p = pending.front();
+      pending.pop_front();
+      const std::uint32_t want_tag = static_cast<std::uint32_t>(p.index) & tag_mask;
+      if (out.rsp_result != p.expected || out.rsp_tag != want_tag) {
+        std::fprintf(stderr, "cosim FAIL: unit %s, op %s, format %s (%s), cycle %" PRIu64 ", vector %" PRId64 " (%s)\n",
+                     o.unit.c_str(), o.op.c_str(), o.format.c_str(), f.name().c_str(), cycle, p.index,
+                     p.index < source.edge_count() ? "edge/constructed" : "random");
+        const std::uint32_t operands[] = {p.operands.a, p.operands.b, p.operands.c};
+        for (int i = 0; i < op.info->arity; ++i) {
+          std::fprintf(stderr, "  %c = %s\n", 'a' + i, describe_operand(op.info->op, f, operands[i]).c_str());
+        }
+        std::fprintf(stderr, "  expected (soft) %s tag 0x%02" PRIx32 "\n  actual   (rtl)  %s tag 0x%02" PRIx32 "\n",
+                     describe_result(*op.info, f, p.expected).c_str(), want_tag,
+                     describe_result(*op.info, f, out.rsp_result).c_str(), out.rsp_tag);
+        return 1;
+      }
+      const std::uint64_t latency = cycle - p.accepted;
+      min_latency = std::min(min_latency, latency);
+      max_latency = std::max(max_latency, latency);
+      ++checked;
+      last_progress = cycle;
+    }
+    if (in.req_valid && out.req_ready) {
+      pending.push_back({next, cycle, current, current_expected});
+      have_current = false;
+      ++next;
+    }
+    if (!pending.empty() && cycle - last_progress > kTimeout) {
+      std::fprintf(stderr, "cosim FAIL: %s %s: cycle %" PRIu64 ": no response for %" PRIu64
+                   " cycles, %zu requests outstanding (oldest: vector %" PRId64 ")\n",
+                   o.op.c_str(), o.format.c_str(), cycle, kTimeout, pending.size(), pending.front().index);
+      return 1;
+    }
+    if (pending.empty()) last_progress = cycle;
+    model->clock();
+    ++cycle;
+  }
+
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::printf("cosim ok: unit %s, op %s, format %s (%s): %" PRId64 " vectors (%" PRId64
+              " edge/constructed) match soft in %" PRIu64 " cycles, %.2f s (%.0f vectors/s, %.0f cycles/s); "
+              "latency %" PRIu64 "..%" PRIu64 " cycles with %u%% stalls\n",
+              o.unit.c_str(), o.op.c_str(), o.format.c_str(), f.name().c_str(), checked, source.edge_count(), cycle,
+              seconds, static_cast<double>(checked) / seconds, static_cast<double>(cycle) / seconds, min_latency,
+              max_latency, o.stall_percent);
+  return 0;
+}
+
+}  // namespace
+}  // namespace rpu::sim
+
+int main(int argc, char** argv) {
+  using namespace rpu::sim;
+  Options o;
+  CLI::App app{"Co-simulate an RTL floating-point unit against rpu::fp::soft"};
+  app.add_option("--unit", o.unit, "unit (spec/fp_units.toml); required unless --write-vectors");
+  app.add_option("--format", o.format, "format name (spec/formats.toml)")->required();
+  app.add_option("--op", o.op, "op name (spec/fp_units.toml)")->required();
+  app.add_option("--count", o.count, "random vectors after the edge and constructed ones")->check(CLI::NonNegativeNumber);
+  app.add_option("--seed", o.seed, "operand, stall and register-initialisation seed (default: from op and format)");
+  app.add_option("--stall-percent", o.stall_percent, "percent of cycles without req valid / rsp ready")
+      ->check(CLI::Range(0, 90));
+  app.add_option("--write-vectors", o.write_vectors, "write vectors and the model's results for the netlist testbench");
+  app.add_option("--edge-limit", o.edge_limit, "with --write-vectors: at most this many edge vectors (0: all)")
+      ->check(CLI::NonNegativeNumber);
+  CLI11_PARSE(app, argc, argv);
+  try {
+    const OpChoice op = find_op(o.op);
+    const rpu::fp::Format f = rpu::fp::format_by_name(o.format);
+    if (o.seed == 0) o.seed = default_seed(o);
+    if (!o.write_vectors.empty()) return write_vectors(o, op, f);
+    if (o.unit.empty()) {
+      std::fprintf(stderr, "fp_cosim: --unit is required to co-simulate\n");
+      return 2;
+    }
+    return run(o, op, f);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "fp_cosim: %s\n", e.what());
+    return 2;
+  }
+}

@@ -1,0 +1,48 @@
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+// One Verilated floating-point unit (rpu_fp_cosim_top.sv) behind a plain interface,
+// so the harness needs no Verilator header: the models are built in their own
+// library, compiled with Verilator's flags rather than the project's warnings.
+namespace rpu::sim {
+
+struct FpUnitInputs {
+  bool rst_n = false;
+  bool req_valid = false;
+  std::uint32_t req_op = 0, req_tag = 0, req_a = 0, req_b = 0, req_c = 0;
+  bool rsp_ready = false;
+};
+
+struct FpUnitOutputs {
+  bool req_ready = false;
+  bool rsp_valid = false;
+  std::uint32_t rsp_tag = 0, rsp_result = 0;
+};
+
+class FpUnitModel {
+ public:
+  virtual ~FpUnitModel() = default;
+  // Applies the inputs with the clock low and returns the outputs they give.
+  virtual FpUnitOutputs settle(const FpUnitInputs& in) = 0;
+  // One rising and one falling clock edge.
+  virtual void clock() = 0;
+};
+
+struct FpUnitModelName {
+  std::string unit, format;
+};
+
+// The (unit, format) pairs built into this binary.
+std::vector<FpUnitModelName> fp_unit_models();
+
+// A fresh model with every register and X initialised from `seed` (Verilator
+// --x-assign unique --x-initial unique); nullptr if the pair was not built.
+std::unique_ptr<FpUnitModel> make_fp_unit_model(std::string_view unit, std::string_view format,
+                                                std::uint64_t seed);
+
+}  // namespace rpu::sim
