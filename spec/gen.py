@@ -122,6 +122,7 @@ def validate(spec: dict) -> None:
             raise SpecError(f"spec/configs.toml: config '{c['name']}' has more registers than "
                             "spec/isa.toml's register fields can name")
     validate_isa(spec["isa"])
+    validate_fp_units(spec)
 
 
 def validate_isa(isa: dict) -> None:
@@ -170,6 +171,8 @@ def validate_isa(isa: dict) -> None:
         names.add(sr["name"])
         indices.add(sr["index"])
 
+
+def validate_fp_units(spec: dict) -> None:
     units = spec["fp_units"]
     port = units["port"]
     if port["operand_bits"] != 32:
