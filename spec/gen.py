@@ -42,6 +42,17 @@ IDENT = re.compile(r"^[a-z][a-z0-9_]*$")
 CONFIG_INT_FIELDS = ("shader_cores", "threads_per_core", "chunk_size", "vector_width",
                      "registers", "traversal_units", "intersection_units", "stack_depth",
                      "call_depth", "stack_bytes", "clock_mhz")
+# The timing sub-tables of a config: table name -> (C++ struct, its integer fields).
+CACHE_FIELDS = ("bytes", "line_bytes", "ways", "hit_latency", "mshrs")
+CONFIG_GROUPS = {
+    "latency": ("LatencyConfig", ("fpu", "dot", "sfu", "rsq", "integer", "branch", "special")),
+    "tu": ("TraversalUnitConfig", ("setup_woop", "setup_watertight", "inner", "leaf", "pop")),
+    "iu": ("IntersectionUnitConfig", ("woop", "watertight", "interval")),
+    "node_cache": ("CacheConfig", CACHE_FIELDS),
+    "triangle_cache": ("CacheConfig", CACHE_FIELDS),
+    "data_cache": ("CacheConfig", CACHE_FIELDS),
+    "dram": ("DramConfig", ("latency", "bytes_per_cycle", "banks")),
+}
 OPERAND_KINDS = ("d", "a", "b", "c", "imm", "fimm", "mem", "target", "sr")
 # The encoding fields each operand kind fills, per instruction format.
 OPERAND_FIELDS = {
@@ -111,6 +122,22 @@ def validate(spec: dict) -> None:
         for k in CONFIG_INT_FIELDS:
             if not isinstance(c.get(k), int) or c[k] <= 0:
                 raise SpecError(f"{where}: '{k}' must be a positive integer")
+        for group, (_, fields) in CONFIG_GROUPS.items():
+            table = c.get(group)
+            if not isinstance(table, dict) or set(table) != set(fields):
+                raise SpecError(f"{where}: [config.{group}] must have exactly {', '.join(fields)}")
+            for k in fields:
+                if not isinstance(table[k], int) or table[k] <= 0:
+                    raise SpecError(f"{where}: [config.{group}] '{k}' must be a positive integer")
+        for cache in ("node_cache", "triangle_cache", "data_cache"):
+            t = c[cache]
+            line = t["line_bytes"]
+            if line & (line - 1) or line < 16 or t["bytes"] % (line * t["ways"]):
+                raise SpecError(f"{where}: [config.{cache}] needs a power-of-two line of at least 16 "
+                                "bytes and bytes a multiple of line_bytes * ways")
+            sets = t["bytes"] // (line * t["ways"])
+            if sets & (sets - 1):
+                raise SpecError(f"{where}: [config.{cache}] has {sets} sets, not a power of two")
         if c["format"] not in names:
             raise SpecError(f"{where}: unknown format '{c['format']}'")
         if c["threads_per_core"] % c["chunk_size"]:
@@ -275,14 +302,23 @@ def gen_cpp(spec: dict) -> str:
     out += ["}};", ""]
 
     configs = spec["configs"]["config"]
+    structs = {}
+    for struct, fields in CONFIG_GROUPS.values():
+        structs.setdefault(struct, fields)
+    for struct, fields in structs.items():
+        out += [f"struct {struct} {{"] + [f"  int {k};" for k in fields] + ["};", ""]
     out += ["struct HardwareConfig {", "  std::string_view name;", "  std::string_view doc;"]
     out += [f"  int {k};" for k in CONFIG_INT_FIELDS]
-    out += ["  std::string_view format;", "};", "",
+    out += ["  std::string_view format;"]
+    out += [f"  {struct} {group};" for group, (struct, _) in CONFIG_GROUPS.items()]
+    out += ["};", "",
             f"inline constexpr std::array<HardwareConfig, {len(configs)}> kConfigs{{{{"]
     for c in configs:
         ints = ", ".join(str(c[k]) for k in CONFIG_INT_FIELDS)
+        groups = ", ".join("{" + ", ".join(str(c[g][k]) for k in fields) + "}"
+                           for g, (_, fields) in CONFIG_GROUPS.items())
         out.append(f"    {{{cpp_string(c['name'])}, {cpp_string(c['doc'])}, {ints}, "
-                   f"{cpp_string(c['format'])}}},")
+                   f"{cpp_string(c['format'])}, {groups}}},")
     out += ["}};", ""]
     out += gen_cpp_isa(spec)
     out += ["}  // namespace rpu::spec", ""]
@@ -365,6 +401,9 @@ def gen_sv(spec: dict) -> str:
         n = camel(c["name"])
         for k in CONFIG_INT_FIELDS:
             out.append(f"  localparam int unsigned Config{n}{camel(k)} = {c[k]};")
+        for g, (_, fields) in CONFIG_GROUPS.items():
+            for k in fields:
+                out.append(f"  localparam int unsigned Config{n}{camel(g)}{camel(k)} = {c[g][k]};")
     out.append("")
     isa = spec["isa"]
     for name, value in isa["encoding"].items():
