@@ -99,16 +99,6 @@ Vec swizzle(const Vec& r, std::uint8_t swz) {
 
 }  // namespace
 
-struct ShaderCore::Thread {
-  const Lane* lane = nullptr;
-  std::uint32_t pc = 0;
-  bool done = false;
-  std::uint64_t retired = 0;
-  std::vector<Vec> regs;
-  std::vector<std::uint32_t> returns;  // the return-address stack
-  std::vector<Vec> stack;              // push/pop memory stack (its contents)
-};
-
 ShaderCore::ShaderCore(const isa::Firmware& firmware, DeviceMemory& memory, const Tracer& tracer, fp::Format format,
                        const ShaderCoreConfig& config, bool fast_path)
     : firmware_(firmware),
@@ -123,11 +113,13 @@ ShaderCore::ShaderCore(const isa::Firmware& firmware, DeviceMemory& memory, cons
   }
   raygen_ = entry->second.value;
   code_.resize(firmware.code.size());
+  uses_.resize(firmware.code.size());
   illegal_why_.resize(firmware.code.size());
   for (std::size_t pc = 0; pc < firmware.code.size(); ++pc) {
     std::string why;
     if (auto insn = isa::decode(firmware.code[pc], &why)) {
       code_[pc] = *insn;
+      uses_[pc] = isa::register_use(*insn);
     } else {
       illegal_why_[pc] = why;
     }
@@ -140,56 +132,88 @@ void ShaderCore::fault(const Thread& t, const std::string& what) const {
   const std::uint32_t width = memory_.launch_block().size() >= 8
                                   ? memory_.load32(mm::kDeviceLaunchBase + mm::kLaunchWidthAt)
                                   : 1;
-  const std::uint32_t p = t.lane->pixel;
+  const std::uint32_t p = t.lane.pixel;
   throw ShaderFault(fmt::format("shader fault in thread {} (core {}, chunk {}, lane {}; pixel {}, {}) at pc {} "
                                 "({}): {}",
-                                t.lane->thread, t.lane->core, t.lane->chunk, t.lane->lane, p % width, p / width, t.pc,
+                                t.lane.thread, t.lane.core, t.lane.chunk, t.lane.lane, p % width, p / width, t.pc,
                                 insn, what),
                     p);
 }
 
-void ShaderCore::run_chunk(std::span<const Lane> lanes, ShaderStats& stats,
-                           std::vector<std::vector<Vec>>* end_registers) {
+void ShaderCore::Chunk::update_next_pc() {
+  next_pc_ = kDone;
+  for (const Thread& t : threads_) {
+    if (!t.done) next_pc_ = std::min(next_pc_, t.pc);
+  }
+}
+
+void ShaderCore::start(Chunk& chunk, std::span<const Lane> lanes, ShaderStats& stats) const {
+  chunk.threads_.resize(lanes.size());
+  for (std::size_t i = 0; i < lanes.size(); ++i) {
+    Thread& t = chunk.threads_[i];
+    t.lane = lanes[i];
+    t.pc = raygen_;
+    t.done = false;
+    t.retired = 0;
+    t.regs.assign(static_cast<std::size_t>(config_.registers), Vec{});
+    t.returns.clear();
+    t.stack.clear();
+  }
+  chunk.update_next_pc();
+  stats.pixels += lanes.size();
+}
+
+void ShaderCore::step(Chunk& chunk, ShaderStats& stats, StepRecord* record) {
   if (fast_) {
     const fp::fast32::FlushScope flush;
-    run_chunk_with(Fast32Ops{}, lanes, stats, end_registers);
+    step_with(Fast32Ops{}, chunk, stats, record);
   } else {
-    run_chunk_with(SoftOps{format_}, lanes, stats, end_registers);
+    step_with(SoftOps{format_}, chunk, stats, record);
   }
 }
 
 template <class Ops>
-void ShaderCore::run_chunk_with(const Ops& ops, std::span<const Lane> lanes, ShaderStats& stats,
-                                std::vector<std::vector<Vec>>* end_registers) {
-  std::vector<Thread> threads(lanes.size());
-  for (std::size_t i = 0; i < lanes.size(); ++i) {
-    threads[i].lane = &lanes[i];
-    threads[i].pc = raygen_;
-    threads[i].regs.assign(static_cast<std::size_t>(config_.registers), Vec{});
+void ShaderCore::step_with(const Ops& ops, Chunk& chunk, ShaderStats& stats, StepRecord* record) {
+  const std::uint32_t pc = chunk.next_pc_;
+  ++stats.chunk_issues;
+  stats.lanes_issued += static_cast<std::uint64_t>(config_.chunk_size);
+  if (record) {
+    record->pc = pc;
+    record->insn = instruction(pc);
+    record->lanes = 0;
+    record->addresses.clear();
+    record->trace_count = 0;
   }
-  stats.pixels += lanes.size();
-  for (;;) {
-    std::uint32_t pc = std::numeric_limits<std::uint32_t>::max();
-    for (const Thread& t : threads) {
-      if (!t.done) pc = std::min(pc, t.pc);
-    }
-    if (pc == std::numeric_limits<std::uint32_t>::max()) {
-      if (end_registers) {
-        end_registers->clear();
-        for (const Thread& t : threads) end_registers->push_back(t.regs);
-      }
-      return;
-    }
-    ++stats.chunk_issues;
-    stats.lanes_issued += static_cast<std::uint64_t>(config_.chunk_size);
-    for (Thread& t : threads) {
-      if (!t.done && t.pc == pc) execute(ops, t, stats);
-    }
+  for (std::size_t l = 0; l < chunk.threads_.size(); ++l) {
+    Thread& t = chunk.threads_[l];
+    if (t.done || t.pc != pc) continue;
+    if (record) record->lanes |= 1u << l;
+    execute(ops, t, stats, record);
+  }
+  chunk.update_next_pc();
+}
+
+void ShaderCore::run_chunk(std::span<const Lane> lanes, ShaderStats& stats,
+                           std::vector<std::vector<Vec>>* end_registers) {
+  Chunk chunk;
+  start(chunk, lanes, stats);
+  const auto run = [&](const auto& ops) {
+    while (!chunk.done()) step_with(ops, chunk, stats, nullptr);
+  };
+  if (fast_) {
+    const fp::fast32::FlushScope flush;
+    run(Fast32Ops{});
+  } else {
+    run(SoftOps{format_});
+  }
+  if (end_registers) {
+    end_registers->clear();
+    for (const Thread& t : chunk.threads_) end_registers->push_back(t.regs);
   }
 }
 
 template <class Ops>
-void ShaderCore::execute(const Ops& ops, Thread& t, ShaderStats& stats) {
+void ShaderCore::execute(const Ops& ops, Thread& t, ShaderStats& stats, StepRecord* record) {
   if (t.pc >= code_.size()) fault(t, fmt::format("pc {} is past the end of the code ({} instructions)", t.pc, code_.size()));
   const Instruction& in = code_[t.pc];
   if (!in.spec) fault(t, "illegal instruction: " + illegal_why_[t.pc]);
@@ -205,26 +229,11 @@ void ShaderCore::execute(const Ops& ops, Thread& t, ShaderStats& stats) {
                            nregs));
     }
   };
-  // Which register fields this instruction reads or writes.
-  bool reads[3] = {false, false, false};
-  bool writes = false;
-  for (int k = 0; k < in.spec->operand_count; ++k) {
-    switch (in.spec->operands[k]) {
-      case si::Operand::kD: writes = true; break;
-      case si::Operand::kA:
-      case si::Operand::kMem: reads[0] = true; break;
-      case si::Operand::kB: reads[1] = true; break;
-      case si::Operand::kC: reads[2] = true; break;
-      default: break;
-    }
-  }
-  if (writes) {
-    // st/st1 name the register they store in the dst field: it is read, not written.
-    const bool store = in.opcode() == Opcode::kSt || in.opcode() == Opcode::kSt1;
-    check_reg(in.dst, store ? "data" : "destination");
-  }
-  for (int s = 0; s < 3; ++s) {
-    if (reads[s]) check_reg(in.src[s].reg, "source");
+  const isa::RegisterUse& use = uses_[t.pc];
+  if (use.dst >= 0) check_reg(use.dst, "destination");
+  if (use.data >= 0) check_reg(use.data, "data");
+  for (const int r : use.src) {
+    if (r >= 0) check_reg(r, "source");
   }
 
   // Raw source lanes (swizzled) and float source lanes (rounded into the format, abs,
@@ -278,9 +287,13 @@ void ShaderCore::execute(const Ops& ops, Thread& t, ShaderStats& stats) {
     for (int i = 0; i < 4; ++i) r[i] = op(a[i], in.imm);
     write(r);
   };
-  const auto address = [&]() { return raw(0)[0] + in.imm; };
+  const auto address = [&]() {
+    const std::uint32_t addr = raw(0)[0] + in.imm;
+    if (record) record->addresses.push_back(addr);
+    return addr;
+  };
   const auto mem_check = [&](std::uint32_t addr, std::uint32_t bytes, bool store) {
-    const DeviceMemory::Access a = memory_.check(addr, bytes, store, t.lane->pixel);
+    const DeviceMemory::Access a = memory_.check(addr, bytes, store, t.lane.pixel);
     if (!a.ok) fault(t, a.problem);
   };
   const auto load_vec = [&](bool to_format) {
@@ -310,7 +323,7 @@ void ShaderCore::execute(const Ops& ops, Thread& t, ShaderStats& stats) {
   };
   const std::uint32_t stack_slots = config_.stack_bytes / 16;
   const auto sp = [&]() {
-    return mm::kDeviceStackBase + (t.lane->thread + 1) * config_.stack_bytes -
+    return mm::kDeviceStackBase + (t.lane.thread + 1) * config_.stack_bytes -
            static_cast<std::uint32_t>(t.stack.size()) * 16;
   };
 
@@ -449,12 +462,14 @@ void ShaderCore::execute(const Ops& ops, Thread& t, ShaderStats& stats) {
     case Opcode::kPush:
       if (t.stack.size() >= stack_slots) {
         fault(t, fmt::format("stack overflow: push below the thread's stack ({} bytes at {:#010x}; sp {:#010x})",
-                             config_.stack_bytes, mm::kDeviceStackBase + t.lane->thread * config_.stack_bytes, sp()));
+                             config_.stack_bytes, mm::kDeviceStackBase + t.lane.thread * config_.stack_bytes, sp()));
       }
       t.stack.push_back(raw(0));
+      if (record) record->addresses.push_back(sp());
       break;
     case Opcode::kPop:
       if (t.stack.empty()) fault(t, fmt::format("stack underflow: pop with nothing pushed (sp {:#010x})", sp()));
+      if (record) record->addresses.push_back(sp());
       write(t.stack.back());
       t.stack.pop_back();
       break;
@@ -475,6 +490,7 @@ void ShaderCore::execute(const Ops& ops, Thread& t, ShaderStats& stats) {
       if (id >= count) fault(t, fmt::format("calli: shader id {} is outside the shader table ({} shaders)", id, count));
       const std::uint32_t entry = memory_.load32(mm::kDeviceLaunchBase + mm::kLaunchShaderTableAt) + 4 * id;
       mem_check(entry, 4, false);
+      if (record) record->addresses.push_back(entry);
       call(memory_.load32(entry));
       next = t.pc;
       break;
@@ -496,9 +512,15 @@ void ShaderCore::execute(const Ops& ops, Thread& t, ShaderStats& stats) {
       ray.t_min = std::bit_cast<float>(a[3]);
       ray.t_max = std::bit_cast<float>(b[3]);
       const bool any = in.opcode() == Opcode::kTracea;
+      const TraceMode mode = any ? TraceMode::kAny : TraceMode::kClosest;
       TraceHit hit;
       try {
-        hit = tracer_.trace(ray, any ? TraceMode::kAny : TraceMode::kClosest);
+        if (record) {
+          if (record->trace_count == record->traces.size()) record->traces.emplace_back();
+          hit = tracer_.trace(ray, mode, record->traces[record->trace_count++]);
+        } else {
+          hit = tracer_.trace(ray, mode);
+        }
       } catch (const Error& e) {
         fault(t, e.what());
       }
@@ -515,7 +537,7 @@ void ShaderCore::execute(const Ops& ops, Thread& t, ShaderStats& stats) {
       break;
     }
     case Opcode::kRdsr: {
-      const Lane& l = *t.lane;
+      const Lane& l = t.lane;
       const auto launch = [&](std::uint32_t at) { return memory_.load32(mm::kDeviceLaunchBase + at); };
       const std::uint32_t width = launch(mm::kLaunchWidthAt);
       switch (in.imm) {

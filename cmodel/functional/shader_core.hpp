@@ -56,6 +56,21 @@ struct ShaderCoreConfig {
 // threads reconverge where their paths meet again. Threads share nothing but
 // read-only memory, and a thread writes only its own pixel, so the image does not
 // depend on the chunk size or on which thread runs which pixel.
+// What one lockstep step of a chunk did: the cycle model runs the functional core
+// step by step and times these (docs/cycle-model.md); the results stay the core's.
+struct StepRecord {
+  std::uint32_t pc = 0;
+  const isa::Instruction* insn = nullptr;
+  std::uint32_t lanes = 0;  // bit l: lane l executed the instruction
+  // Memory instructions (loads, stores, push, pop, calli's table read): the byte
+  // address of each executing lane, in lane order.
+  std::vector<std::uint32_t> addresses;
+  // trace/tracea: the walk of each executing lane's ray, in lane order; the first
+  // `trace_count` entries are this step's (the vector's storage is reused).
+  std::vector<TraceLog> traces;
+  std::size_t trace_count = 0;
+};
+
 class ShaderCore {
  public:
   // `firmware`, `memory` and `tracer` must outlive the core. The firmware must have a
@@ -70,6 +85,43 @@ class ShaderCore {
     std::uint32_t pixel = 0;   // y * width + x
   };
 
+  struct Thread {
+    Lane lane;
+    std::uint32_t pc = 0;
+    bool done = false;
+    std::uint64_t retired = 0;
+    std::vector<std::array<std::uint32_t, 4>> regs;
+    std::vector<std::uint32_t> returns;                // the return-address stack
+    std::vector<std::array<std::uint32_t, 4>> stack;   // push/pop memory stack (its contents)
+  };
+
+  // A chunk's threads between steps.
+  class Chunk {
+   public:
+    bool done() const { return next_pc_ == kDone; }
+    // The pc the next step issues (the smallest live pc); only while !done().
+    std::uint32_t next_pc() const { return next_pc_; }
+    const std::vector<Thread>& threads() const { return threads_; }
+
+   private:
+    friend class ShaderCore;
+    static constexpr std::uint32_t kDone = 0xffffffffu;
+    void update_next_pc();
+    std::vector<Thread> threads_;
+    std::uint32_t next_pc_ = kDone;
+  };
+
+  // Puts the lanes at raygen with cleared registers.
+  void start(Chunk& chunk, std::span<const Lane> lanes, ShaderStats& stats) const;
+  // One lockstep step: the instruction at next_pc() for the lanes standing there.
+  // Throws ShaderFault. With `record`, reports what the step did.
+  void step(Chunk& chunk, ShaderStats& stats, StepRecord* record = nullptr);
+  // The decoded instruction at `pc`, or null (illegal or past the end).
+  const isa::Instruction* instruction(std::uint32_t pc) const {
+    return pc < code_.size() && code_[pc].spec ? &code_[pc] : nullptr;
+  }
+  const isa::RegisterUse& register_use(std::uint32_t pc) const { return uses_[pc]; }
+
   // Runs the chunk's lanes from raygen until every one halts. Throws ShaderFault.
   // With `end_registers`, receives each lane's registers after its halt (for tests
   // that check a program's end state).
@@ -77,12 +129,10 @@ class ShaderCore {
                  std::vector<std::vector<std::array<std::uint32_t, 4>>>* end_registers = nullptr);
 
  private:
-  struct Thread;
   template <class Ops>
-  void run_chunk_with(const Ops& ops, std::span<const Lane> lanes, ShaderStats& stats,
-                      std::vector<std::vector<std::array<std::uint32_t, 4>>>* end_registers);
+  void step_with(const Ops& ops, Chunk& chunk, ShaderStats& stats, StepRecord* record);
   template <class Ops>
-  void execute(const Ops& ops, Thread& t, ShaderStats& stats);
+  void execute(const Ops& ops, Thread& t, ShaderStats& stats, StepRecord* record);
   [[noreturn]] void fault(const Thread& t, const std::string& what) const;
 
   const isa::Firmware& firmware_;
@@ -93,6 +143,7 @@ class ShaderCore {
   bool fast_;
   std::uint32_t raygen_ = 0;
   std::vector<isa::Instruction> code_;    // decoded; spec == nullptr where illegal
+  std::vector<isa::RegisterUse> uses_;    // per pc, of the decoded instructions
   std::vector<std::string> illegal_why_;  // per pc, why it did not decode
 };
 

@@ -35,6 +35,15 @@ struct StackEntry {
 
 // The largest stack a configuration may ask for; kd trees are at most this deep.
 constexpr int kMaxStackDepth = 64;
+
+// What trace_with reports of the walk: nothing on the plain path, the events with a log.
+struct NoRecorder {
+  void operator()(TraceEvent::Kind, std::uint32_t) const {}
+};
+struct LogRecorder {
+  TraceLog& log;
+  void operator()(TraceEvent::Kind kind, std::uint32_t address) const { log.events.push_back({kind, address}); }
+};
 }  // namespace
 
 Tracer::Tracer(std::span<const std::uint8_t> image, const ImageLayout& layout, fp::Format format, int stack_depth,
@@ -50,26 +59,39 @@ Tracer::Tracer(std::span<const std::uint8_t> image, const ImageLayout& layout, f
 }
 
 TraceHit Tracer::trace(const TraceRay& ray, TraceMode mode) const {
+  NoRecorder none;
   if (fast_) {
     const fp::fast32::FlushScope flush;
-    return trace_with(Fast32Arith{}, ray, mode);
+    return trace_with(Fast32Arith{}, ray, mode, none);
   }
-  return trace_with(SoftArith{format_}, ray, mode);
+  return trace_with(SoftArith{format_}, ray, mode, none);
+}
+
+TraceHit Tracer::trace(const TraceRay& ray, TraceMode mode, TraceLog& log) const {
+  log.events.clear();
+  log.mode = mode;
+  LogRecorder recorder{log};
+  if (fast_) {
+    const fp::fast32::FlushScope flush;
+    return trace_with(Fast32Arith{}, ray, mode, recorder);
+  }
+  return trace_with(SoftArith{format_}, ray, mode, recorder);
 }
 
 void Tracer::trace(std::span<const TraceRay> rays, TraceMode mode, std::span<TraceHit> out) const {
+  NoRecorder none;
   if (fast_) {
     const fp::fast32::FlushScope flush;
     const Fast32Arith ar;
-    for (std::size_t i = 0; i < rays.size(); ++i) out[i] = trace_with(ar, rays[i], mode);
+    for (std::size_t i = 0; i < rays.size(); ++i) out[i] = trace_with(ar, rays[i], mode, none);
     return;
   }
   const SoftArith ar{format_};
-  for (std::size_t i = 0; i < rays.size(); ++i) out[i] = trace_with(ar, rays[i], mode);
+  for (std::size_t i = 0; i < rays.size(); ++i) out[i] = trace_with(ar, rays[i], mode, none);
 }
 
-template <class Arith>
-TraceHit Tracer::trace_with(const Arith& ar, const TraceRay& in, TraceMode mode) const {
+template <class Arith, class Recorder>
+TraceHit Tracer::trace_with(const Arith& ar, const TraceRay& in, TraceMode mode, Recorder& record) const {
   using V = typename Arith::Value;
   TraceHit result;
 
@@ -128,6 +150,7 @@ TraceHit Tracer::trace_with(const Arith& ar, const TraceRay& in, TraceMode mode)
   while (true) {
     const KdNode node{read_u32(image_, nodes_base + 8 * node_index), read_u32(image_, nodes_base + 8 * node_index + 4)};
     ++result.counters.nodes;
+    record(node.is_leaf() ? TraceEvent::Kind::kLeaf : TraceEvent::Kind::kInner, nodes_base + 8 * node_index);
     if (!node.is_leaf()) {
       const int axis = node.split_axis();
       const V split = ar.load(node.split_bits());
@@ -157,14 +180,17 @@ TraceHit Tracer::trace_with(const Arith& ar, const TraceRay& in, TraceMode mode)
     ++result.counters.leaves;
     const std::uint32_t first_ref = node.first_prim_ref();
     for (std::uint32_t k = 0; k < node.prim_count(); ++k) {
-      const std::uint32_t prim = read_u32(image_, layout_.prim_refs.offset + 4 * (first_ref + k));
-      std::array<std::uint32_t, kRecordWords> record;
-      std::memcpy(record.data(), image_.data() + layout_.isect_records.offset + kRecordWords * 4 * prim,
-                  sizeof record);
+      const std::uint32_t ref_address = layout_.prim_refs.offset + 4 * (first_ref + k);
+      const std::uint32_t prim = read_u32(image_, ref_address);
+      const std::uint32_t record_address = layout_.isect_records.offset + kRecordWords * 4 * prim;
+      record(TraceEvent::Kind::kRef, ref_address);
+      record(TraceEvent::Kind::kTest, record_address);
+      std::array<std::uint32_t, kRecordWords> words;
+      std::memcpy(words.data(), image_.data() + record_address, sizeof words);
       ++result.counters.tests;
       UnitHit<Arith> hit;
-      const bool found = watertight ? intersect_watertight(ar, ray, record, t_best, hit)
-                                    : intersect_woop(ar, ray, record, t_best, hit);
+      const bool found = watertight ? intersect_watertight(ar, ray, words, t_best, hit)
+                                    : intersect_woop(ar, ray, words, t_best, hit);
       if (!found) continue;
       t_best = hit.t;
       result.hit = true;
@@ -180,6 +206,7 @@ TraceHit Tracer::trace_with(const Arith& ar, const TraceRay& in, TraceMode mode)
     // than an entry's near end, it is nearer than everything left.
     if (stack_size == 0) return result;
     const StackEntry<V>& entry = stack[--stack_size];
+    record(TraceEvent::Kind::kPop, 0);
     if (result.hit && ar.lt(t_best, entry.t_near)) return result;
     node_index = entry.node;
     t_near = entry.t_near;

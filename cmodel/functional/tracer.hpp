@@ -2,6 +2,7 @@
 
 #include <cstdint>
 #include <span>
+#include <vector>
 
 #include "fp/format.hpp"
 #include "functional/trace_types.hpp"
@@ -12,6 +13,25 @@ namespace rpu::functional {
 // The golden traversal unit and intersection unit: kd-tree traversal with a fixed-depth
 // stack over a validated memory image, in the configured number format, bit for bit
 // the semantics the RTL implements (docs/traversal.md).
+// One ray's walk as the memory accesses and steps of the units, in order: what the
+// cycle model times (docs/cycle-model.md). Addresses are byte offsets in the image.
+struct TraceEvent {
+  enum class Kind : std::uint8_t {
+    kInner,  // an inner node fetched and stepped (address of the node)
+    kLeaf,   // a leaf fetched (address of the node)
+    kRef,    // a leaf's primitive reference read (address of the 4-byte ref)
+    kTest,   // an intersection record read and tested in the IU (address of the record)
+    kPop,    // a stack entry popped
+  };
+  Kind kind;
+  std::uint32_t address;
+};
+
+struct TraceLog {
+  std::vector<TraceEvent> events;
+  TraceMode mode = TraceMode::kClosest;
+};
+
 class Tracer {
  public:
   // `image` must outlive the tracer and have passed validate_memory_image, which gave
@@ -19,8 +39,10 @@ class Tracer {
   Tracer(std::span<const std::uint8_t> image, const ImageLayout& layout, fp::Format format, int stack_depth,
          bool fast_path = true);
 
-  // Throws rpu::Error if the ray needs a deeper stack than the unit has.
+  // Throws rpu::Error if the ray needs a deeper stack than the unit has. With `log`,
+  // also records the walk (the result is the same).
   TraceHit trace(const TraceRay& ray, TraceMode mode) const;
+  TraceHit trace(const TraceRay& ray, TraceMode mode, TraceLog& log) const;
 
   // Many rays at once; out.size() must equal rays.size().
   void trace(std::span<const TraceRay> rays, TraceMode mode, std::span<TraceHit> out) const;
@@ -29,8 +51,8 @@ class Tracer {
   bool uses_fast_path() const { return fast_; }
 
  private:
-  template <class Arith>
-  TraceHit trace_with(const Arith& ar, const TraceRay& ray, TraceMode mode) const;
+  template <class Arith, class Recorder>
+  TraceHit trace_with(const Arith& ar, const TraceRay& ray, TraceMode mode, Recorder& recorder) const;
 
   std::span<const std::uint8_t> image_;
   ImageLayout layout_;

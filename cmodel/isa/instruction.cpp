@@ -78,6 +78,22 @@ const InsnSpec* find_insn(std::string_view mnemonic) {
   return nullptr;
 }
 
+RegisterUse register_use(const Instruction& insn) {
+  RegisterUse use;
+  const bool store = insn.opcode() == Opcode::kSt || insn.opcode() == Opcode::kSt1;
+  for (int k = 0; k < insn.spec->operand_count; ++k) {
+    switch (insn.spec->operands[static_cast<std::size_t>(k)]) {
+      case Operand::kD: (store ? use.data : use.dst) = insn.dst; break;
+      case Operand::kA:
+      case Operand::kMem: use.src[0] = insn.src[0].reg; break;
+      case Operand::kB: use.src[1] = insn.src[1].reg; break;
+      case Operand::kC: use.src[2] = insn.src[2].reg; break;
+      default: break;
+    }
+  }
+  return use;
+}
+
 const InsnSpec* find_insn(Opcode opcode) {
   static const auto table = [] {
     std::array<const InsnSpec*, 1u << si::kOpcodeField.width> t{};

@@ -38,6 +38,16 @@ struct Instruction {
   Opcode opcode() const { return spec->opcode; }
 };
 
+// The registers an instruction reads and writes, from its table row: what the shader
+// core checks against the register count and the cycle model's scoreboard tracks.
+// st and st1 name the register they store in the dst field: `data`, read, not written.
+struct RegisterUse {
+  int dst = -1;                       // written, or -1
+  int data = -1;                      // read by a store, or -1
+  std::array<int, 3> src{-1, -1, -1};  // a, b, c (a also for a memory operand), or -1
+};
+RegisterUse register_use(const Instruction& insn);
+
 // The table row of a mnemonic or opcode, or null.
 const InsnSpec* find_insn(std::string_view mnemonic);
 const InsnSpec* find_insn(Opcode opcode);
