@@ -51,7 +51,7 @@ CONFIG_GROUPS = {
     "node_cache": ("CacheConfig", CACHE_FIELDS),
     "triangle_cache": ("CacheConfig", CACHE_FIELDS),
     "data_cache": ("CacheConfig", CACHE_FIELDS),
-    "dram": ("DramConfig", ("latency", "bytes_per_cycle", "banks")),
+    "dram": ("DramConfig", ("latency", "bytes_per_cycle", "banks", "bank_busy")),
 }
 OPERAND_KINDS = ("d", "a", "b", "c", "imm", "fimm", "mem", "target", "sr")
 # The encoding fields each operand kind fills, per instruction format.

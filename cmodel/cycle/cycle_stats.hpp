@@ -1,0 +1,80 @@
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "cycle/memory_system.hpp"
+#include "functional/shader_core.hpp"
+
+// What the cycle model reports for a frame (docs/cycle-model.md "Statistics").
+namespace rpu::cycle {
+
+// Every cycle of the frame falls in exactly one of busy, one of the waits, or idle.
+struct ShaderCoreTime {
+  std::uint64_t busy = 0;             // a chunk-instruction issued
+  std::uint64_t wait_trace = 0;       // every live chunk waits for a ray
+  std::uint64_t wait_memory = 0;      // the next chunk to issue waits for a load
+  std::uint64_t wait_dependency = 0;  // ... for an arithmetic result or a branch
+  std::uint64_t idle = 0;             // no live chunk (before the first, after the last)
+  std::uint64_t chunk_issues = 0;
+};
+
+struct TraversalUnitTime {
+  std::uint64_t busy = 0;         // set-up, node, leaf and pop cycles
+  std::uint64_t wait_memory = 0;  // waiting for the node or triangle cache
+  std::uint64_t wait_iu = 0;      // waiting for an intersection result
+  std::uint64_t idle = 0;
+  std::uint64_t rays = 0, inner = 0, leaves = 0, refs = 0, tests = 0, pops = 0;
+};
+
+struct IntersectionUnitTime {
+  std::uint64_t tests = 0;
+  std::uint64_t busy = 0;  // issue slots used: tests x interval
+};
+
+// The frame's lower bound per resource: its work at full rate with every cache
+// access a hit and no queueing, over its units. The largest is the speed of light.
+struct Bound {
+  std::string unit;
+  double cycles = 0;
+};
+
+// One bar of the timeline (Chrome trace JSON): a unit did `name` from `begin` for
+// `cycles` cycles.
+struct TimelineSlice {
+  std::string track;  // "core 0", "TU 1", "IU 0", "DRAM"
+  std::string name;
+  Cycle begin = 0, cycles = 0;
+};
+
+struct CycleStats {
+  std::string config;
+  int clock_mhz = 0;
+  Cycle cycles = 0;
+  double frame_seconds() const { return static_cast<double>(cycles) / (clock_mhz * 1e6); }
+  std::vector<ShaderCoreTime> cores;
+  std::vector<TraversalUnitTime> tus;
+  std::vector<IntersectionUnitTime> ius;
+  CacheStats node_cache, triangle_cache, data_cache;  // data_cache: all cores' together
+  DramStats dram;
+  int dram_bytes_per_cycle = 0;
+  std::uint64_t closest_rays = 0, any_rays = 0;
+  std::uint64_t thread_instructions = 0;
+  std::vector<Bound> bounds;  // largest first
+  double host_seconds = 0;
+  // Per pixel (row 0 first): cycles from its thread's start to its halt.
+  int width = 0, height = 0;
+  std::vector<std::uint32_t> pixel_cycles;
+  std::vector<TimelineSlice> timeline;
+};
+
+// JSON or CSV by the file's extension (.json, .csv); rpu::Error for another.
+void write_stats(const CycleStats& stats, const functional::ShaderStats& shader, const std::filesystem::path& path);
+// A few lines for the terminal.
+std::string summarize(const CycleStats& stats);
+// Chrome / Perfetto trace JSON of the timeline slices (one microsecond shown per cycle).
+void write_timeline(const CycleStats& stats, const std::filesystem::path& path);
+
+}  // namespace rpu::cycle

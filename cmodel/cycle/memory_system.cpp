@@ -1,0 +1,93 @@
+#include "cycle/memory_system.hpp"
+
+#include <algorithm>
+
+namespace rpu::cycle {
+
+Dram::Dram(const spec::DramConfig& config) : config_(config), bank_free_(static_cast<std::size_t>(config.banks), 0) {}
+
+Cycle Dram::access(Cycle at, std::uint32_t address, std::uint32_t bytes, bool write) {
+  Cycle& bank = bank_free_[(address / kInterleaveBytes) % bank_free_.size()];
+  const Cycle start = std::max(at, bank);
+  bank = start + static_cast<Cycle>(config_.bank_busy);
+  const auto per_cycle = static_cast<std::uint32_t>(config_.bytes_per_cycle);
+  const Cycle transfer = (bytes + per_cycle - 1) / per_cycle;
+  const Cycle done = std::max(start + static_cast<Cycle>(config_.latency), bus_free_) + transfer;
+  bus_free_ = done;
+  stats_.bus_cycles += transfer;
+  if (write) {
+    ++stats_.writes;
+    stats_.bytes_written += bytes;
+  } else {
+    ++stats_.reads;
+    stats_.bytes_read += bytes;
+  }
+  return done;
+}
+
+CacheStats& CacheStats::operator+=(const CacheStats& o) {
+  accesses += o.accesses;
+  hits += o.hits;
+  merged += o.merged;
+  misses += o.misses;
+  writes += o.writes;
+  mshr_wait_cycles += o.mshr_wait_cycles;
+  return *this;
+}
+
+Cache::Cache(const spec::CacheConfig& config, Dram& dram)
+    : config_(config),
+      dram_(dram),
+      sets_(static_cast<std::uint32_t>(config.bytes / (config.line_bytes * config.ways))),
+      ways_(static_cast<std::size_t>(sets_) * static_cast<std::size_t>(config.ways)) {}
+
+Cycle Cache::read(Cycle at, std::uint32_t address, std::uint32_t bytes) {
+  const auto line_bytes = static_cast<std::uint32_t>(config_.line_bytes);
+  const std::uint32_t first = address / line_bytes, last = (address + bytes - 1) / line_bytes;
+  Cycle done = 0;
+  for (std::uint32_t line = first; line <= last; ++line) done = std::max(done, read_line(at, line));
+  return done;
+}
+
+Cycle Cache::read_line(Cycle at, std::uint32_t line) {
+  ++stats_.accesses;
+  const auto ways = static_cast<std::size_t>(config_.ways);
+  Way* set = &ways_[static_cast<std::size_t>(line % sets_) * ways];
+  const Cycle looked_up = at + static_cast<Cycle>(config_.hit_latency);
+  Way* victim = set;
+  for (std::size_t w = 0; w < ways; ++w) {
+    Way& way = set[w];
+    if (way.valid && way.line == line) {
+      way.last_use = at;
+      if (way.filled <= at) {
+        ++stats_.hits;
+        return looked_up;
+      }
+      ++stats_.merged;
+      return std::max(looked_up, way.filled);
+    }
+    // The least recently used way, invalid ones first, the lowest index on a tie.
+    if (!way.valid ? victim->valid : (victim->valid && way.last_use < victim->last_use)) victim = &way;
+  }
+  ++stats_.misses;
+  std::erase_if(in_flight_, [&](Cycle c) { return c <= looked_up; });
+  Cycle request = looked_up;
+  if (in_flight_.size() >= static_cast<std::size_t>(config_.mshrs)) {
+    const auto earliest = std::min_element(in_flight_.begin(), in_flight_.end());
+    request = *earliest;
+    stats_.mshr_wait_cycles += request - looked_up;
+    in_flight_.erase(earliest);
+  }
+  const auto line_bytes = static_cast<std::uint32_t>(config_.line_bytes);
+  const Cycle filled = dram_.access(request, line * line_bytes, line_bytes, false);
+  in_flight_.push_back(filled);
+  *victim = {line, true, at, filled};
+  return filled;
+}
+
+void Cache::write(Cycle at, std::uint32_t address, std::uint32_t bytes) {
+  ++stats_.writes;
+  dram_.access(at, address, bytes, true);
+}
+
+}  // namespace rpu::cycle

@@ -1,0 +1,80 @@
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "rpu/spec.hpp"
+
+// The cycle model's memory system (docs/cycle-model.md "Memory"): set-associative LRU
+// caches with miss tracking in front of one DRAM channel. Each access is answered at
+// once with the cycle its data arrives; the event loop calls them in time order, so
+// first come, first served holds for banks, the data bus and the MSHRs.
+namespace rpu::cycle {
+
+using Cycle = std::uint64_t;
+
+struct DramStats {
+  std::uint64_t reads = 0, writes = 0;
+  std::uint64_t bytes_read = 0, bytes_written = 0;
+  std::uint64_t bus_cycles = 0;  // cycles the data bus carried data
+};
+
+class Dram {
+ public:
+  // 64-byte blocks interleave over the banks.
+  static constexpr std::uint32_t kInterleaveBytes = 64;
+
+  explicit Dram(const spec::DramConfig& config);
+  // A transfer of `bytes` at `address` requested at cycle `at`: the cycle it completes
+  // (read data delivered, write data taken).
+  Cycle access(Cycle at, std::uint32_t address, std::uint32_t bytes, bool write);
+  const DramStats& stats() const { return stats_; }
+  const spec::DramConfig& config() const { return config_; }
+
+ private:
+  spec::DramConfig config_;
+  std::vector<Cycle> bank_free_;
+  Cycle bus_free_ = 0;
+  DramStats stats_;
+};
+
+struct CacheStats {
+  std::uint64_t accesses = 0;  // line lookups (an access spanning two lines counts two)
+  std::uint64_t hits = 0;
+  std::uint64_t merged = 0;    // misses to a line already being filled (no new DRAM read)
+  std::uint64_t misses = 0;    // DRAM reads
+  std::uint64_t writes = 0;    // write-through stores (no allocation)
+  std::uint64_t mshr_wait_cycles = 0;  // misses waiting for a free miss register
+
+  double hit_rate() const { return accesses ? static_cast<double>(hits) / static_cast<double>(accesses) : 0.0; }
+  CacheStats& operator+=(const CacheStats& o);
+};
+
+class Cache {
+ public:
+  Cache(const spec::CacheConfig& config, Dram& dram);
+  // A read of `bytes` at `address` at cycle `at`: the cycle all its lines are there.
+  Cycle read(Cycle at, std::uint32_t address, std::uint32_t bytes);
+  // A store: written through to DRAM, not allocated; a present line stays valid (the
+  // model keeps no data, only tags). It never stalls the writer.
+  void write(Cycle at, std::uint32_t address, std::uint32_t bytes);
+  const CacheStats& stats() const { return stats_; }
+
+ private:
+  struct Way {
+    std::uint32_t line = 0;
+    bool valid = false;
+    Cycle last_use = 0;
+    Cycle filled = 0;  // the cycle its fill arrives
+  };
+  Cycle read_line(Cycle at, std::uint32_t line);
+
+  spec::CacheConfig config_;
+  Dram& dram_;
+  std::uint32_t sets_;
+  std::vector<Way> ways_;        // sets_ x config_.ways
+  std::vector<Cycle> in_flight_;  // fill cycles of outstanding misses
+  CacheStats stats_;
+};
+
+}  // namespace rpu::cycle

@@ -1,0 +1,100 @@
+#include "device/device_base.hpp"
+
+#include <cstring>
+#include <limits>
+
+#include <fmt/format.h>
+
+#include "common/error.hpp"
+
+namespace rpu::device {
+
+namespace mm = spec::memory;
+
+DeviceBase::~DeviceBase() {
+  if (frame_.valid()) frame_.wait();
+}
+
+void DeviceBase::idle() {
+  if (frame_.valid()) frame_.get();
+}
+
+void DeviceBase::load_image(std::vector<std::uint8_t> image, const std::string& source) {
+  idle();
+  layout_ = validate_memory_image(image, source);
+  image_ = std::move(image);
+}
+
+void DeviceBase::load_firmware(isa::Firmware firmware, std::vector<std::string> shader_names) {
+  idle();
+  std::vector<std::uint32_t> table;
+  for (const std::string& name : shader_names) {
+    const std::string label = "hit_" + name;
+    const auto s = firmware.symbols.find(label);
+    if (s == firmware.symbols.end() || s->second.kind != isa::Symbol::Kind::kCode) {
+      throw Error(fmt::format("the firmware has no code label '{}' for the scene's shader '{}'", label, name));
+    }
+    table.push_back(s->second.value);
+  }
+  firmware_ = std::move(firmware);
+  shader_table_ = std::move(table);
+  has_firmware_ = true;
+}
+
+void DeviceBase::launch(const Launch& launch, ProgressCallback progress) {
+  idle();
+  if (image_.empty()) throw Error("launch before load_image");
+  if (!has_firmware_) throw Error("launch before load_firmware");
+  if (launch.width <= 0 || launch.height <= 0 || launch.spp <= 0 || launch.max_depth < 0) {
+    throw Error(fmt::format("launch of {}x{} pixels, {} spp, max depth {}: sizes must be positive", launch.width,
+                            launch.height, launch.spp, launch.max_depth));
+  }
+  const std::uint64_t n = std::uint64_t(launch.width) * std::uint64_t(launch.height);
+  if (n * mm::kFramebufferBytesPerPixel > std::numeric_limits<std::uint32_t>::max() - mm::kDeviceFramebufferBase) {
+    throw Error(fmt::format("a {}x{} framebuffer does not fit the device's address space", launch.width,
+                            launch.height));
+  }
+  memory_.emplace(image_, make_launch_block(image_, layout_, launch, shader_table_), firmware_.data,
+                  static_cast<std::uint32_t>(n));
+  launch_ = launch;
+  frame_ = std::async(std::launch::async, [this, progress] { run(progress); });
+}
+
+void DeviceBase::wait() {
+  if (frame_.valid()) frame_.get();
+}
+
+std::vector<glm::vec4> DeviceBase::read_framebuffer() const {
+  if (!memory_) throw Error("read_framebuffer before a launch");
+  const std::span<const std::uint8_t> fb = memory_->framebuffer();
+  std::vector<glm::vec4> out(fb.size() / sizeof(glm::vec4));
+  std::memcpy(out.data(), fb.data(), out.size() * sizeof(glm::vec4));
+  return out;
+}
+
+void DeviceBase::lanes_of(std::uint64_t round, std::uint64_t chunk,
+                          std::vector<functional::ShaderCore::Lane>& lanes) const {
+  lanes.clear();
+  const auto size = static_cast<std::uint64_t>(config_.chunk_size);
+  const auto per_core = static_cast<std::uint64_t>(config_.threads_per_core);
+  for (std::uint64_t l = 0; l < size; ++l) {
+    const std::uint64_t g = chunk * size + l;  // device thread
+    const std::uint64_t p = round * device_threads() + g;
+    if (p >= pixels()) break;
+    lanes.push_back({static_cast<std::uint32_t>(g), static_cast<std::uint32_t>(g / per_core),
+                     static_cast<std::uint32_t>((g % per_core) / size), static_cast<std::uint32_t>(l),
+                     static_cast<std::uint32_t>(p)});
+  }
+}
+
+functional::ShaderCoreConfig DeviceBase::core_config(std::uint64_t watchdog) const {
+  functional::ShaderCoreConfig c;
+  c.registers = config_.registers;
+  c.chunk_size = config_.chunk_size;
+  c.call_depth = config_.call_depth;
+  c.stack_bytes = static_cast<std::uint32_t>(config_.stack_bytes);
+  c.watchdog = watchdog;
+  return c;
+}
+
+}  // namespace rpu::device
