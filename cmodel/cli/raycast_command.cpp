@@ -29,16 +29,6 @@ struct RaycastOptions {
   ChipOptions chip;
 };
 
-// A perceptually ordered ramp, dark blue -> cyan -> green -> yellow -> red, in linear RGB.
-glm::vec3 false_colour(double x) {
-  static const glm::vec3 stops[] = {{0.0f, 0.0f, 0.15f}, {0.0f, 0.45f, 0.9f}, {0.1f, 0.8f, 0.2f},
-                                    {0.95f, 0.85f, 0.0f}, {0.9f, 0.05f, 0.0f}};
-  const double s = std::clamp(x, 0.0, 1.0) * 4.0;
-  const int i = std::min(3, static_cast<int>(s));
-  const float f = static_cast<float>(s - i);
-  return stops[i] * (1.0f - f) + stops[i + 1] * f;
-}
-
 int run_raycast(const RaycastOptions& o) {
   check_image_extension(o.output);
   const Scene scene = resolve_scene(o.scene);

@@ -1,4 +1,5 @@
 // rpu render: a scene to PNG/EXR through one view of the chip.
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <memory>
@@ -10,6 +11,7 @@
 #include "cli/chip_options.hpp"
 #include "cli/commands.hpp"
 #include "cli/progress.hpp"
+#include "cycle/cycle_device.hpp"
 #include "device/builtin_firmware.hpp"
 #include "device/device.hpp"
 #include "device/render_frame.hpp"
@@ -27,6 +29,11 @@ struct RenderOptions {
   std::string backend = "reference";
   std::filesystem::path firmware;  // empty: the built-in whitted.s
   std::uint64_t watchdog = device::FunctionalOptions{}.watchdog;
+  // cycle backend outputs
+  std::vector<std::filesystem::path> stats;    // .json / .csv
+  std::vector<std::filesystem::path> heatmap;  // .png false colour / .exr linear cycles
+  std::filesystem::path trace;                 // Chrome trace JSON
+  std::vector<std::uint64_t> trace_window{0, 200'000};
   RenderSettings settings;
   ChipOptions chip;
 };
@@ -38,20 +45,45 @@ Image render_reference(const Scene& scene, const RenderSettings& settings, RayCo
   return renderer.render(settings, &counts, [&bar](std::size_t done, std::size_t total) { bar.update(done, total); });
 }
 
-// The golden model: firmware on the functional shader cores, traversal and
-// intersection units, in the configured number format.
-Image render_functional(const Scene& scene, const RenderOptions& o, std::string& summary) {
+// The per-pixel cycle cost: false colour over [0, max] in a PNG, the cycles themselves
+// in an EXR.
+void write_cycle_heatmap(const cycle::CycleStats& st, const std::filesystem::path& file) {
+  Image image(st.width, st.height);
+  const std::uint32_t max = std::max<std::uint32_t>(
+      1, st.pixel_cycles.empty() ? 1 : *std::max_element(st.pixel_cycles.begin(), st.pixel_cycles.end()));
+  const bool linear = file.extension() == ".exr";
+  for (std::size_t i = 0; i < image.pixels.size(); ++i) {
+    const double c = st.pixel_cycles[i];
+    image.pixels[i] = linear ? glm::vec3(static_cast<float>(c)) : false_colour(c / max);
+  }
+  write_image(image, file);
+}
+
+// Firmware on a device: the functional golden model, or the cycle model (which also
+// writes its statistics, heatmap and timeline).
+Image render_device(const Scene& scene, const RenderOptions& o, std::string& summary) {
   const KdBuildConfig build = o.chip.build_config();
   const functional::SceneImage si = functional::make_scene_image(scene, build, o.chip.isect_mode());
   const isa::Firmware firmware =
       o.firmware.empty() ? device::builtin_firmware("whitted.s") : device::load_firmware_file(o.firmware);
-  device::FunctionalOptions options;
-  options.host_threads = o.settings.threads;
-  options.watchdog = o.watchdog;
-  const auto dev = device::make_functional_device(o.chip.hardware_config(), build.format, options);
+  std::unique_ptr<device::Device> dev;
+  if (o.backend == "cycle") {
+    cycle::CycleOptions options;
+    options.watchdog = o.watchdog;
+    if (!o.trace.empty()) {
+      options.timeline_begin = o.trace_window[0];
+      options.timeline_end = o.trace_window[1];
+    }
+    dev = cycle::make_cycle_device(o.chip.hardware_config(), build.format, options);
+  } else {
+    device::FunctionalOptions options;
+    options.host_threads = o.settings.threads;
+    options.watchdog = o.watchdog;
+    dev = device::make_functional_device(o.chip.hardware_config(), build.format, options);
+  }
   Image image;
   {
-    ProgressBar bar(fmt::format("rendering {} (functional, {}, {})", scene.source, o.chip.config,
+    ProgressBar bar(fmt::format("rendering {} ({}, {}, {})", scene.source, o.backend, o.chip.config,
                                 build.format.name()));
     image = device::render_frame(*dev, scene, si.image, firmware, o.settings,
                                  [&bar](std::size_t done, std::size_t total) { bar.update(done, total); });
@@ -69,11 +101,30 @@ Image render_functional(const Scene& scene, const RenderOptions& o, std::string&
                         o.chip.hardware_config().chunk_size, millions(sh.closest_rays + sh.any_rays),
                         millions(sh.closest_rays), millions(sh.any_rays), millions(sh.nodes), millions(sh.leaves),
                         millions(sh.tests));
+  if (st.cycle) {
+    fmt::print(stderr, "{}", cycle::summarize(*st.cycle));
+    for (const std::filesystem::path& f : o.stats) cycle::write_stats(*st.cycle, sh, f);
+    for (const std::filesystem::path& f : o.heatmap) write_cycle_heatmap(*st.cycle, f);
+    if (!o.trace.empty()) cycle::write_timeline(*st.cycle, o.trace);
+  }
   return image;
 }
 
 int run_render(const RenderOptions& options) {
   for (const std::filesystem::path& out : options.outputs) check_image_extension(out);
+  for (const std::filesystem::path& out : options.heatmap) check_image_extension(out);
+  const bool cycle_outputs = !options.stats.empty() || !options.heatmap.empty() || !options.trace.empty();
+  if (cycle_outputs && options.backend != "cycle") {
+    throw Error("--stats, --heatmap and --trace need --backend cycle");
+  }
+  for (const std::filesystem::path& f : options.stats) {
+    if (f.extension() != ".json" && f.extension() != ".csv") {
+      throw Error(fmt::format("statistics file '{}': the extension must be .json or .csv", f.string()));
+    }
+  }
+  if (options.trace_window[0] >= options.trace_window[1]) {
+    throw Error(fmt::format("--trace-window {} {}: the window is empty", options.trace_window[0], options.trace_window[1]));
+  }
   const Scene scene = resolve_scene(options.scene);
   for (const std::string& warning : scene.warnings) fmt::print(stderr, "rpu: warning: {}\n", warning);
 
@@ -81,7 +132,7 @@ int run_render(const RenderOptions& options) {
   RayCounts counts;
   std::string device_summary;
   const Image image = options.backend == "reference" ? render_reference(scene, options.settings, counts)
-                                                     : render_functional(scene, options, device_summary);
+                                                     : render_device(scene, options, device_summary);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::vector<std::string> written;
   for (const std::filesystem::path& out : options.outputs) {
@@ -116,7 +167,7 @@ Command add_render_command(CLI::App& app) {
   render_cmd->add_option("-o,--output", render->outputs, "Output image(s): .png and/or .exr")
       ->capture_default_str();
   render_cmd->add_option("--backend", render->backend, "Which view of the chip renders")
-      ->check(CLI::IsMember({"reference", "functional"}))
+      ->check(CLI::IsMember({"reference", "functional", "cycle"}))
       ->capture_default_str();
   render_cmd->add_option("--width", render->settings.width, "Image width in pixels")
       ->check(CLI::Range(1, 16384))
@@ -136,10 +187,19 @@ Command add_render_command(CLI::App& app) {
       ->capture_default_str();
 
   render_cmd->add_option("--firmware", render->firmware,
-                         "functional backend: firmware (.s or .rfw) instead of the built-in whitted.s");
+                         "functional and cycle backends: firmware (.s or .rfw) instead of the built-in whitted.s");
   render_cmd->add_option("--watchdog", render->watchdog,
-                         "functional backend: instructions one thread may retire for one pixel before it faults")
+                         "functional and cycle backends: instructions one thread may retire for one pixel before it "
+                         "faults")
       ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  render_cmd->add_option("--stats", render->stats, "cycle backend: statistics file(s), .json and/or .csv");
+  render_cmd->add_option("--heatmap", render->heatmap,
+                         "cycle backend: per-pixel cycle cost, .png (false colour) and/or .exr (cycles, linear)");
+  render_cmd->add_option("--trace", render->trace,
+                         "cycle backend: timeline of the units in Chrome/Perfetto trace JSON (1 us shown = 1 cycle)");
+  render_cmd->add_option("--trace-window", render->trace_window, "cycle backend: the timeline's cycles [BEGIN, END)")
+      ->expected(2)
       ->capture_default_str();
   add_chip_options(*render_cmd, render->chip);
 

@@ -2,12 +2,14 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include <glm/glm.hpp>
 
+#include "cycle/cycle_stats.hpp"
 #include "fp/format.hpp"
 #include "functional/shader_core.hpp"
 #include "isa/firmware.hpp"
@@ -31,6 +33,7 @@ struct DeviceStats {
   functional::ShaderStats shader;
   double host_seconds = 0.0;  // wall time of the last launch
   int host_threads = 1;
+  std::optional<cycle::CycleStats> cycle;  // the cycle backend's timing
 };
 
 class Device {

@@ -23,6 +23,15 @@ unsigned char srgb_encode_8bit(double linear) {
   return static_cast<unsigned char>(std::lround(srgb_encode(linear) * 255.0));
 }
 
+glm::vec3 false_colour(double x) {
+  static const glm::vec3 stops[] = {{0.0f, 0.0f, 0.15f}, {0.0f, 0.45f, 0.9f}, {0.1f, 0.8f, 0.2f},
+                                    {0.95f, 0.85f, 0.0f}, {0.9f, 0.05f, 0.0f}};
+  const double s = std::clamp(x, 0.0, 1.0) * 4.0;
+  const int i = std::min(3, static_cast<int>(s));
+  const float f = static_cast<float>(s - i);
+  return stops[i] * (1.0f - f) + stops[i + 1] * f;
+}
+
 void check_image_extension(const std::filesystem::path& file) {
   const std::string ext = file.extension().string();
   if (ext != ".png" && ext != ".exr") {

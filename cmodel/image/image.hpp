@@ -24,6 +24,10 @@ double srgb_encode(double linear);
 // Linear value -> 8-bit sRGB code, clamping to [0, 1] first.
 unsigned char srgb_encode_8bit(double linear);
 
+// A perceptually ordered ramp for heatmaps, dark blue -> cyan -> green -> yellow -> red
+// over x in [0, 1] (clamped), in linear RGB.
+glm::vec3 false_colour(double x);
+
 // Throws rpu::Error naming the file unless its extension is one write_image knows;
 // lets a caller reject a bad output name before hours of rendering.
 void check_image_extension(const std::filesystem::path& file);

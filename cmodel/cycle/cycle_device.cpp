@@ -1,0 +1,610 @@
+// The cycle backend: the functional core computes, this model times (docs/cycle-model.md).
+// An event loop over cycles: shader cores, traversal units and their rays are woken at
+// the cycle their next step can happen, so cycles in which nothing happens cost no
+// host time. Events at the same cycle run in the order they were scheduled, which
+// makes the run deterministic.
+#include "cycle/cycle_device.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <deque>
+#include <limits>
+#include <queue>
+
+#include <fmt/format.h>
+
+#include "common/error.hpp"
+#include "device/device_base.hpp"
+#include "functional/tracer.hpp"
+
+namespace rpu::cycle {
+
+namespace {
+
+namespace si = spec::isa;
+using functional::ShaderCore;
+using functional::StepRecord;
+using functional::TraceEvent;
+using functional::TraceLog;
+using isa::Opcode;
+
+constexpr Cycle kNever = std::numeric_limits<Cycle>::max();
+// Timeline slices kept at most; a wider window is cut there.
+constexpr std::size_t kMaxTimelineSlices = 2'000'000;
+
+// Why a shader core did not issue: where its idle cycles are accounted.
+enum class Wait : std::uint8_t { kIdle, kTrace, kMemory, kDependency };
+
+struct ChunkSlot {
+  ShaderCore::Chunk chunk;
+  std::uint64_t index = 0;  // counted over the chip: names its pixels (DeviceBase::lanes_of)
+  std::uint64_t round = 0;
+  bool live = false;
+  bool halted = false;  // every lane halted, rays still in flight: the next round waits
+  Cycle round_start = 0;
+  Cycle earliest = 0;  // one issue a cycle; a branch holds the chunk until it resolves
+  std::vector<Cycle> reg_ready;
+  std::vector<std::uint8_t> reg_from_load;
+  std::vector<std::uint16_t> reg_rays;  // rays in flight that write the register
+  int rays_in_flight = 0;
+};
+
+struct Core {
+  std::vector<ChunkSlot> chunks;
+  std::size_t next_chunk = 0;  // round robin
+  Cycle scheduled = kNever;    // its pending event
+  Cycle accounted = 0;         // cycles before this are in `time`
+  Wait wait = Wait::kIdle;     // why it waits since `accounted`
+  std::unique_ptr<Cache> data_cache;
+  ShaderCoreTime time;
+  Cycle slice_end = 0;  // the timeline's last issue slice of this core ends here
+};
+
+struct Ray {
+  std::uint32_t core = 0, chunk = 0, dst = 0;
+  TraceLog log;
+  Cycle arrived = 0;
+  std::size_t next = 0;  // the next event of the log
+  bool set_up = false;
+};
+
+struct Tu {
+  bool busy = false;
+  Ray ray;
+  Cycle scheduled = kNever;
+  TraversalUnitTime time;
+};
+
+struct Iu {
+  Cycle next_accept = 0;
+  IntersectionUnitTime time;
+};
+
+struct Event {
+  Cycle at;
+  std::uint64_t seq;
+  bool core;  // a shader core's event, else a traversal unit's
+  std::uint32_t unit;
+  bool operator>(const Event& o) const { return at != o.at ? at > o.at : seq > o.seq; }
+};
+
+class CycleDevice final : public device::DeviceBase {
+ public:
+  CycleDevice(const spec::HardwareConfig& config, fp::Format format, const CycleOptions& options)
+      : DeviceBase(config, format), options_(options) {}
+
+  std::string_view backend() const override { return "cycle"; }
+
+ private:
+  void run(const ProgressCallback& progress) override;
+
+  void schedule_core(std::uint32_t c, Cycle at);
+  void schedule_tu(std::uint32_t u, Cycle at);
+  void account(Core& core, Cycle until);
+  Cycle ready_time(const ChunkSlot& s, Wait& why) const;
+  void plan(std::uint32_t c, Cycle from);
+  void core_event(std::uint32_t c, Cycle now);
+  void issue(std::uint32_t c, std::uint32_t i, Cycle now);
+  void start_round(std::uint32_t c, std::uint32_t i, Cycle at);
+  void dispatch(Ray&& ray, Cycle at);
+  void start_ray(std::uint32_t u, Ray&& ray, Cycle at);
+  void tu_event(std::uint32_t u, Cycle now);
+  void finish_ray(std::uint32_t u, Cycle now);
+  void slice(std::string track, std::string name, Cycle begin, Cycle end);
+  void set_result(ChunkSlot& s, int reg, Cycle ready, bool from_load);
+  void finish(Cycle end);
+
+  CycleOptions options_;
+
+  // One frame's state (run() sets it up).
+  std::optional<functional::Tracer> tracer_;
+  std::optional<ShaderCore> shader_;
+  functional::ShaderStats shader_stats_;
+  StepRecord record_;
+  std::optional<Dram> dram_;
+  std::optional<Cache> node_cache_, triangle_cache_;
+  std::vector<Core> cores_;
+  std::vector<Tu> tus_;
+  std::vector<Iu> ius_;
+  std::deque<Ray> ray_queue_;
+  std::vector<TraceLog> spare_logs_;
+  std::priority_queue<Event, std::vector<Event>, std::greater<>> events_;
+  std::uint64_t seq_ = 0;
+  Cycle setup_cycles_ = 0, iu_latency_ = 0;
+  std::uint64_t rounds_done_ = 0, rounds_total_ = 0;
+  const ProgressCallback* progress_ = nullptr;
+  std::vector<functional::ShaderCore::Lane> lanes_;
+  std::optional<std::string> fault_;
+  CycleStats out_;
+};
+
+void CycleDevice::schedule_core(std::uint32_t c, Cycle at) {
+  if (at >= cores_[c].scheduled) return;
+  cores_[c].scheduled = at;
+  events_.push({at, seq_++, true, c});
+}
+
+void CycleDevice::schedule_tu(std::uint32_t u, Cycle at) {
+  tus_[u].scheduled = at;
+  events_.push({at, seq_++, false, u});
+}
+
+void CycleDevice::account(Core& core, Cycle until) {
+  if (until <= core.accounted) return;
+  const Cycle n = until - core.accounted;
+  switch (core.wait) {
+    case Wait::kIdle: core.time.idle += n; break;
+    case Wait::kTrace: core.time.wait_trace += n; break;
+    case Wait::kMemory: core.time.wait_memory += n; break;
+    case Wait::kDependency: core.time.wait_dependency += n; break;
+  }
+  core.accounted = until;
+}
+
+// The first cycle the chunk's next instruction can issue (its sources and destination
+// ready: an in-order scoreboard), or kNever while a ray it needs is in flight.
+Cycle CycleDevice::ready_time(const ChunkSlot& s, Wait& why) const {
+  if (!s.live) {
+    why = Wait::kIdle;
+    return kNever;
+  }
+  if (s.halted) {
+    why = Wait::kTrace;
+    return kNever;
+  }
+  why = Wait::kDependency;
+  Cycle t = s.earliest;
+  const std::uint32_t pc = s.chunk.next_pc();
+  if (!shader_->instruction(pc)) return t;  // the step will fault
+  const isa::RegisterUse& use = shader_->register_use(pc);
+  const auto need = [&](int r) {
+    if (r < 0 || static_cast<std::size_t>(r) >= s.reg_ready.size()) return true;  // the step will fault
+    if (s.reg_rays[static_cast<std::size_t>(r)]) return false;
+    if (s.reg_ready[static_cast<std::size_t>(r)] > t) {
+      t = s.reg_ready[static_cast<std::size_t>(r)];
+      why = s.reg_from_load[static_cast<std::size_t>(r)] ? Wait::kMemory : Wait::kDependency;
+    }
+    return true;
+  };
+  if (!need(use.dst) || !need(use.data) || !need(use.src[0]) || !need(use.src[1]) || !need(use.src[2])) {
+    why = Wait::kTrace;
+    return kNever;
+  }
+  return t;
+}
+
+// Schedules the core's next issue at or after `from`, and notes why it waits until then.
+void CycleDevice::plan(std::uint32_t c, Cycle from) {
+  Core& core = cores_[c];
+  Cycle best = kNever;
+  Wait best_why = Wait::kIdle;
+  for (const ChunkSlot& s : core.chunks) {
+    Wait why;
+    const Cycle t = ready_time(s, why);
+    if (t < best || (best == kNever && why == Wait::kTrace)) {
+      best = t;
+      best_why = why;
+    }
+  }
+  core.wait = best_why;
+  if (best != kNever) schedule_core(c, std::max(best, from));
+}
+
+void CycleDevice::core_event(std::uint32_t c, Cycle now) {
+  Core& core = cores_[c];
+  if (core.scheduled != now) return;  // superseded by an earlier one
+  core.scheduled = kNever;
+  account(core, now);
+  const auto n = static_cast<std::uint32_t>(core.chunks.size());
+  for (std::uint32_t k = 0; k < n; ++k) {
+    const auto i = static_cast<std::uint32_t>((core.next_chunk + k) % n);
+    Wait why;
+    if (ready_time(core.chunks[i], why) > now) continue;
+    core.next_chunk = i + 1;
+    ++core.time.busy;
+    core.accounted = now + 1;
+    issue(c, i, now);
+    break;
+  }
+  if (!fault_) plan(c, now + 1);
+}
+
+void CycleDevice::set_result(ChunkSlot& s, int reg, Cycle ready, bool from_load) {
+  if (reg < 0) return;
+  const auto r = static_cast<std::size_t>(reg);
+  s.reg_ready[r] = ready;
+  s.reg_from_load[r] = from_load;
+}
+
+void CycleDevice::issue(std::uint32_t c, std::uint32_t i, Cycle now) {
+  Core& core = cores_[c];
+  ChunkSlot& s = core.chunks[i];
+  const std::uint32_t pc = s.chunk.next_pc();
+  try {
+    shader_->step(s.chunk, shader_stats_, &record_);
+  } catch (const Error& e) {
+    fault_ = e.what();
+    return;
+  }
+  ++core.time.chunk_issues;
+  s.earliest = now + 1;
+  const isa::Instruction& in = *record_.insn;
+  const isa::RegisterUse& use = shader_->register_use(pc);
+  const spec::LatencyConfig& lat = config_.latency;
+  const Opcode op = in.opcode();
+  switch (in.spec->cls) {
+    case si::Class::kFpu:
+      set_result(s, use.dst, now + static_cast<Cycle>(op == Opcode::kDp3 || op == Opcode::kDp4 ? lat.dot : lat.fpu),
+                 false);
+      break;
+    case si::Class::kSfu: set_result(s, use.dst, now + static_cast<Cycle>(op == Opcode::kRsq ? lat.rsq : lat.sfu), false); break;
+    case si::Class::kInt: set_result(s, use.dst, now + static_cast<Cycle>(lat.integer), false); break;
+    case si::Class::kSpecial: set_result(s, use.dst, now + static_cast<Cycle>(lat.special), false); break;
+    case si::Class::kBranch:
+      s.earliest = now + static_cast<Cycle>(lat.branch);
+      // calli reads its target from the shader table, one read per lane.
+      for (std::size_t k = 0; k < record_.addresses.size(); ++k) {
+        s.earliest = std::max(s.earliest, core.data_cache->read(now + k, record_.addresses[k], 4));
+      }
+      break;
+    case si::Class::kMem: {
+      // One lane's access a cycle through the core's data cache port.
+      const bool load = op == Opcode::kLd || op == Opcode::kLdf || op == Opcode::kLd1 || op == Opcode::kLd1f ||
+                        op == Opcode::kPop;
+      const std::uint32_t bytes = op == Opcode::kLd1 || op == Opcode::kLd1f || op == Opcode::kSt1 ? 4 : 16;
+      Cycle done = now + 1;
+      for (std::size_t k = 0; k < record_.addresses.size(); ++k) {
+        if (load) {
+          done = std::max(done, core.data_cache->read(now + k, record_.addresses[k], bytes));
+        } else {
+          core.data_cache->write(now + k, record_.addresses[k], bytes);
+        }
+      }
+      s.earliest = now + std::max<Cycle>(1, record_.addresses.size());
+      if (load) set_result(s, use.dst, done, true);
+      break;
+    }
+    case si::Class::kTrace:
+      for (std::size_t k = 0; k < record_.trace_count; ++k) {
+        Ray ray;
+        ray.core = c;
+        ray.chunk = i;
+        ray.dst = static_cast<std::uint32_t>(use.dst);
+        std::swap(ray.log, record_.traces[k]);
+        if (!spare_logs_.empty()) {  // reuse a finished ray's storage
+          std::swap(record_.traces[k], spare_logs_.back());
+          spare_logs_.pop_back();
+        }
+        ++s.reg_rays[static_cast<std::size_t>(use.dst)];
+        ++s.rays_in_flight;
+        dispatch(std::move(ray), now + k);
+      }
+      break;
+  }
+  if (options_.timeline_end > options_.timeline_begin) {
+    slice(fmt::format("core {}", c), fmt::format("chunk {}: {}", i, in.spec->mnemonic), now, now + 1);
+  }
+  if (op == Opcode::kHalt) {
+    for (std::size_t l = 0; l < s.chunk.threads().size(); ++l) {
+      if (record_.lanes >> l & 1) {
+        out_.pixel_cycles[s.chunk.threads()[l].lane.pixel] = static_cast<std::uint32_t>(now + 1 - s.round_start);
+      }
+    }
+  }
+  if (s.chunk.done()) {
+    if (s.rays_in_flight) {
+      s.halted = true;
+    } else {
+      start_round(c, i, now + 1);
+    }
+  }
+}
+
+// The chunk's current round is over: it takes its next round of pixels, if any.
+void CycleDevice::start_round(std::uint32_t c, std::uint32_t i, Cycle at) {
+  ChunkSlot& s = cores_[c].chunks[i];
+  if (s.live) {
+    ++rounds_done_;
+    if (*progress_) (*progress_)(rounds_done_, rounds_total_);
+    ++s.round;
+  }
+  s.halted = false;
+  lanes_of(s.round, s.index, lanes_);
+  s.live = !lanes_.empty();
+  if (!s.live) return;
+  shader_->start(s.chunk, lanes_, shader_stats_);
+  s.round_start = at;
+  s.earliest = at;
+  std::fill(s.reg_ready.begin(), s.reg_ready.end(), at);
+  std::fill(s.reg_from_load.begin(), s.reg_from_load.end(), 0);
+}
+
+void CycleDevice::dispatch(Ray&& ray, Cycle at) {
+  ray.arrived = at;
+  for (std::uint32_t u = 0; u < tus_.size(); ++u) {
+    if (!tus_[u].busy) {
+      start_ray(u, std::move(ray), at);
+      return;
+    }
+  }
+  ray_queue_.push_back(std::move(ray));
+}
+
+void CycleDevice::start_ray(std::uint32_t u, Ray&& ray, Cycle at) {
+  Tu& tu = tus_[u];
+  tu.busy = true;
+  tu.ray = std::move(ray);
+  schedule_tu(u, std::max(at, tu.ray.arrived));
+}
+
+void CycleDevice::tu_event(std::uint32_t u, Cycle now) {
+  Tu& tu = tus_[u];
+  Ray& ray = tu.ray;
+  const spec::TraversalUnitConfig& tc = config_.tu;
+  const bool timeline = options_.timeline_end > options_.timeline_begin;
+  const std::string track = timeline ? fmt::format("TU {}", u) : std::string();
+  if (!ray.set_up) {
+    ray.set_up = true;
+    tu.time.busy += setup_cycles_;
+    ++tu.time.rays;
+    if (timeline) slice(track, "set-up", now, now + setup_cycles_);
+    schedule_tu(u, now + setup_cycles_);
+    return;
+  }
+  if (ray.next == ray.log.events.size()) {
+    finish_ray(u, now);
+    return;
+  }
+  const TraceEvent e = ray.log.events[ray.next++];
+  Cycle next = now;
+  std::string_view what;
+  switch (e.kind) {
+    case TraceEvent::Kind::kInner:
+    case TraceEvent::Kind::kLeaf: {
+      const bool leaf = e.kind == TraceEvent::Kind::kLeaf;
+      const Cycle fetched = node_cache_->read(now, e.address, 8);
+      const auto work = static_cast<Cycle>(leaf ? tc.leaf : tc.inner);
+      tu.time.wait_memory += fetched - now;
+      tu.time.busy += work;
+      ++(leaf ? tu.time.leaves : tu.time.inner);
+      next = fetched + work;
+      what = leaf ? "leaf" : "inner node";
+      break;
+    }
+    case TraceEvent::Kind::kRef: {
+      next = triangle_cache_->read(now, e.address, 4);
+      tu.time.wait_memory += next - now;
+      ++tu.time.refs;
+      what = "prim ref";
+      break;
+    }
+    case TraceEvent::Kind::kTest: {
+      const Cycle fetched = triangle_cache_->read(now, e.address, spec::memory::kTriangleRecordWoopBytes);
+      tu.time.wait_memory += fetched - now;
+      // The IU that can take the test first; the TU waits for its answer.
+      auto iu = std::min_element(ius_.begin(), ius_.end(),
+                                 [](const Iu& a, const Iu& b) { return a.next_accept < b.next_accept; });
+      const Cycle accept = std::max(fetched, iu->next_accept);
+      const auto interval = static_cast<Cycle>(config_.iu.interval);
+      iu->next_accept = accept + interval;
+      ++iu->time.tests;
+      iu->time.busy += interval;
+      next = accept + iu_latency_;
+      tu.time.wait_iu += next - fetched;
+      ++tu.time.tests;
+      if (timeline) slice(fmt::format("IU {}", iu - ius_.begin()), "test", accept, accept + iu_latency_);
+      what = "test";
+      break;
+    }
+    case TraceEvent::Kind::kPop:
+      next = now + static_cast<Cycle>(tc.pop);
+      tu.time.busy += static_cast<Cycle>(tc.pop);
+      ++tu.time.pops;
+      what = "pop";
+      break;
+  }
+  if (timeline) slice(track, std::string(what), now, next);
+  schedule_tu(u, next);
+}
+
+// The ray's hit record reaches its register; the TU takes the next waiting ray.
+void CycleDevice::finish_ray(std::uint32_t u, Cycle now) {
+  Tu& tu = tus_[u];
+  const std::uint32_t c = tu.ray.core, i = tu.ray.chunk;
+  Core& core = cores_[c];
+  ChunkSlot& s = core.chunks[i];
+  const auto dst = static_cast<std::size_t>(tu.ray.dst);
+  s.reg_ready[dst] = std::max(s.reg_ready[dst], now + 1);
+  s.reg_from_load[dst] = 0;
+  --s.reg_rays[dst];
+  --s.rays_in_flight;
+  account(core, now + 1);
+  if (s.halted && !s.rays_in_flight) start_round(c, i, now + 1);
+  plan(c, now + 1);
+
+  tu.busy = false;
+  spare_logs_.push_back(std::move(tu.ray.log));
+  if (!ray_queue_.empty()) {
+    Ray next = std::move(ray_queue_.front());
+    ray_queue_.pop_front();
+    start_ray(u, std::move(next), now);
+  }
+}
+
+void CycleDevice::slice(std::string track, std::string name, Cycle begin, Cycle end) {
+  begin = std::max(begin, options_.timeline_begin);
+  end = std::min(end, options_.timeline_end);
+  if (begin >= end || out_.timeline.size() >= kMaxTimelineSlices) return;
+  if (!out_.timeline.empty()) {
+    // Consecutive cycles of the same activity on a track make one slice.
+    for (auto it = out_.timeline.rbegin(); it != out_.timeline.rend() && it - out_.timeline.rbegin() < 8; ++it) {
+      if (it->track == track) {
+        if (it->name == name && it->begin + it->cycles == begin) {
+          it->cycles = end - it->begin;
+          return;
+        }
+        break;
+      }
+    }
+  }
+  out_.timeline.push_back({std::move(track), std::move(name), begin, end - begin});
+}
+
+void CycleDevice::run(const ProgressCallback& progress) {
+  const auto start = std::chrono::steady_clock::now();
+  tracer_.emplace(image_, layout_, format_, config_.stack_depth);
+  shader_.emplace(firmware_, *memory_, *tracer_, format_, core_config(options_.watchdog));
+  shader_stats_ = {};
+  dram_.emplace(config_.dram);
+  node_cache_.emplace(config_.node_cache, *dram_);
+  triangle_cache_.emplace(config_.triangle_cache, *dram_);
+  events_ = {};
+  seq_ = 0;
+  ray_queue_.clear();
+  fault_.reset();
+  out_ = {};
+  out_.config = std::string(config_.name);
+  out_.clock_mhz = config_.clock_mhz;
+  out_.width = launch_.width;
+  out_.height = launch_.height;
+  out_.pixel_cycles.assign(pixels(), 0);
+  out_.dram_bytes_per_cycle = config_.dram.bytes_per_cycle;
+  const bool watertight = layout_.isect_mode == IsectMode::kWatertight;
+  setup_cycles_ = static_cast<Cycle>(watertight ? config_.tu.setup_watertight : config_.tu.setup_woop);
+  iu_latency_ = static_cast<Cycle>(watertight ? config_.iu.watertight : config_.iu.woop);
+  progress_ = &progress;
+  rounds_done_ = 0;
+  rounds_total_ = (pixels() + static_cast<std::uint64_t>(config_.chunk_size) - 1) /
+                  static_cast<std::uint64_t>(config_.chunk_size);
+
+  const auto chunks_per_core = static_cast<std::uint32_t>(config_.threads_per_core / config_.chunk_size);
+  const auto registers = static_cast<std::size_t>(config_.registers);
+  cores_.clear();
+  cores_.resize(static_cast<std::size_t>(config_.shader_cores));
+  for (std::uint32_t c = 0; c < cores_.size(); ++c) {
+    Core& core = cores_[c];
+    core.data_cache = std::make_unique<Cache>(config_.data_cache, *dram_);
+    core.chunks.resize(chunks_per_core);
+    for (std::uint32_t i = 0; i < chunks_per_core; ++i) {
+      ChunkSlot& s = core.chunks[i];
+      s.index = std::uint64_t{c} * chunks_per_core + i;
+      s.reg_ready.assign(registers, 0);
+      s.reg_from_load.assign(registers, 0);
+      s.reg_rays.assign(registers, 0);
+      start_round(c, i, 0);
+    }
+    plan(c, 0);
+  }
+  tus_.assign(static_cast<std::size_t>(config_.traversal_units), Tu{});
+  ius_.assign(static_cast<std::size_t>(config_.intersection_units), Iu{});
+
+  Cycle now = 0;
+  while (!events_.empty() && !fault_) {
+    const Event e = events_.top();
+    events_.pop();
+    now = e.at;
+    if (e.core) {
+      core_event(e.unit, now);
+    } else if (tus_[e.unit].scheduled == now) {
+      tu_event(e.unit, now);
+    }
+  }
+  if (!fault_) {
+    for (const Core& core : cores_) {
+      for (const ChunkSlot& s : core.chunks) {
+        if (s.live) throw Error(fmt::format("cycle model: no event left at cycle {} while chunk {} is live", now, s.index));
+      }
+    }
+  }
+  finish(now + 1);
+  stats_.shader = shader_stats_;
+  stats_.host_threads = 1;
+  stats_.host_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  out_.host_seconds = stats_.host_seconds;
+  stats_.cycle = std::move(out_);
+  tracer_.reset();
+  shader_.reset();
+  if (fault_) throw Error(*fault_);
+}
+
+// The totals, the idle time and the bounds of the frame that ended at `end`.
+void CycleDevice::finish(Cycle end) {
+  out_.cycles = end;
+  for (Core& core : cores_) {
+    core.wait = Wait::kIdle;
+    account(core, end);
+    out_.cores.push_back(core.time);
+    out_.data_cache += core.data_cache->stats();
+  }
+  for (Tu& tu : tus_) {
+    tu.time.idle = end - std::min(end, tu.time.busy + tu.time.wait_memory + tu.time.wait_iu);
+    out_.tus.push_back(tu.time);
+  }
+  for (const Iu& iu : ius_) out_.ius.push_back(iu.time);
+  out_.node_cache = node_cache_->stats();
+  out_.triangle_cache = triangle_cache_->stats();
+  out_.dram = dram_->stats();
+  out_.closest_rays = shader_stats_.closest_rays;
+  out_.any_rays = shader_stats_.any_rays;
+  out_.thread_instructions = shader_stats_.instructions();
+
+  // Speed of light: each resource's work at full rate, every access a hit, no queueing.
+  std::uint64_t issues = 0;
+  TraversalUnitTime tu_work;
+  std::uint64_t tests = 0;
+  for (const ShaderCoreTime& t : out_.cores) issues += t.chunk_issues;
+  for (const TraversalUnitTime& t : out_.tus) {
+    tu_work.rays += t.rays;
+    tu_work.inner += t.inner;
+    tu_work.leaves += t.leaves;
+    tu_work.refs += t.refs;
+    tu_work.tests += t.tests;
+    tu_work.pops += t.pops;
+  }
+  for (const IntersectionUnitTime& t : out_.ius) tests += t.tests;
+  const spec::TraversalUnitConfig& tc = config_.tu;
+  const auto node_hit = static_cast<double>(config_.node_cache.hit_latency);
+  const auto tri_hit = static_cast<double>(config_.triangle_cache.hit_latency);
+  const double tu_cycles = static_cast<double>(tu_work.rays) * static_cast<double>(setup_cycles_) +
+                           static_cast<double>(tu_work.inner) * (node_hit + tc.inner) +
+                           static_cast<double>(tu_work.leaves) * (node_hit + tc.leaf) +
+                           static_cast<double>(tu_work.refs) * tri_hit +
+                           static_cast<double>(tu_work.tests) * (tri_hit + static_cast<double>(iu_latency_)) +
+                           static_cast<double>(tu_work.pops) * tc.pop;
+  out_.bounds = {
+      {"shader cores (issue)", static_cast<double>(issues) / config_.shader_cores},
+      {"traversal units", tu_cycles / config_.traversal_units},
+      {"intersection units", static_cast<double>(tests) * config_.iu.interval / config_.intersection_units},
+      {"DRAM bus", static_cast<double>(out_.dram.bus_cycles)},
+  };
+  std::stable_sort(out_.bounds.begin(), out_.bounds.end(), [](const Bound& a, const Bound& b) { return a.cycles > b.cycles; });
+}
+
+}  // namespace
+
+std::unique_ptr<device::Device> make_cycle_device(const spec::HardwareConfig& config, fp::Format format,
+                                                  const CycleOptions& options) {
+  return std::make_unique<CycleDevice>(config, format, options);
+}
+
+}  // namespace rpu::cycle
