@@ -438,7 +438,7 @@ void CycleDevice::finish_ray(std::uint32_t u, Cycle now) {
   s.reg_from_load[dst] = 0;
   --s.reg_rays[dst];
   --s.rays_in_flight;
-  account(core, now + 1);
+  account(core, now);  // the wait so far had the old reason
   if (s.halted && !s.rays_in_flight) start_round(c, i, now + 1);
   plan(c, now + 1);
 

@@ -1,0 +1,248 @@
+// The cycle backend (docs/cycle-model.md): the same image as the functional backend,
+// deterministic timing, and timing rules that can be checked by hand or by their
+// direction (more bandwidth, more threads, warm caches).
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <string>
+
+#include <fmt/format.h>
+
+#include "asm/assembler.hpp"
+#include "common/hardware_config.hpp"
+#include "cycle/cycle_device.hpp"
+#include "device/builtin_firmware.hpp"
+#include "device/device.hpp"
+#include "device/render_frame.hpp"
+#include "functional/scene_image.hpp"
+#include "scene/resolve.hpp"
+
+namespace rpu::cycle {
+namespace {
+
+isa::Firmware assemble_text(const std::string& text) {
+  return isa::assemble("test.s", [&](const std::filesystem::path&) { return std::optional<std::string>(text); });
+}
+
+RenderSettings settings(int width, int height, int spp = 1) {
+  RenderSettings s;
+  s.width = width;
+  s.height = height;
+  s.spp = spp;
+  s.max_depth = 5;
+  s.seed = 3;
+  return s;
+}
+
+struct Frame {
+  Image image;
+  device::DeviceStats stats;
+};
+
+Frame render(device::Device& dev, const Scene& scene, const MemoryImage& image, const isa::Firmware& firmware,
+             const RenderSettings& s) {
+  Frame f;
+  f.image = device::render_frame(dev, scene, image, firmware, s);
+  f.stats = dev.stats();
+  return f;
+}
+
+Frame render_cycle(const spec::HardwareConfig& config, const Scene& scene, const MemoryImage& image,
+                   const isa::Firmware& firmware, const RenderSettings& s) {
+  const auto dev = make_cycle_device(config, fp::format_by_name(config.format));
+  return render(*dev, scene, image, firmware, s);
+}
+
+bool same_bits(const Image& a, const Image& b) {
+  return a.width == b.width && a.height == b.height &&
+         std::memcmp(a.pixels.data(), b.pixels.data(), a.pixels.size() * sizeof(glm::vec3)) == 0;
+}
+
+using SceneAndConfig = std::tuple<std::string, std::string>;
+class CycleImage : public testing::TestWithParam<SceneAndConfig> {};
+
+// Issue 5: the cycle backend's image is the functional backend's, bit for bit, for every
+// test scene and configuration (each in its own number format).
+TEST_P(CycleImage, IsBitIdenticalToTheFunctionalImage) {
+  const auto& [scene_name, config_name] = GetParam();
+  const Scene scene = resolve_scene(scene_name);
+  const spec::HardwareConfig& config = hardware_config(config_name);
+  const functional::SceneImage si =
+      functional::make_scene_image(scene, kd_build_config_for(std::string(config.name)), IsectMode::kWoop);
+  const isa::Firmware firmware = device::builtin_firmware("whitted.s");
+  const RenderSettings s = settings(24, 18);
+  const auto functional = device::make_functional_device(config, fp::format_by_name(config.format));
+  const Frame expected = render(*functional, scene, si.image, firmware, s);
+  const Frame actual = render_cycle(config, scene, si.image, firmware, s);
+  EXPECT_TRUE(same_bits(expected.image, actual.image)) << scene_name << " on " << config_name;
+  ASSERT_TRUE(actual.stats.cycle);
+  EXPECT_GT(actual.stats.cycle->cycles, 0u);
+  // Both ran the same instructions; the cycle model adds when, not what.
+  EXPECT_EQ(expected.stats.shader.instructions(), actual.stats.shader.instructions());
+  EXPECT_EQ(expected.stats.shader.tests, actual.stats.shader.tests);
+  std::uint64_t tests = 0;
+  for (const IntersectionUnitTime& iu : actual.stats.cycle->ius) tests += iu.tests;
+  EXPECT_EQ(tests, actual.stats.shader.tests);
+}
+
+INSTANTIATE_TEST_SUITE_P(ScenesAndConfigs, CycleImage,
+                         testing::Combine(testing::Values("cornell", "balls:2", "scenes/bunny.json"),
+                                          testing::Values("tiny", "default", "rpu2005")),
+                         [](const testing::TestParamInfo<SceneAndConfig>& i) {
+                           std::string name = std::get<0>(i.param) + "_" + std::get<1>(i.param);
+                           for (char& c : name) {
+                             if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+                           }
+                           return name;
+                         });
+
+struct Cornell {
+  Scene scene = resolve_scene("cornell");
+  functional::SceneImage si = functional::make_scene_image(scene, kd_build_config_for("tiny"), IsectMode::kWoop);
+  isa::Firmware firmware = device::builtin_firmware("whitted.s");
+};
+
+TEST(CycleModel, SameInputsGiveTheSameCycles) {
+  const Cornell c;
+  const Frame a = render_cycle(hardware_config("default"), c.scene, c.si.image, c.firmware, settings(16, 12));
+  const Frame b = render_cycle(hardware_config("default"), c.scene, c.si.image, c.firmware, settings(16, 12));
+  EXPECT_EQ(a.stats.cycle->cycles, b.stats.cycle->cycles);
+  EXPECT_EQ(a.stats.cycle->pixel_cycles, b.stats.cycle->pixel_cycles);
+  EXPECT_EQ(a.stats.cycle->dram.bytes_read, b.stats.cycle->dram.bytes_read);
+}
+
+// Every cycle of every unit is busy, waiting or idle, exactly once.
+TEST(CycleModel, UnitTimeAddsUpToTheFrame) {
+  const Cornell c;
+  const Frame f = render_cycle(hardware_config("default"), c.scene, c.si.image, c.firmware, settings(16, 12));
+  const CycleStats& st = *f.stats.cycle;
+  for (const ShaderCoreTime& t : st.cores) {
+    EXPECT_EQ(t.busy + t.wait_trace + t.wait_memory + t.wait_dependency + t.idle, st.cycles);
+    EXPECT_EQ(t.busy, t.chunk_issues);
+  }
+  for (const TraversalUnitTime& t : st.tus) EXPECT_EQ(t.busy + t.wait_memory + t.wait_iu + t.idle, st.cycles);
+  EXPECT_EQ(st.closest_rays + st.any_rays, f.stats.shader.closest_rays + f.stats.shader.any_rays);
+  ASSERT_FALSE(st.bounds.empty());
+  EXPECT_LE(st.bounds.front().cycles, static_cast<double>(st.cycles));  // nothing beats the speed of light
+}
+
+// More DRAM bandwidth never costs cycles on a fixed frame.
+TEST(CycleModel, MoreDramBandwidthNeverCostsCycles) {
+  const Cornell c;
+  spec::HardwareConfig config = hardware_config("tiny");
+  std::uint64_t previous = std::numeric_limits<std::uint64_t>::max();
+  for (int bytes = 1; bytes <= 64; bytes *= 2) {
+    config.dram.bytes_per_cycle = bytes;
+    const Frame f = render_cycle(config, c.scene, c.si.image, c.firmware, settings(16, 12));
+    EXPECT_LE(f.stats.cycle->cycles, previous) << bytes << " bytes/cycle";
+    previous = f.stats.cycle->cycles;
+  }
+}
+
+// On a frame bound by DRAM latency, twice the threads hide much of it.
+TEST(CycleModel, DoublingThreadsHidesLatencyOnAMemoryBoundFrame) {
+  const Cornell c;
+  spec::HardwareConfig config = hardware_config("tiny");
+  config.dram.latency = 400;
+  config.traversal_units = 16;
+  config.intersection_units = 4;
+  config.threads_per_core = 4;
+  const Frame few = render_cycle(config, c.scene, c.si.image, c.firmware, settings(16, 16));
+  config.threads_per_core = 8;
+  const Frame more = render_cycle(config, c.scene, c.si.image, c.firmware, settings(16, 16));
+  EXPECT_TRUE(same_bits(few.image, more.image));
+  const auto f = static_cast<double>(few.stats.cycle->cycles), m = static_cast<double>(more.stats.cycle->cycles);
+  EXPECT_LT(m, 0.7 * f) << "4 threads: " << f << " cycles, 8 threads: " << m;
+}
+
+// One thread, one pixel, a ray straight at the one-triangle scene: its tree is a leaf
+// holding the triangle, so the walk is leaf fetch, prim-ref read, record read and one
+// IU test. The first ray finds every cache cold, the second (the same ray) warm.
+struct OneRay {
+  Scene scene = resolve_scene("tests/isa/scenes/one_triangle.json");
+  functional::SceneImage si = functional::make_scene_image(scene, kd_build_config_for("tiny"), IsectMode::kWoop);
+  spec::HardwareConfig config = [] {
+    spec::HardwareConfig c = hardware_config("tiny");
+    c.threads_per_core = 1;
+    c.chunk_size = 1;
+    return c;
+  }();
+
+  static std::string program(int traces) {
+    std::string text = R"(
+raygen:
+        lif     r1.xy, 0.0
+        lif     r1.z, 5.0
+        lif     r1.w, 0.0
+        lif     r2.xy, 0.0
+        lif     r2.z, -1.0
+        lif     r2.w, inf
+)";
+    for (int i = 0; i < traces; ++i) text += fmt::format("        trace   r{}, r1, r2\n", 3 + i);
+    return text + "        halt\nhit_whitted:\n        ret\n";
+  }
+  std::uint64_t cycles(int traces) const {
+    return render_cycle(config, scene, si.image, assemble_text(program(traces)), settings(1, 1)).stats.cycle->cycles;
+  }
+  // The cycles of a read that misses: tag check, DRAM latency, one line on the bus.
+  Cycle miss(const spec::CacheConfig& cache) const {
+    return static_cast<Cycle>(cache.hit_latency + config.dram.latency +
+                              (cache.line_bytes + config.dram.bytes_per_cycle - 1) / config.dram.bytes_per_cycle);
+  }
+  std::uint32_t line(std::uint32_t address, const spec::CacheConfig& cache) const {
+    return address / static_cast<std::uint32_t>(cache.line_bytes);
+  }
+};
+
+TEST(CycleModel, OneRaysCyclesEqualTheHandCount) {
+  const OneRay r;
+  const spec::HardwareConfig& c = r.config;
+  const std::uint32_t ref = r.si.layout.prim_refs.offset;
+  const std::uint32_t record = r.si.layout.isect_records.offset;
+  const std::uint32_t record_end = record + spec::memory::kTriangleRecordWoopBytes - 1;
+  // The layout this count assumes: the ref and the record in lines of their own, the
+  // record in one line (the image puts sections on 64-byte boundaries).
+  ASSERT_NE(r.line(ref, c.triangle_cache), r.line(record, c.triangle_cache));
+  ASSERT_EQ(r.line(record, c.triangle_cache), r.line(record_end, c.triangle_cache));
+
+  // Six independent lif issue in cycles 0-5 (one a cycle); the trace reads r1 and r2,
+  // ready one integer latency after their last writes, so it issues in cycle 6.
+  const Cycle issue = 5 + static_cast<Cycle>(c.latency.integer);
+  const Cycle setup = static_cast<Cycle>(c.tu.setup_woop);
+  const Cycle cold = setup + (r.miss(c.node_cache) + static_cast<Cycle>(c.tu.leaf)) + r.miss(c.triangle_cache) +
+                     (r.miss(c.triangle_cache) + static_cast<Cycle>(c.iu.woop));
+  const Cycle warm = setup + static_cast<Cycle>(c.node_cache.hit_latency + c.tu.leaf) +
+                     static_cast<Cycle>(c.triangle_cache.hit_latency) +
+                     static_cast<Cycle>(c.triangle_cache.hit_latency + c.iu.woop);
+  // The halt does not wait for the ray; the frame ends the cycle after the hit record
+  // reaches its register.
+  EXPECT_EQ(r.cycles(1), issue + cold + 1);
+  // The second, identical ray waits for the one traversal unit and then hits in every
+  // cache: all-miss costs three line fills more than all-hit, nothing else.
+  EXPECT_EQ(r.cycles(2), issue + cold + warm + 1);
+  EXPECT_EQ(cold - warm, r.miss(c.node_cache) - static_cast<Cycle>(c.node_cache.hit_latency) +
+                             2 * (r.miss(c.triangle_cache) - static_cast<Cycle>(c.triangle_cache.hit_latency)));
+}
+
+TEST(CycleModel, AShaderFaultIsReportedAsByTheFunctionalBackend) {
+  const OneRay r;
+  const isa::Firmware firmware = assemble_text("raygen:\n        ld r1, [r0 + 0x7ffffff0]\n        halt\nhit_whitted:\n        ret\n");
+  const auto functional = device::make_functional_device(r.config, fp::kFp32);
+  const auto cycle = make_cycle_device(r.config, fp::kFp32);
+  std::string expected, actual;
+  try {
+    render(*functional, r.scene, r.si.image, firmware, settings(2, 2));
+  } catch (const Error& e) {
+    expected = e.what();
+  }
+  try {
+    render(*cycle, r.scene, r.si.image, firmware, settings(2, 2));
+  } catch (const Error& e) {
+    actual = e.what();
+  }
+  EXPECT_NE(expected.find("shader fault"), std::string::npos) << expected;
+  EXPECT_EQ(actual, expected);
+}
+
+}  // namespace
+}  // namespace rpu::cycle
