@@ -1,9 +1,7 @@
-#include <cmath>
-#include <numbers>
-
 #include "common/error.hpp"
 #include "device/device.hpp"
 #include "memory/little_endian.hpp"
+#include "render/sampling.hpp"
 
 namespace rpu::device {
 
@@ -11,21 +9,18 @@ namespace mm = spec::memory;
 
 std::vector<std::uint8_t> make_launch_block(std::span<const std::uint8_t> image, const ImageLayout& layout,
                                             const Launch& launch, std::span<const std::uint32_t> shader_table) {
-  // The camera frame of docs/shading.md §2, computed in double from the image's fp32
-  // camera record and rounded once: the firmware then needs no tangent.
+  // The camera frame of docs/shading.md §2, the reference's, computed in double from
+  // the image's fp32 camera record and rounded once: the firmware then needs no tangent.
   const std::size_t cam = layout.camera.offset;
-  const glm::dvec3 position(load_float4(image, cam + mm::kCameraPositionAt));
-  const glm::dvec3 look_at(load_float4(image, cam + mm::kCameraLookAtAt));
-  const glm::dvec3 up(load_float4(image, cam + mm::kCameraUpAt));
-  const double vfov = load_f32(image, cam + mm::kCameraVfovAt);
+  Camera camera;
+  camera.position = glm::dvec3(load_float4(image, cam + mm::kCameraPositionAt));
+  camera.look_at = glm::dvec3(load_float4(image, cam + mm::kCameraLookAtAt));
+  camera.up = glm::dvec3(load_float4(image, cam + mm::kCameraUpAt));
+  camera.vfov_degrees = load_f32(image, cam + mm::kCameraVfovAt);
   if (load_f32(image, cam + mm::kCameraApertureAt) > 0.0f) {
     throw Error("the firmware renders pinhole cameras only: set the camera's aperture to 0");
   }
-  const glm::dvec3 forward = glm::normalize(look_at - position);
-  const glm::dvec3 right = glm::normalize(glm::cross(forward, up));
-  const glm::dvec3 true_up = glm::cross(right, forward);
-  const double half_height = std::tan(vfov * std::numbers::pi / 360.0);
-  const double half_width = half_height * launch.width / launch.height;
+  const CameraModel frame(camera, launch.width, launch.height);
 
   std::vector<std::uint8_t> block(mm::kLaunchBytes + 4 * shader_table.size(), 0);
   const auto u32 = [&](std::uint32_t at, std::uint32_t v) { store_u32(block, at, v); };
@@ -39,10 +34,10 @@ std::vector<std::uint8_t> make_launch_block(std::span<const std::uint8_t> image,
   u32(mm::kLaunchFramebufferAt, mm::kDeviceFramebufferBase);
   u32(mm::kLaunchShaderCountAt, static_cast<std::uint32_t>(shader_table.size()));
   u32(mm::kLaunchShaderTableAt, mm::kDeviceLaunchBase + mm::kLaunchBytes);
-  vec(mm::kLaunchOriginAt, position);
-  vec(mm::kLaunchForwardAt, forward);
-  vec(mm::kLaunchRightAt, right * half_width);
-  vec(mm::kLaunchUpAt, true_up * half_height);
+  vec(mm::kLaunchOriginAt, frame.origin());
+  vec(mm::kLaunchForwardAt, frame.forward());
+  vec(mm::kLaunchRightAt, frame.right() * frame.half_width());
+  vec(mm::kLaunchUpAt, frame.up() * frame.half_height());
   u32(mm::kLaunchSceneAt, section(layout.scene));
   u32(mm::kLaunchLightsAt, section(layout.lights));
   u32(mm::kLaunchMaterialsAt, section(layout.materials));

@@ -27,27 +27,21 @@
 #include <fmt/format.h>
 
 #include "common/error.hpp"
+#include "common/hardware_config.hpp"
 #include "fp/soft.hpp"
 #include "kdtree/kdtree.hpp"
 #include "rpu/spec.hpp"
 
 namespace rpu {
 
-KdBuildConfig kd_build_config_for(const std::string& hardware_config) {
-  std::string names;
-  for (const spec::HardwareConfig& c : spec::kConfigs) {
-    if (c.name == hardware_config) {
-      KdBuildConfig config;
-      config.max_depth = c.stack_depth;
-      config.stack_depth = c.stack_depth;
-      config.format = fp::format_by_name(c.format);
-      config.hardware_config = hardware_config;
-      return config;
-    }
-    names += fmt::format("{}{}", names.empty() ? "" : ", ", c.name);
-  }
-  throw Error(fmt::format("unknown hardware config '{}'; choose one of {} (spec/configs.toml)",
-                          hardware_config, names));
+KdBuildConfig kd_build_config_for(const std::string& name) {
+  const spec::HardwareConfig& c = hardware_config(name);
+  KdBuildConfig config;
+  config.max_depth = c.stack_depth;
+  config.stack_depth = c.stack_depth;
+  config.format = fp::format_by_name(c.format);
+  config.hardware_config = name;
+  return config;
 }
 
 namespace {

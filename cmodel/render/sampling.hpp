@@ -39,6 +39,15 @@ class CameraModel {
   // lens: a sample in [0, 1)^2, used only by a thin-lens camera.
   PrimaryRay ray(double px, double py, glm::dvec2 lens) const;
 
+  // The frame of docs/shading.md §2: unit forward, right and up, and the image plane's
+  // half extent at distance 1 along forward.
+  const glm::dvec3& origin() const { return origin_; }
+  const glm::dvec3& forward() const { return forward_; }
+  const glm::dvec3& right() const { return right_; }
+  const glm::dvec3& up() const { return up_; }
+  double half_width() const { return half_width_; }
+  double half_height() const { return half_height_; }
+
  private:
   glm::dvec3 origin_, forward_, right_, up_;
   double half_width_, half_height_;
