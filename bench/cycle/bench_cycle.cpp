@@ -6,7 +6,6 @@
 //   build/release/bench/cycle/bench_cycle
 #include <benchmark/benchmark.h>
 
-#include <map>
 #include <memory>
 #include <string>
 
@@ -16,27 +15,10 @@
 #include "device/builtin_firmware.hpp"
 #include "device/device.hpp"
 #include "device/render_frame.hpp"
-#include "functional/scene_image.hpp"
-#include "scene/resolve.hpp"
+#include "scene_workload.hpp"
 
 namespace rpu {
 namespace {
-
-struct Workload {
-  Scene scene;
-  functional::SceneImage image;
-};
-
-const Workload& workload(const std::string& name) {
-  static std::map<std::string, std::unique_ptr<Workload>> cache;
-  auto& w = cache[name];
-  if (!w) {
-    w = std::make_unique<Workload>();
-    w->scene = resolve_scene(name);
-    w->image = functional::make_scene_image(w->scene, kd_build_config_for("default"), IsectMode::kWoop);
-  }
-  return *w;
-}
 
 RenderSettings frame(int size) {
   RenderSettings s;
@@ -50,7 +32,7 @@ RenderSettings frame(int size) {
 // simulated cycles per host second.
 void run(benchmark::State& state, device::Device& dev, const std::string& scene, const isa::Firmware& firmware,
          int size) {
-  const Workload& w = workload(scene);
+  const bench::SceneWorkload& w = bench::scene_workload(scene);
   double cycles = 0, host = 0;
   for (auto _ : state) {
     device::render_frame(dev, w.scene, w.image.image, firmware, frame(size));

@@ -5,7 +5,6 @@
 //   build/release/bench/functional/bench_render
 #include <benchmark/benchmark.h>
 
-#include <map>
 #include <memory>
 #include <string>
 
@@ -13,30 +12,13 @@
 #include "device/builtin_firmware.hpp"
 #include "device/device.hpp"
 #include "device/render_frame.hpp"
-#include "functional/scene_image.hpp"
-#include "scene/resolve.hpp"
+#include "scene_workload.hpp"
 
 namespace rpu {
 namespace {
 
-struct Workload {
-  Scene scene;
-  functional::SceneImage image;
-};
-
-const Workload& workload(const std::string& name) {
-  static std::map<std::string, std::unique_ptr<Workload>> cache;
-  auto& w = cache[name];
-  if (!w) {
-    w = std::make_unique<Workload>();
-    w->scene = resolve_scene(name);
-    w->image = functional::make_scene_image(w->scene, kd_build_config_for("default"), IsectMode::kWoop);
-  }
-  return *w;
-}
-
 void render(benchmark::State& state, const std::string& scene, bool soft_path) {
-  const Workload& w = workload(scene);
+  const bench::SceneWorkload& w = bench::scene_workload(scene);
   const isa::Firmware firmware = device::builtin_firmware("whitted.s");
   RenderSettings settings;
   settings.width = 128;
