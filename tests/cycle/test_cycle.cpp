@@ -96,6 +96,19 @@ INSTANTIATE_TEST_SUITE_P(ScenesAndConfigs, CycleImage,
                            return name;
                          });
 
+// The watertight records and the IU's other latency change the timing, not the image.
+TEST(CycleModel, WatertightImageIsTheFunctionalImage) {
+  const Scene scene = resolve_scene("balls:1");
+  const spec::HardwareConfig& config = hardware_config("default");
+  const functional::SceneImage si =
+      functional::make_scene_image(scene, kd_build_config_for("default"), IsectMode::kWatertight);
+  const isa::Firmware firmware = device::builtin_firmware("whitted.s");
+  const auto functional = device::make_functional_device(config, fp::kFp32);
+  const Frame expected = render(*functional, scene, si.image, firmware, settings(20, 16));
+  const Frame actual = render_cycle(config, scene, si.image, firmware, settings(20, 16));
+  EXPECT_TRUE(same_bits(expected.image, actual.image));
+}
+
 struct Cornell {
   Scene scene = resolve_scene("cornell");
   functional::SceneImage si = functional::make_scene_image(scene, kd_build_config_for("tiny"), IsectMode::kWoop);
