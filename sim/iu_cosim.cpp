@@ -409,12 +409,15 @@ int run(const Options& o, fp::Format f, TransactionSource& source) {
     for (const spec::HardwareConfig& c : spec::kConfigs) {
       if (c.format != o.format) continue;
       ++matched;
-      const int want_latency = o.isect == "woop" ? c.iu.woop : c.iu.watertight;
+      const bool woop = o.isect == "woop";
+      const int want_latency = woop ? c.iu.woop : c.iu.watertight;
+      const int want_interval = woop ? c.iu.interval_woop : c.iu.interval_watertight;
       const bool ok = static_cast<std::uint64_t>(want_latency) == timing.latency &&
-                      static_cast<std::uint64_t>(c.iu.interval) == timing.interval;
-      std::printf("%s config %.*s: [config.iu] %s = %d, interval = %d; RTL %" PRIu64 ", %" PRIu64 "\n",
+                      static_cast<std::uint64_t>(want_interval) == timing.interval;
+      std::printf("%s config %.*s: [config.iu] %s = %d, interval_%s = %d; RTL latency %" PRIu64
+                  ", interval %" PRIu64 "\n",
                   ok ? "ok  " : "FAIL", static_cast<int>(c.name.size()), c.name.data(), o.isect.c_str(),
-                  want_latency, c.iu.interval, timing.latency, timing.interval);
+                  want_latency, o.isect.c_str(), want_interval, timing.latency, timing.interval);
       failures += ok ? 0 : 1;
     }
     if (failures > 0) {

@@ -47,7 +47,7 @@ CACHE_FIELDS = ("bytes", "line_bytes", "ways", "hit_latency", "mshrs")
 CONFIG_GROUPS = {
     "latency": ("LatencyConfig", ("fpu", "dot", "sfu", "rsq", "integer", "branch", "special")),
     "tu": ("TraversalUnitConfig", ("setup_woop", "setup_watertight", "inner", "leaf", "pop")),
-    "iu": ("IntersectionUnitConfig", ("woop", "watertight", "interval")),
+    "iu": ("IntersectionUnitConfig", ("woop", "watertight", "interval_woop", "interval_watertight")),
     "node_cache": ("CacheConfig", CACHE_FIELDS),
     "triangle_cache": ("CacheConfig", CACHE_FIELDS),
     "data_cache": ("CacheConfig", CACHE_FIELDS),
