@@ -274,32 +274,26 @@ module rpu_iu #(
   logic [NumFlags-1:0]         flag_ready_d, flag_ready_q;
 
   // Every source as 32 bits (format values right-aligned), for the operand reads.
+  // (Continuous assignments throughout: Yosys 0.23's proc_mux takes minutes on loops of
+  // conditional slice assignments to vectors this wide.)
   logic [NumSrc*32-1:0] sources;
-  always_comb begin
-    sources = '0;
-    for (int unsigned i = 0; i < 3; i++) begin
-      sources[(SO + i)*32 +: 32] = req_q.origin[32*i +: 32];
-      sources[(SD + i)*32 +: 32] = req_q.direction[32*i +: 32];
-    end
-    sources[STMin*32 +: 32]  = req_q.t_min;
-    sources[STBest*32 +: 32] = req_q.t_best;
-    sources[SSx*32 +: 32]    = req_q.shear_x;
-    sources[SSy*32 +: 32]    = req_q.shear_y;
-    sources[SSz*32 +: 32]    = req_q.shear_z;
-    sources[SOne*32 +: 32]   = 32'(One);
-    for (int unsigned i = 0; i < Words; i++) sources[(SW + i)*32 +: 32] = req_q.record[32*i +: 32];
-    for (int unsigned i = 0; i < NumTemps; i++) sources[(ST + i)*32 +: 32] = 32'(temps_q[i*W +: W]);
+  assign sources[SO*32 +: 3*32]     = req_q.origin;
+  assign sources[SD*32 +: 3*32]     = req_q.direction;
+  assign sources[STMin*32 +: 32]    = req_q.t_min;
+  assign sources[STBest*32 +: 32]   = req_q.t_best;
+  assign sources[SSx*32 +: 32]      = req_q.shear_x;
+  assign sources[SSy*32 +: 32]      = req_q.shear_y;
+  assign sources[SSz*32 +: 32]      = req_q.shear_z;
+  assign sources[SZero*32 +: 32]    = '0;
+  assign sources[SOne*32 +: 32]     = 32'(One);
+  assign sources[SW*32 +: Words*32] = req_q.record;
+  for (genvar i = 0; i < NumTemps; i++) begin : gen_sources
+    assign sources[(ST + i)*32 +: 32] = 32'(temps_q[i*W +: W]);
   end
 
   // Which sources have their value: all but the registers always.
   logic [NumSrc-1:0] available;
   assign available = {ready_q, {ST{1'b1}}};
-
-  // (Functions on flat vectors: Yosys 0.23 reads no struct-typed functions, and turns
-  // arrays read at a variable index into memories.)
-  function automatic logic [31:0] read(input logic [NumSrc*32-1:0] file, input logic [SrcBits-1:0] index);
-    read = file[index*32 +: 32];
-  endfunction
 
   // The decoded micro-ops.
   logic [OpBits-1:0]    f_op, m_op;
@@ -337,8 +331,10 @@ module rpu_iu #(
 
   // The op field is an enum: a packed-vector assignment sets it without a type cast
   // (which Yosys 0.23 does not read). The destination's rank goes into the tag.
-  assign f_req = {f_op, f_tag + TagBits'(rank), read(sources, f_a), read(sources, f_b), 32'd0};
-  assign m_req = {m_op, m_tag, read(sources, m_a), read(sources, m_b), 32'd0};
+  // (Indexed part-selects of one flat vector: Yosys 0.23 turns an array read at a
+  // variable index into a memory.)
+  assign f_req = {f_op, f_tag + TagBits'(rank), sources[f_a*32 +: 32], sources[f_b*32 +: 32], 32'd0};
+  assign m_req = {m_op, m_tag, sources[m_a*32 +: 32], sources[m_b*32 +: 32], 32'd0};
   assign fma_req_valid  = f_issue && !f_is_div;
   assign div_req_valid  = f_issue && f_is_div;
   assign misc_req_valid = m_issue;
@@ -375,42 +371,27 @@ module rpu_iu #(
   assign req_ready_o = state_q == StIdle || (state_q == StDone && rsp_ready_i);
   assign accept      = req_valid_i && req_ready_o;
 
-  // Issues advance the programs; results come back tagged with their destination.
-  always_comb begin
-    req_d        = req_q;
-    temps_d      = temps_q;
-    ready_d      = ready_q;
-    flags_d      = flags_q;
-    flag_ready_d = flag_ready_q;
-    f_pc_d       = f_issue ? f_pc_q + PcBits'(1) : f_pc_q;
-    m_pc_d       = m_issue ? m_pc_q + PcBits'(1) : m_pc_q;
-    for (int unsigned i = 0; i < NumTemps; i++) begin
-      if (fma_rsp_valid && fma_rsp.tag[IndexBits-1:0] == IndexBits'(i)) begin
-        temps_d[i*W +: W] = fma_rsp.result[W-1:0];
-        ready_d[i]        = 1'b1;
-      end
-      if (div_rsp_valid && div_rsp.tag[IndexBits-1:0] == IndexBits'(i)) begin
-        temps_d[i*W +: W] = div_value;
-        ready_d[i]        = 1'b1;
-      end
-      if (misc_rsp_valid && !misc_rsp.tag[IndexBits+1] && misc_rsp.tag[IndexBits-1:0] == IndexBits'(i)) begin
-        temps_d[i*W +: W] = misc_rsp.result[W-1:0];
-        ready_d[i]        = 1'b1;
-      end
-    end
-    for (int unsigned i = 0; i < NumFlags; i++) begin
-      if (misc_rsp_valid && misc_rsp.tag[IndexBits+1] && misc_rsp.tag[IndexBits-1:0] == IndexBits'(i)) begin
-        flags_d[i]      = misc_rsp.result[0];
-        flag_ready_d[i] = 1'b1;
-      end
-    end
-    if (accept) begin
-      req_d        = req_i;
-      ready_d      = '0;
-      flag_ready_d = '0;
-      f_pc_d       = '0;
-      m_pc_d       = '0;
-    end
+  // Issues advance the programs; results come back tagged with their destination. A
+  // new request clears the scoreboard.
+  assign req_d  = accept ? req_i : req_q;
+  assign f_pc_d = accept ? '0 : f_issue ? f_pc_q + PcBits'(1) : f_pc_q;
+  assign m_pc_d = accept ? '0 : m_issue ? m_pc_q + PcBits'(1) : m_pc_q;
+  for (genvar i = 0; i < NumTemps; i++) begin : gen_temps
+    logic fma_write, div_write, misc_write;
+    assign fma_write  = fma_rsp_valid && fma_rsp.tag[IndexBits-1:0] == IndexBits'(i);
+    assign div_write  = div_rsp_valid && div_rsp.tag[IndexBits-1:0] == IndexBits'(i);
+    assign misc_write = misc_rsp_valid && !misc_rsp.tag[IndexBits+1] && misc_rsp.tag[IndexBits-1:0] == IndexBits'(i);
+    assign temps_d[i*W +: W] = fma_write  ? fma_rsp.result[W-1:0]
+                             : div_write  ? div_value
+                             : misc_write ? misc_rsp.result[W-1:0]
+                             : temps_q[i*W +: W];
+    assign ready_d[i] = !accept && (ready_q[i] || fma_write || div_write || misc_write);
+  end
+  for (genvar i = 0; i < NumFlags; i++) begin : gen_flags
+    logic write;
+    assign write = misc_rsp_valid && misc_rsp.tag[IndexBits+1] && misc_rsp.tag[IndexBits-1:0] == IndexBits'(i);
+    assign flags_d[i]      = write ? misc_rsp.result[0] : flags_q[i];
+    assign flag_ready_d[i] = !accept && (flag_ready_q[i] || write);
   end
 
   // Done when both programs have issued everything and the flags and the response's

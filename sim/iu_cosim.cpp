@@ -203,7 +203,7 @@ void print_failure(const char* what, fp::Format f, std::uint64_t cycle, const Tr
 }
 
 // The netlist testbench's input (sim/rpu_iu_netlist_tb.sv): a header with the count,
-// then per test 31 hex words: origin, direction, t_min, t_best, kx, ky, kz, shear,
+// then per test 30 hex words: origin, direction, t_min, t_best, kx, ky, kz, shear,
 // record, then the expected hit, t, u, v.
 int write_vectors(const Options& o, TransactionSource& source) {
   std::deque<Transaction> queue;
@@ -315,7 +315,8 @@ int run(const Options& o, fp::Format f, TransactionSource& source) {
 
   while (true) {
     if (!have_current) {
-      if (queue.empty()) source.next(queue);
+      while (queue.empty() && source.next(queue)) {
+      }
       if (!queue.empty()) {
         current = std::move(queue.front());
         queue.pop_front();
@@ -376,7 +377,11 @@ int run(const Options& o, fp::Format f, TransactionSource& source) {
     ++cycle;
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  if (checked > 0 && min_latency != max_latency) {
+  if (checked == 0) {
+    std::fprintf(stderr, "iu cosim FAIL: the rays made no IU test\n");
+    return 1;
+  }
+  if (min_latency != max_latency) {
     std::fprintf(stderr, "iu cosim FAIL: latency varies from %" PRIu64 " to %" PRIu64 " cycles; it must be fixed\n",
                  min_latency, max_latency);
     return 1;
@@ -397,7 +402,7 @@ int run(const Options& o, fp::Format f, TransactionSource& source) {
               o.format.c_str(), f.name().c_str(), o.isect.c_str(), source.rays_traced(), checked, hits, cycle, seconds,
               static_cast<double>(checked) / seconds, static_cast<double>(cycle) / seconds, o.stall_percent,
               timing.latency, timing.interval);
-  if (timing.latency != min_latency && checked > 0) {
+  if (timing.latency != min_latency) {
     std::fprintf(stderr, "iu cosim FAIL: latency %" PRIu64 " at full rate but %" PRIu64 " with stalls\n",
                  timing.latency, min_latency);
     return 1;

@@ -8,7 +8,7 @@
 module rpu_iu_netlist_tb;
 
   localparam integer MaxVectors = 1 << 16;
-  localparam integer Fields = 31;  // 27 input words, then hit, t, u, v
+  localparam integer Fields = 30;  // 26 input words, then hit, t, u, v
   localparam integer StallPercent = 6;
   localparam integer Timeout = 1000;
 
