@@ -6,6 +6,7 @@ gen.py turns into rpu_pkg.sv, so nothing here repeats a width or a unit list.
 
     flow.py lint  --verilator verilator --pkg build/ci/generated/rtl/rpu_pkg.sv
     flow.py synth --unit fma --format fp16 --pkg ... --cosim build/ci/sim/fp_cosim --out DIR
+    flow.py synth --unit iu --isect woop --format fp16 --pkg ... --cosim build/ci/sim/iu_cosim --out DIR
     flow.py area  --from DIR > docs/area.md
 """
 from __future__ import annotations
@@ -24,6 +25,10 @@ ROOT = pathlib.Path(__file__).resolve().parent.parent
 RTL = ROOT / "rtl"
 SIM_TOP = ROOT / "sim" / "rpu_fp_cosim_top.sv"
 NETLIST_TB = ROOT / "sim" / "rpu_fp_netlist_tb.sv"
+IU_TOP = ROOT / "sim" / "rpu_iu_cosim_top.sv"
+IU_NETLIST_TB = ROOT / "sim" / "rpu_iu_netlist_tb.sv"
+# The intersection modes (spec/memory_map.toml [isect_mode]: the IsectMode parameter).
+ISECT_MODES = ("woop", "watertight")
 
 
 sys.path.insert(0, str(ROOT / "spec"))
@@ -45,6 +50,10 @@ def rtl_sources() -> list[pathlib.Path]:
     return sorted(RTL.glob("*.sv"))
 
 
+def isect_mode(name: str) -> int:
+    return gen.load(ROOT / "spec")["memory_map"]["isect_mode"][name]
+
+
 def run(cmd: list, **kw) -> subprocess.CompletedProcess:
     return subprocess.run([str(c) for c in cmd], capture_output=True, text=True, **kw)
 
@@ -60,6 +69,13 @@ def lint(args) -> int:
                          [f"-GExpBits={f['exponent_bits']}", f"-GFracBits={f['fraction_bits']}"], []))
     for i, unit in enumerate(units):
         jobs.append((f"rpu_fp_cosim_top {unit['name']}", ["rpu_fp_cosim_top"], [f"-GUnit={i}"], [SIM_TOP]))
+    for isect in ISECT_MODES:
+        mode = isect_mode(isect)
+        for name, f in formats.items():
+            jobs.append((f"rpu_iu {isect} {name}", ["rpu_iu"],
+                         [f"-GExpBits={f['exponent_bits']}", f"-GFracBits={f['fraction_bits']}",
+                          f"-GIsectMode={mode}"], []))
+        jobs.append((f"rpu_iu_cosim_top {isect}", ["rpu_iu_cosim_top"], [f"-GIsectMode={mode}"], [IU_TOP]))
     for what, (top,), params, extra in jobs:
         r = run([args.verilator, "--lint-only", "-Wall", RTL / "lint.vlt", args.pkg, *rtl_sources(), *extra,
                  "--top-module", top, *params])
@@ -71,25 +87,15 @@ def lint(args) -> int:
     return 1 if failures else 0
 
 
-def synth(args) -> int:
-    """Yosys synth of one unit and format, then the netlist against the model's vectors."""
-    formats, units = spec()
-    names = [u["name"] for u in units]
-    if args.unit not in names or args.format not in formats:
-        print(f"flow.py: unknown unit or format; units {names}, formats {list(formats)}", file=sys.stderr)
-        return 2
-    f = formats[args.format]
-    out = pathlib.Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
-    stem = f"{args.unit}_{args.format}"
+def yosys(args, top: str, chparams: dict, extra: list, out: pathlib.Path, stem: str) -> dict | None:
+    """Synthesises `top` with the parameters; returns the stat numbers, or None on failure."""
     netlist = out / f"{stem}.v"
     log = out / f"{stem}.yosys.log"
-    reads = " ".join(str(p) for p in [args.pkg, *rtl_sources(), SIM_TOP])
+    reads = " ".join(str(p) for p in [args.pkg, *rtl_sources(), *extra])
     script = "; ".join([
         f"read_verilog -sv {reads}",
-        f"hierarchy -check -top rpu_fp_cosim_top -chparam Unit {names.index(args.unit)} "
-        f"-chparam ExpBits {f['exponent_bits']} -chparam FracBits {f['fraction_bits']}",
-        "synth -flatten -top rpu_fp_cosim_top",
+        f"hierarchy -check -top {top} " + " ".join(f"-chparam {k} {v}" for k, v in chparams.items()),
+        f"synth -flatten -top {top}",
         "splitnets",
         "stat",
         "stat -tech cmos",
@@ -101,16 +107,39 @@ def synth(args) -> int:
     log.write_text(r.stdout + r.stderr)
     if r.returncode != 0:
         print(f"synth FAIL: yosys exited {r.returncode}; log in {log}\n{r.stderr[-3000:]}")
-        return 1
+        return None
     # Yosys 0.23 reports some mis-read constructs only as warnings (arrays of packed
     # structs become 1-bit flops, TOOLCHAIN.md), so any warning fails the run.
     warnings = [l for l in r.stdout.splitlines() if l.startswith("Warning:")]
     if warnings:
         print("synth FAIL: yosys warnings:\n" + "\n".join(warnings))
-        return 1
+        return None
     stats = parse_stat(r.stdout)
+    stats.update(synth_seconds=round(synth_seconds, 1))
+    print(f"ok   yosys {stem}: {stats['cells']} cells in {synth_seconds:.1f} s")
+    return stats
+
+
+def synth(args) -> int:
+    """Yosys synth of one unit and format, then the netlist against the model's vectors."""
+    formats, units = spec()
+    if args.unit == "iu":
+        return synth_iu(args, formats)
+    names = [u["name"] for u in units]
+    if args.unit not in names or args.format not in formats:
+        print(f"flow.py: unknown unit or format; units {names + ['iu']}, formats {list(formats)}", file=sys.stderr)
+        return 2
+    f = formats[args.format]
+    out = pathlib.Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    stem = f"{args.unit}_{args.format}"
+    netlist = out / f"{stem}.v"
+    stats = yosys(args, "rpu_fp_cosim_top", {"Unit": names.index(args.unit), "ExpBits": f["exponent_bits"],
+                                             "FracBits": f["fraction_bits"]}, [SIM_TOP], out, stem)
+    if stats is None:
+        return 1
     stats.update(unit=args.unit, format=args.format, exponent_bits=f["exponent_bits"],
-                 fraction_bits=f["fraction_bits"], synth_seconds=round(synth_seconds, 1))
+                 fraction_bits=f["fraction_bits"])
 
     # Every op of the unit through the netlist, with vectors from the C++ model.
     start = time.monotonic()
@@ -148,7 +177,52 @@ def synth(args) -> int:
     return 0
 
 
-def build_netlist_sim(args, out: pathlib.Path, stem: str, netlist: pathlib.Path) -> list | None:
+def synth_iu(args, formats: dict) -> int:
+    """Yosys synth of the intersection unit in one mode and format; the netlist then runs
+    args.vectors IU tests that iu_cosim captured from the functional tracer (Cornell box)."""
+    if args.isect not in ISECT_MODES or args.format not in formats:
+        print(f"flow.py: unknown mode or format; modes {ISECT_MODES}, formats {list(formats)}", file=sys.stderr)
+        return 2
+    f = formats[args.format]
+    out = pathlib.Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    unit = f"iu_{args.isect}"
+    stem = f"{unit}_{args.format}"
+    netlist = out / f"{stem}.v"
+    stats = yosys(args, "rpu_iu_cosim_top", {"ExpBits": f["exponent_bits"], "FracBits": f["fraction_bits"],
+                                             "IsectMode": isect_mode(args.isect)}, [IU_TOP], out, stem)
+    if stats is None:
+        return 1
+    stats.update(unit=unit, format=args.format, exponent_bits=f["exponent_bits"], fraction_bits=f["fraction_bits"])
+    start = time.monotonic()
+    simulate = build_netlist_sim(args, out, stem, netlist, IU_NETLIST_TB, "rpu_iu_netlist_tb", {})
+    if simulate is None:
+        return 1
+    stats.update(netlist_build_seconds=round(time.monotonic() - start, 1))
+    vectors = out / f"{stem}.vec"
+    r = run([args.cosim, "--format", args.format, "--isect", args.isect, "--scene", "cornell",
+             "--rays", 100000, "--write-vectors", vectors, "--vectors", args.vectors])
+    if r.returncode != 0:
+        print(f"synth FAIL: {args.cosim} --write-vectors:\n{r.stdout}{r.stderr}")
+        return 1
+    start = time.monotonic()
+    r = run([*simulate, f"+vectors={vectors}"])
+    text = r.stdout + r.stderr
+    if r.returncode != 0 or "netlist ok" not in text:
+        print(f"synth FAIL: netlist of {unit} in {args.format}:\n{text}")
+        return 1
+    total = int(re.search(r"netlist ok: (\d+) IU tests", text).group(1))
+    vectors.unlink()
+    stats.update(netlist_vectors=total, netlist_seconds=round(time.monotonic() - start, 1),
+                 netlist_simulator=args.sim)
+    (out / f"{stem}.json").write_text(json.dumps(stats, indent=1) + "\n")
+    print(f"synth ok: {unit} {args.format}: {stats['cells']} cells ({stats['flops']} flops), "
+          f"{stats.get('transistors', '?')} CMOS transistors; {total} netlist IU tests match")
+    return 0
+
+
+def build_netlist_sim(args, out: pathlib.Path, stem: str, netlist: pathlib.Path, tb: pathlib.Path = NETLIST_TB,
+                      tb_top: str = "rpu_fp_netlist_tb", params: dict | None = None) -> list | None:
     """Compiles the testbench with the netlist; returns the command that runs it.
 
     Verilator by default: Icarus is exact on Yosys netlists but event-driven, and the
@@ -157,14 +231,15 @@ def build_netlist_sim(args, out: pathlib.Path, stem: str, netlist: pathlib.Path)
     about 30 s to compile). Verilator 5.006 mis-simulated some netlists without
     splitnets (TOOLCHAIN.md); a mis-simulation shows up as a mismatch here.
     """
-    op_bits, tag_bits = port_widths()
+    if params is None:
+        op_bits, tag_bits = port_widths()
+        params = {"OpBits": op_bits, "TagBits": tag_bits}
     start = time.monotonic()
     if args.sim == "icarus":
-        tb = out / f"{stem}.vvp"
-        r = run([args.iverilog, "-g2012", "-o", tb, "-s", "rpu_fp_netlist_tb",
-                 f"-Prpu_fp_netlist_tb.OpBits={op_bits}", f"-Prpu_fp_netlist_tb.TagBits={tag_bits}",
-                 NETLIST_TB, netlist])
-        command = [args.vvp, "-n", tb]
+        vvp = out / f"{stem}.vvp"
+        r = run([args.iverilog, "-g2012", "-o", vvp, "-s", tb_top,
+                 *[f"-P{tb_top}.{k}={v}" for k, v in params.items()], tb, netlist])
+        command = [args.vvp, "-n", vvp]
     else:
         obj = out / f"{stem}.obj"
         shutil.rmtree(obj, ignore_errors=True)
@@ -174,11 +249,11 @@ def build_netlist_sim(args, out: pathlib.Path, stem: str, netlist: pathlib.Path)
         if shutil.which("ccache"):
             env["OBJCACHE"] = "ccache"
         r = run([args.verilator, "--binary", "-Wno-fatal", "-Wno-lint", "-Wno-style",
-                 "--x-assign", "unique", "--x-initial", "unique", "--top-module", "rpu_fp_netlist_tb",
-                 f"-GOpBits={op_bits}", f"-GTagBits={tag_bits}", "-Mdir", obj, "-j", "1",
-                 "-CFLAGS", "-O0", NETLIST_TB, netlist], env=env)
+                 "--x-assign", "unique", "--x-initial", "unique", "--top-module", tb_top,
+                 *[f"-G{k}={v}" for k, v in params.items()], "-Mdir", obj, "-j", "1",
+                 "-CFLAGS", "-O0", tb, netlist], env=env)
         # Registers and X start random but reproducible (STYLE.md 7).
-        command = [obj / "Vrpu_fp_netlist_tb", "+verilator+rand+reset+2", "+verilator+seed+1"]
+        command = [obj / f"V{tb_top}", "+verilator+rand+reset+2", "+verilator+seed+1"]
     if r.returncode != 0:
         print(f"synth FAIL: building the {args.sim} netlist simulation:\n{r.stdout[-3000:]}{r.stderr[-3000:]}")
         return None
@@ -211,7 +286,7 @@ def area(args) -> int:
         print("flow.py area: no synthesis results; run ctest -L synth first", file=sys.stderr)
         return 1
     used = [n for n in formats if any(k[1] == n for k in rows)]
-    print("# Area of the floating-point units\n")
+    print("# Area of the floating-point units and the intersection unit\n")
     print("Generated by `rtl/flow.py area` from the runs of `ctest --preset ci -L synth` (Debian's "
           "Yosys 0.23, `synth -flatten`, generic gates; `stat` cell counts, `stat -tech cmos` "
           "transistor estimates). Relative numbers, not a process: no timing, no technology "
@@ -220,7 +295,8 @@ def area(args) -> int:
     print("```sh\nctest --preset ci -L synth\npython3 rtl/flow.py area --from build/ci/sim/synth > docs/area.md\n```\n")
     print("| unit | " + " | ".join(f"{n} (E{formats[n]['exponent_bits']}M{formats[n]['fraction_bits']})" for n in used) + " |")
     print("|---|" + "---|" * len(used))
-    for u in units:
+    # The FP units, then the intersection unit per mode (it contains one of each FP unit).
+    for u in [*units, *({"name": f"iu_{m}"} for m in ISECT_MODES)]:
         cells = []
         for n in used:
             s = rows.get((u["name"], n))
@@ -230,7 +306,8 @@ def area(args) -> int:
           "the netlist simulation's build goes through ccache, so a netlist built before costs "
           "seconds, a new fp32 fma netlist about 30-40 s):\n")
     print("| unit | format | yosys s | netlist vectors | simulator | build s | simulation s |\n|---|---|---|---|---|---|---|")
-    order = {(u["name"], n): (i, j) for i, u in enumerate(units) for j, n in enumerate(formats)}
+    names = [u["name"] for u in units] + [f"iu_{m}" for m in ISECT_MODES]
+    order = {(u, n): (i, j) for i, u in enumerate(names) for j, n in enumerate(formats)}
     for (unit, fmt), s in sorted(rows.items(), key=lambda kv: order.get(kv[0], (99, 99))):
         print(f"| {unit} | {fmt} | {s['synth_seconds']} | {s['netlist_vectors']} | "
               f"{s.get('netlist_simulator', '?')} | {s.get('netlist_build_seconds', '-')} | {s['netlist_seconds']} |")
@@ -244,12 +321,14 @@ def main() -> int:
     p.add_argument("--verilator", default=shutil.which("verilator"))
     p.add_argument("--pkg", required=True, help="the generated rpu_pkg.sv")
     p = sub.add_parser("synth")
-    p.add_argument("--unit", required=True)
+    p.add_argument("--unit", required=True, help="an FP unit of spec/fp_units.toml, or iu")
+    p.add_argument("--isect", choices=ISECT_MODES, default="woop", help="with --unit iu: the intersection mode")
     p.add_argument("--format", required=True)
     p.add_argument("--pkg", required=True)
-    p.add_argument("--cosim", required=True, help="the fp_cosim binary (writes the vectors)")
+    p.add_argument("--cosim", required=True, help="the fp_cosim (or for iu, iu_cosim) binary: writes the vectors")
     p.add_argument("--out", required=True)
-    p.add_argument("--vectors", type=int, default=10000, help="random vectors, shared by the unit's ops")
+    p.add_argument("--vectors", type=int, default=10000,
+                   help="random vectors, shared by the unit's ops (iu: captured IU tests)")
     p.add_argument("--sim", choices=("verilator", "icarus"), default="verilator",
                    help="netlist simulator (default verilator; see build_netlist_sim)")
     p.add_argument("--verilator", default=shutil.which("verilator"))

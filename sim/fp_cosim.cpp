@@ -138,6 +138,7 @@ struct Options {
   std::uint64_t seed = 0;
   unsigned stall_percent = 6;
   bool quiet = false;
+  bool check_config = false;
 };
 
 std::uint64_t default_seed(const Options& o) {
@@ -174,6 +175,28 @@ int write_vectors(const Options& o, const OpChoice& op, Format f) {
   std::printf("fp_cosim: wrote %zu vectors for %s %s to %s\n", picked.size(), o.op.c_str(),
               o.format.c_str(), o.write_vectors.c_str());
   return out ? 0 : 2;
+}
+
+// spec/configs.toml's [config.latency] for every configuration in this format: fpu for
+// the fma and misc units, sfu for div, rcp and sqrt, rsq for rsqrt. The smallest latency
+// of a run is the unit's (stalls only add).
+int check_config(const Options& o, const OpChoice& op, std::uint64_t latency) {
+  int failures = 0;
+  for (const spec::HardwareConfig& c : spec::kConfigs) {
+    if (c.format != o.format) continue;
+    const char* field = op.spec->unit != "divsqrt" ? "fpu" : o.op == "rsqrt" ? "rsq" : "sfu";
+    const int want = op.spec->unit != "divsqrt" ? c.latency.fpu : o.op == "rsqrt" ? c.latency.rsq : c.latency.sfu;
+    const bool ok = static_cast<std::uint64_t>(want) == latency;
+    std::printf("%s config %.*s: [config.latency] %s = %d; RTL %s latency %" PRIu64 "\n", ok ? "ok  " : "FAIL",
+                static_cast<int>(c.name.size()), c.name.data(), field, want, o.op.c_str(), latency);
+    failures += ok ? 0 : 1;
+  }
+  if (failures > 0) {
+    std::fprintf(stderr, "cosim FAIL: spec/configs.toml disagrees with the RTL's measured latency; set "
+                         "[config.latency] to the RTL's number above\n");
+    return 1;
+  }
+  return 0;
 }
 
 int run(const Options& o, const OpChoice& op, Format f) {
@@ -283,7 +306,7 @@ int run(const Options& o, const OpChoice& op, Format f) {
               o.unit.c_str(), o.op.c_str(), o.format.c_str(), f.name().c_str(), checked, source.edge_count(), cycle,
               seconds, static_cast<double>(checked) / seconds, static_cast<double>(cycle) / seconds, min_latency,
               max_latency, o.stall_percent);
-  return 0;
+  return o.check_config ? check_config(o, op, min_latency) : 0;
 }
 
 }  // namespace
@@ -303,6 +326,8 @@ int main(int argc, char** argv) {
   app.add_option("--write-vectors", o.write_vectors, "write vectors and the model's results for the netlist testbench");
   app.add_option("--edge-limit", o.edge_limit, "with --write-vectors: at most this many edge vectors (0: all)")
       ->check(CLI::NonNegativeNumber);
+  app.add_flag("--check-config", o.check_config,
+               "fail unless spec/configs.toml's [config.latency] for this format equals the measured latency");
   CLI11_PARSE(app, argc, argv);
   try {
     const OpChoice op = find_op(o.op);

@@ -130,7 +130,7 @@ class CycleDevice final : public device::DeviceBase {
   std::vector<TraceLog> spare_logs_;
   std::priority_queue<Event, std::vector<Event>, std::greater<>> events_;
   std::uint64_t seq_ = 0;
-  Cycle setup_cycles_ = 0, iu_latency_ = 0;
+  Cycle setup_cycles_ = 0, iu_latency_ = 0, iu_interval_ = 0;
   std::uint64_t rounds_done_ = 0, rounds_total_ = 0;
   const ProgressCallback* progress_ = nullptr;
   std::vector<functional::ShaderCore::Lane> lanes_;
@@ -405,10 +405,9 @@ void CycleDevice::tu_event(std::uint32_t u, Cycle now) {
       auto iu = std::min_element(ius_.begin(), ius_.end(),
                                  [](const Iu& a, const Iu& b) { return a.next_accept < b.next_accept; });
       const Cycle accept = std::max(fetched, iu->next_accept);
-      const auto interval = static_cast<Cycle>(config_.iu.interval);
-      iu->next_accept = accept + interval;
+      iu->next_accept = accept + iu_interval_;
       ++iu->time.tests;
-      iu->time.busy += interval;
+      iu->time.busy += iu_interval_;
       next = accept + iu_latency_;
       tu.time.wait_iu += next - fetched;
       ++tu.time.tests;
@@ -492,6 +491,7 @@ void CycleDevice::run(const ProgressCallback& progress) {
   const bool watertight = layout_.isect_mode == IsectMode::kWatertight;
   setup_cycles_ = static_cast<Cycle>(watertight ? config_.tu.setup_watertight : config_.tu.setup_woop);
   iu_latency_ = static_cast<Cycle>(watertight ? config_.iu.watertight : config_.iu.woop);
+  iu_interval_ = static_cast<Cycle>(watertight ? config_.iu.interval_watertight : config_.iu.interval_woop);
   progress_ = &progress;
   rounds_done_ = 0;
   rounds_total_ = (pixels() + static_cast<std::uint64_t>(config_.chunk_size) - 1) /
@@ -594,7 +594,7 @@ void CycleDevice::finish(Cycle end) {
   out_.bounds = {
       {"shader cores (issue)", static_cast<double>(issues) / config_.shader_cores},
       {"traversal units", tu_cycles / config_.traversal_units},
-      {"intersection units", static_cast<double>(tests) * config_.iu.interval / config_.intersection_units},
+      {"intersection units", static_cast<double>(tests) * static_cast<double>(iu_interval_) / config_.intersection_units},
       {"DRAM bus", static_cast<double>(out_.dram.bus_cycles)},
   };
   std::stable_sort(out_.bounds.begin(), out_.bounds.end(), [](const Bound& a, const Bound& b) { return a.cycles > b.cycles; });

@@ -1,7 +1,9 @@
 #pragma once
 
 #include <array>
+#include <bit>
 #include <cstdint>
+#include <utility>
 
 #include "functional/trace_types.hpp"
 
@@ -23,6 +25,38 @@ struct RayRegisters {
   int kx = 0, ky = 1, kz = 2;
   V shear_x, shear_y, shear_z;
 };
+
+// §1 Ray set-up: rounds the ray into the format, and for the watertight test picks the
+// axes and the shear. Returns false for a defined miss (a NaN or infinite component, a
+// zero direction or an empty interval), which fetches nothing.
+template <class Arith>
+bool setup_ray(const Arith& ar, const TraceRay& in, bool watertight, RayRegisters<Arith>& ray) {
+  using V = typename Arith::Value;
+  bool valid = true;
+  bool zero_direction = true;
+  const V infinity = ar.load(0x7f800000u);
+  for (int i = 0; i < 3; ++i) {
+    ray.origin[i] = ar.load(std::bit_cast<std::uint32_t>(in.origin[i]));
+    ray.direction[i] = ar.load(std::bit_cast<std::uint32_t>(in.direction[i]));
+    valid = valid && ar.lt(ar.abs(ray.origin[i]), infinity) && ar.lt(ar.abs(ray.direction[i]), infinity);
+    zero_direction = zero_direction && ar.eq(ray.direction[i], ar.zero());
+  }
+  ray.t_min = ar.load(std::bit_cast<std::uint32_t>(in.t_min));
+  ray.t_max = ar.load(std::bit_cast<std::uint32_t>(in.t_max));
+  if (!valid || zero_direction || !ar.lt(ray.t_min, ray.t_max)) return false;
+  for (int i = 0; i < 3; ++i) ray.inv_direction[i] = ar.rcp(ray.direction[i]);
+  if (watertight) {
+    const V ax = ar.abs(ray.direction[0]), ay = ar.abs(ray.direction[1]), az = ar.abs(ray.direction[2]);
+    ray.kz = ar.le(ay, ax) && ar.le(az, ax) ? 0 : (ar.le(az, ay) ? 1 : 2);
+    ray.kx = (ray.kz + 1) % 3;
+    ray.ky = (ray.kx + 1) % 3;
+    if (ar.lt(ray.direction[ray.kz], ar.zero())) std::swap(ray.kx, ray.ky);
+    ray.shear_x = ar.div(ray.direction[ray.kx], ray.direction[ray.kz]);
+    ray.shear_y = ar.div(ray.direction[ray.ky], ray.direction[ray.kz]);
+    ray.shear_z = ar.rcp(ray.direction[ray.kz]);
+  }
+  return true;
+}
 
 template <class Arith>
 struct UnitHit {

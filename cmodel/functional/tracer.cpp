@@ -37,12 +37,25 @@ struct StackEntry {
 constexpr int kMaxStackDepth = 64;
 
 // What trace_with reports of the walk: nothing on the plain path, the events with a log.
+// test() sees each IU test with its inputs and result.
 struct NoRecorder {
   void operator()(TraceEvent::Kind, std::uint32_t) const {}
+  template <class Arith, class V>
+  void test(const RayRegisters<Arith>&, const std::array<std::uint32_t, kRecordWords>&, V, bool,
+            const UnitHit<Arith>&) const {}
 };
-struct LogRecorder {
+struct LogRecorder : NoRecorder {
   TraceLog& log;
+  explicit LogRecorder(TraceLog& l) : log(l) {}
   void operator()(TraceEvent::Kind kind, std::uint32_t address) const { log.events.push_back({kind, address}); }
+};
+struct IuRecorder : NoRecorder {
+  std::vector<IuTest>& tests;
+  explicit IuRecorder(std::vector<IuTest>& t) : tests(t) {}
+  void test(const RayRegisters<SoftArith>& ray, const std::array<std::uint32_t, kRecordWords>& record,
+            std::uint32_t t_best, bool found, const UnitHit<SoftArith>& hit) const {
+    tests.push_back({ray, record, t_best, found, found ? hit : UnitHit<SoftArith>{0, 0, 0}});
+  }
 };
 }  // namespace
 
@@ -78,6 +91,12 @@ TraceHit Tracer::trace(const TraceRay& ray, TraceMode mode, TraceLog& log) const
   return trace_with(SoftArith{format_}, ray, mode, recorder);
 }
 
+TraceHit Tracer::trace(const TraceRay& ray, TraceMode mode, std::vector<IuTest>& tests) const {
+  tests.clear();
+  IuRecorder recorder{tests};
+  return trace_with(SoftArith{format_}, ray, mode, recorder);
+}
+
 void Tracer::trace(std::span<const TraceRay> rays, TraceMode mode, std::span<TraceHit> out) const {
   NoRecorder none;
   if (fast_) {
@@ -95,34 +114,10 @@ TraceHit Tracer::trace_with(const Arith& ar, const TraceRay& in, TraceMode mode,
   using V = typename Arith::Value;
   TraceHit result;
 
-  // §1 Ray set-up: round into the format; a ray with a NaN or infinite component, a
-  // zero direction or an empty interval is a miss that fetches nothing.
-  RayRegisters<Arith> ray;
-  bool valid = true;
-  bool zero_direction = true;
-  const V infinity = ar.load(0x7f800000u);
-  for (int i = 0; i < 3; ++i) {
-    ray.origin[i] = ar.load(std::bit_cast<std::uint32_t>(in.origin[i]));
-    ray.direction[i] = ar.load(std::bit_cast<std::uint32_t>(in.direction[i]));
-    valid = valid && ar.lt(ar.abs(ray.origin[i]), infinity) && ar.lt(ar.abs(ray.direction[i]), infinity);
-    zero_direction = zero_direction && ar.eq(ray.direction[i], ar.zero());
-  }
-  ray.t_min = ar.load(std::bit_cast<std::uint32_t>(in.t_min));
-  ray.t_max = ar.load(std::bit_cast<std::uint32_t>(in.t_max));
-  if (!valid || zero_direction || !ar.lt(ray.t_min, ray.t_max)) return result;
-  for (int i = 0; i < 3; ++i) ray.inv_direction[i] = ar.rcp(ray.direction[i]);
-
+  // §1 Ray set-up (intersection_unit.hpp).
   const bool watertight = layout_.isect_mode == IsectMode::kWatertight;
-  if (watertight) {
-    const V ax = ar.abs(ray.direction[0]), ay = ar.abs(ray.direction[1]), az = ar.abs(ray.direction[2]);
-    ray.kz = ar.le(ay, ax) && ar.le(az, ax) ? 0 : (ar.le(az, ay) ? 1 : 2);
-    ray.kx = (ray.kz + 1) % 3;
-    ray.ky = (ray.kx + 1) % 3;
-    if (ar.lt(ray.direction[ray.kz], ar.zero())) std::swap(ray.kx, ray.ky);
-    ray.shear_x = ar.div(ray.direction[ray.kx], ray.direction[ray.kz]);
-    ray.shear_y = ar.div(ray.direction[ray.ky], ray.direction[ray.kz]);
-    ray.shear_z = ar.rcp(ray.direction[ray.kz]);
-  }
+  RayRegisters<Arith> ray;
+  if (!setup_ray(ar, in, watertight, ray)) return result;
 
   // §2 Clip to the scene box. The near and far plane of each axis are chosen by the
   // sign of 1/d (so +0 and -0 pick opposite planes); a NaN from 0 * inf (origin on a
@@ -191,6 +186,7 @@ TraceHit Tracer::trace_with(const Arith& ar, const TraceRay& in, TraceMode mode,
       UnitHit<Arith> hit;
       const bool found = watertight ? intersect_watertight(ar, ray, words, t_best, hit)
                                     : intersect_woop(ar, ray, words, t_best, hit);
+      record.test(ray, words, t_best, found, hit);
       if (!found) continue;
       t_best = hit.t;
       result.hit = true;

@@ -5,6 +5,8 @@
 #include <vector>
 
 #include "fp/format.hpp"
+#include "functional/arith.hpp"
+#include "functional/intersection_unit.hpp"
 #include "functional/trace_types.hpp"
 #include "memory/memory_image.hpp"
 
@@ -27,6 +29,17 @@ struct TraceEvent {
   std::uint32_t address;
 };
 
+// One intersection-unit test as the unit sees it, in the format (SoftArith bits): the
+// ray registers, the record's words as read from the image, t_best, and the result
+// (t, u, v zero on a miss). What the RTL intersection unit is compared with.
+struct IuTest {
+  RayRegisters<SoftArith> ray;
+  std::array<std::uint32_t, 12> record;
+  std::uint32_t t_best;
+  bool hit;
+  UnitHit<SoftArith> result;
+};
+
 struct TraceLog {
   std::vector<TraceEvent> events;
   TraceMode mode = TraceMode::kClosest;
@@ -43,6 +56,10 @@ class Tracer {
   // also records the walk (the result is the same).
   TraceHit trace(const TraceRay& ray, TraceMode mode) const;
   TraceHit trace(const TraceRay& ray, TraceMode mode, TraceLog& log) const;
+
+  // With `tests`, also records every IU test of the walk (always on SoftArith, also for
+  // fp32: bit for bit the same result). For the RTL co-simulation (sim/iu_cosim.cpp).
+  TraceHit trace(const TraceRay& ray, TraceMode mode, std::vector<IuTest>& tests) const;
 
   // Many rays at once; out.size() must equal rays.size().
   void trace(std::span<const TraceRay> rays, TraceMode mode, std::span<TraceHit> out) const;

@@ -1,0 +1,90 @@
+# The intersection unit (docs/rtl.md, "Intersection unit"), included by sim/CMakeLists.txt:
+# one Verilated rpu_iu per intersection mode for fp32 and rpu24 (the formats of the
+# spec's configurations) when they are co-simulated, and iu_cosim, which compares it
+# with the functional tracer's IU tests.
+set(rpu_iu_model_includes "")
+set(rpu_iu_model_entries "")
+set(rpu_iu_cases)
+set(rpu_iu_isect_woop 0)
+set(rpu_iu_isect_watertight 1)
+foreach(line IN LISTS rpu_format_lines)
+  if(NOT line)
+    continue()
+  endif()
+  string(REPLACE " " ";" fields "${line}")
+  list(GET fields 0 format)
+  list(GET fields 1 exponent_bits)
+  list(GET fields 2 fraction_bits)
+  if(NOT format IN_LIST rpu_cosim_formats OR NOT format MATCHES "^(fp32|rpu24)$")
+    continue()
+  endif()
+  foreach(isect woop watertight)
+    set(prefix Viu_${format}_${isect})
+    if(NOT TARGET rpu_iu_rtl_models)
+      add_library(rpu_iu_rtl_models STATIC ${CMAKE_CURRENT_BINARY_DIR}/iu_models.cpp)
+      target_include_directories(rpu_iu_rtl_models PUBLIC ${CMAKE_CURRENT_SOURCE_DIR})
+      add_dependencies(rpu_iu_rtl_models rpu_spec_generate)
+    endif()
+    verilate(rpu_iu_rtl_models
+      PREFIX ${prefix}
+      TOP_MODULE rpu_iu_cosim_top
+      SOURCES ${PROJECT_SOURCE_DIR}/rtl/lint.vlt ${RPU_SPEC_SV} ${rpu_rtl_sources}
+              ${CMAKE_CURRENT_SOURCE_DIR}/rpu_iu_cosim_top.sv
+      TRACE_FST
+      VERILATOR_ARGS --x-assign unique --x-initial unique
+                     -GExpBits=${exponent_bits} -GFracBits=${fraction_bits} -GIsectMode=${rpu_iu_isect_${isect}}
+      OPT_FAST -O2 OPT_SLOW -O1 OPT_GLOBAL -O2)
+    string(APPEND rpu_iu_model_includes "#include \"${prefix}.h\"\n")
+    string(APPEND rpu_iu_model_entries "    {\"${format}\", \"${isect}\", &make<${prefix}>},\n")
+    list(APPEND rpu_iu_cases "${format} ${isect}")
+  endforeach()
+endforeach()
+if(NOT rpu_iu_cases)
+  return()  # neither fp32 nor rpu24 is co-simulated (RPU_COSIM_FORMATS)
+endif()
+configure_file(iu_models.cpp.in ${CMAKE_CURRENT_BINARY_DIR}/iu_models.cpp @ONLY)
+
+add_executable(iu_cosim iu_cosim.cpp)
+target_link_libraries(iu_cosim PRIVATE rpu_iu_rtl_models rpu_test_support CLI11::CLI11 rpu_flags)
+
+# CI: a thousand camera and random rays per scene; `slow`: the issue's 10^5 per kind.
+# cosim.iu.timing.*: the measured latency and interval against spec/configs.toml.
+foreach(case IN LISTS rpu_iu_cases)
+  string(REPLACE " " ";" case "${case}")
+  list(GET case 0 format)
+  list(GET case 1 isect)
+  set(scenes --scene cornell --scene balls:2 --scene ${PROJECT_SOURCE_DIR}/scenes/bunny.json)
+  add_test(NAME cosim.iu.${format}.${isect}
+           COMMAND iu_cosim --format ${format} --isect ${isect} ${scenes} --rays 1000)
+  set_tests_properties(cosim.iu.${format}.${isect} PROPERTIES LABELS cosim TIMEOUT 900)
+  add_test(NAME cosim.iu.timing.${format}.${isect}
+           COMMAND iu_cosim --format ${format} --isect ${isect} --scene cornell --rays 10 --check-config)
+  set_tests_properties(cosim.iu.timing.${format}.${isect} PROPERTIES LABELS cosim TIMEOUT 300)
+  add_test(NAME slow.cosim.iu.${format}.${isect}
+           COMMAND iu_cosim --format ${format} --isect ${isect} ${scenes} --rays 100000)
+  set_tests_properties(slow.cosim.iu.${format}.${isect} PROPERTIES LABELS slow TIMEOUT 14400)
+endforeach()
+
+# Synthesis of the IU in both modes with Yosys, each netlist simulated against 10^4 IU
+# tests captured from the functional tracer (rtl/flow.py synth --unit iu). Woop in fp16
+# in the `synth` label; the rest take minutes each (docs/rtl.md) and run under `slow`.
+find_program(RPU_YOSYS yosys)
+if(RPU_YOSYS)
+  foreach(isect woop watertight)
+    foreach(format fp16 rpu24 fp32)
+      if(format STREQUAL "fp16" AND isect STREQUAL "woop")
+        set(name synth.iu_${isect}.${format})
+        set(label synth)
+      else()
+        set(name slow.synth.iu_${isect}.${format})
+        set(label slow)
+      endif()
+      add_test(NAME ${name}
+        COMMAND Python3::Interpreter ${PROJECT_SOURCE_DIR}/rtl/flow.py synth
+                --unit iu --isect ${isect} --format ${format} --pkg ${RPU_SPEC_SV}
+                --cosim $<TARGET_FILE:iu_cosim> --out ${CMAKE_CURRENT_BINARY_DIR}/synth --vectors 10000
+                --yosys ${RPU_YOSYS} --verilator ${VERILATOR_BIN})
+      set_tests_properties(${name} PROPERTIES LABELS ${label} TIMEOUT 3600)
+    endforeach()
+  endforeach()
+endif()

@@ -1,0 +1,469 @@
+// Co-simulation of the RTL intersection unit (rtl/rpu_iu.sv) against the functional
+// model (docs/rtl.md, "Intersection unit"). The golden tracer traces camera, random and
+// shadow rays (any-hit, toward a light) over each scene with SoftArith in the format and
+// reports every IU test of each walk: the ray registers, the record as read from the
+// memory image, t_best and the result. Each test goes through the unit's valid/ready
+// port with random stalls on both sides; responses are paired with their request by tag
+// and hit, t, u, v compared bit for bit. The first mismatch stops the run and prints
+// the inputs, both outputs and the cycle.
+//
+//   iu_cosim --format fp32 --isect woop --scene cornell [--scene ...] [--rays N] [--seed S]
+//            [--trace FILE.fst] [--check-config] [--write-vectors FILE --vectors N]
+#include <CLI/CLI.hpp>
+
+#include <algorithm>
+#include <bit>
+#include <chrono>
+#include <cinttypes>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <deque>
+#include <fstream>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "fp/format.hpp"
+#include "fp/soft.hpp"
+#include "functional/scene_image.hpp"
+#include "functional/tracer.hpp"
+#include "iu_model.hpp"
+#include "rpu/spec.hpp"
+#include "scene/geometry.hpp"
+#include "scene/resolve.hpp"
+#include "trace_fixtures.hpp"
+
+namespace rpu::sim {
+namespace {
+
+using functional::IuTest;
+using functional::TraceHit;
+using functional::TraceMode;
+using functional::TraceRay;
+
+struct Options {
+  std::string format, isect, trace, write_vectors;
+  std::vector<std::string> scenes;
+  int rays = 1000;  // per kind and scene
+  std::int64_t vectors = 10000;
+  std::uint64_t seed = 1;
+  unsigned stall_percent = 6;
+  bool check_config = false;
+};
+
+// One IU test and where it came from, for the failure report.
+struct Transaction {
+  IuTest test;
+  std::string where;
+};
+
+// Camera, random and shadow rays of one scene, traced by the golden model; every IU test
+// of every walk becomes a transaction, in walk order.
+class TransactionSource {
+ public:
+  TransactionSource(const Options& o, fp::Format f, IsectMode mode) : options_(o), format_(f), mode_(mode) {}
+
+  // Appends the next ray's tests to `out`; false when every scene is done.
+  bool next(std::deque<Transaction>& out) {
+    while (true) {
+      if (!tracer_) {
+        if (scene_index_ >= options_.scenes.size()) return false;
+        load(options_.scenes[scene_index_]);
+      }
+      if (ray_index_ < rays_.size()) break;
+      if (kind_ == 0) {  // camera rays done: their shadow rays next
+        rays_ = std::move(shadow_);
+        shadow_.clear();
+        kind_ = 1;
+      } else if (kind_ == 1) {
+        rays_ = test::random_rays(scene_.scene, options_.rays, static_cast<std::uint32_t>(options_.seed));
+        kind_ = 2;
+      } else {
+        tracer_.reset();
+        ++scene_index_;
+        continue;
+      }
+      ray_index_ = 0;
+    }
+    const TraceRay& ray = rays_[ray_index_];
+    const TraceMode mode = kind_ == 1 ? TraceMode::kAny : TraceMode::kClosest;
+    const TraceHit hit = tracer_->trace(ray, mode, tests_);
+    if (kind_ == 0 && hit.hit) shadow_.push_back(shadow_ray(ray, hit));
+    static constexpr const char* kKinds[] = {"camera", "shadow", "random"};
+    for (std::size_t k = 0; k < tests_.size(); ++k) {
+      char where[160];
+      std::snprintf(where, sizeof where, "scene %s, %s ray %zu, IU test %zu of its walk",
+                    options_.scenes[scene_index_].c_str(), kKinds[kind_], ray_index_, k);
+      out.push_back({tests_[k], where});
+    }
+    ++rays_traced_;
+    ++ray_index_;
+    return true;
+  }
+
+  std::int64_t rays_traced() const { return rays_traced_; }
+
+ private:
+  void load(const std::string& name) {
+    scene_.scene = resolve_scene(name);
+    KdBuildConfig build;
+    build.format = format_;
+    scene_.image = functional::make_scene_image(scene_.scene, build, mode_);
+    tracer_ = std::make_unique<functional::Tracer>(scene_.image.image.bytes, scene_.image.layout, format_,
+                                                   build.stack_depth, false);
+    const int side = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(options_.rays))));
+    rays_ = test::camera_rays(scene_.scene, side, side);
+    rays_.resize(static_cast<std::size_t>(options_.rays));
+    kind_ = 0;
+    ray_index_ = 0;
+    shadow_.clear();
+    light_ = light_position(scene_.scene);
+  }
+
+  static glm::dvec3 light_position(const Scene& s) {
+    const Bounds b = scene_bounds(s);
+    for (const Light& l : s.lights) {
+      if (l.kind == LightKind::kPoint) return l.position;
+      if (l.kind == LightKind::kArea) return l.position + 0.5 * (l.edge_u + l.edge_v);
+    }
+    // No point or area light: a point above the scene's box.
+    return 0.5 * (b.lo + b.hi) + glm::dvec3(0.0, b.hi.y - b.lo.y, 0.0);
+  }
+
+  // From the camera ray's hit toward the light, any hit in (1e-3, 1) of the segment.
+  TraceRay shadow_ray(const TraceRay& r, const TraceHit& h) const {
+    const glm::dvec3 o(r.origin[0], r.origin[1], r.origin[2]), d(r.direction[0], r.direction[1], r.direction[2]);
+    const glm::dvec3 p = o + static_cast<double>(h.t) * d;
+    TraceRay s = test::make_ray(p, light_ - p, 1e-3f);
+    s.t_max = 1.0f;
+    return s;
+  }
+
+  const Options& options_;
+  fp::Format format_;
+  IsectMode mode_;
+  struct {
+    Scene scene;
+    functional::SceneImage image;
+  } scene_;
+  std::unique_ptr<functional::Tracer> tracer_;
+  std::vector<TraceRay> rays_, shadow_;
+  std::vector<IuTest> tests_;
+  glm::dvec3 light_{0.0};
+  std::size_t scene_index_ = 0, ray_index_ = 0;
+  int kind_ = 0;
+  std::int64_t rays_traced_ = 0;
+};
+
+IuInputs request_of(const IuTest& t, std::uint32_t tag) {
+  IuInputs in;
+  in.tag = tag;
+  for (int i = 0; i < 3; ++i) {
+    in.origin[i] = t.ray.origin[i];
+    in.direction[i] = t.ray.direction[i];
+  }
+  in.t_min = t.ray.t_min;
+  in.t_best = t.t_best;
+  in.kx = static_cast<std::uint32_t>(t.ray.kx);
+  in.ky = static_cast<std::uint32_t>(t.ray.ky);
+  in.kz = static_cast<std::uint32_t>(t.ray.kz);
+  in.shear = {t.ray.shear_x, t.ray.shear_y, t.ray.shear_z};
+  in.record = t.record;
+  return in;
+}
+
+std::string value(fp::Format f, std::uint32_t bits) {
+  char text[64];
+  std::snprintf(text, sizeof text, "0x%0*" PRIx32 " (%.9g)", (f.width() + 3) / 4, bits,
+                std::bit_cast<float>(fp::soft::to_fp32(f, bits & f.all_bits())));
+  return text;
+}
+
+void print_failure(const char* what, fp::Format f, std::uint64_t cycle, const Transaction& x, std::uint32_t tag,
+                   const IuOutputs& got) {
+  const IuTest& t = x.test;
+  std::fprintf(stderr, "iu cosim FAIL: %s at cycle %" PRIu64 ", %s, format %s\n", what, cycle, x.where.c_str(),
+               f.name().c_str());
+  for (int i = 0; i < 3; ++i) {
+    std::fprintf(stderr, "  origin[%d] = %s  direction[%d] = %s\n", i, value(f, t.ray.origin[i]).c_str(), i,
+                 value(f, t.ray.direction[i]).c_str());
+  }
+  std::fprintf(stderr, "  t_min = %s  t_best = %s\n", value(f, t.ray.t_min).c_str(), value(f, t.t_best).c_str());
+  std::fprintf(stderr, "  kx ky kz = %d %d %d  shear = %s %s %s\n", t.ray.kx, t.ray.ky, t.ray.kz,
+               value(f, t.ray.shear_x).c_str(), value(f, t.ray.shear_y).c_str(), value(f, t.ray.shear_z).c_str());
+  for (int i = 0; i < 12; i += 4) {
+    std::fprintf(stderr, "  record[%2d..%2d] = %08" PRIx32 " %08" PRIx32 " %08" PRIx32 " %08" PRIx32 "\n", i, i + 3,
+                 t.record[i], t.record[i + 1], t.record[i + 2], t.record[i + 3]);
+  }
+  std::fprintf(stderr, "  expected (functional) tag 0x%02" PRIx32 " hit %d t %s u %s v %s\n", tag, t.hit ? 1 : 0,
+               value(f, t.result.t).c_str(), value(f, t.result.u).c_str(), value(f, t.result.v).c_str());
+  std::fprintf(stderr, "  actual   (rtl)        tag 0x%02" PRIx32 " hit %d t %s u %s v %s\n", got.tag,
+               got.hit ? 1 : 0, value(f, got.t).c_str(), value(f, got.u).c_str(), value(f, got.v).c_str());
+}
+
+// The netlist testbench's input (sim/rpu_iu_netlist_tb.sv): a header with the count,
+// then per test 30 hex words: origin, direction, t_min, t_best, kx, ky, kz, shear,
+// record, then the expected hit, t, u, v.
+int write_vectors(const Options& o, TransactionSource& source) {
+  std::deque<Transaction> queue;
+  std::vector<std::string> lines;
+  while (static_cast<std::int64_t>(lines.size()) < o.vectors) {
+    if (queue.empty() && !source.next(queue)) break;
+    while (!queue.empty() && static_cast<std::int64_t>(lines.size()) < o.vectors) {
+      const IuInputs in = request_of(queue.front().test, 0);
+      const IuTest& t = queue.front().test;
+      std::string line;
+      char word[16];
+      const auto put = [&](std::uint32_t w) {
+        std::snprintf(word, sizeof word, "%08" PRIx32 " ", w);
+        line += word;
+      };
+      for (std::uint32_t w : in.origin) put(w);
+      for (std::uint32_t w : in.direction) put(w);
+      for (std::uint32_t w : {in.t_min, in.t_best, in.kx, in.ky, in.kz}) put(w);
+      for (std::uint32_t w : in.shear) put(w);
+      for (std::uint32_t w : in.record) put(w);
+      for (std::uint32_t w : {std::uint32_t{t.hit}, t.result.t, t.result.u, t.result.v}) put(w);
+      line.back() = '\n';
+      lines.push_back(line);
+      queue.pop_front();
+    }
+  }
+  std::ofstream out(o.write_vectors);
+  out << lines.size() << "\n";
+  for (const std::string& l : lines) out << l;
+  std::printf("iu_cosim: wrote %zu IU tests to %s\n", lines.size(), o.write_vectors.c_str());
+  return out ? 0 : 2;
+}
+
+struct Pending {
+  Transaction x;
+  std::uint32_t tag;
+  std::uint64_t accepted;  // cycle of the request transfer
+};
+
+// Latency (request transfer to the first cycle of rsp_valid) and interval (cycles between
+// request transfers with req_valid and rsp_ready always high), from a burst of tests.
+struct Timing {
+  std::uint64_t latency = 0, interval = 0;
+};
+
+Timing measure_timing(IuModel& model, const std::vector<Transaction>& burst) {
+  IuInputs in;
+  in.rst_n = true;
+  in.rsp_ready = true;
+  Timing timing;
+  std::uint64_t last_accept = 0;
+  std::size_t next = 0, done = 0;
+  std::deque<std::uint64_t> accepted;
+  for (std::uint64_t cycle = 0; done < burst.size() && cycle < 100000; ++cycle) {
+    if (next < burst.size()) {
+      in = request_of(burst[next].test, static_cast<std::uint32_t>(next));
+      in.rst_n = true;
+      in.rsp_ready = true;
+    }
+    in.req_valid = next < burst.size();
+    const IuOutputs out = model.settle(in);
+    if (out.rsp_valid) {
+      timing.latency = std::max(timing.latency, cycle - accepted.front());
+      accepted.pop_front();
+      ++done;
+    }
+    if (in.req_valid && out.req_ready) {
+      if (next > 0) timing.interval = std::max(timing.interval, cycle - last_accept);
+      last_accept = cycle;
+      accepted.push_back(cycle);
+      ++next;
+    }
+    model.clock();
+  }
+  return timing;
+}
+
+int run(const Options& o, fp::Format f, TransactionSource& source) {
+  std::unique_ptr<IuModel> model = make_iu_model(o.format, o.isect, o.seed);
+  if (!model) {
+    std::fprintf(stderr, "iu_cosim: no model for format %s, isect %s; built:", o.format.c_str(), o.isect.c_str());
+    for (const IuModelName& n : iu_models()) std::fprintf(stderr, " %s/%s", n.format.c_str(), n.isect.c_str());
+    std::fprintf(stderr, "\n");
+    return 2;
+  }
+  if (!o.trace.empty()) model->trace(o.trace);
+
+  std::mt19937_64 rng(o.seed ^ 0x5bd1e995u);
+  const auto percent = [&rng] { return static_cast<unsigned>(rng() % 100); };
+  const std::uint32_t tag_mask = (1u << spec::kFpTagBits) - 1;
+  constexpr std::uint64_t kTimeout = 1000;
+
+  IuInputs in;
+  for (int i = 0; i < 4; ++i) {  // reset
+    model->settle(in);
+    model->clock();
+  }
+
+  std::deque<Transaction> queue;
+  std::deque<Pending> pending;
+  std::vector<Transaction> burst;  // the first tests again, for the timing burst
+  std::int64_t sent = 0, checked = 0, hits = 0;
+  std::uint64_t cycle = 0, last_progress = 0;
+  std::uint64_t min_latency = ~std::uint64_t{0}, max_latency = 0;
+  bool have_current = false;
+  Transaction current;
+  std::uint32_t current_tag = 0;
+  const auto start = std::chrono::steady_clock::now();
+
+  while (true) {
+    if (!have_current) {
+      while (queue.empty() && source.next(queue)) {
+      }
+      if (!queue.empty()) {
+        current = std::move(queue.front());
+        queue.pop_front();
+        current_tag = static_cast<std::uint32_t>(sent) & tag_mask;
+        have_current = true;
+        if (burst.size() < 16) burst.push_back(current);
+      }
+    }
+    if (!have_current && pending.empty()) break;
+    if (have_current) in = request_of(current.test, current_tag);
+    in.rst_n = true;
+    in.req_valid = have_current && percent() >= o.stall_percent;
+    in.rsp_ready = percent() >= o.stall_percent;
+    const IuOutputs out = model->settle(in);
+
+    if (out.rsp_valid && !pending.empty()) {
+      // Fixed latency: the response is first valid exactly `latency` cycles after the
+      // request (a stall of rsp_ready only holds it).
+      Pending& p = pending.front();
+      if (p.accepted != ~std::uint64_t{0}) {
+        const std::uint64_t latency = cycle - p.accepted;
+        min_latency = std::min(min_latency, latency);
+        max_latency = std::max(max_latency, latency);
+        p.accepted = ~std::uint64_t{0};
+      }
+    }
+    if (out.rsp_valid && in.rsp_ready) {
+      if (pending.empty()) {
+        std::fprintf(stderr, "iu cosim FAIL: cycle %" PRIu64 ": a response (tag 0x%" PRIx32 ") with no request\n",
+                     cycle, out.tag);
+        return 1;
+      }
+      const Pending p = std::move(pending.front());
+      pending.pop_front();
+      const IuTest& t = p.x.test;
+      const bool same = out.tag == p.tag && out.hit == t.hit &&
+                        (!t.hit || (out.t == t.result.t && out.u == t.result.u && out.v == t.result.v)) &&
+                        (t.hit || (out.t == 0 && out.u == 0 && out.v == 0));
+      if (!same) {
+        print_failure("mismatch", f, cycle, p.x, p.tag, out);
+        return 1;
+      }
+      hits += t.hit ? 1 : 0;
+      ++checked;
+      last_progress = cycle;
+    }
+    if (in.req_valid && out.req_ready) {
+      pending.push_back({std::move(current), current_tag, cycle});
+      have_current = false;
+      ++sent;
+    }
+    if (!pending.empty() && cycle - last_progress > kTimeout) {
+      print_failure("no response for 1000 cycles", f, cycle, pending.front().x, pending.front().tag, out);
+      return 1;
+    }
+    if (pending.empty()) last_progress = cycle;
+    model->clock();
+    ++cycle;
+  }
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (checked == 0) {
+    std::fprintf(stderr, "iu cosim FAIL: the rays made no IU test\n");
+    return 1;
+  }
+  if (min_latency != max_latency) {
+    std::fprintf(stderr, "iu cosim FAIL: latency varies from %" PRIu64 " to %" PRIu64 " cycles; it must be fixed\n",
+                 min_latency, max_latency);
+    return 1;
+  }
+
+  // Latency and interval at full rate, on a fresh model.
+  std::unique_ptr<IuModel> fresh = make_iu_model(o.format, o.isect, o.seed);
+  IuInputs reset;
+  for (int i = 0; i < 4; ++i) {
+    fresh->settle(reset);
+    fresh->clock();
+  }
+  const Timing timing = measure_timing(*fresh, burst);
+  std::printf("iu cosim ok: format %s (%s), isect %s: %" PRId64 " rays, %" PRId64
+              " IU tests (%" PRId64 " hits) match the functional model in %" PRIu64
+              " cycles, %.2f s (%.0f tests/s, %.0f cycles/s) with %u%% stalls; latency %" PRIu64
+              " cycles, interval %" PRIu64 " cycles\n",
+              o.format.c_str(), f.name().c_str(), o.isect.c_str(), source.rays_traced(), checked, hits, cycle, seconds,
+              static_cast<double>(checked) / seconds, static_cast<double>(cycle) / seconds, o.stall_percent,
+              timing.latency, timing.interval);
+  if (timing.latency != min_latency) {
+    std::fprintf(stderr, "iu cosim FAIL: latency %" PRIu64 " at full rate but %" PRIu64 " with stalls\n",
+                 timing.latency, min_latency);
+    return 1;
+  }
+
+  if (o.check_config) {
+    // spec/configs.toml's [config.iu] for every configuration in this format.
+    int failures = 0, matched = 0;
+    for (const spec::HardwareConfig& c : spec::kConfigs) {
+      if (c.format != o.format) continue;
+      ++matched;
+      const bool woop = o.isect == "woop";
+      const int want_latency = woop ? c.iu.woop : c.iu.watertight;
+      const int want_interval = woop ? c.iu.interval_woop : c.iu.interval_watertight;
+      const bool ok = static_cast<std::uint64_t>(want_latency) == timing.latency &&
+                      static_cast<std::uint64_t>(want_interval) == timing.interval;
+      std::printf("%s config %.*s: [config.iu] %s = %d, interval_%s = %d; RTL latency %" PRIu64
+                  ", interval %" PRIu64 "\n",
+                  ok ? "ok  " : "FAIL", static_cast<int>(c.name.size()), c.name.data(), o.isect.c_str(),
+                  want_latency, o.isect.c_str(), want_interval, timing.latency, timing.interval);
+      failures += ok ? 0 : 1;
+    }
+    if (failures > 0) {
+      std::fprintf(stderr, "iu cosim FAIL: spec/configs.toml disagrees with the RTL's measured IU timing; set "
+                           "[config.iu] to the RTL's numbers above\n");
+      return 1;
+    }
+    if (matched == 0) std::printf("no configuration uses format %s\n", o.format.c_str());
+  }
+  return 0;
+}
+
+}  // namespace
+}  // namespace rpu::sim
+
+int main(int argc, char** argv) {
+  using namespace rpu::sim;
+  Options o;
+  CLI::App app{"Co-simulate the RTL intersection unit against the functional tracer's IU tests"};
+  app.add_option("--format", o.format, "format name (spec/formats.toml)")->required();
+  app.add_option("--isect", o.isect, "intersection mode")->required()->check(CLI::IsMember({"woop", "watertight"}));
+  app.add_option("--scene", o.scenes, "scene (cornell, balls:2, a scene file); repeatable")->required();
+  app.add_option("--rays", o.rays, "camera and random rays per scene (and a shadow ray per camera hit)")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--seed", o.seed, "random rays, stalls and register-initialisation seed");
+  app.add_option("--stall-percent", o.stall_percent, "percent of cycles without req valid / rsp ready")
+      ->check(CLI::Range(0, 90));
+  app.add_option("--trace", o.trace, "write FST waveforms of the whole run to this file");
+  app.add_flag("--check-config", o.check_config,
+               "fail unless spec/configs.toml's [config.iu] equals the measured latency and interval");
+  app.add_option("--write-vectors", o.write_vectors, "write IU tests and results for the netlist testbench");
+  app.add_option("--vectors", o.vectors, "with --write-vectors: how many")->check(CLI::PositiveNumber);
+  CLI11_PARSE(app, argc, argv);
+  try {
+    const rpu::fp::Format f = rpu::fp::format_by_name(o.format);
+    const rpu::IsectMode mode = o.isect == "woop" ? rpu::IsectMode::kWoop : rpu::IsectMode::kWatertight;
+    TransactionSource source(o, f, mode);
+    if (!o.write_vectors.empty()) return write_vectors(o, source);
+    return run(o, f, source);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "iu_cosim: %s\n", e.what());
+    return 2;
+  }
+}
