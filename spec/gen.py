@@ -439,8 +439,50 @@ def gen_sv(spec: dict) -> str:
             "  // A response: format bits, 0/1 for a compare, int32 bits for to_int32.",
             "  typedef struct packed {", "    logic [FpTagBits-1:0] tag;",
             "    logic [FpOperandBits-1:0] result;", "  } fp_rsp_t;"]
+    out += gen_sv_ray_units()
     out += ["", "endpackage", ""]
     return "\n".join(out)
+
+
+def gen_sv_ray_units() -> list[str]:
+    """The traversal and intersection units' stream structs (docs/rtl.md, "Traversal unit").
+
+    Vectors of 32-bit words are flat: component or word k sits at bits [32k +: 32], as
+    in the little-endian memory image (Yosys 0.23 reads no multi-dimensional packed
+    arrays). Format values are right-aligned in their 32 bits like the FP units'
+    operands; fp32 fields hold fp32 bits.
+    """
+    return ["", "  // Traversal and intersection units (docs/rtl.md).",
+            "  localparam int unsigned RayTagBits = 8;",
+            "  localparam int unsigned MemLineBytes = 16;",
+            "  localparam int unsigned IsectRecordWords = 12;", "",
+            "  // A ray for the traversal unit: fp32 bits, rounded into the format by the unit.",
+            "  typedef struct packed {", "    logic [RayTagBits-1:0] tag;", "    logic [3*32-1:0] origin;",
+            "    logic [3*32-1:0] direction;", "    logic [31:0] t_min;", "    logic [31:0] t_max;",
+            "    logic any_hit;", "  } tu_req_t;", "",
+            "  // Its result (docs/traversal.md §6): t, u, v widened exactly to fp32; fault =",
+            "  // traversal stack overflow (then only the counters are meaningful).",
+            "  typedef struct packed {", "    logic [RayTagBits-1:0] tag;", "    logic hit;",
+            "    logic [31:0] t;", "    logic [31:0] u;", "    logic [31:0] v;", "    logic [31:0] prim;",
+            "    logic [31:0] nodes;", "    logic [31:0] leaves;", "    logic [31:0] tests;",
+            "    logic fault;", "  } tu_rsp_t;", "",
+            "  // Where the traversal unit finds the scene: section byte addresses and the",
+            "  // scene record's root box (fp32), held stable while a ray is in flight.",
+            "  typedef struct packed {", "    logic [31:0] kd_nodes;", "    logic [31:0] prim_refs;",
+            "    logic [31:0] isect_records;", "    logic [3*32-1:0] bounds_lo;",
+            "    logic [3*32-1:0] bounds_hi;", "  } tu_cfg_t;", "",
+            "  // One 16-byte line of the memory image; responses come in request order.",
+            "  typedef struct packed {", "    logic [31:0] addr;", "  } mem_req_t;",
+            "  typedef struct packed {", "    logic [8*MemLineBytes-1:0] data;", "  } mem_rsp_t;", "",
+            "  // One ray/triangle test (docs/traversal.md §4, §5): the ray in the format, the",
+            "  // watertight set-up (kx, ky, kz, shear; ignored by the Woop test) and the record.",
+            "  typedef struct packed {", "    logic [RayTagBits-1:0] tag;", "    logic [3*32-1:0] origin;",
+            "    logic [3*32-1:0] direction;", "    logic [31:0] t_min;", "    logic [31:0] t_best;",
+            "    logic [1:0] kx;", "    logic [1:0] ky;", "    logic [1:0] kz;", "    logic [31:0] shear_x;",
+            "    logic [31:0] shear_y;", "    logic [31:0] shear_z;",
+            "    logic [IsectRecordWords*32-1:0] record;", "  } iu_req_t;",
+            "  typedef struct packed {", "    logic [RayTagBits-1:0] tag;", "    logic hit;", "    logic [31:0] t;",
+            "    logic [31:0] u;", "    logic [31:0] v;", "  } iu_rsp_t;"]
 
 
 def gen_isa_doc(spec: dict) -> str:
