@@ -139,11 +139,11 @@ module rpu_tu #(
   logic [2:0]              fm_busy_d, fm_busy_q;  // fma + misc ops in flight (at most 4)
   logic                    div_busy_d, div_busy_q;
 
-  // Register reads.
-  logic [W-1:0] rd [NumRegs];
-  for (genvar i = 0; i < NumRegs; i++) begin : gen_rd
-    assign rd[i] = regs_q[i*W +: W];
-  end
+  // Register reads (a function on the flat vector: Yosys 0.23 turns an array of
+  // them into a memory and warns).
+  function automatic logic [W-1:0] rd(input logic [NumRegs*W-1:0] file, input logic [RegBits-1:0] index);
+    rd = file[index*W +: W];
+  endfunction
 
   // The watertight axes (§5 set-up): kx, ky follow kz, swapped when D[kz] < 0.
   logic [1:0] kz_pick, kx, ky, kz_next, kz_next2;
@@ -155,8 +155,10 @@ module rpu_tu #(
 
   // §2: the planes of the clip axis, ordered by the sign bit of inv.
   logic [RegBits-1:0] entry_reg, exit_reg;
+  logic [W-1:0]       clip_inv;
   logic               inv_negative;
-  assign inv_negative = rd[RInv + RegBits'(axis_q)][W-1];
+  assign clip_inv     = rd(regs_q, RInv + RegBits'(axis_q));
+  assign inv_negative = clip_inv[W-1];
   assign entry_reg = RBox + RegBits'(axis_q) + (inv_negative ? RegBits'(3) : RegBits'(0));
   assign exit_reg  = RBox + RegBits'(axis_q) + (inv_negative ? RegBits'(0) : RegBits'(3));
 
@@ -311,29 +313,29 @@ module rpu_tu #(
           misc_valid = 1'b1;
           if (step_q < 5'd3) begin
             misc_req = fp_op(rpu_pkg::FpOpLt, DstFlag, FOFin + step_q,
-                             ext(abs_of(rd[RO + step_q])), ext(Inf));
+                             ext(abs_of(rd(regs_q, RO + step_q))), ext(Inf));
           end else if (step_q < 5'd6) begin
             misc_req = fp_op(rpu_pkg::FpOpLt, DstFlag, FDFin + step_q - 5'd3,
-                             ext(abs_of(rd[RD + step_q - 5'd3])), ext(Inf));
+                             ext(abs_of(rd(regs_q, RD + step_q - 5'd3))), ext(Inf));
           end else if (step_q < 5'd9) begin
             misc_req = fp_op(rpu_pkg::FpOpEq, DstFlag, FDZero + step_q - 5'd6,
-                             ext(rd[RD + step_q - 5'd6]), ext(Zero));
+                             ext(rd(regs_q, RD + step_q - 5'd6)), ext(Zero));
           end else if (step_q == 5'd9) begin
-            misc_req = fp_op(rpu_pkg::FpOpLt, DstFlag, FInterval, ext(rd[RTMin]), ext(rd[RTMax]));
+            misc_req = fp_op(rpu_pkg::FpOpLt, DstFlag, FInterval, ext(rd(regs_q, RTMin)), ext(rd(regs_q, RTMax)));
           end else if (step_q < 5'd13) begin
             misc_req = fp_op(rpu_pkg::FpOpLe, DstFlag, FDLe0 + step_q - 5'd10,
-                             ext(rd[RD + step_q - 5'd10]), ext(Zero));
+                             ext(rd(regs_q, RD + step_q - 5'd10)), ext(Zero));
           end else if (step_q == 5'd13) begin
-            misc_req = fp_op(rpu_pkg::FpOpLe, DstFlag, FYX, ext(abs_of(rd[RD + 1])), ext(abs_of(rd[RD])));
+            misc_req = fp_op(rpu_pkg::FpOpLe, DstFlag, FYX, ext(abs_of(rd(regs_q, RD + 1))), ext(abs_of(rd(regs_q, RD))));
           end else if (step_q == 5'd14) begin
-            misc_req = fp_op(rpu_pkg::FpOpLe, DstFlag, FZX, ext(abs_of(rd[RD + 2])), ext(abs_of(rd[RD])));
+            misc_req = fp_op(rpu_pkg::FpOpLe, DstFlag, FZX, ext(abs_of(rd(regs_q, RD + 2))), ext(abs_of(rd(regs_q, RD))));
           end else begin
-            misc_req = fp_op(rpu_pkg::FpOpLe, DstFlag, FZY, ext(abs_of(rd[RD + 2])), ext(abs_of(rd[RD + 1])));
+            misc_req = fp_op(rpu_pkg::FpOpLe, DstFlag, FZY, ext(abs_of(rd(regs_q, RD + 2))), ext(abs_of(rd(regs_q, RD + 1))));
           end
           if (step_q < 5'd6) begin
             fma_valid = 1'b1;
-            fma_req = fp_op(rpu_pkg::FpOpSub, DstReg, RBox + step_q, ext(rd[RLo + step_q]),
-                            ext(rd[RO + (step_q < 5'd3 ? step_q : step_q - 5'd3)]));
+            fma_req = fp_op(rpu_pkg::FpOpSub, DstReg, RBox + step_q, ext(rd(regs_q, RLo + step_q)),
+                            ext(rd(regs_q, RO + (step_q < 5'd3 ? step_q : step_q - 5'd3))));
           end
           step_d = step_q + 5'd1;
           if (step_q == (Watertight ? 5'd15 : 5'd12)) begin
@@ -348,13 +350,13 @@ module rpu_tu #(
           if (!(&flags_q[FOFin +: 6]) || (&flags_q[FDZero +: 3]) || !flags_q[FInterval]) begin
             state_d = StRsp;  // a defined miss: nothing fetched
           end else begin
-            regs_d[RTNear*W +: W] = rd[RTMin];
-            regs_d[RTFar*W +: W]  = rd[RTMax];
-            regs_d[RTBest*W +: W] = rd[RTMax];
+            regs_d[RTNear*W +: W] = rd(regs_q, RTMin);
+            regs_d[RTFar*W +: W]  = rd(regs_q, RTMax);
+            regs_d[RTBest*W +: W] = rd(regs_q, RTMax);
             kz_d = kz_pick;
             if (Watertight) begin
               misc_valid = 1'b1;
-              misc_req = fp_op(rpu_pkg::FpOpLt, DstFlag, FKzNeg, ext(rd[RD + RegBits'(kz_pick)]), ext(Zero));
+              misc_req = fp_op(rpu_pkg::FpOpLt, DstFlag, FKzNeg, ext(rd(regs_q, RD + RegBits'(kz_pick))), ext(Zero));
             end
             step_d  = '0;
             state_d = StRcp;
@@ -367,13 +369,13 @@ module rpu_tu #(
         if (div_ready && !div_busy_q) begin
           div_valid = 1'b1;
           if (step_q < 5'd3) begin
-            div_req = fp_op(rpu_pkg::FpOpRcp, DstReg, RInv + step_q, ext(rd[RD + step_q]), '0);
+            div_req = fp_op(rpu_pkg::FpOpRcp, DstReg, RInv + step_q, ext(rd(regs_q, RD + step_q)), '0);
           end else if (step_q == 5'd3) begin
-            div_req = fp_op(rpu_pkg::FpOpDiv, DstReg, RSx, ext(rd[RD + RegBits'(kx)]),
-                            ext(rd[RD + RegBits'(kz_q)]));
+            div_req = fp_op(rpu_pkg::FpOpDiv, DstReg, RSx, ext(rd(regs_q, RD + RegBits'(kx))),
+                            ext(rd(regs_q, RD + RegBits'(kz_q))));
           end else begin
-            div_req = fp_op(rpu_pkg::FpOpDiv, DstReg, RSy, ext(rd[RD + RegBits'(ky)]),
-                            ext(rd[RD + RegBits'(kz_q)]));
+            div_req = fp_op(rpu_pkg::FpOpDiv, DstReg, RSy, ext(rd(regs_q, RD + RegBits'(ky))),
+                            ext(rd(regs_q, RD + RegBits'(kz_q))));
           end
           step_d = step_q + 5'd1;
           if (step_q == (Watertight ? 5'd4 : 5'd2)) begin
@@ -386,10 +388,11 @@ module rpu_tu #(
       StClipMul: begin
         if (!div_busy_q) begin
           fma_valid = 1'b1;
-          fma_req = fp_op(rpu_pkg::FpOpMul, DstReg, RBox + step_q, ext(rd[RBox + step_q]),
-                          ext(rd[RInv + (step_q < 5'd3 ? step_q : step_q - 5'd3)]));
+          fma_req = fp_op(rpu_pkg::FpOpMul, DstReg, RBox + step_q, ext(rd(regs_q, RBox + step_q)),
+                          ext(rd(regs_q, RInv + (step_q < 5'd3 ? step_q : step_q - 5'd3))));
           step_d = step_q + 5'd1;
           if (step_q == 5'd5) begin
+            step_d  = '0;
             axis_d  = '0;
             state_d = StClipEntry;
           end
@@ -399,21 +402,21 @@ module rpu_tu #(
       StClipEntry: begin
         if (fm_busy_q == '0) begin
           misc_valid = 1'b1;
-          misc_req = fp_op(rpu_pkg::FpOpGt, DstFlag, FEntry, ext(rd[entry_reg]), ext(rd[RTNear]));
+          misc_req = fp_op(rpu_pkg::FpOpGt, DstFlag, FEntry, ext(rd(regs_q, entry_reg)), ext(rd(regs_q, RTNear)));
           state_d = StClipExit;
         end
       end
 
       StClipExit: begin
         misc_valid = 1'b1;
-        misc_req = fp_op(rpu_pkg::FpOpLt, DstFlag, FExit, ext(rd[exit_reg]), ext(rd[RTFar]));
+        misc_req = fp_op(rpu_pkg::FpOpLt, DstFlag, FExit, ext(rd(regs_q, exit_reg)), ext(rd(regs_q, RTFar)));
         state_d = StClipUpdate;
       end
 
       StClipUpdate: begin
         if (fm_busy_q == '0) begin
-          if (flags_q[FEntry]) regs_d[RTNear*W +: W] = rd[entry_reg];
-          if (flags_q[FExit])  regs_d[RTFar*W +: W]  = rd[exit_reg];
+          if (flags_q[FEntry]) regs_d[RTNear*W +: W] = rd(regs_q, entry_reg);
+          if (flags_q[FExit])  regs_d[RTFar*W +: W]  = rd(regs_q, exit_reg);
           axis_d  = axis_q + 2'd1;
           state_d = axis_q == 2'd2 ? StClipTest : StClipEntry;
         end
@@ -421,7 +424,7 @@ module rpu_tu #(
 
       StClipTest: begin
         misc_valid = 1'b1;
-        misc_req = fp_op(rpu_pkg::FpOpLe, DstFlag, FNearFar, ext(rd[RTNear]), ext(rd[RTFar]));
+        misc_req = fp_op(rpu_pkg::FpOpLe, DstFlag, FNearFar, ext(rd(regs_q, RTNear)), ext(rd(regs_q, RTFar)));
         state_d = StClipEnd;
       end
 
@@ -473,21 +476,21 @@ module rpu_tu #(
           5'd1: begin
             if (fm_busy_q == '0) begin
               fma_valid = 1'b1;
-              fma_req = fp_op(rpu_pkg::FpOpSub, DstReg, RTSplit, ext(rd[RSplit]), ext(rd[RO + RegBits'(axis_q)]));
+              fma_req = fp_op(rpu_pkg::FpOpSub, DstReg, RTSplit, ext(rd(regs_q, RSplit)), ext(rd(regs_q, RO + RegBits'(axis_q))));
               misc_valid = 1'b1;
-              misc_req = fp_op(rpu_pkg::FpOpLt, DstFlag, FOLt, ext(rd[RO + RegBits'(axis_q)]), ext(rd[RSplit]));
+              misc_req = fp_op(rpu_pkg::FpOpLt, DstFlag, FOLt, ext(rd(regs_q, RO + RegBits'(axis_q))), ext(rd(regs_q, RSplit)));
             end else begin
               step_d = step_q;
             end
           end
           5'd2: begin
             misc_valid = 1'b1;
-            misc_req = fp_op(rpu_pkg::FpOpEq, DstFlag, FOEq, ext(rd[RO + RegBits'(axis_q)]), ext(rd[RSplit]));
+            misc_req = fp_op(rpu_pkg::FpOpEq, DstFlag, FOEq, ext(rd(regs_q, RO + RegBits'(axis_q))), ext(rd(regs_q, RSplit)));
           end
           5'd3: begin
             if (fm_busy_q == '0) begin
               fma_valid = 1'b1;
-              fma_req = fp_op(rpu_pkg::FpOpMul, DstReg, RTSplit, ext(rd[RTSplit]), ext(rd[RInv + RegBits'(axis_q)]));
+              fma_req = fp_op(rpu_pkg::FpOpMul, DstReg, RTSplit, ext(rd(regs_q, RTSplit)), ext(rd(regs_q, RInv + RegBits'(axis_q))));
             end else begin
               step_d = step_q;
             end
@@ -495,18 +498,19 @@ module rpu_tu #(
           5'd4: begin
             if (fm_busy_q == '0) begin
               misc_valid = 1'b1;
-              misc_req = fp_op(rpu_pkg::FpOpLe, DstFlag, FSplitLeFar, ext(rd[RTSplit]), ext(rd[RTFar]));
+              misc_req = fp_op(rpu_pkg::FpOpLe, DstFlag, FSplitLeFar, ext(rd(regs_q, RTSplit)), ext(rd(regs_q, RTFar)));
             end else begin
               step_d = step_q;
             end
           end
           5'd5: begin
             misc_valid = 1'b1;
-            misc_req = fp_op(rpu_pkg::FpOpLe, DstFlag, FSplitLe0, ext(rd[RTSplit]), ext(Zero));
+            misc_req = fp_op(rpu_pkg::FpOpLe, DstFlag, FSplitLe0, ext(rd(regs_q, RTSplit)), ext(Zero));
           end
           default: begin
             misc_valid = 1'b1;
-            misc_req = fp_op(rpu_pkg::FpOpLt, DstFlag, FSplitLtNear, ext(rd[RTSplit]), ext(rd[RTNear]));
+            misc_req = fp_op(rpu_pkg::FpOpLt, DstFlag, FSplitLtNear, ext(rd(regs_q, RTSplit)), ext(rd(regs_q, RTNear)));
+            step_d  = '0;
             state_d = StInnerEnd;
           end
         endcase
@@ -523,16 +527,17 @@ module rpu_tu #(
             fault_d = 1'b1;
             state_d = StRsp;
           end else begin
-            stack_d[sp_q*EntryBits +: EntryBits] = {second_child, rd[RTSplit], rd[RTFar]};
+            stack_d[sp_q*EntryBits +: EntryBits] = {second_child, rd(regs_q, RTSplit), rd(regs_q, RTFar)};
             sp_d = sp_q + SpBits'(1);
             node_d = first_child;
-            regs_d[RTFar*W +: W] = rd[RTSplit];
+            regs_d[RTFar*W +: W] = rd(regs_q, RTSplit);
           end
         end
       end
 
+      // The list's end, or any-hit mode's first hit.
       StLeafNext: begin
-        if (k_q == count_q) begin
+        if (k_q == count_q || (hit_q && ray_q.any_hit)) begin
           state_d = StLeafEnd;
         end else begin
           mem_req_valid_o = 1'b1;
@@ -586,16 +591,13 @@ module rpu_tu #(
             regs_d[RHitV*W +: W]  = iu_rsp_i.v[W-1:0];
             hit_d      = 1'b1;
             hit_prim_d = prim_q;
-            // Any-hit mode ends at the first hit; through StLeafEnd, so a leaf's cycles
-            // do not depend on how it ends.
-            if (ray_q.any_hit) state_d = StLeafEnd;
           end
         end
       end
 
       StLeafEnd: begin
         misc_valid = 1'b1;
-        misc_req = fp_op(rpu_pkg::FpOpLe, DstFlag, FBestLeFar, ext(rd[RTBest]), ext(rd[RTFar]));
+        misc_req = fp_op(rpu_pkg::FpOpLe, DstFlag, FBestLeFar, ext(rd(regs_q, RTBest)), ext(rd(regs_q, RTFar)));
         state_d = StLeafDecide;
       end
 
@@ -615,7 +617,7 @@ module rpu_tu #(
 
       StPop: begin
         misc_valid = 1'b1;
-        misc_req = fp_op(rpu_pkg::FpOpLt, DstFlag, FBestLtNear, ext(rd[RTBest]), ext(rd[RTNear]));
+        misc_req = fp_op(rpu_pkg::FpOpLt, DstFlag, FBestLtNear, ext(rd(regs_q, RTBest)), ext(rd(regs_q, RTNear)));
         state_d = StPopDecide;
       end
 
@@ -629,10 +631,10 @@ module rpu_tu #(
         misc_valid = 1'b1;
         step_d = step_q + 5'd1;
         unique case (step_q)
-          5'd0:    misc_req = fp_op(rpu_pkg::FpOpToFp32, DstOut, 5'd0, ext(rd[RTBest]), '0);
-          5'd1:    misc_req = fp_op(rpu_pkg::FpOpToFp32, DstOut, 5'd1, ext(rd[RHitU]), '0);
+          5'd0:    misc_req = fp_op(rpu_pkg::FpOpToFp32, DstOut, 5'd0, ext(rd(regs_q, RTBest)), '0);
+          5'd1:    misc_req = fp_op(rpu_pkg::FpOpToFp32, DstOut, 5'd1, ext(rd(regs_q, RHitU)), '0);
           default: begin
-            misc_req = fp_op(rpu_pkg::FpOpToFp32, DstOut, 5'd2, ext(rd[RHitV]), '0);
+            misc_req = fp_op(rpu_pkg::FpOpToFp32, DstOut, 5'd2, ext(rd(regs_q, RHitV)), '0);
             step_d  = '0;
             state_d = StRsp;
           end
@@ -723,16 +725,16 @@ module rpu_tu #(
 
   // --- Outputs. ---
   assign iu_req_o.tag       = ray_q.tag;
-  assign iu_req_o.origin    = {ext(rd[RO + 2]), ext(rd[RO + 1]), ext(rd[RO])};
-  assign iu_req_o.direction = {ext(rd[RD + 2]), ext(rd[RD + 1]), ext(rd[RD])};
-  assign iu_req_o.t_min     = ext(rd[RTMin]);
-  assign iu_req_o.t_best    = ext(rd[RTBest]);
+  assign iu_req_o.origin    = {ext(rd(regs_q, RO + 2)), ext(rd(regs_q, RO + 1)), ext(rd(regs_q, RO))};
+  assign iu_req_o.direction = {ext(rd(regs_q, RD + 2)), ext(rd(regs_q, RD + 1)), ext(rd(regs_q, RD))};
+  assign iu_req_o.t_min     = ext(rd(regs_q, RTMin));
+  assign iu_req_o.t_best    = ext(rd(regs_q, RTBest));
   assign iu_req_o.kx        = Watertight ? kx : 2'd0;
   assign iu_req_o.ky        = Watertight ? ky : 2'd1;
   assign iu_req_o.kz        = Watertight ? kz_q : 2'd2;
-  assign iu_req_o.shear_x   = Watertight ? ext(rd[RSx]) : '0;
-  assign iu_req_o.shear_y   = Watertight ? ext(rd[RSy]) : '0;
-  assign iu_req_o.shear_z   = Watertight ? ext(rd[RInv + RegBits'(kz_q)]) : '0;  // = rcp(D[kz])
+  assign iu_req_o.shear_x   = Watertight ? ext(rd(regs_q, RSx)) : '0;
+  assign iu_req_o.shear_y   = Watertight ? ext(rd(regs_q, RSy)) : '0;
+  assign iu_req_o.shear_z   = Watertight ? ext(rd(regs_q, RInv + RegBits'(kz_q))) : '0;  // = rcp(D[kz])
   assign iu_req_o.record    = record_q;
 
   assign rsp_o.tag    = ray_q.tag;
