@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Lint, synthesis and netlist simulation of the RTL floating-point units (docs/rtl.md).
+"""Lint, synthesis and netlist simulation of the RTL units (docs/rtl.md).
 
 Formats and units come from spec/formats.toml and spec/fp_units.toml, the same tables
 gen.py turns into rpu_pkg.sv, so nothing here repeats a width or a unit list.
@@ -23,6 +23,7 @@ import time
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 RTL = ROOT / "rtl"
 SIM_TOP = ROOT / "sim" / "rpu_fp_cosim_top.sv"
+TU_SIM_TOP = ROOT / "sim" / "rpu_tu_cosim_top.sv"
 NETLIST_TB = ROOT / "sim" / "rpu_fp_netlist_tb.sv"
 
 
@@ -50,7 +51,7 @@ def run(cmd: list, **kw) -> subprocess.CompletedProcess:
 
 
 def lint(args) -> int:
-    """verilator --lint-only -Wall on every unit in every format, and on the sim top."""
+    """verilator --lint-only -Wall on every unit in every format, and on the sim tops."""
     formats, units = spec()
     failures = 0
     jobs = []
@@ -60,6 +61,16 @@ def lint(args) -> int:
                          [f"-GExpBits={f['exponent_bits']}", f"-GFracBits={f['fraction_bits']}"], []))
     for i, unit in enumerate(units):
         jobs.append((f"rpu_fp_cosim_top {unit['name']}", ["rpu_fp_cosim_top"], [f"-GUnit={i}"], [SIM_TOP]))
+    # The traversal unit in every format and both intersection modes, its sim top, and
+    # the shared stream primitives.
+    for name, f in formats.items():
+        for mode, isect in (("woop", 0), ("watertight", 1)):
+            jobs.append((f"rpu_tu {name} {mode}", ["rpu_tu"],
+                         [f"-GExpBits={f['exponent_bits']}", f"-GFracBits={f['fraction_bits']}",
+                          f"-GIsectMode={isect}"], []))
+    jobs.append(("rpu_tu_cosim_top", ["rpu_tu_cosim_top"], [], [TU_SIM_TOP]))
+    for top in ("rpu_fifo", "rpu_skid_buf"):
+        jobs.append((top, [top], ["-GWidth=8"], []))
     for what, (top,), params, extra in jobs:
         r = run([args.verilator, "--lint-only", "-Wall", RTL / "lint.vlt", args.pkg, *rtl_sources(), *extra,
                  "--top-module", top, *params])
