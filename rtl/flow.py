@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Lint, synthesis and netlist simulation of the RTL floating-point units (docs/rtl.md).
+"""Lint, synthesis and netlist simulation of the RTL units (docs/rtl.md).
 
 Formats and units come from spec/formats.toml and spec/fp_units.toml, the same tables
 gen.py turns into rpu_pkg.sv, so nothing here repeats a width or a unit list.
@@ -24,6 +24,7 @@ import time
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 RTL = ROOT / "rtl"
 SIM_TOP = ROOT / "sim" / "rpu_fp_cosim_top.sv"
+TU_SIM_TOP = ROOT / "sim" / "rpu_tu_cosim_top.sv"
 NETLIST_TB = ROOT / "sim" / "rpu_fp_netlist_tb.sv"
 IU_TOP = ROOT / "sim" / "rpu_iu_cosim_top.sv"
 IU_NETLIST_TB = ROOT / "sim" / "rpu_iu_netlist_tb.sv"
@@ -59,7 +60,7 @@ def run(cmd: list, **kw) -> subprocess.CompletedProcess:
 
 
 def lint(args) -> int:
-    """verilator --lint-only -Wall on every unit in every format, and on the sim top."""
+    """verilator --lint-only -Wall on every unit in every format, and on the sim tops."""
     formats, units = spec()
     failures = 0
     jobs = []
@@ -76,6 +77,16 @@ def lint(args) -> int:
                          [f"-GExpBits={f['exponent_bits']}", f"-GFracBits={f['fraction_bits']}",
                           f"-GIsectMode={mode}"], []))
         jobs.append((f"rpu_iu_cosim_top {isect}", ["rpu_iu_cosim_top"], [f"-GIsectMode={mode}"], [IU_TOP]))
+    # The traversal unit in every format and both intersection modes, its sim top, and
+    # the shared stream primitives.
+    for name, f in formats.items():
+        for isect in ISECT_MODES:
+            jobs.append((f"rpu_tu {name} {isect}", ["rpu_tu"],
+                         [f"-GExpBits={f['exponent_bits']}", f"-GFracBits={f['fraction_bits']}",
+                          f"-GIsectMode={isect_mode(isect)}"], []))
+    jobs.append(("rpu_tu_cosim_top", ["rpu_tu_cosim_top"], [], [TU_SIM_TOP]))
+    for top in ("rpu_fifo", "rpu_skid_buf"):
+        jobs.append((top, [top], ["-GWidth=8"], []))
     for what, (top,), params, extra in jobs:
         r = run([args.verilator, "--lint-only", "-Wall", RTL / "lint.vlt", args.pkg, *rtl_sources(), *extra,
                  "--top-module", top, *params])

@@ -535,9 +535,10 @@ def main() -> int:
     ap.add_argument("--spec-dir", type=pathlib.Path, required=True)
     ap.add_argument("--cpp", type=pathlib.Path)
     ap.add_argument("--sv", type=pathlib.Path)
-    ap.add_argument("--list", choices=("formats", "fp-ops"),
-                    help="print 'name exponent_bits fraction_bits' per format, or 'op unit' "
-                         "per FP op, one a line (CMake reads these at configure time)")
+    ap.add_argument("--list", choices=("formats", "fp-ops", "tu-timing"),
+                    help="print 'name exponent_bits fraction_bits' per format, 'op unit' "
+                         "per FP op, or 'config format setup_woop setup_watertight inner leaf "
+                         "pop' per configuration, one a line (CMake reads these at configure time)")
     ap.add_argument("--isa-doc", type=pathlib.Path, help="write docs/isa.md here")
     args = ap.parse_args()
     try:
@@ -552,6 +553,10 @@ def main() -> int:
     if args.list == "fp-ops":
         for op, unit in fp_ops(spec):
             print(op, unit)
+        return 0
+    if args.list == "tu-timing":
+        for c in spec["configs"]["config"]:
+            print(c["name"], c["format"], *(c["tu"][k] for k in CONFIG_GROUPS["tu"][1]))
         return 0
     if args.cpp is None or args.sv is None:
         ap.error("--cpp and --sv are required unless --list is given")

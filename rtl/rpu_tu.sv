@@ -1,0 +1,764 @@
+// The traversal unit: docs/traversal.md §1-§3 and §6 for one ray at a time, bit for bit
+// the sequence of rpu::functional::Tracer::trace_with. Every rounded operation runs on
+// the FP units (rpu_fp_fma: sub, mul; rpu_fp_misc: the compares and the fp32
+// conversions; rpu_fp_divsqrt: rcp, div); the unit itself only moves values, tests sign
+// bits and keeps the kd walk's state. Ray/triangle tests go out on the IU port.
+//
+// Sequencing: each state issues at most one op per FP unit, tagged with where its
+// result goes (a value register, a flag, or an output word); results are written when
+// they come back. A state that needs earlier results waits until none are in flight.
+// The FP units never stall here (every response is taken at once), so the cycles the
+// unit spends besides waiting for memory and the IU are fixed per step kind
+// (docs/rtl.md, "Traversal unit", defines and lists them).
+//
+// Memory: one 16-byte line per request, responses in request order; a node is one
+// line, a prim ref one line, an intersection record three (requested back to back).
+// A ray whose walk pushes onto a full stack ends with fault set (Tracer's "traversal
+// stack overflow" error).
+module rpu_tu #(
+  parameter int unsigned ExpBits    = rpu_pkg::FormatFp32ExponentBits,
+  parameter int unsigned FracBits   = rpu_pkg::FormatFp32FractionBits,
+  parameter int unsigned IsectMode  = rpu_pkg::IsectModeWoop,
+  parameter int unsigned StackDepth = rpu_pkg::ConfigDefaultStackDepth
+) (
+  input  logic              clk_i,
+  input  logic              rst_ni,
+
+  input  rpu_pkg::tu_cfg_t  cfg_i,
+
+  input  logic              req_valid_i,
+  output logic              req_ready_o,
+  input  rpu_pkg::tu_req_t  req_i,
+
+  output logic              rsp_valid_o,
+  input  logic              rsp_ready_i,
+  output rpu_pkg::tu_rsp_t  rsp_o,
+
+  output logic              mem_req_valid_o,
+  input  logic              mem_req_ready_i,
+  output rpu_pkg::mem_req_t mem_req_o,
+
+  input  logic              mem_rsp_valid_i,
+  output logic              mem_rsp_ready_o,
+  input  rpu_pkg::mem_rsp_t mem_rsp_i,
+
+  output logic              iu_req_valid_o,
+  input  logic              iu_req_ready_i,
+  output rpu_pkg::iu_req_t  iu_req_o,
+
+  input  logic              iu_rsp_valid_i,
+  output logic              iu_rsp_ready_o,
+  input  rpu_pkg::iu_rsp_t  iu_rsp_i
+);
+
+  localparam int unsigned W = 1 + ExpBits + FracBits;
+  localparam bit Watertight = IsectMode == rpu_pkg::IsectModeWatertight;
+  localparam logic [W-1:0] Zero = '0;
+  localparam logic [W-1:0] Inf = {1'b0, {ExpBits{1'b1}}, {FracBits{1'b0}}};
+  localparam logic [W-1:0] AbsMask = {1'b0, {(W - 1){1'b1}}};
+  localparam int unsigned TagBits = rpu_pkg::FpTagBits;
+  localparam int unsigned IndexBits = rpu_pkg::KdNodeIndexBits;
+  localparam int unsigned EntryBits = IndexBits + 2 * W;
+  localparam int unsigned SpBits = $clog2(StackDepth + 1);
+
+  // Value registers (format values). The first 14 are loaded in this order from the
+  // request and the box (StLoad's step = register index).
+  localparam int unsigned RegBits = 5;
+  localparam int unsigned NumRegs = 32;
+  localparam logic [RegBits-1:0] RO = 0, RD = 3, RTMin = 6, RTMax = 7, RLo = 8,
+                                 RInv = 14, RTNear = 17, RTFar = 18, RTBest = 19, RSx = 20,
+                                 RSy = 21, RBox = 22, RSplit = 28, RTSplit = 29, RHitU = 30,
+                                 RHitV = 31;
+  // Flags: compare results.
+  localparam int unsigned NumFlags = 32;
+  localparam logic [4:0] FOFin = 0, FDFin = 3, FDZero = 6, FInterval = 9, FDLe0 = 10,
+                         FYX = 13, FZX = 14, FZY = 15, FKzNeg = 16, FEntry = 17, FExit = 18,
+                         FNearFar = 19, FOLt = 20, FOEq = 21, FSplitLeFar = 22,
+                         FSplitLe0 = 23, FSplitLtNear = 24, FBestLeFar = 25, FBestLtNear = 26;
+  // Where an FP result goes: tag[7:6] = kind, tag[4:0] = index.
+  localparam logic [1:0] DstReg = 2'd0, DstFlag = 2'd1, DstOut = 2'd2;
+
+  typedef enum logic [4:0] {
+    StIdle,       // waiting for a ray
+    StLoad,       // §1: round the 8 ray values and the 6 box values into the format
+    StCheck,      // §1: defined-miss tests, the watertight axis compares; §2: box - O
+    StValid,      // §1: a defined miss ends here; watertight: sign of D[kz]
+    StRcp,        // §1: inv = rcp(D); watertight: shear_x, shear_y
+    StClipMul,    // §2: (box - O) * inv
+    StClipEntry,  // §2: entry > t_near
+    StClipExit,   // §2: exit < t_far
+    StClipUpdate, // §2: narrow the interval
+    StClipTest,   // §2: t_near <= t_far
+    StClipEnd,
+    StNodeReq,    // §3: fetch a node
+    StNodeWait,
+    StInner,      // §3: an inner node, steps 0..6
+    StInnerEnd,
+    StLeafNext,   // §3: fetch the next prim ref, or end the list
+    StRefWait,
+    StRecord,     // §3: fetch the intersection record
+    StIuReq,      // §3: one IU test
+    StIuWait,
+    StLeafEnd,    // §3: t_best <= t_far of this leaf
+    StLeafDecide,
+    StPop,        // §3: t_best < t_near of the popped entry
+    StPopDecide,
+    StFinish,     // §6: widen t, u, v to fp32
+    StRsp         // the response
+  } state_e;
+
+  // --- The request, through a skid buffer (registered ready). ---
+  logic             ray_valid, ray_ready;
+  rpu_pkg::tu_req_t ray_in;
+
+  rpu_skid_buf #(.Width($bits(req_i))) u_req_buf (
+    .clk_i, .rst_ni,
+    .valid_i(req_valid_i), .ready_o(req_ready_o), .data_i(req_i),
+    .valid_o(ray_valid), .ready_i(ray_ready), .data_o(ray_in)
+  );
+
+  // --- State. ---
+  state_e                  state_d, state_q;
+  logic [4:0]              step_d, step_q;
+  rpu_pkg::tu_req_t        ray_d, ray_q;
+  logic [NumRegs*W-1:0]    regs_d, regs_q;
+  logic [NumFlags-1:0]     flags_d, flags_q;
+  logic [3*32-1:0]         out_d, out_q;       // t, u, v widened to fp32
+  logic [1:0]              kz_d, kz_q;
+  logic [1:0]              axis_d, axis_q;     // clip axis, or the inner node's split axis
+  logic [IndexBits-1:0]    node_d, node_q, above_d, above_q, count_d, count_q, k_d, k_q;
+  logic [31:0]             split_d, split_q, first_d, first_q, prim_d, prim_q;
+  logic [31:0]             hit_prim_d, hit_prim_q;
+  logic                    hit_d, hit_q, fault_d, fault_q;
+  logic [1:0]              half_d, half_q;     // word of the line a node or ref sits at
+  logic [1:0]              sent_d, sent_q, got_d, got_q;
+  logic [rpu_pkg::IsectRecordWords*32-1:0] record_d, record_q;
+  logic [StackDepth*EntryBits-1:0] stack_d, stack_q;
+  logic [SpBits-1:0]       sp_d, sp_q;
+  logic [31:0]             nodes_d, nodes_q, leaves_d, leaves_q, tests_d, tests_q;
+  logic [2:0]              fm_busy_d, fm_busy_q;  // fma + misc ops in flight (at most 4)
+  logic                    div_busy_d, div_busy_q;
+
+  // Register reads (a function on the flat vector: Yosys 0.23 turns an array of
+  // them into a memory and warns).
+  function automatic logic [W-1:0] rd(input logic [NumRegs*W-1:0] file, input logic [RegBits-1:0] index);
+    rd = file[index*W +: W];
+  endfunction
+
+  // The watertight axes (§5 set-up): kx, ky follow kz, swapped when D[kz] < 0.
+  logic [1:0] kz_pick, kx, ky, kz_next, kz_next2;
+  assign kz_pick  = flags_q[FYX] && flags_q[FZX] ? 2'd0 : flags_q[FZY] ? 2'd1 : 2'd2;
+  assign kz_next  = kz_q == 2'd2 ? 2'd0 : kz_q + 2'd1;
+  assign kz_next2 = kz_next == 2'd2 ? 2'd0 : kz_next + 2'd1;
+  assign kx = flags_q[FKzNeg] ? kz_next2 : kz_next;
+  assign ky = flags_q[FKzNeg] ? kz_next : kz_next2;
+
+  // §2: the planes of the clip axis, ordered by the sign bit of inv.
+  logic [RegBits-1:0] entry_reg, exit_reg;
+  logic [W-1:0]       clip_inv;
+  logic               inv_negative;
+  assign clip_inv     = rd(regs_q, RInv + RegBits'(axis_q));
+  assign inv_negative = clip_inv[W-1];
+  assign entry_reg = RBox + RegBits'(axis_q) + (inv_negative ? RegBits'(3) : RegBits'(0));
+  assign exit_reg  = RBox + RegBits'(axis_q) + (inv_negative ? RegBits'(0) : RegBits'(3));
+
+  // The raw fp32 words StLoad rounds: origin, direction, t_min, t_max, box lo, box hi.
+  logic [14*32-1:0] raw;
+  assign raw = {cfg_i.bounds_hi, cfg_i.bounds_lo, ray_q.t_max, ray_q.t_min, ray_q.direction,
+                ray_q.origin};
+
+  // --- The FP units. ---
+  logic             fma_valid, misc_valid, div_valid, div_ready;
+  rpu_pkg::fp_req_t fma_req, misc_req, div_req;
+  logic             fma_rsp_valid, misc_rsp_valid, div_rsp_valid;
+  rpu_pkg::fp_rsp_t fma_rsp, misc_rsp, div_rsp;
+  logic             fma_ready_unused, misc_ready_unused;
+
+  rpu_fp_fma #(.ExpBits(ExpBits), .FracBits(FracBits)) u_fma (
+    .clk_i, .rst_ni, .req_valid_i(fma_valid), .req_ready_o(fma_ready_unused), .req_i(fma_req),
+    .rsp_valid_o(fma_rsp_valid), .rsp_ready_i(1'b1), .rsp_o(fma_rsp)
+  );
+  rpu_fp_misc #(.ExpBits(ExpBits), .FracBits(FracBits)) u_misc (
+    .clk_i, .rst_ni, .req_valid_i(misc_valid), .req_ready_o(misc_ready_unused), .req_i(misc_req),
+    .rsp_valid_o(misc_rsp_valid), .rsp_ready_i(1'b1), .rsp_o(misc_rsp)
+  );
+  rpu_fp_divsqrt #(.ExpBits(ExpBits), .FracBits(FracBits)) u_div (
+    .clk_i, .rst_ni, .req_valid_i(div_valid), .req_ready_o(div_ready), .req_i(div_req),
+    .rsp_valid_o(div_rsp_valid), .rsp_ready_i(1'b1), .rsp_o(div_rsp)
+  );
+
+  // Op issue helpers: set one unit's request in the issuing state.
+  // (A vector, not the struct: Yosys 0.23 reads no struct-typed functions.)
+  localparam int unsigned FpReqBits = rpu_pkg::FpOpBits + TagBits + 3 * rpu_pkg::FpOperandBits;
+  function automatic logic [FpReqBits-1:0] fp_op(input rpu_pkg::fp_op_e op, input logic [1:0] kind,
+                                                 input logic [4:0] index, input logic [31:0] a,
+                                                 input logic [31:0] b);
+    fp_op = {op, kind, 1'b0, index, a, b, 32'b0};
+  endfunction
+
+  function automatic logic [31:0] ext(input logic [W-1:0] value);
+    ext = 32'(value);
+  endfunction
+
+  function automatic logic [W-1:0] abs_of(input logic [W-1:0] value);
+    abs_of = value & AbsMask;
+  endfunction
+
+  // Addresses: a node is 8 bytes, a ref 4, a record 48 (three 16-byte lines).
+  logic [31:0] node_addr, ref_addr, record_addr;
+  assign node_addr   = cfg_i.kd_nodes + {node_q[IndexBits-2:0], 3'b000};
+  assign ref_addr    = cfg_i.prim_refs + {first_q[29:0] + k_q, 2'b00};
+  assign record_addr = cfg_i.isect_records + {prim_q[26:0], 5'b0} + {prim_q[27:0], 4'b0}
+                       + {26'b0, sent_q, 4'b0};
+
+  logic [31:0] line_word, next_word;  // the word half_q selects in the line, and the next
+  assign line_word = mem_rsp_i.data[{half_q, 5'b0} +: 32];
+  assign next_word = mem_rsp_i.data[{half_q + 2'd1, 5'b0} +: 32];
+
+  // The stack's top entry.
+  logic [EntryBits-1:0] top;
+  assign top = sp_q == '0 ? '0 : stack_q[(32'(sp_q) - 32'd1)*EntryBits +: EntryBits];
+
+  // Inner node: the children in visiting order.
+  logic                 below_first;
+  logic [IndexBits-1:0] first_child, second_child;
+  assign below_first  = flags_q[FOLt] || (flags_q[FOEq] && flags_q[FDLe0 + 5'(axis_q)]);
+  assign first_child  = below_first ? node_q + IndexBits'(1) : above_q;
+  assign second_child = below_first ? above_q : node_q + IndexBits'(1);
+
+  always_comb begin
+    state_d    = state_q;
+    step_d     = step_q;
+    ray_d      = ray_q;
+    regs_d     = regs_q;
+    flags_d    = flags_q;
+    out_d      = out_q;
+    kz_d       = kz_q;
+    axis_d     = axis_q;
+    node_d     = node_q;
+    above_d    = above_q;
+    count_d    = count_q;
+    k_d        = k_q;
+    split_d    = split_q;
+    first_d    = first_q;
+    prim_d     = prim_q;
+    hit_prim_d = hit_prim_q;
+    hit_d      = hit_q;
+    fault_d    = fault_q;
+    half_d     = half_q;
+    sent_d     = sent_q;
+    got_d      = got_q;
+    record_d   = record_q;
+    stack_d    = stack_q;
+    sp_d       = sp_q;
+    nodes_d    = nodes_q;
+    leaves_d   = leaves_q;
+    tests_d    = tests_q;
+
+    ray_ready       = 1'b0;
+    fma_valid       = 1'b0;
+    misc_valid      = 1'b0;
+    div_valid       = 1'b0;
+    fma_req         = fp_op(rpu_pkg::FpOpSub, DstReg, '0, '0, '0);
+    misc_req        = fp_op(rpu_pkg::FpOpLt, DstFlag, '0, '0, '0);
+    div_req         = fp_op(rpu_pkg::FpOpRcp, DstReg, '0, '0, '0);
+    mem_req_valid_o = 1'b0;
+    mem_req_o.addr  = {node_addr[31:4], 4'b0};
+    mem_rsp_ready_o = 1'b0;
+    iu_req_valid_o  = 1'b0;
+    iu_rsp_ready_o  = 1'b0;
+    rsp_valid_o     = 1'b0;
+
+    // Results coming back from the FP units.
+    if (fma_rsp_valid) regs_d[fma_rsp.tag[4:0]*W +: W] = fma_rsp.result[W-1:0];
+    if (div_rsp_valid) regs_d[div_rsp.tag[4:0]*W +: W] = div_rsp.result[W-1:0];
+    if (misc_rsp_valid) begin
+      unique case (misc_rsp.tag[7:6])
+        DstFlag: flags_d[misc_rsp.tag[4:0]] = misc_rsp.result[0];
+        DstOut:  out_d[misc_rsp.tag[1:0]*32 +: 32] = misc_rsp.result;
+        default: regs_d[misc_rsp.tag[4:0]*W +: W] = misc_rsp.result[W-1:0];
+      endcase
+    end
+
+    unique case (state_q)
+      StIdle: begin
+        ray_ready = 1'b1;
+        if (ray_valid) begin
+          ray_d    = ray_in;
+          step_d   = '0;
+          hit_d    = 1'b0;
+          fault_d  = 1'b0;
+          sp_d     = '0;
+          nodes_d  = '0;
+          leaves_d = '0;
+          tests_d  = '0;
+          state_d  = StLoad;
+        end
+      end
+
+      StLoad: begin
+        misc_valid = 1'b1;
+        misc_req = fp_op(rpu_pkg::FpOpFromFp32, DstReg, step_q, raw[step_q*32 +: 32], '0);
+        step_d = step_q + 5'd1;
+        if (step_q == 5'd13) begin
+          step_d  = '0;
+          state_d = StCheck;
+        end
+      end
+
+      // Compares on misc, box - O on fma (both needed only by a valid ray, but issuing
+      // them for every ray keeps the schedule fixed).
+      StCheck: begin
+        if (fm_busy_q == '0 || step_q != '0) begin
+          misc_valid = 1'b1;
+          if (step_q < 5'd3) begin
+            misc_req = fp_op(rpu_pkg::FpOpLt, DstFlag, FOFin + step_q,
+                             ext(abs_of(rd(regs_q, RO + step_q))), ext(Inf));
+          end else if (step_q < 5'd6) begin
+            misc_req = fp_op(rpu_pkg::FpOpLt, DstFlag, FDFin + step_q - 5'd3,
+                             ext(abs_of(rd(regs_q, RD + step_q - 5'd3))), ext(Inf));
+          end else if (step_q < 5'd9) begin
+            misc_req = fp_op(rpu_pkg::FpOpEq, DstFlag, FDZero + step_q - 5'd6,
+                             ext(rd(regs_q, RD + step_q - 5'd6)), ext(Zero));
+          end else if (step_q == 5'd9) begin
+            misc_req = fp_op(rpu_pkg::FpOpLt, DstFlag, FInterval, ext(rd(regs_q, RTMin)), ext(rd(regs_q, RTMax)));
+          end else if (step_q < 5'd13) begin
+            misc_req = fp_op(rpu_pkg::FpOpLe, DstFlag, FDLe0 + step_q - 5'd10,
+                             ext(rd(regs_q, RD + step_q - 5'd10)), ext(Zero));
+          end else if (step_q == 5'd13) begin
+            misc_req = fp_op(rpu_pkg::FpOpLe, DstFlag, FYX, ext(abs_of(rd(regs_q, RD + 1))), ext(abs_of(rd(regs_q, RD))));
+          end else if (step_q == 5'd14) begin
+            misc_req = fp_op(rpu_pkg::FpOpLe, DstFlag, FZX, ext(abs_of(rd(regs_q, RD + 2))), ext(abs_of(rd(regs_q, RD))));
+          end else begin
+            misc_req = fp_op(rpu_pkg::FpOpLe, DstFlag, FZY, ext(abs_of(rd(regs_q, RD + 2))), ext(abs_of(rd(regs_q, RD + 1))));
+          end
+          if (step_q < 5'd6) begin
+            fma_valid = 1'b1;
+            fma_req = fp_op(rpu_pkg::FpOpSub, DstReg, RBox + step_q, ext(rd(regs_q, RLo + step_q)),
+                            ext(rd(regs_q, RO + (step_q < 5'd3 ? step_q : step_q - 5'd3))));
+          end
+          step_d = step_q + 5'd1;
+          if (step_q == (Watertight ? 5'd15 : 5'd12)) begin
+            step_d  = '0;
+            state_d = StValid;
+          end
+        end
+      end
+
+      StValid: begin
+        if (fm_busy_q == '0) begin
+          if (!(&flags_q[FOFin +: 6]) || (&flags_q[FDZero +: 3]) || !flags_q[FInterval]) begin
+            state_d = StRsp;  // a defined miss: nothing fetched
+          end else begin
+            regs_d[RTNear*W +: W] = rd(regs_q, RTMin);
+            regs_d[RTFar*W +: W]  = rd(regs_q, RTMax);
+            regs_d[RTBest*W +: W] = rd(regs_q, RTMax);
+            kz_d = kz_pick;
+            if (Watertight) begin
+              misc_valid = 1'b1;
+              misc_req = fp_op(rpu_pkg::FpOpLt, DstFlag, FKzNeg, ext(rd(regs_q, RD + RegBits'(kz_pick))), ext(Zero));
+            end
+            step_d  = '0;
+            state_d = StRcp;
+          end
+        end
+      end
+
+      // One divider op at a time; each starts when the divider is idle.
+      StRcp: begin
+        if (div_ready && !div_busy_q) begin
+          div_valid = 1'b1;
+          if (step_q < 5'd3) begin
+            div_req = fp_op(rpu_pkg::FpOpRcp, DstReg, RInv + step_q, ext(rd(regs_q, RD + step_q)), '0);
+          end else if (step_q == 5'd3) begin
+            div_req = fp_op(rpu_pkg::FpOpDiv, DstReg, RSx, ext(rd(regs_q, RD + RegBits'(kx))),
+                            ext(rd(regs_q, RD + RegBits'(kz_q))));
+          end else begin
+            div_req = fp_op(rpu_pkg::FpOpDiv, DstReg, RSy, ext(rd(regs_q, RD + RegBits'(ky))),
+                            ext(rd(regs_q, RD + RegBits'(kz_q))));
+          end
+          step_d = step_q + 5'd1;
+          if (step_q == (Watertight ? 5'd4 : 5'd2)) begin
+            step_d  = '0;
+            state_d = StClipMul;
+          end
+        end
+      end
+
+      StClipMul: begin
+        if (!div_busy_q) begin
+          fma_valid = 1'b1;
+          fma_req = fp_op(rpu_pkg::FpOpMul, DstReg, RBox + step_q, ext(rd(regs_q, RBox + step_q)),
+                          ext(rd(regs_q, RInv + (step_q < 5'd3 ? step_q : step_q - 5'd3))));
+          step_d = step_q + 5'd1;
+          if (step_q == 5'd5) begin
+            step_d  = '0;
+            axis_d  = '0;
+            state_d = StClipEntry;
+          end
+        end
+      end
+
+      StClipEntry: begin
+        if (fm_busy_q == '0) begin
+          misc_valid = 1'b1;
+          misc_req = fp_op(rpu_pkg::FpOpGt, DstFlag, FEntry, ext(rd(regs_q, entry_reg)), ext(rd(regs_q, RTNear)));
+          state_d = StClipExit;
+        end
+      end
+
+      StClipExit: begin
+        misc_valid = 1'b1;
+        misc_req = fp_op(rpu_pkg::FpOpLt, DstFlag, FExit, ext(rd(regs_q, exit_reg)), ext(rd(regs_q, RTFar)));
+        state_d = StClipUpdate;
+      end
+
+      StClipUpdate: begin
+        if (fm_busy_q == '0) begin
+          if (flags_q[FEntry]) regs_d[RTNear*W +: W] = rd(regs_q, entry_reg);
+          if (flags_q[FExit])  regs_d[RTFar*W +: W]  = rd(regs_q, exit_reg);
+          axis_d  = axis_q + 2'd1;
+          state_d = axis_q == 2'd2 ? StClipTest : StClipEntry;
+        end
+      end
+
+      StClipTest: begin
+        misc_valid = 1'b1;
+        misc_req = fp_op(rpu_pkg::FpOpLe, DstFlag, FNearFar, ext(rd(regs_q, RTNear)), ext(rd(regs_q, RTFar)));
+        state_d = StClipEnd;
+      end
+
+      StClipEnd: begin
+        if (fm_busy_q == '0) begin
+          node_d  = '0;
+          state_d = flags_q[FNearFar] ? StNodeReq : StRsp;
+        end
+      end
+
+      StNodeReq: begin
+        mem_req_valid_o = 1'b1;
+        mem_req_o.addr  = {node_addr[31:4], 4'b0};
+        if (mem_req_ready_i) begin
+          half_d  = {node_addr[3], 1'b0};
+          nodes_d = nodes_q + 32'd1;
+          state_d = StNodeWait;
+        end
+      end
+
+      StNodeWait: begin
+        mem_rsp_ready_o = 1'b1;
+        if (mem_rsp_valid_i) begin
+          // word0: kind in bits 1:0, above child or count above; word1: split or first.
+          if (line_word[1:0] == 2'(rpu_pkg::KdNodeLeafKind)) begin
+            count_d  = line_word[31:2];
+            first_d  = next_word;
+            k_d      = '0;
+            leaves_d = leaves_q + 32'd1;
+            state_d  = StLeafNext;
+          end else begin
+            axis_d  = line_word[1:0];
+            above_d = line_word[31:2];
+            split_d = next_word;
+            step_d  = '0;
+            state_d = StInner;
+          end
+        end
+      end
+
+      // §3 inner node: t_split = (s - O[a]) * inv[a], then its three compares.
+      StInner: begin
+        step_d = step_q + 5'd1;
+        unique case (step_q)
+          5'd0: begin
+            misc_valid = 1'b1;
+            misc_req = fp_op(rpu_pkg::FpOpFromFp32, DstReg, RSplit, split_q, '0);
+          end
+          5'd1: begin
+            if (fm_busy_q == '0) begin
+              fma_valid = 1'b1;
+              fma_req = fp_op(rpu_pkg::FpOpSub, DstReg, RTSplit, ext(rd(regs_q, RSplit)), ext(rd(regs_q, RO + RegBits'(axis_q))));
+              misc_valid = 1'b1;
+              misc_req = fp_op(rpu_pkg::FpOpLt, DstFlag, FOLt, ext(rd(regs_q, RO + RegBits'(axis_q))), ext(rd(regs_q, RSplit)));
+            end else begin
+              step_d = step_q;
+            end
+          end
+          5'd2: begin
+            misc_valid = 1'b1;
+            misc_req = fp_op(rpu_pkg::FpOpEq, DstFlag, FOEq, ext(rd(regs_q, RO + RegBits'(axis_q))), ext(rd(regs_q, RSplit)));
+          end
+          5'd3: begin
+            if (fm_busy_q == '0) begin
+              fma_valid = 1'b1;
+              fma_req = fp_op(rpu_pkg::FpOpMul, DstReg, RTSplit, ext(rd(regs_q, RTSplit)), ext(rd(regs_q, RInv + RegBits'(axis_q))));
+            end else begin
+              step_d = step_q;
+            end
+          end
+          5'd4: begin
+            if (fm_busy_q == '0) begin
+              misc_valid = 1'b1;
+              misc_req = fp_op(rpu_pkg::FpOpLe, DstFlag, FSplitLeFar, ext(rd(regs_q, RTSplit)), ext(rd(regs_q, RTFar)));
+            end else begin
+              step_d = step_q;
+            end
+          end
+          5'd5: begin
+            misc_valid = 1'b1;
+            misc_req = fp_op(rpu_pkg::FpOpLe, DstFlag, FSplitLe0, ext(rd(regs_q, RTSplit)), ext(Zero));
+          end
+          default: begin
+            misc_valid = 1'b1;
+            misc_req = fp_op(rpu_pkg::FpOpLt, DstFlag, FSplitLtNear, ext(rd(regs_q, RTSplit)), ext(rd(regs_q, RTNear)));
+            step_d  = '0;
+            state_d = StInnerEnd;
+          end
+        endcase
+      end
+
+      StInnerEnd: begin
+        if (fm_busy_q == '0) begin
+          state_d = StNodeReq;
+          if (!flags_q[FSplitLeFar] || flags_q[FSplitLe0]) begin
+            node_d = first_child;   // the plane is behind, beyond, or (NaN) holds the ray
+          end else if (flags_q[FSplitLtNear]) begin
+            node_d = second_child;
+          end else if (sp_q == SpBits'(StackDepth)) begin
+            fault_d = 1'b1;
+            state_d = StRsp;
+          end else begin
+            stack_d[sp_q*EntryBits +: EntryBits] = {second_child, rd(regs_q, RTSplit), rd(regs_q, RTFar)};
+            sp_d = sp_q + SpBits'(1);
+            node_d = first_child;
+            regs_d[RTFar*W +: W] = rd(regs_q, RTSplit);
+          end
+        end
+      end
+
+      // The list's end, or any-hit mode's first hit.
+      StLeafNext: begin
+        if (k_q == count_q || (hit_q && ray_q.any_hit)) begin
+          state_d = StLeafEnd;
+        end else begin
+          mem_req_valid_o = 1'b1;
+          mem_req_o.addr  = {ref_addr[31:4], 4'b0};
+          if (mem_req_ready_i) begin
+            half_d  = ref_addr[3:2];
+            state_d = StRefWait;
+          end
+        end
+      end
+
+      StRefWait: begin
+        mem_rsp_ready_o = 1'b1;
+        if (mem_rsp_valid_i) begin
+          prim_d  = line_word;
+          sent_d  = '0;
+          got_d   = '0;
+          state_d = StRecord;
+        end
+      end
+
+      // The record's three lines, requested back to back, answered in order.
+      StRecord: begin
+        mem_req_valid_o = sent_q != 2'd3;
+        mem_req_o.addr  = record_addr;
+        if (mem_req_valid_o && mem_req_ready_i) sent_d = sent_q + 2'd1;
+        mem_rsp_ready_o = 1'b1;
+        if (mem_rsp_valid_i) begin
+          record_d[got_q*128 +: 128] = mem_rsp_i.data;
+          got_d = got_q + 2'd1;
+          if (got_q == 2'd2) state_d = StIuReq;
+        end
+      end
+
+      StIuReq: begin
+        iu_req_valid_o = 1'b1;
+        if (iu_req_ready_i) begin
+          tests_d = tests_q + 32'd1;
+          state_d = StIuWait;
+        end
+      end
+
+      StIuWait: begin
+        iu_rsp_ready_o = 1'b1;
+        if (iu_rsp_valid_i) begin
+          k_d     = k_q + IndexBits'(1);
+          state_d = StLeafNext;
+          if (iu_rsp_i.hit) begin
+            regs_d[RTBest*W +: W] = iu_rsp_i.t[W-1:0];
+            regs_d[RHitU*W +: W]  = iu_rsp_i.u[W-1:0];
+            regs_d[RHitV*W +: W]  = iu_rsp_i.v[W-1:0];
+            hit_d      = 1'b1;
+            hit_prim_d = prim_q;
+          end
+        end
+      end
+
+      StLeafEnd: begin
+        misc_valid = 1'b1;
+        misc_req = fp_op(rpu_pkg::FpOpLe, DstFlag, FBestLeFar, ext(rd(regs_q, RTBest)), ext(rd(regs_q, RTFar)));
+        state_d = StLeafDecide;
+      end
+
+      StLeafDecide: begin
+        if (fm_busy_q == '0) begin
+          if ((hit_q && (ray_q.any_hit || flags_q[FBestLeFar])) || sp_q == '0) begin
+            state_d = StFinish;
+          end else begin
+            // Pop: continue at the entry's node with its interval unless the hit is
+            // nearer than the entry's near end (StPopDecide).
+            {node_d, regs_d[RTNear*W +: W], regs_d[RTFar*W +: W]} = top;
+            sp_d = sp_q - SpBits'(1);
+            state_d = StPop;
+          end
+        end
+      end
+
+      StPop: begin
+        misc_valid = 1'b1;
+        misc_req = fp_op(rpu_pkg::FpOpLt, DstFlag, FBestLtNear, ext(rd(regs_q, RTBest)), ext(rd(regs_q, RTNear)));
+        state_d = StPopDecide;
+      end
+
+      StPopDecide: begin
+        if (fm_busy_q == '0) begin
+          state_d = hit_q && flags_q[FBestLtNear] ? StFinish : StNodeReq;
+        end
+      end
+
+      StFinish: begin
+        misc_valid = 1'b1;
+        step_d = step_q + 5'd1;
+        unique case (step_q)
+          5'd0:    misc_req = fp_op(rpu_pkg::FpOpToFp32, DstOut, 5'd0, ext(rd(regs_q, RTBest)), '0);
+          5'd1:    misc_req = fp_op(rpu_pkg::FpOpToFp32, DstOut, 5'd1, ext(rd(regs_q, RHitU)), '0);
+          default: begin
+            misc_req = fp_op(rpu_pkg::FpOpToFp32, DstOut, 5'd2, ext(rd(regs_q, RHitV)), '0);
+            step_d  = '0;
+            state_d = StRsp;
+          end
+        endcase
+      end
+
+      StRsp: begin
+        if (fm_busy_q == '0) begin
+          rsp_valid_o = 1'b1;
+          if (rsp_ready_i) begin
+            step_d  = '0;
+            state_d = StIdle;
+          end
+        end
+      end
+
+      default: state_d = StIdle;
+    endcase
+
+    // Ops in flight: fma and misc answer after two cycles, the divider when it is done.
+    fm_busy_d = fm_busy_q + 3'(fma_valid) + 3'(misc_valid) - 3'(fma_rsp_valid) - 3'(misc_rsp_valid);
+    div_busy_d = div_valid || (div_busy_q && !div_rsp_valid);
+  end
+
+  always_ff @(posedge clk_i or negedge rst_ni) begin
+    if (!rst_ni) begin
+      state_q    <= StIdle;
+      step_q     <= '0;
+      ray_q      <= '0;
+      regs_q     <= '0;
+      flags_q    <= '0;
+      out_q      <= '0;
+      kz_q       <= 2'd2;
+      axis_q     <= '0;
+      node_q     <= '0;
+      above_q    <= '0;
+      count_q    <= '0;
+      k_q        <= '0;
+      split_q    <= '0;
+      first_q    <= '0;
+      prim_q     <= '0;
+      hit_prim_q <= '0;
+      hit_q      <= 1'b0;
+      fault_q    <= 1'b0;
+      half_q     <= '0;
+      sent_q     <= '0;
+      got_q      <= '0;
+      record_q   <= '0;
+      stack_q    <= '0;
+      sp_q       <= '0;
+      nodes_q    <= '0;
+      leaves_q   <= '0;
+      tests_q    <= '0;
+      fm_busy_q  <= '0;
+      div_busy_q <= 1'b0;
+    end else begin
+      state_q    <= state_d;
+      step_q     <= step_d;
+      ray_q      <= ray_d;
+      regs_q     <= regs_d;
+      flags_q    <= flags_d;
+      out_q      <= out_d;
+      kz_q       <= kz_d;
+      axis_q     <= axis_d;
+      node_q     <= node_d;
+      above_q    <= above_d;
+      count_q    <= count_d;
+      k_q        <= k_d;
+      split_q    <= split_d;
+      first_q    <= first_d;
+      prim_q     <= prim_d;
+      hit_prim_q <= hit_prim_d;
+      hit_q      <= hit_d;
+      fault_q    <= fault_d;
+      half_q     <= half_d;
+      sent_q     <= sent_d;
+      got_q      <= got_d;
+      record_q   <= record_d;
+      stack_q    <= stack_d;
+      sp_q       <= sp_d;
+      nodes_q    <= nodes_d;
+      leaves_q   <= leaves_d;
+      tests_q    <= tests_d;
+      fm_busy_q  <= fm_busy_d;
+      div_busy_q <= div_busy_d;
+    end
+  end
+
+  // --- Outputs. ---
+  assign iu_req_o.tag       = ray_q.tag;
+  assign iu_req_o.origin    = {ext(rd(regs_q, RO + 2)), ext(rd(regs_q, RO + 1)), ext(rd(regs_q, RO))};
+  assign iu_req_o.direction = {ext(rd(regs_q, RD + 2)), ext(rd(regs_q, RD + 1)), ext(rd(regs_q, RD))};
+  assign iu_req_o.t_min     = ext(rd(regs_q, RTMin));
+  assign iu_req_o.t_best    = ext(rd(regs_q, RTBest));
+  assign iu_req_o.kx        = Watertight ? kx : 2'd0;
+  assign iu_req_o.ky        = Watertight ? ky : 2'd1;
+  assign iu_req_o.kz        = Watertight ? kz_q : 2'd2;
+  assign iu_req_o.shear_x   = Watertight ? ext(rd(regs_q, RSx)) : '0;
+  assign iu_req_o.shear_y   = Watertight ? ext(rd(regs_q, RSy)) : '0;
+  assign iu_req_o.shear_z   = Watertight ? ext(rd(regs_q, RInv + RegBits'(kz_q))) : '0;  // = rcp(D[kz])
+  assign iu_req_o.record    = record_q;
+
+  assign rsp_o.tag    = ray_q.tag;
+  assign rsp_o.hit    = hit_q;
+  assign rsp_o.t      = out_q[0 +: 32];
+  assign rsp_o.u      = out_q[32 +: 32];
+  assign rsp_o.v      = out_q[64 +: 32];
+  assign rsp_o.prim   = hit_prim_q;
+  assign rsp_o.nodes  = nodes_q;
+  assign rsp_o.leaves = leaves_q;
+  assign rsp_o.tests  = tests_q;
+  assign rsp_o.fault  = fault_q;
+
+  // Bits the unit does not read: the FP units' ready (they never stall here), result
+  // bits above the format's width, tag bits beyond the destination, the IU's tag (one
+  // test is in flight) and the high bits of its format values.
+  logic unused;
+  assign unused = ^{fma_ready_unused, misc_ready_unused, fma_rsp.tag[7:5], div_rsp.tag[7:5],
+                    misc_rsp.tag[5], iu_rsp_i.tag, first_q[31:30], node_addr[2:0],
+                    ref_addr[1:0]};
+  if (W < 32) begin : gen_unused_high
+    logic unused_high;
+    assign unused_high = ^{fma_rsp.result[31:W], div_rsp.result[31:W], iu_rsp_i.t[31:W],
+                           iu_rsp_i.u[31:W], iu_rsp_i.v[31:W]};
+  end
+
+endmodule

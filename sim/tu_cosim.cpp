@@ -1,0 +1,468 @@
+// Ray-level co-simulation of the RTL traversal unit against the golden tracer
+// (rpu::functional::Tracer, SoftArith in the same format; docs/rtl.md, "Traversal
+// unit"). The scene's memory image is served to the unit's memory port by a
+// behavioural memory (fixed latency plus a random extra delay, responses in order);
+// without the RTL IU the harness answers the unit's IU port with the C++ intersection
+// unit built from the request's fields. Camera, random and shadow (any-hit) rays go
+// through the unit's valid/ready ports with random stalls on every port; each response
+// is paired with its ray by tag and compared bit for bit: hit, t, u, v, prim and the
+// counters, or the stack-overflow fault. The first mismatch stops the run.
+//
+// It also measures the unit's cycles besides memory and IU waits per ray and checks
+// that they are setup + inner * inner nodes + leaf * leaves + pop * pops for fixed
+// constants (--timing prints them, --expect-timing compares them with the config's).
+//
+//   tu_cosim --scene cornell --format rpu24 --isect watertight --rays 10000 [--with-iu]
+#include <CLI/CLI.hpp>
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <chrono>
+#include <cinttypes>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <deque>
+#include <map>
+#include <optional>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "common/error.hpp"
+#include "fp/format.hpp"
+#include "functional/arith.hpp"
+#include "functional/intersection_unit.hpp"
+#include "functional/scene_image.hpp"
+#include "functional/tracer.hpp"
+#include "kdtree/kdtree.hpp"
+#include "scene/geometry.hpp"
+#include "scene/resolve.hpp"
+#include "trace_fixtures.hpp"
+#include "tu_model.hpp"
+
+namespace rpu::sim {
+namespace {
+
+using functional::TraceHit;
+using functional::TraceMode;
+using functional::TraceRay;
+
+struct Options {
+  std::string scene = "cornell";
+  std::string format = "fp32";
+  std::string isect = "woop";
+  bool with_iu = false;
+  int rays = 10000;  // per kind: camera, random, shadow
+  std::uint64_t seed = 1;
+  int mem_latency = 4, mem_jitter = 6;
+  int iu_latency = 6, iu_jitter = 4;
+  double stall = 0.08;  // probability a port is stalled in a cycle
+  bool timing = false;
+  std::string expect_timing;
+  std::string trace;
+};
+
+enum class Kind { kCamera, kRandom, kShadow };
+const char* kind_name(Kind k) { return k == Kind::kCamera ? "camera" : k == Kind::kRandom ? "random" : "shadow"; }
+
+struct Case {
+  TraceRay ray;
+  Kind kind;
+  TraceMode mode;
+  TraceHit expect;
+  bool fault = false;
+  std::uint32_t pops = 0;
+};
+
+std::uint32_t bits(float f) { return std::bit_cast<std::uint32_t>(f); }
+
+std::string describe_ray(const Case& c) {
+  char text[512];
+  const TraceRay& r = c.ray;
+  std::snprintf(text, sizeof text,
+                "%s ray, %s mode: origin (%.9g, %.9g, %.9g) [%08x %08x %08x] direction (%.9g, %.9g, %.9g) "
+                "[%08x %08x %08x] t_min %.9g [%08x] t_max %.9g [%08x]",
+                kind_name(c.kind), c.mode == TraceMode::kAny ? "any-hit" : "closest-hit", r.origin[0], r.origin[1],
+                r.origin[2], bits(r.origin[0]), bits(r.origin[1]), bits(r.origin[2]), r.direction[0], r.direction[1],
+                r.direction[2], bits(r.direction[0]), bits(r.direction[1]), bits(r.direction[2]), r.t_min,
+                bits(r.t_min), r.t_max, bits(r.t_max));
+  return text;
+}
+
+std::string describe_result(bool fault, bool hit, std::uint32_t t, std::uint32_t u, std::uint32_t v,
+                            std::uint32_t prim, std::uint32_t nodes, std::uint32_t leaves, std::uint32_t tests) {
+  char text[256];
+  if (fault) return "stack overflow fault";
+  std::snprintf(text, sizeof text,
+                "hit %d t %08x (%.9g) u %08x (%.9g) v %08x (%.9g) prim %u; nodes %u leaves %u tests %u", hit, t,
+                std::bit_cast<float>(t), u, std::bit_cast<float>(u), v, std::bit_cast<float>(v), prim, nodes,
+                leaves, tests);
+  return text;
+}
+
+// Shadow rays: from the camera rays' hit points toward the lights (a point light's
+// position, an area light's centre), any-hit, stopping short of the light.
+std::vector<TraceRay> shadow_rays(const Scene& scene, const std::vector<TraceRay>& camera,
+                                  const functional::Tracer& tracer, int count) {
+  std::vector<glm::dvec3> lights;
+  for (const Light& l : scene.lights) {
+    lights.push_back(l.kind == LightKind::kArea ? l.position + 0.5 * (l.edge_u + l.edge_v) : l.position);
+  }
+  if (lights.empty()) {
+    const Bounds b = scene_bounds(scene);
+    lights.push_back(b.hi + 0.25 * (b.hi - b.lo));
+  }
+  std::vector<TraceRay> rays;
+  for (std::size_t i = 0; rays.size() < static_cast<std::size_t>(count) && i < 8 * camera.size(); ++i) {
+    const TraceRay& c = camera[i % camera.size()];
+    const TraceHit h = tracer.trace(c, TraceMode::kClosest);
+    if (!h.hit) continue;
+    // Later passes over the camera rays aim at points around the light.
+    const double spread = 0.05 * static_cast<double>(i / camera.size());
+    const glm::dvec3 target = lights[i % lights.size()] + spread * glm::dvec3(std::sin(i), std::cos(i), 0.5);
+    TraceRay s;
+    for (int k = 0; k < 3; ++k) {
+      s.origin[k] = c.origin[k] + h.t * c.direction[k];
+      s.direction[k] = static_cast<float>(target[k] - s.origin[k]);
+    }
+    s.t_min = 1e-4f;
+    s.t_max = 1.0f - 1e-4f;
+    rays.push_back(s);
+  }
+  return rays;
+}
+
+// The C++ intersection unit on the fields of the TU's request.
+TuIuResponse iu_answer(const functional::SoftArith& ar, bool watertight, const TuIuRequest& q, std::mt19937_64& rng) {
+  functional::RayRegisters<functional::SoftArith> ray;
+  for (int i = 0; i < 3; ++i) {
+    ray.origin[i] = q.origin[i];
+    ray.direction[i] = q.direction[i];
+  }
+  ray.t_min = q.t_min;
+  ray.kx = q.kx;
+  ray.ky = q.ky;
+  ray.kz = q.kz;
+  ray.shear_x = q.shear[0];
+  ray.shear_y = q.shear[1];
+  ray.shear_z = q.shear[2];
+  functional::UnitHit<functional::SoftArith> hit;
+  const bool found = watertight ? functional::intersect_watertight(ar, ray, q.record, q.t_best, hit)
+                                : functional::intersect_woop(ar, ray, q.record, q.t_best, hit);
+  TuIuResponse r;
+  r.tag = q.tag;
+  r.hit = found;
+  // A miss carries random t, u, v: the unit must ignore them.
+  r.t = found ? hit.t : static_cast<std::uint32_t>(rng());
+  r.u = found ? hit.u : static_cast<std::uint32_t>(rng());
+  r.v = found ? hit.v : static_cast<std::uint32_t>(rng());
+  return r;
+}
+
+// busy = setup + inner * inner nodes + leaf * leaves + pop * pops. At the ports a pop
+// always follows a leaf but the first (pops = leaves - 1), so only setup - pop, inner
+// and leaf + pop are measurable; docs/rtl.md defines pop by the unit's states. The fit
+// (least squares, rounded) uses the rays with pops = leaves - 1; every ray is then
+// checked against the four constants.
+struct TimingSample {
+  std::uint64_t busy;
+  std::uint32_t inner, leaves, pops;
+};
+
+std::optional<std::array<std::int64_t, 3>> fit_timing(const std::vector<TimingSample>& samples) {
+  double m[3][4] = {};
+  for (const TimingSample& s : samples) {
+    if (s.pops + 1 != s.leaves) continue;
+    const double x[3] = {1.0, double(s.inner), double(s.leaves)};
+    for (int i = 0; i < 3; ++i) {
+      for (int j = 0; j < 3; ++j) m[i][j] += x[i] * x[j];
+      m[i][3] += x[i] * double(s.busy);
+    }
+  }
+  for (int c = 0; c < 3; ++c) {
+    int p = c;
+    for (int r = c + 1; r < 3; ++r) {
+      if (std::abs(m[r][c]) > std::abs(m[p][c])) p = r;
+    }
+    if (std::abs(m[p][c]) < 1e-6) return std::nullopt;
+    std::swap(m[c], m[p]);
+    for (int r = 0; r < 3; ++r) {
+      if (r == c) continue;
+      const double f = m[r][c] / m[c][c];
+      for (int k = c; k < 4; ++k) m[r][k] -= f * m[c][k];
+    }
+  }
+  std::array<std::int64_t, 3> k;
+  for (int i = 0; i < 3; ++i) k[i] = std::llround(m[i][3] / m[i][i]);
+  return k;
+}
+
+int run(const Options& o) {
+  const fp::Format format = fp::format_by_name(o.format);
+  const bool watertight = o.isect == "watertight";
+  const Scene scene = resolve_scene(o.scene);
+  // The RTL's StackDepth is the default configuration's (rpu_tu.sv).
+  KdBuildConfig build = kd_build_config_for("default");
+  build.format = format;
+  const functional::SceneImage si =
+      functional::make_scene_image(scene, build, watertight ? IsectMode::kWatertight : IsectMode::kWoop);
+  const std::vector<std::uint8_t>& image = si.image.bytes;
+  const functional::Tracer tracer(image, si.layout, format, build.stack_depth, false);
+
+  // The rays and their expected results.
+  const int side = static_cast<int>(std::ceil(std::sqrt(double(o.rays))));
+  std::vector<TraceRay> camera = test::camera_rays(scene, side, side);
+  camera.resize(static_cast<std::size_t>(o.rays));
+  const std::vector<TraceRay> random = test::random_rays(scene, o.rays, static_cast<std::uint32_t>(o.seed) + 41);
+  const std::vector<TraceRay> shadow = shadow_rays(scene, camera, tracer, o.rays);
+  std::vector<Case> cases;
+  for (const TraceRay& r : camera) cases.push_back({r, Kind::kCamera, TraceMode::kClosest, {}});
+  for (const TraceRay& r : random) cases.push_back({r, Kind::kRandom, TraceMode::kClosest, {}});
+  for (const TraceRay& r : shadow) cases.push_back({r, Kind::kShadow, TraceMode::kAny, {}});
+  functional::TraceLog log;
+  for (Case& c : cases) {
+    try {
+      c.expect = tracer.trace(c.ray, c.mode, log);
+      c.pops = static_cast<std::uint32_t>(std::count_if(log.events.begin(), log.events.end(), [](const auto& e) {
+        return e.kind == functional::TraceEvent::Kind::kPop;
+      }));
+    } catch (const Error&) {
+      c.fault = true;
+    }
+  }
+
+  const TuModelName name{o.format, o.isect, o.with_iu};
+  std::unique_ptr<TuModel> model = make_tu_model(name, o.seed, o.trace);
+  if (!model) {
+    std::string built;
+    for (const TuModelName& n : tu_models()) {
+      built += " " + n.format + "/" + n.isect + (n.with_iu ? "+iu" : "");
+    }
+    std::fprintf(stderr, "tu_cosim: no model for %s/%s%s in this build; built:%s\n", o.format.c_str(),
+                 o.isect.c_str(), o.with_iu ? "+iu" : "", built.c_str());
+    return 2;
+  }
+
+  std::mt19937_64 rng(o.seed);
+  std::bernoulli_distribution stalled(o.stall);
+  const functional::SoftArith ar{format};
+  struct Pending {
+    std::uint64_t ready;
+    std::uint32_t addr;
+    TuIuResponse iu;
+  };
+  std::deque<Pending> mem_q, iu_q;
+  std::uint64_t mem_last = 0, iu_last = 0;
+
+  TuInputs in;
+  in.kd_nodes = si.layout.kd_nodes.offset;
+  in.prim_refs = si.layout.prim_refs.offset;
+  in.isect_records = si.layout.isect_records.offset;
+  for (int i = 0; i < 3; ++i) {
+    in.bounds_lo[i] = bits(si.layout.bounds_lo[i]);
+    in.bounds_hi[i] = bits(si.layout.bounds_hi[i]);
+  }
+  for (int i = 0; i < 4; ++i) {
+    model->settle(in);
+    model->clock();
+  }
+  in.rst_n = true;
+
+  std::vector<TimingSample> samples;
+  std::map<std::uint64_t, std::uint64_t> miss_busy;  // busy cycles of rays that fetch nothing
+  std::size_t next = 0, done = 0;
+  bool in_flight = false, responded = false;
+  std::uint64_t cycle = 0, started = 0, busy = 0;
+  const auto begin = std::chrono::steady_clock::now();
+  auto fail = [&](const std::string& what) {
+    std::printf("tu_cosim FAIL: %s, format %s, %s test, cycle %" PRIu64 "\n  %s\n", o.scene.c_str(),
+                o.format.c_str(), o.isect.c_str(), cycle, what.c_str());
+    return 1;
+  };
+
+  while (done < cases.size()) {
+    const Case* current = in_flight || next < cases.size() ? &cases[in_flight ? next - 1 : next] : nullptr;
+    in.req_valid = !in_flight && next < cases.size() && !stalled(rng);
+    if (in.req_valid) {
+      const TraceRay& r = current->ray;
+      in.req_tag = static_cast<std::uint32_t>(next & 0xff);
+      for (int i = 0; i < 3; ++i) {
+        in.origin[i] = bits(r.origin[i]);
+        in.direction[i] = bits(r.direction[i]);
+      }
+      in.t_min = bits(r.t_min);
+      in.t_max = bits(r.t_max);
+      in.any_hit = current->mode == TraceMode::kAny;
+    }
+    in.rsp_ready = !stalled(rng);
+    in.mem_req_ready = !stalled(rng);
+    in.mem_rsp_valid = !mem_q.empty() && mem_q.front().ready <= cycle && !stalled(rng);
+    if (in.mem_rsp_valid) {
+      std::memcpy(in.mem_rsp_data.data(), image.data() + mem_q.front().addr, 16);
+    }
+    in.iu_req_ready = !stalled(rng);
+    in.iu_rsp_valid = !iu_q.empty() && iu_q.front().ready <= cycle && !stalled(rng);
+    if (in.iu_rsp_valid) in.iu_rsp = iu_q.front().iu;
+
+    const TuOutputs out = model->settle(in);
+
+    // Cycles the unit spends waiting: a request presented or a response owed.
+    const bool waiting = out.mem_req_valid || !mem_q.empty() || out.iu_req_valid || !iu_q.empty();
+    if (in_flight && !responded) {
+      if (out.rsp_valid) {
+        responded = true;
+      } else if (!waiting) {
+        ++busy;
+      }
+    }
+
+    if (in.req_valid && out.req_ready) {
+      in_flight = true;
+      responded = false;
+      started = cycle;
+      busy = 0;
+      ++next;
+    }
+    if (out.rsp_valid && !in_flight) return fail("a response without a ray");
+    if (out.rsp_valid && in.rsp_ready) {
+      const Case& c = cases[next - 1];
+      const std::uint32_t tag = static_cast<std::uint32_t>((next - 1) & 0xff);
+      const TraceHit& e = c.expect;
+      bool same = out.tag == tag && out.fault == c.fault;
+      if (same && !c.fault) {
+        same = out.hit == e.hit && out.nodes == e.counters.nodes && out.leaves == e.counters.leaves &&
+               out.tests == e.counters.tests &&
+               (!e.hit || (out.t == bits(e.t) && out.u == bits(e.u) && out.v == bits(e.v) && out.prim == e.prim));
+      }
+      if (!same) {
+        char head[96];
+        std::snprintf(head, sizeof head, "ray %zu (tag 0x%02x, response tag 0x%02x)", next - 1, tag, out.tag);
+        return fail(std::string(head) + ": " + describe_ray(c) + "\n  expected (Tracer) " +
+                    describe_result(c.fault, e.hit, bits(e.t), bits(e.u), bits(e.v), e.prim, e.counters.nodes,
+                                    e.counters.leaves, e.counters.tests) +
+                    "\n  actual   (rtl)    " +
+                    describe_result(out.fault, out.hit, out.t, out.u, out.v, out.prim, out.nodes, out.leaves,
+                                    out.tests));
+      }
+      if (!c.fault) {
+        if (e.counters.nodes == 0) {
+          ++miss_busy[busy];
+        } else {
+          samples.push_back({busy, e.counters.nodes - e.counters.leaves, e.counters.leaves, c.pops});
+        }
+      }
+      in_flight = false;
+      ++done;
+    }
+    if (out.mem_req_valid && in.mem_req_ready) {
+      if ((out.mem_req_addr & 15u) != 0 || std::uint64_t{out.mem_req_addr} + 16 > image.size()) {
+        char what[96];
+        std::snprintf(what, sizeof what, "memory request at 0x%08x: unaligned or outside the %zu-byte image",
+                      out.mem_req_addr, image.size());
+        return fail(std::string(what) + "; ray " + describe_ray(*current));
+      }
+      mem_last = std::max(mem_last, cycle + static_cast<std::uint64_t>(o.mem_latency) +
+                                        std::uniform_int_distribution<int>(0, o.mem_jitter)(rng));
+      mem_q.push_back({mem_last, out.mem_req_addr, {}});
+    }
+    if (in.mem_rsp_valid && out.mem_rsp_ready) mem_q.pop_front();
+    if (model->has_iu_port()) {
+      if (out.iu_req_valid && in.iu_req_ready) {
+        iu_last = std::max(iu_last, cycle + static_cast<std::uint64_t>(o.iu_latency) +
+                                        std::uniform_int_distribution<int>(0, o.iu_jitter)(rng));
+        iu_q.push_back({iu_last, 0, iu_answer(ar, watertight, out.iu_req, rng)});
+      }
+      if (in.iu_rsp_valid && out.iu_rsp_ready) iu_q.pop_front();
+    }
+    if (in_flight && cycle - started > 1000000) return fail("no response for 10^6 cycles: " + describe_ray(*current));
+    model->clock();
+    ++cycle;
+  }
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
+
+  std::size_t hits = 0;
+  for (const Case& c : cases) hits += c.expect.hit;
+  std::printf("tu_cosim ok: %s, format %s, %s test%s: %zu rays (%d camera, %d random, %zu shadow; %zu hit) "
+              "bit for bit; %" PRIu64 " cycles in %.1f s (%.0f cycles/s, %.0f rays/s)\n",
+              o.scene.c_str(), o.format.c_str(), o.isect.c_str(), o.with_iu ? ", RTL IU" : ", C++ IU", cases.size(),
+              o.rays, o.rays, shadow.size(), hits, cycle, seconds, double(cycle) / seconds,
+              double(cases.size()) / seconds);
+
+  std::string misses;
+  for (const auto& [b, n] : miss_busy) misses += " " + std::to_string(b) + " (" + std::to_string(n) + " rays)";
+  if (o.timing) {
+    const auto k = fit_timing(samples);
+    if (!k) {
+      std::printf("tu_cosim: too few walking rays to measure the step cycles\n");
+      return 1;
+    }
+    std::size_t fit = 0, used = 0;
+    for (const TimingSample& s : samples) {
+      if (s.pops + 1 != s.leaves) continue;
+      ++used;
+      fit += static_cast<std::int64_t>(s.busy) == (*k)[0] + (*k)[1] * s.inner + (*k)[2] * s.leaves;
+    }
+    std::printf("tu_cosim timing: setup - pop %" PRId64 ", inner %" PRId64 ", leaf + pop %" PRId64
+                " cycles besides memory and IU waits (fits %zu of %zu walking rays with pops = leaves - 1, of %zu); "
+                "rays that fetch nothing:%s\n",
+                (*k)[0], (*k)[1], (*k)[2], fit, used, samples.size(), misses.c_str());
+    if (fit != used) {
+      std::printf("tu_cosim FAIL: the step cycles are not fixed per step kind\n");
+      return 1;
+    }
+  }
+  if (!o.expect_timing.empty()) {
+    std::array<std::int64_t, 4> k{};
+    if (std::sscanf(o.expect_timing.c_str(), "%" SCNd64 ",%" SCNd64 ",%" SCNd64 ",%" SCNd64, &k[0], &k[1], &k[2],
+                    &k[3]) != 4) {
+      std::fprintf(stderr, "tu_cosim: --expect-timing wants setup,inner,leaf,pop\n");
+      return 2;
+    }
+    for (const TimingSample& s : samples) {
+      const std::int64_t expected = k[0] + k[1] * s.inner + k[2] * s.leaves + k[3] * s.pops;
+      if (static_cast<std::int64_t>(s.busy) != expected) {
+        std::printf("tu_cosim FAIL: a ray with %u inner nodes, %u leaves and %u pops spent %" PRIu64
+                    " cycles besides memory and IU waits; spec/configs.toml [config.tu] (setup,inner,leaf,pop = %s) "
+                    "gives %" PRId64 " (measure with --timing; docs/rtl.md)\n",
+                    s.inner, s.leaves, s.pops, s.busy, o.expect_timing.c_str(), expected);
+        return 1;
+      }
+    }
+    std::printf("tu_cosim timing ok: every one of %zu walking rays spends setup + inner * %" PRId64 " + leaf * %" PRId64
+                " + pop * %" PRId64 " (setup %" PRId64 ") cycles besides memory and IU waits\n",
+                samples.size(), k[1], k[2], k[3], k[0]);
+  }
+  return 0;
+}
+
+}  // namespace
+}  // namespace rpu::sim
+
+int main(int argc, char** argv) {
+  rpu::sim::Options o;
+  CLI::App app{"Ray-level co-simulation of the RTL traversal unit against the golden tracer"};
+  app.add_option("--scene", o.scene, "scene name or file (rpu scenes)");
+  app.add_option("--format", o.format, "number format (spec/formats.toml)");
+  app.add_option("--isect", o.isect, "intersection test")->check(CLI::IsMember({"woop", "watertight"}));
+  app.add_flag("--with-iu", o.with_iu, "the RTL IU inside (rpu_ray_unit), else the C++ IU answers");
+  app.add_option("--rays", o.rays, "rays of each kind (camera, random, shadow)")->check(CLI::PositiveNumber);
+  app.add_option("--seed", o.seed, "seed of stalls, delays and the model's initial values");
+  app.add_option("--mem-latency", o.mem_latency, "memory latency in cycles")->check(CLI::NonNegativeNumber);
+  app.add_option("--mem-jitter", o.mem_jitter, "random extra memory delay, up to")->check(CLI::NonNegativeNumber);
+  app.add_option("--iu-latency", o.iu_latency, "C++ IU latency in cycles")->check(CLI::NonNegativeNumber);
+  app.add_option("--iu-jitter", o.iu_jitter, "random extra IU delay, up to")->check(CLI::NonNegativeNumber);
+  app.add_option("--stall", o.stall, "probability a port stalls in a cycle")->check(CLI::Range(0.0, 0.9));
+  app.add_flag("--timing", o.timing, "print the measured step cycles");
+  app.add_option("--expect-timing", o.expect_timing, "setup,inner,leaf,pop the RTL must measure");
+  app.add_option("--trace", o.trace, "write an FST waveform to this file");
+  CLI11_PARSE(app, argc, argv);
+  try {
+    return rpu::sim::run(o);
+  } catch (const rpu::Error& e) {
+    std::fprintf(stderr, "tu_cosim: %s\n", e.what());
+    return 2;
+  }
+}
