@@ -27,6 +27,7 @@ SIM_TOP = ROOT / "sim" / "rpu_fp_cosim_top.sv"
 TU_SIM_TOP = ROOT / "sim" / "rpu_tu_cosim_top.sv"
 NETLIST_TB = ROOT / "sim" / "rpu_fp_netlist_tb.sv"
 IU_TOP = ROOT / "sim" / "rpu_iu_cosim_top.sv"
+RAY_UNIT_SIM_TOP = ROOT / "sim" / "rpu_ray_unit_cosim_top.sv"
 IU_NETLIST_TB = ROOT / "sim" / "rpu_iu_netlist_tb.sv"
 # The intersection modes (spec/memory_map.toml [isect_mode]: the IsectMode parameter).
 ISECT_MODES = ("woop", "watertight")
@@ -85,6 +86,13 @@ def lint(args) -> int:
                          [f"-GExpBits={f['exponent_bits']}", f"-GFracBits={f['fraction_bits']}",
                           f"-GIsectMode={isect_mode(isect)}"], []))
     jobs.append(("rpu_tu_cosim_top", ["rpu_tu_cosim_top"], [], [TU_SIM_TOP]))
+    # The ray unit (TU + IU) in every format and mode, and its sim top.
+    for name, f in formats.items():
+        for isect in ISECT_MODES:
+            jobs.append((f"rpu_ray_unit {name} {isect}", ["rpu_ray_unit"],
+                         [f"-GExpBits={f['exponent_bits']}", f"-GFracBits={f['fraction_bits']}",
+                          f"-GIsectMode={isect_mode(isect)}"], []))
+    jobs.append(("rpu_ray_unit_cosim_top", ["rpu_ray_unit_cosim_top"], [], [RAY_UNIT_SIM_TOP]))
     for top in ("rpu_fifo", "rpu_skid_buf"):
         jobs.append((top, [top], ["-GWidth=8"], []))
     for what, (top,), params, extra in jobs:
