@@ -13,7 +13,7 @@ module rpu_tu_netlist_tb;
   localparam integer MaxWords = 1 << 20;
   localparam integer MaxRays = 1 << 16;
   localparam integer MaxTests = 1 << 18;
-  localparam integer RayFields = 20;   // 10 input words, 9 expected, 1 spare
+  localparam integer RayFields = 18;   // 10 input words (the last: its IU tests), 8 expected
   localparam integer TestFields = 17;  // t_best, 12 record words, hit, t, u, v
   localparam integer StallPercent = 8;
   localparam integer Timeout = 100000;

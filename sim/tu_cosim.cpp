@@ -209,8 +209,8 @@ std::optional<std::array<std::int64_t, 3>> fit_timing(const std::vector<TimingSa
 
 // The netlist testbench's input, hex words: a header (image words, rays, IU tests), the
 // configuration (kd_nodes, prim_refs, isect_records, bounds lo, bounds hi), the image
-// (little-endian words), 20 words per ray (origin, direction, t_min, t_max, any_hit, its
-// IU tests; expected hit, t, u, v, prim, nodes, leaves, tests, 0) and 17 per IU test in
+// (little-endian words), 18 words per ray (origin, direction, t_min, t_max, any_hit, its
+// IU tests; expected hit, t, u, v, prim, nodes, leaves, tests) and 17 per IU test in
 // walk order (t_best, the record's 12 words, then the Tracer's hit, t, u, v). Rays the
 // Tracer ends with a stack overflow are left out (the counters are all that is defined).
 int write_vectors(const Options& o, const functional::SceneImage& si, const functional::Tracer& tracer,
@@ -229,7 +229,7 @@ int write_vectors(const Options& o, const functional::SceneImage& si, const func
     for (int i = 0; i < 3; ++i) rays.push_back(bits(c.ray.direction[i]));
     rays.insert(rays.end(), {bits(c.ray.t_min), bits(c.ray.t_max), std::uint32_t{c.mode == TraceMode::kAny},
                              static_cast<std::uint32_t>(walk.size()), std::uint32_t{e.hit}, bits(e.t), bits(e.u),
-                             bits(e.v), e.prim, e.counters.nodes, e.counters.leaves, e.counters.tests, 0});
+                             bits(e.v), e.prim, e.counters.nodes, e.counters.leaves, e.counters.tests});
     for (const functional::IuTest& t : walk) {
       tests.push_back(t.t_best);
       tests.insert(tests.end(), t.record.begin(), t.record.end());
