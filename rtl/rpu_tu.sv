@@ -139,6 +139,12 @@ module rpu_tu #(
   logic [2:0]              fm_busy_d, fm_busy_q;  // fma + misc ops in flight (at most 4)
   logic                    div_busy_d, div_busy_q;
 
+  // The state machine's writes to the register file, the stack and the record: enables
+  // and values that the continuous assignments below the state machine apply (Yosys
+  // 0.23's proc_mux takes minutes on variable part-select writes in a process).
+  logic                    near_we, far_we, best_we, uv_we, push, record_we;
+  logic [W-1:0]            near_wd, far_wd, best_wd;
+
   // Register reads (a function on the flat vector: Yosys 0.23 turns an array of
   // them into a memory and warns).
   function automatic logic [W-1:0] rd(input logic [NumRegs*W-1:0] file, input logic [RegBits-1:0] index);
@@ -187,7 +193,7 @@ module rpu_tu #(
     .rsp_valid_o(div_rsp_valid), .rsp_ready_i(1'b1), .rsp_o(div_rsp)
   );
 
-  // Op issue helpers: set one unit's request in the issuing state.
+  // Request and operand helpers.
   // (A vector, not the struct: Yosys 0.23 reads no struct-typed functions.)
   localparam int unsigned FpReqBits = rpu_pkg::FpOpBits + TagBits + 3 * rpu_pkg::FpOperandBits;
   function automatic logic [FpReqBits-1:0] fp_op(input rpu_pkg::fp_op_e op, input logic [1:0] kind,
@@ -203,6 +209,34 @@ module rpu_tu #(
   function automatic logic [W-1:0] abs_of(input logic [W-1:0] value);
     abs_of = value & AbsMask;
   endfunction
+
+  // The ops the state machine issues: op, destination and operand selects, assembled
+  // into the requests by continuous assignments (function calls inside the state
+  // machine's process made Yosys 0.23's proc_mux take many minutes). An operand select
+  // is {abs, source, index}: a register (abs clears its sign bit), a constant (0, Inf),
+  // a raw fp32 word of StLoad, or the node's split word.
+  localparam int unsigned SelBits = 8;
+  localparam logic [1:0] SrcReg = 2'd0, SrcConst = 2'd1, SrcRaw = 2'd2, SrcSplit = 2'd3;
+  localparam logic [SelBits-1:0] SrcZero = {1'b0, SrcConst, 5'd0}, SrcInf = {1'b0, SrcConst, 5'd1};
+  rpu_pkg::fp_op_e    fma_op, misc_op, div_op;
+  logic [1:0]         misc_kind;
+  logic [4:0]         fma_dst, misc_dst, div_dst;
+  logic [SelBits-1:0] fma_a, fma_b, misc_a, misc_b, div_a, div_b;
+
+  function automatic logic [31:0] operand(input logic [SelBits-1:0] sel, input logic [NumRegs*W-1:0] file,
+                                          input logic [14*32-1:0] words, input logic [31:0] split);
+    operand = sel[6:5] == SrcReg   ? ext(sel[7] ? abs_of(rd(file, sel[4:0])) : rd(file, sel[4:0]))
+            : sel[6:5] == SrcConst ? (sel[0] ? ext(Inf) : ext(Zero))
+            : sel[6:5] == SrcRaw   ? words[sel[3:0]*32 +: 32]
+            : split;
+  endfunction
+
+  assign fma_req  = fp_op(fma_op, DstReg, fma_dst, operand(fma_a, regs_q, raw, split_q),
+                          operand(fma_b, regs_q, raw, split_q));
+  assign misc_req = fp_op(misc_op, misc_kind, misc_dst, operand(misc_a, regs_q, raw, split_q),
+                          operand(misc_b, regs_q, raw, split_q));
+  assign div_req  = fp_op(div_op, DstReg, div_dst, operand(div_a, regs_q, raw, split_q),
+                          operand(div_b, regs_q, raw, split_q));
 
   // Addresses: a node is 8 bytes, a ref 4, a record 48 (three 16-byte lines).
   logic [31:0] node_addr, ref_addr, record_addr;
@@ -230,9 +264,6 @@ module rpu_tu #(
     state_d    = state_q;
     step_d     = step_q;
     ray_d      = ray_q;
-    regs_d     = regs_q;
-    flags_d    = flags_q;
-    out_d      = out_q;
     kz_d       = kz_q;
     axis_d     = axis_q;
     node_d     = node_q;
@@ -248,37 +279,41 @@ module rpu_tu #(
     half_d     = half_q;
     sent_d     = sent_q;
     got_d      = got_q;
-    record_d   = record_q;
-    stack_d    = stack_q;
     sp_d       = sp_q;
     nodes_d    = nodes_q;
     leaves_d   = leaves_q;
     tests_d    = tests_q;
 
+    near_we         = 1'b0;
+    far_we          = 1'b0;
+    best_we         = 1'b0;
+    uv_we           = 1'b0;
+    push            = 1'b0;
+    record_we       = 1'b0;
+
     ray_ready       = 1'b0;
     fma_valid       = 1'b0;
     misc_valid      = 1'b0;
     div_valid       = 1'b0;
-    fma_req         = fp_op(rpu_pkg::FpOpSub, DstReg, '0, '0, '0);
-    misc_req        = fp_op(rpu_pkg::FpOpLt, DstFlag, '0, '0, '0);
-    div_req         = fp_op(rpu_pkg::FpOpRcp, DstReg, '0, '0, '0);
+    fma_op          = rpu_pkg::FpOpSub;
+    fma_dst         = '0;
+    fma_a           = SrcZero;
+    fma_b           = SrcZero;
+    misc_op         = rpu_pkg::FpOpLt;
+    misc_kind       = DstFlag;
+    misc_dst        = '0;
+    misc_a          = SrcZero;
+    misc_b          = SrcZero;
+    div_op          = rpu_pkg::FpOpRcp;
+    div_dst         = '0;
+    div_a           = SrcZero;
+    div_b           = SrcZero;
     mem_req_valid_o = 1'b0;
     mem_req_o.addr  = {node_addr[31:4], 4'b0};
     mem_rsp_ready_o = 1'b0;
     iu_req_valid_o  = 1'b0;
     iu_rsp_ready_o  = 1'b0;
     rsp_valid_o     = 1'b0;
-
-    // Results coming back from the FP units.
-    if (fma_rsp_valid) regs_d[fma_rsp.tag[4:0]*W +: W] = fma_rsp.result[W-1:0];
-    if (div_rsp_valid) regs_d[div_rsp.tag[4:0]*W +: W] = div_rsp.result[W-1:0];
-    if (misc_rsp_valid) begin
-      unique case (misc_rsp.tag[7:6])
-        DstFlag: flags_d[misc_rsp.tag[4:0]] = misc_rsp.result[0];
-        DstOut:  out_d[misc_rsp.tag[1:0]*32 +: 32] = misc_rsp.result;
-        default: regs_d[misc_rsp.tag[4:0]*W +: W] = misc_rsp.result[W-1:0];
-      endcase
-    end
 
     unique case (state_q)
       StIdle: begin
@@ -298,7 +333,11 @@ module rpu_tu #(
 
       StLoad: begin
         misc_valid = 1'b1;
-        misc_req = fp_op(rpu_pkg::FpOpFromFp32, DstReg, step_q, raw[step_q*32 +: 32], '0);
+        misc_op = rpu_pkg::FpOpFromFp32;
+        misc_kind = DstReg;
+        misc_dst = step_q;
+        misc_a = {1'b0, SrcRaw, step_q};
+        misc_b = SrcZero;
         step_d = step_q + 5'd1;
         if (step_q == 5'd13) begin
           step_d  = '0;
@@ -312,30 +351,60 @@ module rpu_tu #(
         if (fm_busy_q == '0 || step_q != '0) begin
           misc_valid = 1'b1;
           if (step_q < 5'd3) begin
-            misc_req = fp_op(rpu_pkg::FpOpLt, DstFlag, FOFin + step_q,
-                             ext(abs_of(rd(regs_q, RO + step_q))), ext(Inf));
+            misc_op = rpu_pkg::FpOpLt;
+            misc_kind = DstFlag;
+            misc_dst = FOFin + step_q;
+            misc_a = {1'b1, SrcReg, RegBits'(RO + step_q)};
+            misc_b = SrcInf;
           end else if (step_q < 5'd6) begin
-            misc_req = fp_op(rpu_pkg::FpOpLt, DstFlag, FDFin + step_q - 5'd3,
-                             ext(abs_of(rd(regs_q, RD + step_q - 5'd3))), ext(Inf));
+            misc_op = rpu_pkg::FpOpLt;
+            misc_kind = DstFlag;
+            misc_dst = FDFin + step_q - 5'd3;
+            misc_a = {1'b1, SrcReg, RegBits'(RD + step_q - 5'd3)};
+            misc_b = SrcInf;
           end else if (step_q < 5'd9) begin
-            misc_req = fp_op(rpu_pkg::FpOpEq, DstFlag, FDZero + step_q - 5'd6,
-                             ext(rd(regs_q, RD + step_q - 5'd6)), ext(Zero));
+            misc_op = rpu_pkg::FpOpEq;
+            misc_kind = DstFlag;
+            misc_dst = FDZero + step_q - 5'd6;
+            misc_a = {1'b0, SrcReg, RegBits'(RD + step_q - 5'd6)};
+            misc_b = SrcZero;
           end else if (step_q == 5'd9) begin
-            misc_req = fp_op(rpu_pkg::FpOpLt, DstFlag, FInterval, ext(rd(regs_q, RTMin)), ext(rd(regs_q, RTMax)));
+            misc_op = rpu_pkg::FpOpLt;
+            misc_kind = DstFlag;
+            misc_dst = FInterval;
+            misc_a = {1'b0, SrcReg, RTMin};
+            misc_b = {1'b0, SrcReg, RTMax};
           end else if (step_q < 5'd13) begin
-            misc_req = fp_op(rpu_pkg::FpOpLe, DstFlag, FDLe0 + step_q - 5'd10,
-                             ext(rd(regs_q, RD + step_q - 5'd10)), ext(Zero));
+            misc_op = rpu_pkg::FpOpLe;
+            misc_kind = DstFlag;
+            misc_dst = FDLe0 + step_q - 5'd10;
+            misc_a = {1'b0, SrcReg, RegBits'(RD + step_q - 5'd10)};
+            misc_b = SrcZero;
           end else if (step_q == 5'd13) begin
-            misc_req = fp_op(rpu_pkg::FpOpLe, DstFlag, FYX, ext(abs_of(rd(regs_q, RD + 1))), ext(abs_of(rd(regs_q, RD))));
+            misc_op = rpu_pkg::FpOpLe;
+            misc_kind = DstFlag;
+            misc_dst = FYX;
+            misc_a = {1'b1, SrcReg, RD + RegBits'(1)};
+            misc_b = {1'b1, SrcReg, RD};
           end else if (step_q == 5'd14) begin
-            misc_req = fp_op(rpu_pkg::FpOpLe, DstFlag, FZX, ext(abs_of(rd(regs_q, RD + 2))), ext(abs_of(rd(regs_q, RD))));
+            misc_op = rpu_pkg::FpOpLe;
+            misc_kind = DstFlag;
+            misc_dst = FZX;
+            misc_a = {1'b1, SrcReg, RD + RegBits'(2)};
+            misc_b = {1'b1, SrcReg, RD};
           end else begin
-            misc_req = fp_op(rpu_pkg::FpOpLe, DstFlag, FZY, ext(abs_of(rd(regs_q, RD + 2))), ext(abs_of(rd(regs_q, RD + 1))));
+            misc_op = rpu_pkg::FpOpLe;
+            misc_kind = DstFlag;
+            misc_dst = FZY;
+            misc_a = {1'b1, SrcReg, RD + RegBits'(2)};
+            misc_b = {1'b1, SrcReg, RD + RegBits'(1)};
           end
           if (step_q < 5'd6) begin
             fma_valid = 1'b1;
-            fma_req = fp_op(rpu_pkg::FpOpSub, DstReg, RBox + step_q, ext(rd(regs_q, RLo + step_q)),
-                            ext(rd(regs_q, RO + (step_q < 5'd3 ? step_q : step_q - 5'd3))));
+            fma_op = rpu_pkg::FpOpSub;
+            fma_dst = RBox + step_q;
+            fma_a = {1'b0, SrcReg, RegBits'(RLo + step_q)};
+            fma_b = {1'b0, SrcReg, RegBits'(RO + (step_q < 5'd3 ? step_q : step_q - 5'd3))};
           end
           step_d = step_q + 5'd1;
           if (step_q == (Watertight ? 5'd15 : 5'd12)) begin
@@ -350,13 +419,17 @@ module rpu_tu #(
           if (!(&flags_q[FOFin +: 6]) || (&flags_q[FDZero +: 3]) || !flags_q[FInterval]) begin
             state_d = StRsp;  // a defined miss: nothing fetched
           end else begin
-            regs_d[RTNear*W +: W] = rd(regs_q, RTMin);
-            regs_d[RTFar*W +: W]  = rd(regs_q, RTMax);
-            regs_d[RTBest*W +: W] = rd(regs_q, RTMax);
+            near_we = 1'b1;
+            far_we  = 1'b1;
+            best_we = 1'b1;
             kz_d = kz_pick;
             if (Watertight) begin
               misc_valid = 1'b1;
-              misc_req = fp_op(rpu_pkg::FpOpLt, DstFlag, FKzNeg, ext(rd(regs_q, RD + RegBits'(kz_pick))), ext(Zero));
+              misc_op = rpu_pkg::FpOpLt;
+              misc_kind = DstFlag;
+              misc_dst = FKzNeg;
+              misc_a = {1'b0, SrcReg, RegBits'(RD + RegBits'(kz_pick))};
+              misc_b = SrcZero;
             end
             step_d  = '0;
             state_d = StRcp;
@@ -369,13 +442,20 @@ module rpu_tu #(
         if (div_ready && !div_busy_q) begin
           div_valid = 1'b1;
           if (step_q < 5'd3) begin
-            div_req = fp_op(rpu_pkg::FpOpRcp, DstReg, RInv + step_q, ext(rd(regs_q, RD + step_q)), '0);
+            div_op = rpu_pkg::FpOpRcp;
+            div_dst = RInv + step_q;
+            div_a = {1'b0, SrcReg, RegBits'(RD + step_q)};
+            div_b = SrcZero;
           end else if (step_q == 5'd3) begin
-            div_req = fp_op(rpu_pkg::FpOpDiv, DstReg, RSx, ext(rd(regs_q, RD + RegBits'(kx))),
-                            ext(rd(regs_q, RD + RegBits'(kz_q))));
+            div_op = rpu_pkg::FpOpDiv;
+            div_dst = RSx;
+            div_a = {1'b0, SrcReg, RegBits'(RD + RegBits'(kx))};
+            div_b = {1'b0, SrcReg, RegBits'(RD + RegBits'(kz_q))};
           end else begin
-            div_req = fp_op(rpu_pkg::FpOpDiv, DstReg, RSy, ext(rd(regs_q, RD + RegBits'(ky))),
-                            ext(rd(regs_q, RD + RegBits'(kz_q))));
+            div_op = rpu_pkg::FpOpDiv;
+            div_dst = RSy;
+            div_a = {1'b0, SrcReg, RegBits'(RD + RegBits'(ky))};
+            div_b = {1'b0, SrcReg, RegBits'(RD + RegBits'(kz_q))};
           end
           step_d = step_q + 5'd1;
           if (step_q == (Watertight ? 5'd4 : 5'd2)) begin
@@ -388,8 +468,10 @@ module rpu_tu #(
       StClipMul: begin
         if (!div_busy_q) begin
           fma_valid = 1'b1;
-          fma_req = fp_op(rpu_pkg::FpOpMul, DstReg, RBox + step_q, ext(rd(regs_q, RBox + step_q)),
-                          ext(rd(regs_q, RInv + (step_q < 5'd3 ? step_q : step_q - 5'd3))));
+          fma_op = rpu_pkg::FpOpMul;
+          fma_dst = RBox + step_q;
+          fma_a = {1'b0, SrcReg, RegBits'(RBox + step_q)};
+          fma_b = {1'b0, SrcReg, RegBits'(RInv + (step_q < 5'd3 ? step_q : step_q - 5'd3))};
           step_d = step_q + 5'd1;
           if (step_q == 5'd5) begin
             step_d  = '0;
@@ -402,21 +484,29 @@ module rpu_tu #(
       StClipEntry: begin
         if (fm_busy_q == '0) begin
           misc_valid = 1'b1;
-          misc_req = fp_op(rpu_pkg::FpOpGt, DstFlag, FEntry, ext(rd(regs_q, entry_reg)), ext(rd(regs_q, RTNear)));
+          misc_op = rpu_pkg::FpOpGt;
+          misc_kind = DstFlag;
+          misc_dst = FEntry;
+          misc_a = {1'b0, SrcReg, entry_reg};
+          misc_b = {1'b0, SrcReg, RTNear};
           state_d = StClipExit;
         end
       end
 
       StClipExit: begin
         misc_valid = 1'b1;
-        misc_req = fp_op(rpu_pkg::FpOpLt, DstFlag, FExit, ext(rd(regs_q, exit_reg)), ext(rd(regs_q, RTFar)));
+        misc_op = rpu_pkg::FpOpLt;
+        misc_kind = DstFlag;
+        misc_dst = FExit;
+        misc_a = {1'b0, SrcReg, exit_reg};
+        misc_b = {1'b0, SrcReg, RTFar};
         state_d = StClipUpdate;
       end
 
       StClipUpdate: begin
         if (fm_busy_q == '0) begin
-          if (flags_q[FEntry]) regs_d[RTNear*W +: W] = rd(regs_q, entry_reg);
-          if (flags_q[FExit])  regs_d[RTFar*W +: W]  = rd(regs_q, exit_reg);
+          near_we = flags_q[FEntry];
+          far_we  = flags_q[FExit];
           axis_d  = axis_q + 2'd1;
           state_d = axis_q == 2'd2 ? StClipTest : StClipEntry;
         end
@@ -424,7 +514,11 @@ module rpu_tu #(
 
       StClipTest: begin
         misc_valid = 1'b1;
-        misc_req = fp_op(rpu_pkg::FpOpLe, DstFlag, FNearFar, ext(rd(regs_q, RTNear)), ext(rd(regs_q, RTFar)));
+        misc_op = rpu_pkg::FpOpLe;
+        misc_kind = DstFlag;
+        misc_dst = FNearFar;
+        misc_a = {1'b0, SrcReg, RTNear};
+        misc_b = {1'b0, SrcReg, RTFar};
         state_d = StClipEnd;
       end
 
@@ -471,26 +565,44 @@ module rpu_tu #(
         unique case (step_q)
           5'd0: begin
             misc_valid = 1'b1;
-            misc_req = fp_op(rpu_pkg::FpOpFromFp32, DstReg, RSplit, split_q, '0);
+            misc_op = rpu_pkg::FpOpFromFp32;
+            misc_kind = DstReg;
+            misc_dst = RSplit;
+            misc_a = {1'b0, SrcSplit, 5'd0};
+            misc_b = SrcZero;
           end
           5'd1: begin
             if (fm_busy_q == '0) begin
               fma_valid = 1'b1;
-              fma_req = fp_op(rpu_pkg::FpOpSub, DstReg, RTSplit, ext(rd(regs_q, RSplit)), ext(rd(regs_q, RO + RegBits'(axis_q))));
+              fma_op = rpu_pkg::FpOpSub;
+              fma_dst = RTSplit;
+              fma_a = {1'b0, SrcReg, RSplit};
+              fma_b = {1'b0, SrcReg, RegBits'(RO + RegBits'(axis_q))};
               misc_valid = 1'b1;
-              misc_req = fp_op(rpu_pkg::FpOpLt, DstFlag, FOLt, ext(rd(regs_q, RO + RegBits'(axis_q))), ext(rd(regs_q, RSplit)));
+              misc_op = rpu_pkg::FpOpLt;
+              misc_kind = DstFlag;
+              misc_dst = FOLt;
+              misc_a = {1'b0, SrcReg, RegBits'(RO + RegBits'(axis_q))};
+              misc_b = {1'b0, SrcReg, RSplit};
             end else begin
               step_d = step_q;
             end
           end
           5'd2: begin
             misc_valid = 1'b1;
-            misc_req = fp_op(rpu_pkg::FpOpEq, DstFlag, FOEq, ext(rd(regs_q, RO + RegBits'(axis_q))), ext(rd(regs_q, RSplit)));
+            misc_op = rpu_pkg::FpOpEq;
+            misc_kind = DstFlag;
+            misc_dst = FOEq;
+            misc_a = {1'b0, SrcReg, RegBits'(RO + RegBits'(axis_q))};
+            misc_b = {1'b0, SrcReg, RSplit};
           end
           5'd3: begin
             if (fm_busy_q == '0) begin
               fma_valid = 1'b1;
-              fma_req = fp_op(rpu_pkg::FpOpMul, DstReg, RTSplit, ext(rd(regs_q, RTSplit)), ext(rd(regs_q, RInv + RegBits'(axis_q))));
+              fma_op = rpu_pkg::FpOpMul;
+              fma_dst = RTSplit;
+              fma_a = {1'b0, SrcReg, RTSplit};
+              fma_b = {1'b0, SrcReg, RegBits'(RInv + RegBits'(axis_q))};
             end else begin
               step_d = step_q;
             end
@@ -498,18 +610,30 @@ module rpu_tu #(
           5'd4: begin
             if (fm_busy_q == '0) begin
               misc_valid = 1'b1;
-              misc_req = fp_op(rpu_pkg::FpOpLe, DstFlag, FSplitLeFar, ext(rd(regs_q, RTSplit)), ext(rd(regs_q, RTFar)));
+              misc_op = rpu_pkg::FpOpLe;
+              misc_kind = DstFlag;
+              misc_dst = FSplitLeFar;
+              misc_a = {1'b0, SrcReg, RTSplit};
+              misc_b = {1'b0, SrcReg, RTFar};
             end else begin
               step_d = step_q;
             end
           end
           5'd5: begin
             misc_valid = 1'b1;
-            misc_req = fp_op(rpu_pkg::FpOpLe, DstFlag, FSplitLe0, ext(rd(regs_q, RTSplit)), ext(Zero));
+            misc_op = rpu_pkg::FpOpLe;
+            misc_kind = DstFlag;
+            misc_dst = FSplitLe0;
+            misc_a = {1'b0, SrcReg, RTSplit};
+            misc_b = SrcZero;
           end
           default: begin
             misc_valid = 1'b1;
-            misc_req = fp_op(rpu_pkg::FpOpLt, DstFlag, FSplitLtNear, ext(rd(regs_q, RTSplit)), ext(rd(regs_q, RTNear)));
+            misc_op = rpu_pkg::FpOpLt;
+            misc_kind = DstFlag;
+            misc_dst = FSplitLtNear;
+            misc_a = {1'b0, SrcReg, RTSplit};
+            misc_b = {1'b0, SrcReg, RTNear};
             step_d  = '0;
             state_d = StInnerEnd;
           end
@@ -527,10 +651,10 @@ module rpu_tu #(
             fault_d = 1'b1;
             state_d = StRsp;
           end else begin
-            stack_d[sp_q*EntryBits +: EntryBits] = {second_child, rd(regs_q, RTSplit), rd(regs_q, RTFar)};
-            sp_d = sp_q + SpBits'(1);
+            push   = 1'b1;
+            sp_d   = sp_q + SpBits'(1);
             node_d = first_child;
-            regs_d[RTFar*W +: W] = rd(regs_q, RTSplit);
+            far_we = 1'b1;
           end
         end
       end
@@ -566,8 +690,8 @@ module rpu_tu #(
         if (mem_req_valid_o && mem_req_ready_i) sent_d = sent_q + 2'd1;
         mem_rsp_ready_o = 1'b1;
         if (mem_rsp_valid_i) begin
-          record_d[got_q*128 +: 128] = mem_rsp_i.data;
-          got_d = got_q + 2'd1;
+          record_we = 1'b1;
+          got_d     = got_q + 2'd1;
           if (got_q == 2'd2) state_d = StIuReq;
         end
       end
@@ -586,9 +710,8 @@ module rpu_tu #(
           k_d     = k_q + IndexBits'(1);
           state_d = StLeafNext;
           if (iu_rsp_i.hit) begin
-            regs_d[RTBest*W +: W] = iu_rsp_i.t[W-1:0];
-            regs_d[RHitU*W +: W]  = iu_rsp_i.u[W-1:0];
-            regs_d[RHitV*W +: W]  = iu_rsp_i.v[W-1:0];
+            best_we    = 1'b1;
+            uv_we      = 1'b1;
             hit_d      = 1'b1;
             hit_prim_d = prim_q;
           end
@@ -597,7 +720,11 @@ module rpu_tu #(
 
       StLeafEnd: begin
         misc_valid = 1'b1;
-        misc_req = fp_op(rpu_pkg::FpOpLe, DstFlag, FBestLeFar, ext(rd(regs_q, RTBest)), ext(rd(regs_q, RTFar)));
+        misc_op = rpu_pkg::FpOpLe;
+        misc_kind = DstFlag;
+        misc_dst = FBestLeFar;
+        misc_a = {1'b0, SrcReg, RTBest};
+        misc_b = {1'b0, SrcReg, RTFar};
         state_d = StLeafDecide;
       end
 
@@ -608,7 +735,9 @@ module rpu_tu #(
           end else begin
             // Pop: continue at the entry's node with its interval unless the hit is
             // nearer than the entry's near end (StPopDecide).
-            {node_d, regs_d[RTNear*W +: W], regs_d[RTFar*W +: W]} = top;
+            node_d  = top[EntryBits-1 -: IndexBits];
+            near_we = 1'b1;
+            far_we  = 1'b1;
             sp_d = sp_q - SpBits'(1);
             state_d = StPop;
           end
@@ -617,7 +746,11 @@ module rpu_tu #(
 
       StPop: begin
         misc_valid = 1'b1;
-        misc_req = fp_op(rpu_pkg::FpOpLt, DstFlag, FBestLtNear, ext(rd(regs_q, RTBest)), ext(rd(regs_q, RTNear)));
+        misc_op = rpu_pkg::FpOpLt;
+        misc_kind = DstFlag;
+        misc_dst = FBestLtNear;
+        misc_a = {1'b0, SrcReg, RTBest};
+        misc_b = {1'b0, SrcReg, RTNear};
         state_d = StPopDecide;
       end
 
@@ -629,12 +762,15 @@ module rpu_tu #(
 
       StFinish: begin
         misc_valid = 1'b1;
-        step_d = step_q + 5'd1;
+        misc_op    = rpu_pkg::FpOpToFp32;
+        misc_kind  = DstOut;
+        misc_dst   = step_q;
+        step_d     = step_q + 5'd1;
         unique case (step_q)
-          5'd0:    misc_req = fp_op(rpu_pkg::FpOpToFp32, DstOut, 5'd0, ext(rd(regs_q, RTBest)), '0);
-          5'd1:    misc_req = fp_op(rpu_pkg::FpOpToFp32, DstOut, 5'd1, ext(rd(regs_q, RHitU)), '0);
+          5'd0:    misc_a = {1'b0, SrcReg, RTBest};
+          5'd1:    misc_a = {1'b0, SrcReg, RHitU};
           default: begin
-            misc_req = fp_op(rpu_pkg::FpOpToFp32, DstOut, 5'd2, ext(rd(regs_q, RHitV)), '0);
+            misc_a  = {1'b0, SrcReg, RHitV};
             step_d  = '0;
             state_d = StRsp;
           end
@@ -657,6 +793,73 @@ module rpu_tu #(
     // Ops in flight: fma and misc answer after two cycles, the divider when it is done.
     fm_busy_d = fm_busy_q + 3'(fma_valid) + 3'(misc_valid) - 3'(fma_rsp_valid) - 3'(misc_rsp_valid);
     div_busy_d = div_valid || (div_busy_q && !div_rsp_valid);
+  end
+
+  // The values the state machine writes: the clip's interval (StValid, StClipUpdate), the
+  // push's t_far = t_split, the popped entry's interval, an IU hit's t.
+  assign near_wd = state_q == StClipUpdate ? rd(regs_q, entry_reg)
+                 : state_q == StLeafDecide ? top[2*W-1:W]
+                 : rd(regs_q, RTMin);
+  assign far_wd  = state_q == StClipUpdate ? rd(regs_q, exit_reg)
+                 : state_q == StInnerEnd   ? rd(regs_q, RTSplit)
+                 : state_q == StLeafDecide ? top[W-1:0]
+                 : rd(regs_q, RTMax);
+  assign best_wd = state_q == StIuWait ? iu_rsp_i.t[W-1:0] : rd(regs_q, RTMax);
+
+  // Register writes: a result goes to the register its tag names (misc's wins over the
+  // divider's, the divider's over fma's); the state machine's writes win over results.
+  logic misc_to_reg;
+  assign misc_to_reg = misc_rsp_valid && misc_rsp.tag[7:6] != DstFlag && misc_rsp.tag[7:6] != DstOut;
+  for (genvar i = 0; i < NumRegs; i++) begin : gen_regs
+    logic          fma_write, div_write, misc_write, sm_write;
+    logic [W-1:0]  sm_value;
+    assign fma_write  = fma_rsp_valid && fma_rsp.tag[4:0] == RegBits'(i);
+    assign div_write  = div_rsp_valid && div_rsp.tag[4:0] == RegBits'(i);
+    assign misc_write = misc_to_reg && misc_rsp.tag[4:0] == RegBits'(i);
+    if (i == RTNear) begin : gen_near
+      assign sm_write = near_we;
+      assign sm_value = near_wd;
+    end else if (i == RTFar) begin : gen_far
+      assign sm_write = far_we;
+      assign sm_value = far_wd;
+    end else if (i == RTBest) begin : gen_best
+      assign sm_write = best_we;
+      assign sm_value = best_wd;
+    end else if (i == RHitU) begin : gen_u
+      assign sm_write = uv_we;
+      assign sm_value = iu_rsp_i.u[W-1:0];
+    end else if (i == RHitV) begin : gen_v
+      assign sm_write = uv_we;
+      assign sm_value = iu_rsp_i.v[W-1:0];
+    end else begin : gen_none
+      assign sm_write = 1'b0;
+      assign sm_value = '0;
+    end
+    assign regs_d[i*W +: W] = sm_write   ? sm_value
+                            : misc_write ? misc_rsp.result[W-1:0]
+                            : div_write  ? div_rsp.result[W-1:0]
+                            : fma_write  ? fma_rsp.result[W-1:0]
+                            : regs_q[i*W +: W];
+  end
+
+  // Flags and the widened t, u, v: misc results tagged DstFlag and DstOut.
+  for (genvar i = 0; i < NumFlags; i++) begin : gen_flags
+    assign flags_d[i] = misc_rsp_valid && misc_rsp.tag[7:6] == DstFlag && misc_rsp.tag[4:0] == 5'(i)
+                        ? misc_rsp.result[0] : flags_q[i];
+  end
+  for (genvar i = 0; i < 3; i++) begin : gen_out
+    assign out_d[i*32 +: 32] = misc_rsp_valid && misc_rsp.tag[7:6] == DstOut && misc_rsp.tag[1:0] == 2'(i)
+                               ? misc_rsp.result : out_q[i*32 +: 32];
+  end
+
+  // A push writes the entry at the stack pointer; the record's lines arrive in order.
+  for (genvar i = 0; i < StackDepth; i++) begin : gen_stack
+    assign stack_d[i*EntryBits +: EntryBits] = push && sp_q == SpBits'(i)
+                                               ? {second_child, rd(regs_q, RTSplit), rd(regs_q, RTFar)}
+                                               : stack_q[i*EntryBits +: EntryBits];
+  end
+  for (genvar i = 0; i < rpu_pkg::IsectRecordWords / 4; i++) begin : gen_record
+    assign record_d[i*128 +: 128] = record_we && got_q == 2'(i) ? mem_rsp_i.data : record_q[i*128 +: 128];
   end
 
   always_ff @(posedge clk_i or negedge rst_ni) begin

@@ -13,6 +13,11 @@
 // constants (--timing prints them, --expect-timing compares them with the config's).
 //
 //   tu_cosim --scene cornell --format rpu24 --isect watertight --rays 10000 [--with-iu]
+//   tu_cosim --scene cornell --format fp16 --rays 3334 --write-vectors FILE
+//
+// --write-vectors needs no Verilated model: it writes the memory image, the unit's
+// configuration and the rays with the Tracer's results and IU tests for the netlist
+// testbench (sim/rpu_tu_netlist_tb.sv, rtl/flow.py synth --unit tu).
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
@@ -25,6 +30,7 @@
 #include <cstdio>
 #include <cstring>
 #include <deque>
+#include <fstream>
 #include <map>
 #include <optional>
 #include <random>
@@ -63,6 +69,7 @@ struct Options {
   bool timing = false;
   std::string expect_timing;
   std::string trace;
+  std::string write_vectors;
 };
 
 enum class Kind { kCamera, kRandom, kShadow };
@@ -200,6 +207,58 @@ std::optional<std::array<std::int64_t, 3>> fit_timing(const std::vector<TimingSa
   return k;
 }
 
+// The netlist testbench's input, hex words: a header (image words, rays, IU tests), the
+// configuration (kd_nodes, prim_refs, isect_records, bounds lo, bounds hi), the image
+// (little-endian words), 18 words per ray (origin, direction, t_min, t_max, any_hit, its
+// IU tests; expected hit, t, u, v, prim, nodes, leaves, tests) and 17 per IU test in
+// walk order (t_best, the record's 12 words, then the Tracer's hit, t, u, v). Rays the
+// Tracer ends with a stack overflow are left out (the counters are all that is defined).
+int write_vectors(const Options& o, const functional::SceneImage& si, const functional::Tracer& tracer,
+                  const std::vector<Case>& cases) {
+  const std::vector<std::uint8_t>& image = si.image.bytes;
+  std::vector<std::uint32_t> words((image.size() + 15) / 16 * 4, 0);
+  std::memcpy(words.data(), image.data(), image.size());
+  std::vector<std::uint32_t> rays, tests;
+  std::vector<functional::IuTest> walk;
+  std::size_t count = 0;
+  for (const Case& c : cases) {
+    if (c.fault) continue;
+    walk.clear();
+    const TraceHit e = tracer.trace(c.ray, c.mode, walk);
+    for (int i = 0; i < 3; ++i) rays.push_back(bits(c.ray.origin[i]));
+    for (int i = 0; i < 3; ++i) rays.push_back(bits(c.ray.direction[i]));
+    rays.insert(rays.end(), {bits(c.ray.t_min), bits(c.ray.t_max), std::uint32_t{c.mode == TraceMode::kAny},
+                             static_cast<std::uint32_t>(walk.size()), std::uint32_t{e.hit}, bits(e.t), bits(e.u),
+                             bits(e.v), e.prim, e.counters.nodes, e.counters.leaves, e.counters.tests});
+    for (const functional::IuTest& t : walk) {
+      tests.push_back(t.t_best);
+      tests.insert(tests.end(), t.record.begin(), t.record.end());
+      tests.insert(tests.end(), {std::uint32_t{t.hit}, t.result.t, t.result.u, t.result.v});
+    }
+    ++count;
+  }
+  std::ofstream out(o.write_vectors);
+  out << words.size() << " " << count << " " << tests.size() / 17 << "\n";
+  char word[16];
+  const auto put = [&](const std::vector<std::uint32_t>& v, std::size_t per_line) {
+    for (std::size_t i = 0; i < v.size(); ++i) {
+      std::snprintf(word, sizeof word, "%08" PRIx32 "%c", v[i], (i + 1) % per_line == 0 ? '\n' : ' ');
+      out << word;
+    }
+  };
+  std::vector<std::uint32_t> cfg{si.layout.kd_nodes.offset, si.layout.prim_refs.offset,
+                                 si.layout.isect_records.offset};
+  for (int i = 0; i < 3; ++i) cfg.push_back(bits(si.layout.bounds_lo[i]));
+  for (int i = 0; i < 3; ++i) cfg.push_back(bits(si.layout.bounds_hi[i]));
+  put(cfg, 9);
+  put(words, 4);
+  put(rays, 20);
+  put(tests, 17);
+  std::printf("tu_cosim: wrote %zu rays (%zu IU tests) and a %zu-byte image to %s\n", count, tests.size() / 17,
+              image.size(), o.write_vectors.c_str());
+  return out ? 0 : 2;
+}
+
 int run(const Options& o) {
   const fp::Format format = fp::format_by_name(o.format);
   const bool watertight = o.isect == "watertight";
@@ -233,6 +292,8 @@ int run(const Options& o) {
       c.fault = true;
     }
   }
+
+  if (!o.write_vectors.empty()) return write_vectors(o, si, tracer, cases);
 
   const TuModelName name{o.format, o.isect, o.with_iu};
   std::unique_ptr<TuModel> model = make_tu_model(name, o.seed, o.trace);
@@ -458,6 +519,7 @@ int main(int argc, char** argv) {
   app.add_flag("--timing", o.timing, "print the measured step cycles");
   app.add_option("--expect-timing", o.expect_timing, "setup,inner,leaf,pop the RTL must measure");
   app.add_option("--trace", o.trace, "write an FST waveform to this file");
+  app.add_option("--write-vectors", o.write_vectors, "write the rays, results and image for the netlist testbench");
   CLI11_PARSE(app, argc, argv);
   try {
     return rpu::sim::run(o);
