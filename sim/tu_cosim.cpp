@@ -3,8 +3,8 @@
 // unit"). The scene's memory image is served to the unit's memory port by a
 // behavioural memory (fixed latency plus a random extra delay, responses in order);
 // without the RTL IU the harness answers the unit's IU port with the C++ intersection
-// unit built from the request's fields. Camera, random and shadow (any-hit) rays go
-// through the unit's valid/ready ports with random stalls on every port; each response
+// unit built from the request's fields. Camera, random, shadow (any-hit) rays and
+// rays from origins exactly on the tree's split planes go through the unit's valid/ready ports with random stalls on every port; each response
 // is paired with its ray by tag and compared bit for bit: hit, t, u, v, prim and the
 // counters, or the stack-overflow fault. The first mismatch stops the run.
 //
@@ -62,6 +62,7 @@ struct Options {
   std::string isect = "woop";
   bool with_iu = false;
   int rays = 10000;  // per kind: camera, random, shadow
+  int plane_rays = -1;  // from origins on split planes; -1: a tenth of rays
   std::uint64_t seed = 1;
   int mem_latency = 4, mem_jitter = 6;
   int iu_latency = 6, iu_jitter = 4;
@@ -72,8 +73,11 @@ struct Options {
   std::string write_vectors;
 };
 
-enum class Kind { kCamera, kRandom, kShadow };
-const char* kind_name(Kind k) { return k == Kind::kCamera ? "camera" : k == Kind::kRandom ? "random" : "shadow"; }
+enum class Kind { kCamera, kRandom, kShadow, kPlane };
+const char* kind_name(Kind k) {
+  constexpr const char* names[] = {"camera", "random", "shadow", "split-plane"};
+  return names[static_cast<int>(k)];
+}
 
 struct Case {
   TraceRay ray;
@@ -277,10 +281,15 @@ int run(const Options& o) {
   camera.resize(static_cast<std::size_t>(o.rays));
   const std::vector<TraceRay> random = test::random_rays(scene, o.rays, static_cast<std::uint32_t>(o.seed) + 41);
   const std::vector<TraceRay> shadow = shadow_rays(scene, camera, tracer, o.rays);
+  const std::vector<TraceRay> plane = test::split_plane_rays(si, o.plane_rays < 0 ? (o.rays + 9) / 10 : o.plane_rays,
+                                                             static_cast<std::uint32_t>(o.seed) + 43);
   std::vector<Case> cases;
   for (const TraceRay& r : camera) cases.push_back({r, Kind::kCamera, TraceMode::kClosest, {}});
   for (const TraceRay& r : random) cases.push_back({r, Kind::kRandom, TraceMode::kClosest, {}});
   for (const TraceRay& r : shadow) cases.push_back({r, Kind::kShadow, TraceMode::kAny, {}});
+  for (std::size_t i = 0; i < plane.size(); ++i) {
+    cases.push_back({plane[i], Kind::kPlane, i % 2 ? TraceMode::kAny : TraceMode::kClosest, {}});
+  }
   functional::TraceLog log;
   for (Case& c : cases) {
     try {
@@ -446,10 +455,10 @@ int run(const Options& o) {
 
   std::size_t hits = 0;
   for (const Case& c : cases) hits += c.expect.hit;
-  std::printf("tu_cosim ok: %s, format %s, %s test%s: %zu rays (%d camera, %d random, %zu shadow; %zu hit) "
+  std::printf("tu_cosim ok: %s, format %s, %s test%s: %zu rays (%d camera, %d random, %zu shadow, %zu split-plane; %zu hit) "
               "bit for bit; %" PRIu64 " cycles in %.1f s (%.0f cycles/s, %.0f rays/s)\n",
               o.scene.c_str(), o.format.c_str(), o.isect.c_str(), o.with_iu ? ", RTL IU" : ", C++ IU", cases.size(),
-              o.rays, o.rays, shadow.size(), hits, cycle, seconds, double(cycle) / seconds,
+              o.rays, o.rays, shadow.size(), plane.size(), hits, cycle, seconds, double(cycle) / seconds,
               double(cases.size()) / seconds);
 
   std::string misses;
@@ -510,6 +519,8 @@ int main(int argc, char** argv) {
   app.add_option("--isect", o.isect, "intersection test")->check(CLI::IsMember({"woop", "watertight"}));
   app.add_flag("--with-iu", o.with_iu, "the RTL IU inside (rpu_ray_unit), else the C++ IU answers");
   app.add_option("--rays", o.rays, "rays of each kind (camera, random, shadow)")->check(CLI::PositiveNumber);
+  app.add_option("--plane-rays", o.plane_rays, "rays from origins on split planes (default: a tenth of --rays)")
+      ->check(CLI::NonNegativeNumber);
   app.add_option("--seed", o.seed, "seed of stalls, delays and the model's initial values");
   app.add_option("--mem-latency", o.mem_latency, "memory latency in cycles")->check(CLI::NonNegativeNumber);
   app.add_option("--mem-jitter", o.mem_jitter, "random extra memory delay, up to")->check(CLI::NonNegativeNumber);

@@ -108,26 +108,9 @@ void expect_traversal_matches_exhaustive(const TracerRules& self, const Scene& s
 TEST_P(TracerRules, OriginsOnSplitPlanesTraceAsAnExhaustiveTest) {
   const Scene scene = make_sphereflake(1, 8);
   const SceneImage si = image_of(scene);
-  // Origins exactly on every split plane (as fp32) of the tree, in all directions,
-  // including along the plane (a 0 component) and with -0.
-  std::vector<TraceRay> rays;
-  std::mt19937 rng(5);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  const auto* nodes = reinterpret_cast<const KdNode*>(si.image.bytes.data() + si.layout.kd_nodes.offset);
-  for (std::uint32_t n = 0; n < si.layout.kd_nodes.count && rays.size() < 4000; ++n) {
-    if (nodes[n].is_leaf()) continue;
-    const int a = nodes[n].split_axis();
-    for (int k = 0; k < 6; ++k) {
-      glm::dvec3 o(u(rng), u(rng), u(rng)), d(u(rng), u(rng), u(rng));
-      o *= 1.5;
-      o[a] = nodes[n].split();
-      if (k >= 2) d[a] = k % 2 ? 0.0 : -0.0;
-      if (k == 5) d = -d;
-      TraceRay r = test::make_ray(o, d);
-      r.origin[a] = nodes[n].split();  // exactly, not via double
-      rays.push_back(r);
-    }
-  }
+  // Origins exactly on every split plane of the tree, in all directions, including
+  // along the plane (a 0 component) and with -0.
+  const std::vector<TraceRay> rays = test::split_plane_rays(si, 4000, 5);
   expect_traversal_matches_exhaustive(*this, scene, rays, "split-plane origins");
 }
 

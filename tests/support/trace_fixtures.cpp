@@ -1,7 +1,9 @@
 #include "trace_fixtures.hpp"
 
 #include <algorithm>
+#include <cstring>
 
+#include "kdtree/kd_node.hpp"
 #include "render/sampling.hpp"
 #include "scene/geometry.hpp"
 
@@ -44,6 +46,30 @@ std::vector<functional::TraceRay> random_rays(const Scene& scene, int count, std
     const glm::dvec3 o = point(), d = point() - o;
     if (glm::length(d) == 0.0) continue;
     rays.push_back(make_ray(o, glm::normalize(d)));
+  }
+  return rays;
+}
+
+std::vector<functional::TraceRay> split_plane_rays(const functional::SceneImage& si, int count,
+                                                   std::uint32_t seed) {
+  const glm::dvec3 lo(si.layout.bounds_lo), hi(si.layout.bounds_hi);
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-0.25, 1.25), d(-1.0, 1.0);
+  std::vector<functional::TraceRay> rays;
+  const std::uint8_t* nodes = si.image.bytes.data() + si.layout.kd_nodes.offset;
+  for (std::uint32_t n = 0; n < si.layout.kd_nodes.count && static_cast<int>(rays.size()) < count; ++n) {
+    KdNode node;
+    std::memcpy(&node, nodes + sizeof(KdNode) * n, sizeof(KdNode));
+    if (node.is_leaf()) continue;
+    const int a = node.split_axis();
+    for (int k = 0; k < 6 && static_cast<int>(rays.size()) < count; ++k) {
+      glm::dvec3 o = lo + glm::dvec3(u(rng), u(rng), u(rng)) * (hi - lo), dir(d(rng), d(rng), d(rng));
+      if (k >= 2) dir[a] = k % 2 ? 0.0 : -0.0;
+      if (k == 5) dir = -dir;
+      functional::TraceRay r = make_ray(o, dir);
+      r.origin[a] = node.split();
+      rays.push_back(r);
+    }
   }
   return rays;
 }

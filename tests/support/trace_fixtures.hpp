@@ -88,4 +88,11 @@ DoubleHit double_hit(const Scene& scene, std::uint32_t prim, const functional::T
 std::vector<functional::TraceRay> camera_rays(const Scene& scene, int width, int height);
 std::vector<functional::TraceRay> random_rays(const Scene& scene, int count, std::uint32_t seed);
 
+// Rays whose origins lie exactly on the split planes of the image's kd tree (the split
+// word itself, not a rounding of it), six per inner node in node order until `count`:
+// random directions, then the split axis' component +0 and -0 (the ray runs in the
+// plane), then reversed. The other coordinates are random over 1.5x the scene's box.
+std::vector<functional::TraceRay> split_plane_rays(const functional::SceneImage& si, int count,
+                                                   std::uint32_t seed);
+
 }  // namespace rpu::test
