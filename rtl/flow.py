@@ -28,7 +28,6 @@ SIM_TOP = ROOT / "sim" / "rpu_fp_cosim_top.sv"
 TU_SIM_TOP = ROOT / "sim" / "rpu_tu_cosim_top.sv"
 NETLIST_TB = ROOT / "sim" / "rpu_fp_netlist_tb.sv"
 IU_TOP = ROOT / "sim" / "rpu_iu_cosim_top.sv"
-RAY_UNIT_SIM_TOP = ROOT / "sim" / "rpu_ray_unit_cosim_top.sv"
 IU_NETLIST_TB = ROOT / "sim" / "rpu_iu_netlist_tb.sv"
 TU_NETLIST_TB = ROOT / "sim" / "rpu_tu_netlist_tb.sv"
 # The intersection modes (spec/memory_map.toml [isect_mode]: the IsectMode parameter).
@@ -87,14 +86,15 @@ def lint(args) -> int:
             jobs.append((f"rpu_tu {name} {isect}", ["rpu_tu"],
                          [f"-GExpBits={f['exponent_bits']}", f"-GFracBits={f['fraction_bits']}",
                           f"-GIsectMode={isect_mode(isect)}"], []))
-    jobs.append(("rpu_tu_cosim_top", ["rpu_tu_cosim_top"], [], [TU_SIM_TOP]))
-    # The ray unit (TU + IU) in every format and mode, and its sim top.
+    # The ray unit (TU + IU) in every format and mode; the sim top with and without the IU.
     for name, f in formats.items():
         for isect in ISECT_MODES:
             jobs.append((f"rpu_ray_unit {name} {isect}", ["rpu_ray_unit"],
                          [f"-GExpBits={f['exponent_bits']}", f"-GFracBits={f['fraction_bits']}",
                           f"-GIsectMode={isect_mode(isect)}"], []))
-    jobs.append(("rpu_ray_unit_cosim_top", ["rpu_ray_unit_cosim_top"], [], [RAY_UNIT_SIM_TOP]))
+    for with_iu in (0, 1):
+        jobs.append((f"rpu_tu_cosim_top WithIu={with_iu}", ["rpu_tu_cosim_top"], [f"-GWithIu={with_iu}"],
+                     [TU_SIM_TOP]))
     for top in ("rpu_fifo", "rpu_skid_buf"):
         jobs.append((top, [top], ["-GWidth=8"], []))
     for what, (top,), params, extra in jobs:

@@ -5,43 +5,22 @@
 set(rpu_iu_model_includes "")
 set(rpu_iu_model_entries "")
 set(rpu_iu_cases)
-set(rpu_iu_isect_woop 0)
-set(rpu_iu_isect_watertight 1)
-foreach(line IN LISTS rpu_format_lines)
-  if(NOT line)
-    continue()
-  endif()
-  string(REPLACE " " ";" fields "${line}")
-  list(GET fields 0 format)
-  list(GET fields 1 exponent_bits)
-  list(GET fields 2 fraction_bits)
-  if(NOT format IN_LIST rpu_cosim_formats OR NOT format MATCHES "^(fp32|rpu24)$")
-    continue()
-  endif()
+if(NOT rpu_ray_unit_formats)
+  return()  # neither fp32 nor rpu24 is co-simulated (RPU_COSIM_FORMATS)
+endif()
+add_library(rpu_iu_rtl_models STATIC ${CMAKE_CURRENT_BINARY_DIR}/iu_models.cpp)
+target_include_directories(rpu_iu_rtl_models PUBLIC ${CMAKE_CURRENT_SOURCE_DIR})
+add_dependencies(rpu_iu_rtl_models rpu_spec_generate)
+foreach(format IN LISTS rpu_ray_unit_formats)
   foreach(isect woop watertight)
     set(prefix Viu_${format}_${isect})
-    if(NOT TARGET rpu_iu_rtl_models)
-      add_library(rpu_iu_rtl_models STATIC ${CMAKE_CURRENT_BINARY_DIR}/iu_models.cpp)
-      target_include_directories(rpu_iu_rtl_models PUBLIC ${CMAKE_CURRENT_SOURCE_DIR})
-      add_dependencies(rpu_iu_rtl_models rpu_spec_generate)
-    endif()
-    verilate(rpu_iu_rtl_models
-      PREFIX ${prefix}
-      TOP_MODULE rpu_iu_cosim_top
-      SOURCES ${PROJECT_SOURCE_DIR}/rtl/lint.vlt ${RPU_SPEC_SV} ${rpu_rtl_sources}
-              ${CMAKE_CURRENT_SOURCE_DIR}/rpu_iu_cosim_top.sv
-      TRACE_FST
-      VERILATOR_ARGS --x-assign unique --x-initial unique
-                     -GExpBits=${exponent_bits} -GFracBits=${fraction_bits} -GIsectMode=${rpu_iu_isect_${isect}}
-      OPT_FAST -O2 OPT_SLOW -O1 OPT_GLOBAL -O2)
+    rpu_verilate(rpu_iu_rtl_models ${prefix} rpu_iu_cosim_top TRACE
+                 PARAMS ${rpu_widths_${format}} -GIsectMode=${rpu_isect_${isect}})
     string(APPEND rpu_iu_model_includes "#include \"${prefix}.h\"\n")
     string(APPEND rpu_iu_model_entries "    {\"${format}\", \"${isect}\", &make<${prefix}>},\n")
     list(APPEND rpu_iu_cases "${format} ${isect}")
   endforeach()
 endforeach()
-if(NOT rpu_iu_cases)
-  return()  # neither fp32 nor rpu24 is co-simulated (RPU_COSIM_FORMATS)
-endif()
 configure_file(iu_models.cpp.in ${CMAKE_CURRENT_BINARY_DIR}/iu_models.cpp @ONLY)
 
 add_executable(iu_cosim iu_cosim.cpp)

@@ -1,12 +1,14 @@
-// The traversal unit as the Verilator harness drives it (sim/tu_cosim.cpp): rpu_tu with
-// its structs flattened into named ports and its IU port open, so the harness answers
-// the IU's tests with the C++ intersection unit (phase 1 of docs/rtl.md, "Traversal
-// unit"). Only wiring: a synthesis of this top has the unit's cells.
+// The traversal unit as the Verilator harness drives it (sim/tu_cosim.cpp), its structs
+// flattened into named ports. WithIu = 0: rpu_tu with its IU port open, so the harness
+// answers the IU's tests with the C++ intersection unit; WithIu = 1 (tu_cosim --with-iu):
+// the ray unit (rpu_tu + rpu_iu), the IU port's pins tied off. Only wiring: a synthesis
+// of this top has the unit's cells.
 module rpu_tu_cosim_top #(
   parameter int unsigned ExpBits    = rpu_pkg::FormatFp32ExponentBits,
   parameter int unsigned FracBits   = rpu_pkg::FormatFp32FractionBits,
   parameter int unsigned IsectMode  = rpu_pkg::IsectModeWoop,
-  parameter int unsigned StackDepth = rpu_pkg::ConfigDefaultStackDepth
+  parameter int unsigned StackDepth = rpu_pkg::ConfigDefaultStackDepth,
+  parameter int unsigned WithIu     = 0
 ) (
   input  logic          clk_i,
   input  logic          rst_ni,
@@ -84,14 +86,30 @@ module rpu_tu_cosim_top #(
           iu_req_shear_o[63:32], iu_req_shear_o[95:64], iu_req_record_o} = iu_req;
   assign iu_rsp = {iu_rsp_tag_i, iu_rsp_hit_i, iu_rsp_t_i, iu_rsp_u_i, iu_rsp_v_i};
 
-  rpu_tu #(.ExpBits(ExpBits), .FracBits(FracBits), .IsectMode(IsectMode), .StackDepth(StackDepth)) u_tu (
-    .clk_i, .rst_ni, .cfg_i(cfg),
-    .req_valid_i, .req_ready_o, .req_i(req),
-    .rsp_valid_o, .rsp_ready_i, .rsp_o(rsp),
-    .mem_req_valid_o, .mem_req_ready_i, .mem_req_o(mem_req),
-    .mem_rsp_valid_i, .mem_rsp_ready_o, .mem_rsp_i(mem_rsp),
-    .iu_req_valid_o, .iu_req_ready_i, .iu_req_o(iu_req),
-    .iu_rsp_valid_i, .iu_rsp_ready_o, .iu_rsp_i(iu_rsp)
-  );
+  if (WithIu != 0) begin : g_ray_unit
+    rpu_ray_unit #(.ExpBits(ExpBits), .FracBits(FracBits), .IsectMode(IsectMode), .StackDepth(StackDepth))
+        u_ray_unit (
+      .clk_i, .rst_ni, .cfg_i(cfg),
+      .req_valid_i, .req_ready_o, .req_i(req),
+      .rsp_valid_o, .rsp_ready_i, .rsp_o(rsp),
+      .mem_req_valid_o, .mem_req_ready_i, .mem_req_o(mem_req),
+      .mem_rsp_valid_i, .mem_rsp_ready_o, .mem_rsp_i(mem_rsp)
+    );
+    assign iu_req_valid_o = 1'b0;
+    assign iu_req         = '0;
+    assign iu_rsp_ready_o = 1'b0;
+    logic unused_iu_port;
+    assign unused_iu_port = ^{iu_req_ready_i, iu_rsp_valid_i, iu_rsp};
+  end else begin : g_tu
+    rpu_tu #(.ExpBits(ExpBits), .FracBits(FracBits), .IsectMode(IsectMode), .StackDepth(StackDepth)) u_tu (
+      .clk_i, .rst_ni, .cfg_i(cfg),
+      .req_valid_i, .req_ready_o, .req_i(req),
+      .rsp_valid_o, .rsp_ready_i, .rsp_o(rsp),
+      .mem_req_valid_o, .mem_req_ready_i, .mem_req_o(mem_req),
+      .mem_rsp_valid_i, .mem_rsp_ready_o, .mem_rsp_i(mem_rsp),
+      .iu_req_valid_o, .iu_req_ready_i, .iu_req_o(iu_req),
+      .iu_rsp_valid_i, .iu_rsp_ready_o, .iu_rsp_i(iu_rsp)
+    );
+  end
 
 endmodule

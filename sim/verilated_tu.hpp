@@ -16,10 +16,11 @@ void set_words(Wide& port, const auto& words) {
   for (std::size_t i = 0; i < words.size(); ++i) port[i] = words[i];
 }
 
-// TuModel over a Verilated rpu_tu_cosim_top or rpu_ray_unit_cosim_top.
-template <class Top>
+// TuModel over a Verilated rpu_tu_cosim_top: the TU alone (WithIu = 0), whose IU port
+// the harness serves, or the ray unit (WithIu = 1), whose IU port pins are tied off.
+template <class Top, bool kWithIu>
 class VerilatedTu final : public TuModel {
-  static constexpr bool kIuPort = requires(Top& t) { t.iu_req_valid_o; };
+  static constexpr bool kIuPort = !kWithIu;
 
  public:
   VerilatedTu(std::uint64_t seed, const std::string& fst) : context_(std::make_unique<VerilatedContext>()) {
