@@ -15,6 +15,7 @@
 
 #include "common/error.hpp"
 #include "device/device_base.hpp"
+#include "fp/fast32.hpp"
 #include "functional/tracer.hpp"
 
 namespace rpu::cycle {
@@ -47,6 +48,11 @@ struct ChunkSlot {
   std::vector<std::uint8_t> reg_from_load;
   std::vector<std::uint16_t> reg_rays;  // rays in flight that write the register
   int rays_in_flight = 0;
+  // ready_time's answer, kept until issue, a ray's return or a new round changes the
+  // slot: the core asks after every issue for each of its chunks.
+  mutable bool ready_known = false;
+  mutable Cycle ready_at = 0;
+  mutable Wait ready_why = Wait::kIdle;
 };
 
 struct Core {
@@ -102,6 +108,7 @@ class CycleDevice final : public device::DeviceBase {
   void schedule_tu(std::uint32_t u, Cycle at);
   void account(Core& core, Cycle until);
   Cycle ready_time(const ChunkSlot& s, Wait& why) const;
+  Cycle compute_ready_time(const ChunkSlot& s, Wait& why) const;
   void plan(std::uint32_t c, Cycle from);
   void core_event(std::uint32_t c, Cycle now);
   void issue(std::uint32_t c, std::uint32_t i, Cycle now);
@@ -164,6 +171,15 @@ void CycleDevice::account(Core& core, Cycle until) {
 // The first cycle the chunk's next instruction can issue (its sources and destination
 // ready: an in-order scoreboard), or kNever while a ray it needs is in flight.
 Cycle CycleDevice::ready_time(const ChunkSlot& s, Wait& why) const {
+  if (!s.ready_known) {
+    s.ready_at = compute_ready_time(s, s.ready_why);
+    s.ready_known = true;
+  }
+  why = s.ready_why;
+  return s.ready_at;
+}
+
+Cycle CycleDevice::compute_ready_time(const ChunkSlot& s, Wait& why) const {
   if (!s.live) {
     why = Wait::kIdle;
     return kNever;
@@ -239,6 +255,7 @@ void CycleDevice::set_result(ChunkSlot& s, int reg, Cycle ready, bool from_load)
 void CycleDevice::issue(std::uint32_t c, std::uint32_t i, Cycle now) {
   Core& core = cores_[c];
   ChunkSlot& s = core.chunks[i];
+  s.ready_known = false;
   const std::uint32_t pc = s.chunk.next_pc();
   try {
     shader_->step(s.chunk, shader_stats_, &record_);
@@ -263,24 +280,25 @@ void CycleDevice::issue(std::uint32_t c, std::uint32_t i, Cycle now) {
     case si::Class::kBranch:
       s.earliest = now + static_cast<Cycle>(lat.branch);
       // calli reads its target from the shader table, one read per lane.
-      for (std::size_t k = 0; k < record_.addresses.size(); ++k) {
-        s.earliest = std::max(s.earliest, core.data_cache->read(now + k, record_.addresses[k], 4));
+      for (std::size_t k = 0; k < record_.accesses.size(); ++k) {
+        const functional::MemoryAccess& a = record_.accesses[k];
+        s.earliest = std::max(s.earliest, core.data_cache->read(now + k, a.address, a.bytes));
       }
       break;
     case si::Class::kMem: {
       // One lane's access a cycle through the core's data cache port.
-      const bool load = op == Opcode::kLd || op == Opcode::kLdf || op == Opcode::kLd1 || op == Opcode::kLd1f ||
-                        op == Opcode::kPop;
-      const std::uint32_t bytes = op == Opcode::kLd1 || op == Opcode::kLd1f || op == Opcode::kSt1 ? 4 : 16;
+      bool load = false;
       Cycle done = now + 1;
-      for (std::size_t k = 0; k < record_.addresses.size(); ++k) {
-        if (load) {
-          done = std::max(done, core.data_cache->read(now + k, record_.addresses[k], bytes));
+      for (std::size_t k = 0; k < record_.accesses.size(); ++k) {
+        const functional::MemoryAccess& a = record_.accesses[k];
+        if (a.store) {
+          core.data_cache->write(now + k, a.address, a.bytes);
         } else {
-          core.data_cache->write(now + k, record_.addresses[k], bytes);
+          load = true;
+          done = std::max(done, core.data_cache->read(now + k, a.address, a.bytes));
         }
       }
-      s.earliest = now + std::max<Cycle>(1, record_.addresses.size());
+      s.earliest = now + std::max<Cycle>(1, record_.accesses.size());
       if (load) set_result(s, use.dst, done, true);
       break;
     }
@@ -323,6 +341,7 @@ void CycleDevice::issue(std::uint32_t c, std::uint32_t i, Cycle now) {
 // The chunk's current round is over: it takes its next round of pixels, if any.
 void CycleDevice::start_round(std::uint32_t c, std::uint32_t i, Cycle at) {
   ChunkSlot& s = cores_[c].chunks[i];
+  s.ready_known = false;
   if (s.live) {
     ++rounds_done_;
     if (*progress_) (*progress_)(rounds_done_, rounds_total_);
@@ -433,6 +452,7 @@ void CycleDevice::finish_ray(std::uint32_t u, Cycle now) {
   Core& core = cores_[c];
   ChunkSlot& s = core.chunks[i];
   const auto dst = static_cast<std::size_t>(tu.ray.dst);
+  s.ready_known = false;
   s.reg_ready[dst] = std::max(s.reg_ready[dst], now + 1);
   s.reg_from_load[dst] = 0;
   --s.reg_rays[dst];
@@ -519,14 +539,18 @@ void CycleDevice::run(const ProgressCallback& progress) {
   ius_.assign(static_cast<std::size_t>(config_.intersection_units), Iu{});
 
   Cycle now = 0;
-  while (!events_.empty() && !fault_) {
-    const Event e = events_.top();
-    events_.pop();
-    now = e.at;
-    if (e.core) {
-      core_event(e.unit, now);
-    } else if (tus_[e.unit].scheduled == now) {
-      tu_event(e.unit, now);
+  {
+    // One flush-to-zero scope for the frame's fp32 fast path, not one per step.
+    const fp::fast32::FlushScope flush;
+    while (!events_.empty() && !fault_) {
+      const Event e = events_.top();
+      events_.pop();
+      now = e.at;
+      if (e.core) {
+        core_event(e.unit, now);
+      } else if (tus_[e.unit].scheduled == now) {
+        tu_event(e.unit, now);
+      }
     }
   }
   if (!fault_) {

@@ -164,7 +164,11 @@ void ShaderCore::start(Chunk& chunk, std::span<const Lane> lanes, ShaderStats& s
 }
 
 void ShaderCore::step(Chunk& chunk, ShaderStats& stats, StepRecord* record) {
-  if (fast_) {
+  if (fast_ && fp::fast32::flush_mode_active()) {
+    // A caller stepping many times holds one FlushScope for all of them (the cycle
+    // device holds one per frame): setting MXCSR twice a step costs more than the check.
+    step_with(Fast32Ops{}, chunk, stats, record);
+  } else if (fast_) {
     const fp::fast32::FlushScope flush;
     step_with(Fast32Ops{}, chunk, stats, record);
   } else {
@@ -181,7 +185,7 @@ void ShaderCore::step_with(const Ops& ops, Chunk& chunk, ShaderStats& stats, Ste
     record->pc = pc;
     record->insn = instruction(pc);
     record->lanes = 0;
-    record->addresses.clear();
+    record->accesses.clear();
     record->trace_count = 0;
   }
   for (std::size_t l = 0; l < chunk.threads_.size(); ++l) {
@@ -287,9 +291,9 @@ void ShaderCore::execute(const Ops& ops, Thread& t, ShaderStats& stats, StepReco
     for (int i = 0; i < 4; ++i) r[i] = op(a[i], in.imm);
     write(r);
   };
-  const auto address = [&]() {
+  const auto address = [&](std::uint32_t bytes, bool store) {
     const std::uint32_t addr = raw(0)[0] + in.imm;
-    if (record) record->addresses.push_back(addr);
+    if (record) record->accesses.push_back({addr, bytes, store});
     return addr;
   };
   const auto mem_check = [&](std::uint32_t addr, std::uint32_t bytes, bool store) {
@@ -297,7 +301,7 @@ void ShaderCore::execute(const Ops& ops, Thread& t, ShaderStats& stats, StepReco
     if (!a.ok) fault(t, a.problem);
   };
   const auto load_vec = [&](bool to_format) {
-    const std::uint32_t addr = address();
+    const std::uint32_t addr = address(16, false);
     mem_check(addr, 16, false);
     Vec v;
     for (int i = 0; i < 4; ++i) {
@@ -307,7 +311,7 @@ void ShaderCore::execute(const Ops& ops, Thread& t, ShaderStats& stats, StepReco
     write(v);
   };
   const auto load_one = [&](bool to_format) {
-    const std::uint32_t addr = address();
+    const std::uint32_t addr = address(4, false);
     mem_check(addr, 4, false);
     std::uint32_t v = memory_.load32(addr);
     if (to_format) v = ops.out(ops.in(v));
@@ -442,7 +446,7 @@ void ShaderCore::execute(const Ops& ops, Thread& t, ShaderStats& stats, StepReco
     case Opcode::kLd1: load_one(false); break;
     case Opcode::kLd1f: load_one(true); break;
     case Opcode::kSt: {
-      const std::uint32_t addr = address();
+      const std::uint32_t addr = address(16, true);
       const Vec& v = t.regs[in.dst];
       for (std::uint32_t i = 0; i < 4; ++i) {
         if (in.wmask >> i & 1) mem_check(addr + 4 * i, 4, true);
@@ -454,7 +458,7 @@ void ShaderCore::execute(const Ops& ops, Thread& t, ShaderStats& stats, StepReco
     }
     case Opcode::kSt1: {
       if (in.wmask != 1) fault(t, "illegal instruction: st1 stores lane x only (write mask .x)");
-      const std::uint32_t addr = address();
+      const std::uint32_t addr = address(4, true);
       mem_check(addr, 4, true);
       memory_.store32(addr, t.regs[in.dst][0]);
       break;
@@ -465,11 +469,11 @@ void ShaderCore::execute(const Ops& ops, Thread& t, ShaderStats& stats, StepReco
                              config_.stack_bytes, mm::kDeviceStackBase + t.lane.thread * config_.stack_bytes, sp()));
       }
       t.stack.push_back(raw(0));
-      if (record) record->addresses.push_back(sp());
+      if (record) record->accesses.push_back({sp(), 16, true});
       break;
     case Opcode::kPop:
       if (t.stack.empty()) fault(t, fmt::format("stack underflow: pop with nothing pushed (sp {:#010x})", sp()));
-      if (record) record->addresses.push_back(sp());
+      if (record) record->accesses.push_back({sp(), 16, false});
       write(t.stack.back());
       t.stack.pop_back();
       break;
@@ -490,7 +494,7 @@ void ShaderCore::execute(const Ops& ops, Thread& t, ShaderStats& stats, StepReco
       if (id >= count) fault(t, fmt::format("calli: shader id {} is outside the shader table ({} shaders)", id, count));
       const std::uint32_t entry = memory_.load32(mm::kDeviceLaunchBase + mm::kLaunchShaderTableAt) + 4 * id;
       mem_check(entry, 4, false);
-      if (record) record->addresses.push_back(entry);
+      if (record) record->accesses.push_back({entry, 4, false});
       call(memory_.load32(entry));
       next = t.pc;
       break;

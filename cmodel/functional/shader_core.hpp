@@ -58,13 +58,19 @@ struct ShaderCoreConfig {
 // depend on the chunk size or on which thread runs which pixel.
 // What one lockstep step of a chunk did: the cycle model runs the functional core
 // step by step and times these (docs/cycle-model.md); the results stay the core's.
+struct MemoryAccess {
+  std::uint32_t address = 0;  // byte address
+  std::uint32_t bytes = 0;    // 4 or 16
+  bool store = false;
+};
+
 struct StepRecord {
   std::uint32_t pc = 0;
   const isa::Instruction* insn = nullptr;
   std::uint32_t lanes = 0;  // bit l: lane l executed the instruction
-  // Memory instructions (loads, stores, push, pop, calli's table read): the byte
-  // address of each executing lane, in lane order.
-  std::vector<std::uint32_t> addresses;
+  // Memory instructions (loads, stores, push, pop, calli's table read): each executing
+  // lane's access, in lane order.
+  std::vector<MemoryAccess> accesses;
   // trace/tracea: the walk of each executing lane's ray, in lane order; the first
   // `trace_count` entries are this step's (the vector's storage is reused).
   std::vector<TraceLog> traces;
@@ -114,7 +120,8 @@ class ShaderCore {
   // Puts the lanes at raygen with cleared registers.
   void start(Chunk& chunk, std::span<const Lane> lanes, ShaderStats& stats) const;
   // One lockstep step: the instruction at next_pc() for the lanes standing there.
-  // Throws ShaderFault. With `record`, reports what the step did.
+  // Throws ShaderFault. With `record`, reports what the step did. On the fp32 fast path
+  // it sets flush-to-zero for the step unless the calling thread holds a FlushScope.
   void step(Chunk& chunk, ShaderStats& stats, StepRecord* record = nullptr);
   // The decoded instruction at `pc`, or null (illegal or past the end).
   const isa::Instruction* instruction(std::uint32_t pc) const {
