@@ -144,10 +144,8 @@ def yosys(args, top: str, chparams: dict, extra: list, out: pathlib.Path, stem: 
 def synth(args) -> int:
     """Yosys synth of one unit and format, then the netlist against the model's vectors."""
     formats, units = spec()
-    if args.unit == "iu":
-        return synth_iu(args, formats)
-    if args.unit == "tu":
-        return synth_tu(args, formats)
+    if args.unit in RAY_UNIT_SYNTH:
+        return synth_ray_unit(args, formats)
     names = [u["name"] for u in units]
     if args.unit not in names or args.format not in formats:
         print(f"flow.py: unknown unit or format; units {names + ['iu', 'tu']}, formats {list(formats)}",
@@ -201,94 +199,64 @@ def synth(args) -> int:
     return 0
 
 
-def synth_iu(args, formats: dict) -> int:
-    """Yosys synth of the intersection unit in one mode and format; the netlist then runs
-    args.vectors IU tests that iu_cosim captured from the functional tracer (Cornell box)."""
+# The intersection and traversal units' syntheses: the sim top Yosys reads, the netlist
+# testbench, the harness' arguments that write its vectors (iu_cosim: IU tests captured
+# from Cornell box rays; tu_cosim: a third each camera, random and shadow rays with the
+# memory image and the Tracer's IU tests in walk order) and the testbench's last line.
+RAY_UNIT_SYNTH = {
+    "iu": {"top": "rpu_iu_cosim_top", "top_file": IU_TOP, "tb": IU_NETLIST_TB, "tb_top": "rpu_iu_netlist_tb",
+           "vector_args": lambda n: ["--rays", 100000, "--vectors", n],
+           "done": r"netlist ok: (\d+) IU tests"},
+    "tu": {"top": "rpu_tu_cosim_top", "top_file": TU_SIM_TOP, "tb": TU_NETLIST_TB, "tb_top": "rpu_tu_netlist_tb",
+           "vector_args": lambda n: ["--rays", -(-n // 3)],
+           "done": r"netlist ok: (\d+) rays \(\d+ IU tests\)"},
+}
+
+
+def synth_ray_unit(args, formats: dict) -> int:
+    """Yosys synth of the intersection or traversal unit in one mode and format; the
+    netlist then runs the vectors its co-simulation harness wrote (RAY_UNIT_SYNTH)."""
     if args.isect not in ISECT_MODES or args.format not in formats:
         print(f"flow.py: unknown mode or format; modes {ISECT_MODES}, formats {list(formats)}", file=sys.stderr)
         return 2
+    kind = RAY_UNIT_SYNTH[args.unit]
     f = formats[args.format]
     out = pathlib.Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    unit = f"iu_{args.isect}"
+    unit = f"{args.unit}_{args.isect}"
     stem = f"{unit}_{args.format}"
     netlist = out / f"{stem}.v"
-    stats = yosys(args, "rpu_iu_cosim_top", {"ExpBits": f["exponent_bits"], "FracBits": f["fraction_bits"],
-                                             "IsectMode": isect_mode(args.isect)}, [IU_TOP], out, stem)
+    stats = yosys(args, kind["top"], {"ExpBits": f["exponent_bits"], "FracBits": f["fraction_bits"],
+                                      "IsectMode": isect_mode(args.isect)}, [kind["top_file"]], out, stem)
     if stats is None:
         return 1
     stats.update(unit=unit, format=args.format, exponent_bits=f["exponent_bits"], fraction_bits=f["fraction_bits"])
     start = time.monotonic()
-    simulate = build_netlist_sim(args, out, stem, netlist, IU_NETLIST_TB, "rpu_iu_netlist_tb", {})
+    simulate = build_netlist_sim(args, out, stem, netlist, kind["tb"], kind["tb_top"], {})
     if simulate is None:
         return 1
     stats.update(netlist_build_seconds=round(time.monotonic() - start, 1))
     vectors = out / f"{stem}.vec"
     r = run([args.cosim, "--format", args.format, "--isect", args.isect, "--scene", "cornell",
-             "--rays", 100000, "--write-vectors", vectors, "--vectors", args.vectors])
+             *kind["vector_args"](args.vectors), "--write-vectors", vectors])
     if r.returncode != 0:
         print(f"synth FAIL: {args.cosim} --write-vectors:\n{r.stdout}{r.stderr}")
         return 1
     start = time.monotonic()
     r = run([*simulate, f"+vectors={vectors}"])
     text = r.stdout + r.stderr
-    if r.returncode != 0 or "netlist ok" not in text:
+    m = re.search(kind["done"], text)
+    if r.returncode != 0 or not m:
         print(f"synth FAIL: netlist of {unit} in {args.format}:\n{text}")
         return 1
-    total = int(re.search(r"netlist ok: (\d+) IU tests", text).group(1))
-    vectors.unlink()
-    stats.update(netlist_vectors=total, netlist_seconds=round(time.monotonic() - start, 1),
-                 netlist_simulator=args.sim)
-    (out / f"{stem}.json").write_text(json.dumps(stats, indent=1) + "\n")
-    print(f"synth ok: {unit} {args.format}: {stats['cells']} cells ({stats['flops']} flops), "
-          f"{stats.get('transistors', '?')} CMOS transistors; {total} netlist IU tests match")
-    return 0
-
-
-def synth_tu(args, formats: dict) -> int:
-    """Yosys synth of the traversal unit in one mode and format; the netlist then walks
-    args.vectors rays over the Cornell box (a third each camera, random and shadow rays)
-    with the memory image and the Tracer's IU tests that tu_cosim --write-vectors wrote."""
-    if args.isect not in ISECT_MODES or args.format not in formats:
-        print(f"flow.py: unknown mode or format; modes {ISECT_MODES}, formats {list(formats)}", file=sys.stderr)
-        return 2
-    f = formats[args.format]
-    out = pathlib.Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
-    unit = f"tu_{args.isect}"
-    stem = f"{unit}_{args.format}"
-    netlist = out / f"{stem}.v"
-    stats = yosys(args, "rpu_tu_cosim_top", {"ExpBits": f["exponent_bits"], "FracBits": f["fraction_bits"],
-                                             "IsectMode": isect_mode(args.isect)}, [TU_SIM_TOP], out, stem)
-    if stats is None:
-        return 1
-    stats.update(unit=unit, format=args.format, exponent_bits=f["exponent_bits"], fraction_bits=f["fraction_bits"])
-    start = time.monotonic()
-    simulate = build_netlist_sim(args, out, stem, netlist, TU_NETLIST_TB, "rpu_tu_netlist_tb", {})
-    if simulate is None:
-        return 1
-    stats.update(netlist_build_seconds=round(time.monotonic() - start, 1))
-    vectors = out / f"{stem}.vec"
-    r = run([args.cosim, "--format", args.format, "--isect", args.isect, "--scene", "cornell",
-             "--rays", -(-args.vectors // 3), "--write-vectors", vectors])
-    if r.returncode != 0:
-        print(f"synth FAIL: {args.cosim} --write-vectors:\n{r.stdout}{r.stderr}")
-        return 1
-    start = time.monotonic()
-    r = run([*simulate, f"+vectors={vectors}"])
-    text = r.stdout + r.stderr
-    if r.returncode != 0 or "netlist ok" not in text:
-        print(f"synth FAIL: netlist of {unit} in {args.format}:\n{text}")
-        return 1
-    m = re.search(r"netlist ok: (\d+) rays \((\d+) IU tests\)", text)
     total = int(m.group(1))
     vectors.unlink()
     stats.update(netlist_vectors=total, netlist_seconds=round(time.monotonic() - start, 1),
                  netlist_simulator=args.sim)
     (out / f"{stem}.json").write_text(json.dumps(stats, indent=1) + "\n")
     print(f"synth ok: {unit} {args.format}: {stats['cells']} cells ({stats['flops']} flops), "
-          f"{stats.get('transistors', '?')} CMOS transistors; {total} rays ({m.group(2)} IU tests) "
-          f"through the netlist match the Tracer")
+          f"{stats.get('transistors', '?')} CMOS transistors; {m.group(0).removeprefix('netlist ok: ')} "
+          f"through the netlist match the C++ model")
     return 0
 
 
@@ -308,7 +276,7 @@ def build_netlist_sim(args, out: pathlib.Path, stem: str, netlist: pathlib.Path,
     start = time.monotonic()
     if args.sim == "icarus":
         vvp = out / f"{stem}.vvp"
-        r = run([args.iverilog, "-g2012", "-o", vvp, "-s", tb_top,
+        r = run([args.iverilog, "-g2012", "-I", ROOT / "sim", "-o", vvp, "-s", tb_top,
                  *[f"-P{tb_top}.{k}={v}" for k, v in params.items()], tb, netlist])
         command = [args.vvp, "-n", vvp]
     else:
@@ -320,7 +288,7 @@ def build_netlist_sim(args, out: pathlib.Path, stem: str, netlist: pathlib.Path,
         if shutil.which("ccache"):
             env["OBJCACHE"] = "ccache"
         r = run([args.verilator, "--binary", "-Wno-fatal", "-Wno-lint", "-Wno-style",
-                 "--x-assign", "unique", "--x-initial", "unique", "--top-module", tb_top,
+                 "--x-assign", "unique", "--x-initial", "unique", "--top-module", tb_top, f"-I{ROOT / 'sim'}",
                  *[f"-G{k}={v}" for k, v in params.items()], "-Mdir", obj, "-j", "1",
                  "-CFLAGS", "-O0", tb, netlist], env=env)
         # Registers and X start random but reproducible (STYLE.md 7).

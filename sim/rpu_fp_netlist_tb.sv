@@ -46,17 +46,10 @@ module rpu_fp_netlist_tb #(
   reg [31:0] op;
   reg        fire_req;
 
+  `include "rpu_netlist_vectors.svh"
+
   initial begin
-    if (!$value$plusargs("vectors=%s", path)) begin
-      $display("netlist FAIL: no +vectors=FILE");
-      $fatal(2);
-    end
-    if (!$value$plusargs("seed=%d", seed)) seed = 1;
-    fd = $fopen(path, "r");
-    if (fd == 0) begin
-      $display("netlist FAIL: cannot open %0s", path);
-      $fatal(2);
-    end
+    open_vectors(path, fd, seed);
     ok = $fscanf(fd, "%h %d\n", op, n);
     if (ok != 2 || n > MaxVectors) begin
       $display("netlist FAIL: bad header in %0s (or more than %0d vectors)", path, MaxVectors);

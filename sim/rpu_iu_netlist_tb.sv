@@ -44,17 +44,10 @@ module rpu_iu_netlist_tb;
   reg [1023:0] path;
   integer fd, n, i, k, sent, got, cycle, last, seed, ok;
 
+  `include "rpu_netlist_vectors.svh"
+
   initial begin
-    if (!$value$plusargs("vectors=%s", path)) begin
-      $display("netlist FAIL: no +vectors=FILE");
-      $fatal(2);
-    end
-    if (!$value$plusargs("seed=%d", seed)) seed = 1;
-    fd = $fopen(path, "r");
-    if (fd == 0) begin
-      $display("netlist FAIL: cannot open %0s", path);
-      $fatal(2);
-    end
+    open_vectors(path, fd, seed);
     ok = $fscanf(fd, "%d\n", n);
     if (ok != 1 || n > MaxVectors) begin
       $display("netlist FAIL: bad header in %0s (or more than %0d vectors)", path, MaxVectors);

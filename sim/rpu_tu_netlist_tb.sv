@@ -97,17 +97,10 @@ module rpu_tu_netlist_tb;
     end
   endtask
 
+  `include "rpu_netlist_vectors.svh"
+
   initial begin
-    if (!$value$plusargs("vectors=%s", path)) begin
-      $display("netlist FAIL: no +vectors=FILE");
-      $fatal(2);
-    end
-    if (!$value$plusargs("seed=%d", seed)) seed = 1;
-    fd = $fopen(path, "r");
-    if (fd == 0) begin
-      $display("netlist FAIL: cannot open %0s", path);
-      $fatal(2);
-    end
+    open_vectors(path, fd, seed);
     ok = $fscanf(fd, "%d %d %d\n", words, n, tests);
     if (ok != 3 || words > MaxWords || n > MaxRays || tests > MaxTests) begin
       $display("netlist FAIL: bad header in %0s (or more than %0d words, %0d rays, %0d IU tests)", path, MaxWords,
