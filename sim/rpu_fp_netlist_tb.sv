@@ -65,11 +65,7 @@ module rpu_fp_netlist_tb #(
     $fclose(fd);
 
     req_op = op[OpBits-1:0];
-    repeat (4) begin
-      #1 clk = 1'b1;
-      #1 clk = 1'b0;
-    end
-    rst_n = 1'b1;
+    reset_dut();
 
     sent = 0;
     got = 0;

@@ -62,11 +62,7 @@ module rpu_iu_netlist_tb;
     end
     $fclose(fd);
 
-    repeat (4) begin
-      #1 clk = 1'b1;
-      #1 clk = 1'b0;
-    end
-    rst_n = 1'b1;
+    reset_dut();
 
     sent = 0;
     got = 0;

@@ -123,11 +123,7 @@ module rpu_tu_netlist_tb;
     cfg_bounds_lo     = {cfg[5], cfg[4], cfg[3]};
     cfg_bounds_hi     = {cfg[8], cfg[7], cfg[6]};
 
-    repeat (4) begin
-      #1 clk = 1'b1;
-      #1 clk = 1'b0;
-    end
-    rst_n = 1'b1;
+    reset_dut();
 
     sent = 0;
     got = 0;
