@@ -3,10 +3,11 @@
 // unit"). The scene's memory image is served to the unit's memory port by a
 // behavioural memory (fixed latency plus a random extra delay, responses in order);
 // without the RTL IU the harness answers the unit's IU port with the C++ intersection
-// unit built from the request's fields. Camera, random, shadow (any-hit) rays and
-// rays from origins exactly on the tree's split planes go through the unit's valid/ready ports with random stalls on every port; each response
-// is paired with its ray by tag and compared bit for bit: hit, t, u, v, prim and the
-// counters, or the stack-overflow fault. The first mismatch stops the run.
+// unit built from the request's fields. Camera, random, shadow (any-hit) rays and rays
+// from origins exactly on the tree's split planes go through the unit's valid/ready
+// ports with random stalls on every port; each response is paired with its ray by tag
+// and compared bit for bit: hit, t, u, v, prim and the counters, or the stack-overflow
+// fault. The first mismatch stops the run.
 //
 // It also measures the unit's cycles besides memory and IU waits per ray and checks
 // that they are setup + inner * inner nodes + leaf * leaves + pop * pops for fixed
@@ -256,7 +257,7 @@ int write_vectors(const Options& o, const functional::SceneImage& si, const func
   for (int i = 0; i < 3; ++i) cfg.push_back(bits(si.layout.bounds_hi[i]));
   put(cfg, 9);
   put(words, 4);
-  put(rays, 20);
+  put(rays, 18);
   put(tests, 17);
   std::printf("tu_cosim: wrote %zu rays (%zu IU tests) and a %zu-byte image to %s\n", count, tests.size() / 17,
               image.size(), o.write_vectors.c_str());
@@ -455,7 +456,8 @@ int run(const Options& o) {
 
   std::size_t hits = 0;
   for (const Case& c : cases) hits += c.expect.hit;
-  std::printf("tu_cosim ok: %s, format %s, %s test%s: %zu rays (%d camera, %d random, %zu shadow, %zu split-plane; %zu hit) "
+  std::printf("tu_cosim ok: %s, format %s, %s test%s: %zu rays (%d camera, %d random, %zu shadow, "
+              "%zu split-plane; %zu hit) "
               "bit for bit; %" PRIu64 " cycles in %.1f s (%.0f cycles/s, %.0f rays/s)\n",
               o.scene.c_str(), o.format.c_str(), o.isect.c_str(), o.with_iu ? ", RTL IU" : ", C++ IU", cases.size(),
               o.rays, o.rays, shadow.size(), plane.size(), hits, cycle, seconds, double(cycle) / seconds,
