@@ -51,22 +51,21 @@ module rpu_iu #(
   localparam int unsigned STBest = 7;
   localparam int unsigned SSx = 8;
   localparam int unsigned SSy = 9;
-  localparam int unsigned SSz = 10;
-  localparam int unsigned SZero = 11;       // +0
-  localparam int unsigned SOne = 12;
-  localparam int unsigned SW = 13;          // record word 0..Words-1
+  localparam int unsigned SZero = 10;       // +0
+  localparam int unsigned SOne = 11;
+  localparam int unsigned SW = 12;          // record word 0..Words-1
   localparam int unsigned ST = SW + Words;  // register T0
-  localparam int unsigned NumTemps = Watertight ? 52 : 51;
+  localparam int unsigned NumTemps = Watertight ? 60 : 51;
   localparam int unsigned NumFlags = Watertight ? 10 : 6;
   localparam int unsigned NumSrc = ST + NumTemps;
   localparam int unsigned SrcBits = $clog2(NumSrc);
-  localparam int unsigned FLen = Watertight ? 43 : 39;  // fma/div program length
-  localparam int unsigned MLen = Watertight ? 19 : 18;  // misc program length
+  localparam int unsigned FLen = Watertight ? 48 : 39;  // fma/div program length
+  localparam int unsigned MLen = Watertight ? 22 : 18;  // misc program length
   localparam int unsigned PcBits = 6;
   // The registers holding the response (see the programs).
-  localparam int unsigned TOutT = Watertight ? 49 : 23;
-  localparam int unsigned TOutU = Watertight ? 50 : 48;
-  localparam int unsigned TOutV = Watertight ? 51 : 49;
+  localparam int unsigned TOutT = Watertight ? 57 : 23;
+  localparam int unsigned TOutU = Watertight ? 58 : 48;
+  localparam int unsigned TOutV = Watertight ? 59 : 49;
 
   // A result tag: {flag, negate, index}. flag: the index is a flag (a compare's 0/1),
   // else a register; negate: the sign of the result is flipped on its way in (Woop's t).
@@ -185,7 +184,8 @@ module rpu_iu #(
       endcase
     end else begin
       // §5. T0..T8 = A, B, C (x, y, z each) in the format; T9..T17 = P' = P - O per
-      // vertex as (P'[kx], P'[ky], P'[kz]).
+      // vertex as (P'[kx], P'[ky], P'[kz]); T41..T43 = the normal n (the w words);
+      // T44..T46 = A' = A - O again, in axis order x, y, z, for t = n.A' / n.D.
       unique case (f_pc_q)
         6'd0:  f_uop = uop_axis(rpu_pkg::FpOpSub, ST + 0, SO + 0, 9, 0);
         6'd1:  f_uop = uop_axis(rpu_pkg::FpOpSub, ST + 1, SO + 1, 9, 1);
@@ -202,9 +202,9 @@ module rpu_iu #(
         6'd12: f_uop = uop(rpu_pkg::FpOpMul, SSy, ST + 14, 21);
         6'd13: f_uop = uop(rpu_pkg::FpOpMul, SSx, ST + 17, 22);
         6'd14: f_uop = uop(rpu_pkg::FpOpMul, SSy, ST + 17, 23);
-        6'd15: f_uop = uop(rpu_pkg::FpOpMul, SSz, ST + 11, 41);  // Sz * A'[kz]
-        6'd16: f_uop = uop(rpu_pkg::FpOpMul, SSz, ST + 14, 42);
-        6'd17: f_uop = uop(rpu_pkg::FpOpMul, SSz, ST + 17, 43);
+        6'd15: f_uop = uop(rpu_pkg::FpOpSub, ST + 0, SO + 0, 44);  // A'x
+        6'd16: f_uop = uop(rpu_pkg::FpOpSub, ST + 1, SO + 1, 45);  // A'y
+        6'd17: f_uop = uop(rpu_pkg::FpOpSub, ST + 2, SO + 2, 46);  // A'z
         6'd18: f_uop = uop(rpu_pkg::FpOpSub, ST + 9, ST + 18, 24);   // Ax
         6'd19: f_uop = uop(rpu_pkg::FpOpSub, ST + 10, ST + 19, 27);  // Ay
         6'd20: f_uop = uop(rpu_pkg::FpOpSub, ST + 12, ST + 20, 25);  // Bx
@@ -222,14 +222,20 @@ module rpu_iu #(
         6'd32: f_uop = uop(rpu_pkg::FpOpSub, ST + 34, ST + 35, 38);  // W
         6'd33: f_uop = uop(rpu_pkg::FpOpAdd, ST + 36, ST + 37, 39);  // U + V
         6'd34: f_uop = uop(rpu_pkg::FpOpAdd, ST + 39, ST + 38, 40);  // det
-        6'd35: f_uop = uop(rpu_pkg::FpOpDiv, ST + 37, ST + 40, 50);  // u = V / det
-        6'd36: f_uop = uop(rpu_pkg::FpOpMul, ST + 36, ST + 41, 44);  // U * Sz A'[kz]
-        6'd37: f_uop = uop(rpu_pkg::FpOpMul, ST + 37, ST + 42, 45);  // V * Sz B'[kz]
-        6'd38: f_uop = uop(rpu_pkg::FpOpMul, ST + 38, ST + 43, 46);  // W * Sz C'[kz]
-        6'd39: f_uop = uop(rpu_pkg::FpOpAdd, ST + 44, ST + 45, 47);
-        6'd40: f_uop = uop(rpu_pkg::FpOpAdd, ST + 47, ST + 46, 48);  // T
-        6'd41: f_uop = uop(rpu_pkg::FpOpDiv, ST + 48, ST + 40, 49);  // t = T / det
-        6'd42: f_uop = uop(rpu_pkg::FpOpDiv, ST + 38, ST + 40, 51);  // v = W / det
+        6'd35: f_uop = uop(rpu_pkg::FpOpDiv, ST + 37, ST + 40, 58);  // u = V / det
+        // The plane distance while the divider works on u.
+        6'd36: f_uop = uop(rpu_pkg::FpOpMul, ST + 41, SD + 0, 52);   // n.x * D.x
+        6'd37: f_uop = uop(rpu_pkg::FpOpMul, ST + 42, SD + 1, 53);
+        6'd38: f_uop = uop(rpu_pkg::FpOpMul, ST + 43, SD + 2, 54);
+        6'd39: f_uop = uop(rpu_pkg::FpOpMul, ST + 41, ST + 44, 47);  // n.x * A'x
+        6'd40: f_uop = uop(rpu_pkg::FpOpMul, ST + 42, ST + 45, 48);
+        6'd41: f_uop = uop(rpu_pkg::FpOpMul, ST + 43, ST + 46, 49);
+        6'd42: f_uop = uop(rpu_pkg::FpOpAdd, ST + 52, ST + 53, 55);
+        6'd43: f_uop = uop(rpu_pkg::FpOpAdd, ST + 47, ST + 48, 50);
+        6'd44: f_uop = uop(rpu_pkg::FpOpAdd, ST + 55, ST + 54, 56);  // n.D
+        6'd45: f_uop = uop(rpu_pkg::FpOpAdd, ST + 50, ST + 49, 51);  // n.A'
+        6'd46: f_uop = uop(rpu_pkg::FpOpDiv, ST + 51, ST + 56, 57);  // t = n.A' / n.D
+        6'd47: f_uop = uop(rpu_pkg::FpOpDiv, ST + 38, ST + 40, 59);  // v = W / det
         default: ;
       endcase
       unique case (m_pc_q)
@@ -242,16 +248,19 @@ module rpu_iu #(
         6'd6:  m_uop = uop(rpu_pkg::FpOpFromFp32, SW + 8, SZero, 6);
         6'd7:  m_uop = uop(rpu_pkg::FpOpFromFp32, SW + 9, SZero, 7);
         6'd8:  m_uop = uop(rpu_pkg::FpOpFromFp32, SW + 10, SZero, 8);
-        6'd9:  m_uop = uop_flag(rpu_pkg::FpOpLt, ST + 36, SZero, 0);  // U < 0
-        6'd10: m_uop = uop_flag(rpu_pkg::FpOpLt, ST + 37, SZero, 1);  // V < 0
-        6'd11: m_uop = uop_flag(rpu_pkg::FpOpLt, ST + 38, SZero, 2);  // W < 0
-        6'd12: m_uop = uop_flag(rpu_pkg::FpOpGt, ST + 36, SZero, 3);  // U > 0
-        6'd13: m_uop = uop_flag(rpu_pkg::FpOpGt, ST + 37, SZero, 4);  // V > 0
-        6'd14: m_uop = uop_flag(rpu_pkg::FpOpGt, ST + 38, SZero, 5);  // W > 0
-        6'd15: m_uop = uop_flag(rpu_pkg::FpOpLt, ST + 40, SZero, 6);  // det < 0
-        6'd16: m_uop = uop_flag(rpu_pkg::FpOpGt, ST + 40, SZero, 7);  // det > 0
-        6'd17: m_uop = uop_flag(rpu_pkg::FpOpGt, ST + 49, STMin, 8);  // t > t_min
-        6'd18: m_uop = uop_flag(rpu_pkg::FpOpLt, ST + 49, STBest, 9); // t < t_best
+        6'd9:  m_uop = uop(rpu_pkg::FpOpFromFp32, SW + 3, SZero, 41);   // n.x
+        6'd10: m_uop = uop(rpu_pkg::FpOpFromFp32, SW + 7, SZero, 42);   // n.y
+        6'd11: m_uop = uop(rpu_pkg::FpOpFromFp32, SW + 11, SZero, 43);  // n.z
+        6'd12: m_uop = uop_flag(rpu_pkg::FpOpLt, ST + 36, SZero, 0);  // U < 0
+        6'd13: m_uop = uop_flag(rpu_pkg::FpOpLt, ST + 37, SZero, 1);  // V < 0
+        6'd14: m_uop = uop_flag(rpu_pkg::FpOpLt, ST + 38, SZero, 2);  // W < 0
+        6'd15: m_uop = uop_flag(rpu_pkg::FpOpGt, ST + 36, SZero, 3);  // U > 0
+        6'd16: m_uop = uop_flag(rpu_pkg::FpOpGt, ST + 37, SZero, 4);  // V > 0
+        6'd17: m_uop = uop_flag(rpu_pkg::FpOpGt, ST + 38, SZero, 5);  // W > 0
+        6'd18: m_uop = uop_flag(rpu_pkg::FpOpLt, ST + 40, SZero, 6);  // det < 0
+        6'd19: m_uop = uop_flag(rpu_pkg::FpOpGt, ST + 40, SZero, 7);  // det > 0
+        6'd20: m_uop = uop_flag(rpu_pkg::FpOpGt, ST + 57, STMin, 8);  // t > t_min
+        6'd21: m_uop = uop_flag(rpu_pkg::FpOpLt, ST + 57, STBest, 9); // t < t_best
         default: ;
       endcase
     end
@@ -283,7 +292,6 @@ module rpu_iu #(
   assign sources[STBest*32 +: 32]   = req_q.t_best;
   assign sources[SSx*32 +: 32]      = req_q.shear_x;
   assign sources[SSy*32 +: 32]      = req_q.shear_y;
-  assign sources[SSz*32 +: 32]      = req_q.shear_z;
   assign sources[SZero*32 +: 32]    = '0;
   assign sources[SOne*32 +: 32]     = 32'(One);
   assign sources[SW*32 +: Words*32] = req_q.record;

@@ -937,7 +937,6 @@ module rpu_tu #(
   assign iu_req_o.kz        = Watertight ? kz_q : 2'd2;
   assign iu_req_o.shear_x   = Watertight ? ext(rd(regs_q, RSx)) : '0;
   assign iu_req_o.shear_y   = Watertight ? ext(rd(regs_q, RSy)) : '0;
-  assign iu_req_o.shear_z   = Watertight ? ext(rd(regs_q, RInv + RegBits'(kz_q))) : '0;  // = rcp(D[kz])
   assign iu_req_o.record    = record_q;
 
   assign rsp_o.tag    = ray_q.tag;

@@ -168,7 +168,7 @@ IuInputs request_of(const IuTest& t, std::uint32_t tag) {
   in.kx = static_cast<std::uint32_t>(t.ray.kx);
   in.ky = static_cast<std::uint32_t>(t.ray.ky);
   in.kz = static_cast<std::uint32_t>(t.ray.kz);
-  in.shear = {t.ray.shear_x, t.ray.shear_y, t.ray.shear_z};
+  in.shear = {t.ray.shear_x, t.ray.shear_y};
   in.record = t.record;
   return in;
 }
@@ -190,8 +190,8 @@ void print_failure(const char* what, fp::Format f, std::uint64_t cycle, const Tr
                  value(f, t.ray.direction[i]).c_str());
   }
   std::fprintf(stderr, "  t_min = %s  t_best = %s\n", value(f, t.ray.t_min).c_str(), value(f, t.t_best).c_str());
-  std::fprintf(stderr, "  kx ky kz = %d %d %d  shear = %s %s %s\n", t.ray.kx, t.ray.ky, t.ray.kz,
-               value(f, t.ray.shear_x).c_str(), value(f, t.ray.shear_y).c_str(), value(f, t.ray.shear_z).c_str());
+  std::fprintf(stderr, "  kx ky kz = %d %d %d  shear = %s %s\n", t.ray.kx, t.ray.ky, t.ray.kz,
+               value(f, t.ray.shear_x).c_str(), value(f, t.ray.shear_y).c_str());
   for (int i = 0; i < 12; i += 4) {
     std::fprintf(stderr, "  record[%2d..%2d] = %08" PRIx32 " %08" PRIx32 " %08" PRIx32 " %08" PRIx32 "\n", i, i + 3,
                  t.record[i], t.record[i + 1], t.record[i + 2], t.record[i + 3]);
@@ -203,7 +203,7 @@ void print_failure(const char* what, fp::Format f, std::uint64_t cycle, const Tr
 }
 
 // The netlist testbench's input (sim/rpu_iu_netlist_tb.sv): a header with the count,
-// then per test 30 hex words: origin, direction, t_min, t_best, kx, ky, kz, shear,
+// then per test 29 hex words: origin, direction, t_min, t_best, kx, ky, kz, shear x and y,
 // record, then the expected hit, t, u, v.
 int write_vectors(const Options& o, TransactionSource& source) {
   std::deque<Transaction> queue;

@@ -18,7 +18,7 @@ struct IuInputs {
   std::array<std::uint32_t, 3> origin{}, direction{};
   std::uint32_t t_min = 0, t_best = 0;
   std::uint32_t kx = 0, ky = 1, kz = 2;
-  std::array<std::uint32_t, 3> shear{};
+  std::array<std::uint32_t, 2> shear{};
   std::array<std::uint32_t, 12> record{};
   bool rsp_ready = false;
 };

@@ -23,7 +23,6 @@ module rpu_iu_cosim_top #(
   input  logic [1:0]                               req_kz_i,
   input  logic [31:0]                              req_shear_x_i,
   input  logic [31:0]                              req_shear_y_i,
-  input  logic [31:0]                              req_shear_z_i,
   input  logic [rpu_pkg::IsectRecordWords*32-1:0]  req_record_i,
 
   output logic                                     rsp_valid_o,
@@ -39,7 +38,7 @@ module rpu_iu_cosim_top #(
   rpu_pkg::iu_rsp_t rsp;
 
   assign req = {req_tag_i, req_origin_i, req_direction_i, req_t_min_i, req_t_best_i, req_kx_i, req_ky_i,
-                req_kz_i, req_shear_x_i, req_shear_y_i, req_shear_z_i, req_record_i};
+                req_kz_i, req_shear_x_i, req_shear_y_i, req_record_i};
   assign rsp_tag_o = rsp.tag;
   assign rsp_hit_o = rsp.hit;
   assign rsp_t_o   = rsp.t;

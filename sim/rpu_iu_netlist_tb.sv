@@ -8,7 +8,7 @@
 module rpu_iu_netlist_tb;
 
   localparam integer MaxVectors = 1 << 16;
-  localparam integer Fields = 30;  // 26 input words, then hit, t, u, v
+  localparam integer Fields = 29;  // 25 input words, then hit, t, u, v
   localparam integer StallPercent = 6;
   localparam integer Timeout = 1000;
 
@@ -20,7 +20,7 @@ module rpu_iu_netlist_tb;
   reg  [95:0]  req_origin = '0, req_direction = '0;
   reg  [31:0]  req_t_min = '0, req_t_best = '0;
   reg  [1:0]   req_kx = '0, req_ky = '0, req_kz = '0;
-  reg  [31:0]  req_shear_x = '0, req_shear_y = '0, req_shear_z = '0;
+  reg  [31:0]  req_shear_x = '0, req_shear_y = '0;
   reg  [383:0] req_record = '0;
   wire         rsp_valid;
   reg          rsp_ready = 1'b0;
@@ -33,7 +33,7 @@ module rpu_iu_netlist_tb;
     .req_valid_i(req_valid), .req_ready_o(req_ready), .req_tag_i(req_tag),
     .req_origin_i(req_origin), .req_direction_i(req_direction), .req_t_min_i(req_t_min),
     .req_t_best_i(req_t_best), .req_kx_i(req_kx), .req_ky_i(req_ky), .req_kz_i(req_kz),
-    .req_shear_x_i(req_shear_x), .req_shear_y_i(req_shear_y), .req_shear_z_i(req_shear_z),
+    .req_shear_x_i(req_shear_x), .req_shear_y_i(req_shear_y),
     .req_record_i(req_record),
     .rsp_valid_o(rsp_valid), .rsp_ready_i(rsp_ready), .rsp_tag_o(rsp_tag), .rsp_hit_o(rsp_hit),
     .rsp_t_o(rsp_t), .rsp_u_o(rsp_u), .rsp_v_o(rsp_v)
@@ -81,21 +81,20 @@ module rpu_iu_netlist_tb;
         req_kz        = vec[k + 10][1:0];
         req_shear_x   = vec[k + 11];
         req_shear_y   = vec[k + 12];
-        req_shear_z   = vec[k + 13];
-        req_record    = {vec[k + 25], vec[k + 24], vec[k + 23], vec[k + 22], vec[k + 21], vec[k + 20],
-                         vec[k + 19], vec[k + 18], vec[k + 17], vec[k + 16], vec[k + 15], vec[k + 14]};
+        req_record    = {vec[k + 24], vec[k + 23], vec[k + 22], vec[k + 21], vec[k + 20], vec[k + 19],
+                         vec[k + 18], vec[k + 17], vec[k + 16], vec[k + 15], vec[k + 14], vec[k + 13]};
         req_tag       = sent[7:0];
       end
       #1;
       if (rsp_valid && rsp_ready) begin
         k = got * Fields;
-        if (rsp_tag !== got[7:0] || rsp_hit !== vec[k + 26][0] || rsp_t !== vec[k + 27]
-            || rsp_u !== vec[k + 28] || rsp_v !== vec[k + 29]) begin
+        if (rsp_tag !== got[7:0] || rsp_hit !== vec[k + 25][0] || rsp_t !== vec[k + 26]
+            || rsp_u !== vec[k + 27] || rsp_v !== vec[k + 28]) begin
           $display("netlist FAIL: cycle %0d, IU test %0d: origin %h %h %h direction %h %h %h t_min %h t_best %h",
                    cycle, got, vec[k], vec[k + 1], vec[k + 2], vec[k + 3], vec[k + 4], vec[k + 5],
                    vec[k + 6], vec[k + 7]);
           $display("  expected tag %h hit %h t %h u %h v %h; actual tag %h hit %h t %h u %h v %h",
-                   got[7:0], vec[k + 26][0], vec[k + 27], vec[k + 28], vec[k + 29],
+                   got[7:0], vec[k + 25][0], vec[k + 26], vec[k + 27], vec[k + 28],
                    rsp_tag, rsp_hit, rsp_t, rsp_u, rsp_v);
           $fatal(1);
         end

@@ -56,7 +56,7 @@ module rpu_tu_cosim_top #(
   output logic [31:0]   iu_req_t_min_o,
   output logic [31:0]   iu_req_t_best_o,
   output logic [5:0]    iu_req_axes_o,      // {kz, ky, kx}
-  output logic [95:0]   iu_req_shear_o,     // {z, y, x}
+  output logic [63:0]   iu_req_shear_o,     // {y, x}
   output logic [383:0]  iu_req_record_o,
   input  logic          iu_rsp_valid_i,
   output logic          iu_rsp_ready_o,
@@ -83,7 +83,7 @@ module rpu_tu_cosim_top #(
   assign mem_rsp.data = mem_rsp_data_i;
   assign {iu_req_tag_o, iu_req_origin_o, iu_req_direction_o, iu_req_t_min_o, iu_req_t_best_o,
           iu_req_axes_o[1:0], iu_req_axes_o[3:2], iu_req_axes_o[5:4], iu_req_shear_o[31:0],
-          iu_req_shear_o[63:32], iu_req_shear_o[95:64], iu_req_record_o} = iu_req;
+          iu_req_shear_o[63:32], iu_req_record_o} = iu_req;
   assign iu_rsp = {iu_rsp_tag_i, iu_rsp_hit_i, iu_rsp_t_i, iu_rsp_u_i, iu_rsp_v_i};
 
   if (WithIu != 0) begin : g_ray_unit

@@ -160,7 +160,6 @@ TuIuResponse iu_answer(const functional::SoftArith& ar, bool watertight, const T
   ray.kz = q.kz;
   ray.shear_x = q.shear[0];
   ray.shear_y = q.shear[1];
-  ray.shear_z = q.shear[2];
   functional::UnitHit<functional::SoftArith> hit;
   const bool found = watertight ? functional::intersect_watertight(ar, ray, q.record, q.t_best, hit)
                                 : functional::intersect_woop(ar, ray, q.record, q.t_best, hit);

@@ -44,7 +44,6 @@ class VerilatedIu final : public IuModel {
     top_->req_kz_i = in.kz;
     top_->req_shear_x_i = in.shear[0];
     top_->req_shear_y_i = in.shear[1];
-    top_->req_shear_z_i = in.shear[2];
     for (int i = 0; i < 12; ++i) top_->req_record_i[i] = in.record[i];
     top_->rsp_ready_i = in.rsp_ready;
     eval();

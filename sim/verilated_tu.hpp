@@ -100,8 +100,8 @@ class VerilatedTu final : public TuModel {
       for (int i = 0; i < 3; ++i) {
         r.origin[i] = t.iu_req_origin_o[i];
         r.direction[i] = t.iu_req_direction_o[i];
-        r.shear[i] = t.iu_req_shear_o[i];
       }
+      r.shear = {static_cast<std::uint32_t>(t.iu_req_shear_o), static_cast<std::uint32_t>(t.iu_req_shear_o >> 32)};
       r.t_min = t.iu_req_t_min_o;
       r.t_best = t.iu_req_t_best_o;
       r.kx = t.iu_req_axes_o & 3;

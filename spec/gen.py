@@ -479,7 +479,7 @@ def gen_sv_ray_units() -> list[str]:
             "  typedef struct packed {", "    logic [RayTagBits-1:0] tag;", "    logic [3*32-1:0] origin;",
             "    logic [3*32-1:0] direction;", "    logic [31:0] t_min;", "    logic [31:0] t_best;",
             "    logic [1:0] kx;", "    logic [1:0] ky;", "    logic [1:0] kz;", "    logic [31:0] shear_x;",
-            "    logic [31:0] shear_y;", "    logic [31:0] shear_z;",
+            "    logic [31:0] shear_y;",
             "    logic [IsectRecordWords*32-1:0] record;", "  } iu_req_t;",
             "  typedef struct packed {", "    logic [RayTagBits-1:0] tag;", "    logic hit;", "    logic [31:0] t;",
             "    logic [31:0] u;", "    logic [31:0] v;", "  } iu_rsp_t;"]

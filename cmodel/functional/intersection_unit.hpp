@@ -23,7 +23,7 @@ struct RayRegisters {
   // Watertight test (Woop, Benthin, Wald 2013, §3): the dominant axis kz, the other two
   // axes kx, ky (swapped when direction[kz] < 0 to keep the winding) and the shear.
   int kx = 0, ky = 1, kz = 2;
-  V shear_x, shear_y, shear_z;
+  V shear_x, shear_y;
 };
 
 // §1 Ray set-up: rounds the ray into the format, and for the watertight test picks the
@@ -53,7 +53,6 @@ bool setup_ray(const Arith& ar, const TraceRay& in, bool watertight, RayRegister
     if (ar.lt(ray.direction[ray.kz], ar.zero())) std::swap(ray.kx, ray.ky);
     ray.shear_x = ar.div(ray.direction[ray.kx], ray.direction[ray.kz]);
     ray.shear_y = ar.div(ray.direction[ray.ky], ray.direction[ray.kz]);
-    ray.shear_z = ar.rcp(ray.direction[ray.kz]);
   }
   return true;
 }
@@ -98,7 +97,12 @@ bool intersect_woop(const Arith& ar, const RayRegisters<Arith>& ray, const std::
 // The watertight test (Woop, Benthin, Wald 2013, Fig. 5, without the double-precision
 // fallback: edge functions are each one rounded difference of two rounded products, so
 // an edge shared by two triangles gets exactly opposite values in both and no ray
-// slips between them). The record holds the vertices A, B, C as float4.
+// slips between them). The record holds the vertices A, B, C as float4 with the unit
+// normal n in their w components. The paper's t, a sum of edge functions times sheared
+// vertex distances, loses the digits of t when the vertices lie far from the hit on both
+// sides of the origin, and is cubic in the coordinates; t = n.(A - O) / n.D, as Embree
+// computes it, is a distance from the plane, accurate relative to t and linear in the
+// coordinates (docs/traversal.md §5).
 template <class Arith>
 bool intersect_watertight(const Arith& ar, const RayRegisters<Arith>& ray,
                           const std::array<std::uint32_t, 12>& record, typename Arith::Value t_best,
@@ -123,11 +127,8 @@ bool intersect_watertight(const Arith& ar, const RayRegisters<Arith>& ray,
   if (any_negative && any_positive) return false;
   const V det = ar.add(ar.add(eu, ev), ew);
   if (!(ar.lt(det, zero) || ar.gt(det, zero))) return false;  // zero or NaN
-  const V az = ar.mul(ray.shear_z, p[0][ray.kz]);
-  const V bz = ar.mul(ray.shear_z, p[1][ray.kz]);
-  const V cz = ar.mul(ray.shear_z, p[2][ray.kz]);
-  const V scaled_t = ar.add(ar.add(ar.mul(eu, az), ar.mul(ev, bz)), ar.mul(ew, cz));
-  const V t = ar.div(scaled_t, det);
+  const V n0 = ar.load(record[3]), n1 = ar.load(record[7]), n2 = ar.load(record[11]);
+  const V t = ar.div(dot3(ar, n0, n1, n2, p[0]), dot3(ar, n0, n1, n2, ray.direction));
   if (!(ar.gt(t, ray.t_min) && ar.lt(t, t_best))) return false;
   out = {t, ar.div(ev, det), ar.div(ew, det)};
   return true;

@@ -66,6 +66,18 @@ std::array<glm::vec4, 3> woop_rows(const glm::vec3& a32, const glm::vec3& b32, c
   return rows;
 }
 
+// The watertight record: the vertices A, B, C, and in their w components the unit
+// normal (x in A.w, y in B.w, z in C.w), from which the intersection unit computes t as
+// n.(A - O) / n.D (docs/traversal.md §5): a distance whose rounding error is relative to
+// t, and linear in the coordinates. Computed in double from the fp32 vertices and
+// rounded once; a zero-area triangle gets n = 0, which no ray hits (t is not a number).
+std::array<glm::vec4, 3> watertight_rows(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c) {
+  const glm::dvec3 cross = glm::cross(glm::dvec3(b) - glm::dvec3(a), glm::dvec3(c) - glm::dvec3(a));
+  const double length = glm::length(cross);
+  const glm::vec3 n = length > 0.0 ? glm::vec3(cross / length) : glm::vec3(0.0f);
+  return {glm::vec4(a, n.x), glm::vec4(b, n.y), glm::vec4(c, n.z)};
+}
+
 std::uint32_t light_kind_id(LightKind kind) {
   switch (kind) {
     case LightKind::kPoint:
@@ -187,8 +199,8 @@ MemoryImage build_memory_image(const Scene& scene, const KdTree& tree, IsectMode
   for (std::size_t i = 0; i < scene.triangles.size(); ++i) {
     const glm::uvec3 t = scene.triangles[i];
     const glm::vec3 &a = scene.positions[t.x], &b = scene.positions[t.y], &c = scene.positions[t.z];
-    std::array<glm::vec4, 3> rows{glm::vec4(a, 0.0f), glm::vec4(b, 0.0f), glm::vec4(c, 0.0f)};
-    if (mode == IsectMode::kWoop) rows = woop_rows(a, b, c, src, i);
+    const std::array<glm::vec4, 3> rows = mode == IsectMode::kWoop ? woop_rows(a, b, c, src, i)
+                                                                     : watertight_rows(a, b, c);
     const std::size_t o = isect + i * isect_record_bytes(mode);
     store_float4(out, o + mm::kTriangleRecordRow0At, rows[0]);
     store_float4(out, o + mm::kTriangleRecordRow1At, rows[1]);

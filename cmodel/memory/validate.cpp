@@ -282,9 +282,8 @@ void Validator::check_isect_records() const {
   for (std::uint32_t i = 0; i < s.count; ++i) {
     const std::uint64_t at = s.offset + std::uint64_t{i} * record;
     for (const std::uint32_t row : {mm::kTriangleRecordRow0At, mm::kTriangleRecordRow1At, mm::kTriangleRecordRow2At}) {
-      // Woop rows use all four components; watertight vertices ignore w.
-      const int used = layout_.isect_mode == IsectMode::kWoop ? 4 : 3;
-      for (int k = 0; k < used; ++k) {
+      // Both modes use all four components (watertight: a vertex and a normal component).
+      for (int k = 0; k < 4; ++k) {
         if (const float v = f32(at + row + 4u * static_cast<unsigned>(k)); !std::isfinite(v)) {
           fail("isect_records", fmt::format("record {}", i), at, fmt::format("a component is {}", v));
         }

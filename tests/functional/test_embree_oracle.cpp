@@ -1,7 +1,8 @@
 // Embree (Debian's libembree 3) as an independent hit oracle for the fp32 trace units:
 // the closest-hit primitive must agree on >= 99.99% of camera and random rays, t within
-// 1e-5 relative where they agree, and every disagreement must be a near tie, checked in
-// double precision and reported.
+// 1e-5 relative where they agree (watertight: on >= 99.99% of those hits; every hit of
+// both tests within fp32's bound for its formula), and every disagreement must be a near
+// tie, checked in double precision and reported.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -54,14 +55,17 @@ TEST_P(EmbreeOracle, Fp32ClosestHitsAgreeWithEmbree) {
     std::sort(y.begin(), y.end(), less);
     return x == y;
   };
-  // t is judged against the exact (double) distance to Embree's triangle. The trace
-  // units subtract coordinates (Woop: n.O + w; watertight: V - O), so their error scales
-  // with the coordinates' magnitude, not with t, and grows as 1/cos of the incidence
-  // angle like any ray/plane distance: the bound is 1e-5 * max(t, largest coordinate
-  // involved) / |cos| (docs/traversal.md, "Accuracy"). How many exceed 1e-5 of t alone
-  // is reported too.
-  std::size_t agree = 0, duplicates = 0, hits = 0, near_ties = 0, t_off = 0, t_off_relative = 0;
-  double worst_relative = 0.0, worst_scaled = 0.0;
+  // t is judged against the exact (double) distance to Embree's triangle: within 1e-5
+  // of it, or within what fp32 can give. A ray/plane distance formed from rounded
+  // coordinates is off by a few ulps of the coordinates it subtracts, divided by the
+  // cosine of the incidence angle (docs/traversal.md, "Accuracy"). The watertight test
+  // subtracts the origin from a vertex (t = n.(A - O) / n.D): its bound is
+  // 1e-5 t + 16 u |A - O| / |cos|. Woop's record holds the plane's offset from the world
+  // origin (t = -(n.O + w) / n.D): 1e-5 t + 16 u max|coordinate| / |cos| (u = 2^-24).
+  // How many hits exceed 1e-5 of t is reported, for the units and for Embree.
+  const bool watertight = GetParam().mode == IsectMode::kWatertight;
+  std::size_t agree = 0, duplicates = 0, hits = 0, near_ties = 0, t_off = 0, t_off_relative = 0, embree_off = 0;
+  double worst_relative = 0.0, worst_of_bound = 0.0;
   std::vector<std::string> report;
   for (std::size_t i = 0; i < rays.size(); ++i) {
     const TraceHit ours = tracer.trace(rays[i], TraceMode::kClosest);
@@ -73,26 +77,31 @@ TEST_P(EmbreeOracle, Fp32ClosestHitsAgreeWithEmbree) {
       if (!e_hit) continue;
       duplicates += ours.prim != e_prim;
       const double exact = test::double_hit(scene, e_prim, rays[i]).t;
-      double scale = 0.0;
-      for (int k = 0; k < 3; ++k) {
-        const glm::vec3 v = scene.positions[scene.triangles[e_prim][k]];
-        scale = std::max({scale, std::abs(double(rays[i].origin[k])), std::abs(double(v.x)),
-                          std::abs(double(v.y)), std::abs(double(v.z))});
-      }
       const glm::uvec3 tri = scene.triangles[e_prim];
+      const glm::dvec3 origin(rays[i].origin[0], rays[i].origin[1], rays[i].origin[2]);
+      double magnitude = watertight ? glm::length(glm::dvec3(scene.positions[tri.x]) - origin) : 0.0;
+      if (!watertight) {
+        for (int k = 0; k < 3; ++k) {
+          const glm::vec3 v = scene.positions[tri[k]];
+          magnitude = std::max({magnitude, std::abs(origin[k]), std::abs(double(v.x)), std::abs(double(v.y)),
+                                std::abs(double(v.z))});
+        }
+      }
       const glm::dvec3 n = glm::normalize(glm::cross(glm::dvec3(scene.positions[tri.y] - scene.positions[tri.x]),
                                                      glm::dvec3(scene.positions[tri.z] - scene.positions[tri.x])));
       const double cosine = std::abs(glm::dot(n, glm::normalize(glm::dvec3(rays[i].direction[0], rays[i].direction[1],
                                                                            rays[i].direction[2]))));
       const double error = std::abs(ours.t - exact);
-      const double scaled = error * cosine / std::max(exact, scale);
+      const double bound = 1e-5 * exact + 16.0 * 0x1p-24 * magnitude / cosine;
       worst_relative = std::max(worst_relative, error / exact);
-      worst_scaled = std::max(worst_scaled, scaled);
+      worst_of_bound = std::max(worst_of_bound, error / bound);
       t_off_relative += error > 1e-5 * exact;
-      if (scaled > 1e-5) {
+      embree_off += std::abs(e_t - exact) > 1e-5 * exact;
+      if (error > bound) {
         ++t_off;
-        report.push_back(fmt::format("ray {}: prim {}: t {} vs exact {} (Embree {}), coordinates up to {}, cos {}",
-                                     i, e_prim, ours.t, exact, e_t, scale, cosine));
+        report.push_back(fmt::format("ray {}: prim {}: t {} vs exact {} (Embree {}), {} {}, cos {}", i, e_prim,
+                                     ours.t, exact, e_t, watertight ? "|A - O|" : "coordinates up to", magnitude,
+                                     cosine));
       }
       continue;
     }
@@ -122,14 +131,20 @@ TEST_P(EmbreeOracle, Fp32ClosestHitsAgreeWithEmbree) {
   const std::size_t disagreements = rays.size() - agree;
   std::printf(
       "%s %s: %zu rays, %zu hit (Embree), agreement %.5f%% (%zu by a duplicate triangle), %zu disagreements "
-      "(%zu near ties); t error: worst %.2g of t, worst %.2g of max(t, coordinates) / cos, %zu over 1e-5 of t, %zu over "
+      "(%zu near ties); t: %zu hits over 1e-5 of t (Embree %zu), worst %.2g of t, worst %.2g of the bound, %zu over "
       "the bound\n",
-      GetParam().scene.c_str(), GetParam().mode == IsectMode::kWoop ? "woop" : "watertight", rays.size(), hits,
-      100.0 * agreement, duplicates, disagreements, near_ties, worst_relative, worst_scaled, t_off_relative, t_off);
+      GetParam().scene.c_str(), watertight ? "watertight" : "woop", rays.size(), hits, 100.0 * agreement, duplicates,
+      disagreements, near_ties, t_off_relative, embree_off, worst_relative, worst_of_bound, t_off);
   for (std::size_t i = 0; i < std::min<std::size_t>(report.size(), 20); ++i) std::printf("  %s\n", report[i].c_str());
   RecordProperty("agreement_percent", fmt::format("{:.5f}", 100.0 * agreement));
   EXPECT_GE(agreement, 0.9999);
   EXPECT_EQ(t_off, 0u);
+  // The watertight test's t is a distance from the plane through a vertex: on all but
+  // rays that start a hair from a large surface it is within 1e-5 of t, held to the same
+  // 99.99% as the ids. Woop's cannot be (the offset rounding above), so it is reported.
+  if (watertight) {
+    EXPECT_LE(static_cast<double>(t_off_relative), 1e-4 * static_cast<double>(hits));
+  }
   EXPECT_GT(hits, rays.size() / 4) << "the rays must mostly hit the scene";
 }
 

@@ -182,16 +182,29 @@ TEST_F(MemoryImageRoundTrip, WoopRecordsMapTheTriangleToTheUnitTriangle) {
   }
 }
 
-TEST(MemoryImage, WatertightRecordsHoldTheVertices) {
-  const Scene scene = test::tiny_scene();
+TEST(MemoryImage, WatertightRecordsHoldTheVerticesAndTheUnitNormal) {
+  Scene scene = test::tiny_scene();
+  scene.positions[5] = scene.positions[1];  // triangle 3 = (0, 5, 1) has zero area
   const MemoryImage image = build_memory_image(scene, test::single_leaf_tree(4), IsectMode::kWatertight);
   const ImageLayout l = validate_memory_image(image.bytes, "w.rpu");
   EXPECT_EQ(l.isect_mode, IsectMode::kWatertight);
   for (std::size_t i = 0; i < scene.triangles.size(); ++i) {
     const std::size_t at = l.isect_records.offset + i * mm::kTriangleRecordWatertightBytes;
-    EXPECT_EQ(load_float4(image.bytes, at + mm::kTriangleRecordRow0At), glm::vec4(scene.positions[scene.triangles[i].x], 0));
-    EXPECT_EQ(load_float4(image.bytes, at + mm::kTriangleRecordRow1At), glm::vec4(scene.positions[scene.triangles[i].y], 0));
-    EXPECT_EQ(load_float4(image.bytes, at + mm::kTriangleRecordRow2At), glm::vec4(scene.positions[scene.triangles[i].z], 0));
+    const glm::vec4 a = load_float4(image.bytes, at + mm::kTriangleRecordRow0At);
+    const glm::vec4 b = load_float4(image.bytes, at + mm::kTriangleRecordRow1At);
+    const glm::vec4 c = load_float4(image.bytes, at + mm::kTriangleRecordRow2At);
+    EXPECT_EQ(glm::vec3(a), scene.positions[scene.triangles[i].x]);
+    EXPECT_EQ(glm::vec3(b), scene.positions[scene.triangles[i].y]);
+    EXPECT_EQ(glm::vec3(c), scene.positions[scene.triangles[i].z]);
+    const glm::dvec3 n(a.w, b.w, c.w);
+    if (i == 3) {
+      EXPECT_EQ(n, glm::dvec3(0.0)) << "a zero-area triangle has no normal";
+      continue;
+    }
+    EXPECT_NEAR(glm::length(n), 1.0, 1e-7) << "triangle " << i;
+    EXPECT_NEAR(glm::dot(n, glm::dvec3(b - a)), 0.0, 1e-6) << "triangle " << i;
+    EXPECT_NEAR(glm::dot(n, glm::dvec3(c - a)), 0.0, 1e-6) << "triangle " << i;
+    EXPECT_GT(glm::dot(n, glm::cross(glm::dvec3(b - a), glm::dvec3(c - a))), 0.0) << "triangle " << i;
   }
 }
 
