@@ -117,63 +117,64 @@ module rpu_iu #(
     f_uop = uop(rpu_pkg::FpOpAdd, SZero, SZero, 0);
     m_uop = uop(rpu_pkg::FpOpFromFp32, SZero, SZero, 0);
     if (!Watertight) begin
-      // §4. T0..T11 = the record's words m[0..11] in the format, row 2 first.
+      // §4. T0..T11 = the record's words m[0..11] in the format, A (the w words) and
+      // row 2 first; T12..T14 = P = O - A.
       unique case (f_pc_q)
-        6'd0:  f_uop = uop(rpu_pkg::FpOpMul, ST + 8, SO + 0, 12);   // m8 * O0
-        6'd1:  f_uop = uop(rpu_pkg::FpOpMul, ST + 9, SO + 1, 13);   // m9 * O1
-        6'd2:  f_uop = uop(rpu_pkg::FpOpMul, ST + 10, SO + 2, 14);  // m10 * O2
-        6'd3:  f_uop = uop(rpu_pkg::FpOpMul, ST + 8, SD + 0, 15);   // m8 * D0
-        6'd4:  f_uop = uop(rpu_pkg::FpOpMul, ST + 9, SD + 1, 16);   // m9 * D1
-        6'd5:  f_uop = uop(rpu_pkg::FpOpMul, ST + 10, SD + 2, 17);  // m10 * D2
-        6'd6:  f_uop = uop(rpu_pkg::FpOpAdd, ST + 12, ST + 13, 18);
-        6'd7:  f_uop = uop(rpu_pkg::FpOpAdd, ST + 15, ST + 16, 19);
-        6'd8:  f_uop = uop(rpu_pkg::FpOpAdd, ST + 18, ST + 14, 20);  // dp3(r2, O)
-        6'd9:  f_uop = uop(rpu_pkg::FpOpAdd, ST + 19, ST + 17, 21);  // dz
-        6'd10: f_uop = uop(rpu_pkg::FpOpAdd, ST + 20, ST + 11, 22);  // oz
-        6'd11: f_uop = uop_neg(rpu_pkg::FpOpDiv, ST + 22, ST + 21, 23);  // t = -(oz / dz)
+        6'd0:  f_uop = uop(rpu_pkg::FpOpSub, SO + 0, ST + 3, 12);   // O0 - A0
+        6'd1:  f_uop = uop(rpu_pkg::FpOpSub, SO + 1, ST + 7, 13);   // O1 - A1
+        6'd2:  f_uop = uop(rpu_pkg::FpOpSub, SO + 2, ST + 11, 14);  // O2 - A2
+        6'd3:  f_uop = uop(rpu_pkg::FpOpMul, ST + 8, ST + 12, 16);  // m8 * P0
+        6'd4:  f_uop = uop(rpu_pkg::FpOpMul, ST + 9, ST + 13, 17);  // m9 * P1
+        6'd5:  f_uop = uop(rpu_pkg::FpOpMul, ST + 10, ST + 14, 18); // m10 * P2
+        6'd6:  f_uop = uop(rpu_pkg::FpOpMul, ST + 8, SD + 0, 19);   // m8 * D0
+        6'd7:  f_uop = uop(rpu_pkg::FpOpMul, ST + 9, SD + 1, 20);   // m9 * D1
+        6'd8:  f_uop = uop(rpu_pkg::FpOpMul, ST + 10, SD + 2, 21);  // m10 * D2
+        6'd9:  f_uop = uop(rpu_pkg::FpOpAdd, ST + 16, ST + 17, 22);
+        6'd10: f_uop = uop(rpu_pkg::FpOpAdd, ST + 19, ST + 20, 24);
+        6'd11: f_uop = uop(rpu_pkg::FpOpAdd, ST + 22, ST + 18, 25);  // oz = dp3(r2, P)
+        6'd12: f_uop = uop(rpu_pkg::FpOpAdd, ST + 24, ST + 21, 26);  // dz
+        6'd13: f_uop = uop_neg(rpu_pkg::FpOpDiv, ST + 25, ST + 26, 23);  // t = -(oz / dz)
         // Rows 0 and 1 while the divider works.
-        6'd12: f_uop = uop(rpu_pkg::FpOpMul, ST + 0, SO + 0, 24);
-        6'd13: f_uop = uop(rpu_pkg::FpOpMul, ST + 1, SO + 1, 25);
-        6'd14: f_uop = uop(rpu_pkg::FpOpMul, ST + 2, SO + 2, 26);
-        6'd15: f_uop = uop(rpu_pkg::FpOpMul, ST + 0, SD + 0, 27);
-        6'd16: f_uop = uop(rpu_pkg::FpOpMul, ST + 1, SD + 1, 28);
-        6'd17: f_uop = uop(rpu_pkg::FpOpMul, ST + 2, SD + 2, 29);
-        6'd18: f_uop = uop(rpu_pkg::FpOpAdd, ST + 24, ST + 25, 30);
-        6'd19: f_uop = uop(rpu_pkg::FpOpAdd, ST + 27, ST + 28, 31);
-        6'd20: f_uop = uop(rpu_pkg::FpOpAdd, ST + 30, ST + 26, 32);  // dp3(r0, O)
-        6'd21: f_uop = uop(rpu_pkg::FpOpAdd, ST + 31, ST + 29, 33);  // dx
-        6'd22: f_uop = uop(rpu_pkg::FpOpAdd, ST + 32, ST + 3, 34);   // ox
-        6'd23: f_uop = uop(rpu_pkg::FpOpMul, ST + 4, SO + 0, 35);
-        6'd24: f_uop = uop(rpu_pkg::FpOpMul, ST + 5, SO + 1, 36);
-        6'd25: f_uop = uop(rpu_pkg::FpOpMul, ST + 6, SO + 2, 37);
-        6'd26: f_uop = uop(rpu_pkg::FpOpMul, ST + 4, SD + 0, 38);
-        6'd27: f_uop = uop(rpu_pkg::FpOpMul, ST + 5, SD + 1, 39);
-        6'd28: f_uop = uop(rpu_pkg::FpOpMul, ST + 6, SD + 2, 40);
-        6'd29: f_uop = uop(rpu_pkg::FpOpAdd, ST + 35, ST + 36, 41);
-        6'd30: f_uop = uop(rpu_pkg::FpOpAdd, ST + 38, ST + 39, 42);
-        6'd31: f_uop = uop(rpu_pkg::FpOpAdd, ST + 41, ST + 37, 43);  // dp3(r1, O)
-        6'd32: f_uop = uop(rpu_pkg::FpOpAdd, ST + 42, ST + 40, 44);  // dy
-        6'd33: f_uop = uop(rpu_pkg::FpOpAdd, ST + 43, ST + 7, 45);   // oy
-        6'd34: f_uop = uop(rpu_pkg::FpOpMul, ST + 23, ST + 33, 46);  // t * dx
-        6'd35: f_uop = uop(rpu_pkg::FpOpMul, ST + 23, ST + 44, 47);  // t * dy
-        6'd36: f_uop = uop(rpu_pkg::FpOpAdd, ST + 34, ST + 46, 48);  // u
-        6'd37: f_uop = uop(rpu_pkg::FpOpAdd, ST + 45, ST + 47, 49);  // v
+        6'd14: f_uop = uop(rpu_pkg::FpOpMul, ST + 0, ST + 12, 27);
+        6'd15: f_uop = uop(rpu_pkg::FpOpMul, ST + 1, ST + 13, 28);
+        6'd16: f_uop = uop(rpu_pkg::FpOpMul, ST + 2, ST + 14, 29);
+        6'd17: f_uop = uop(rpu_pkg::FpOpMul, ST + 0, SD + 0, 30);
+        6'd18: f_uop = uop(rpu_pkg::FpOpMul, ST + 1, SD + 1, 31);
+        6'd19: f_uop = uop(rpu_pkg::FpOpMul, ST + 2, SD + 2, 32);
+        6'd20: f_uop = uop(rpu_pkg::FpOpAdd, ST + 27, ST + 28, 33);
+        6'd21: f_uop = uop(rpu_pkg::FpOpAdd, ST + 30, ST + 31, 34);
+        6'd22: f_uop = uop(rpu_pkg::FpOpAdd, ST + 33, ST + 29, 35);  // ox = dp3(r0, P)
+        6'd23: f_uop = uop(rpu_pkg::FpOpAdd, ST + 34, ST + 32, 36);  // dx
+        6'd24: f_uop = uop(rpu_pkg::FpOpMul, ST + 4, ST + 12, 37);
+        6'd25: f_uop = uop(rpu_pkg::FpOpMul, ST + 5, ST + 13, 38);
+        6'd26: f_uop = uop(rpu_pkg::FpOpMul, ST + 6, ST + 14, 39);
+        6'd27: f_uop = uop(rpu_pkg::FpOpMul, ST + 4, SD + 0, 40);
+        6'd28: f_uop = uop(rpu_pkg::FpOpMul, ST + 5, SD + 1, 41);
+        6'd29: f_uop = uop(rpu_pkg::FpOpMul, ST + 6, SD + 2, 42);
+        6'd30: f_uop = uop(rpu_pkg::FpOpAdd, ST + 37, ST + 38, 43);
+        6'd31: f_uop = uop(rpu_pkg::FpOpAdd, ST + 40, ST + 41, 44);
+        6'd32: f_uop = uop(rpu_pkg::FpOpAdd, ST + 43, ST + 39, 45);  // oy = dp3(r1, P)
+        6'd33: f_uop = uop(rpu_pkg::FpOpAdd, ST + 44, ST + 42, 46);  // dy
+        6'd34: f_uop = uop(rpu_pkg::FpOpMul, ST + 23, ST + 36, 47);  // t * dx
+        6'd35: f_uop = uop(rpu_pkg::FpOpMul, ST + 23, ST + 46, 15);  // t * dy
+        6'd36: f_uop = uop(rpu_pkg::FpOpAdd, ST + 35, ST + 47, 48);  // u
+        6'd37: f_uop = uop(rpu_pkg::FpOpAdd, ST + 45, ST + 15, 49);  // v
         6'd38: f_uop = uop(rpu_pkg::FpOpAdd, ST + 48, ST + 49, 50);  // u + v
         default: ;
       endcase
       unique case (m_pc_q)
-        6'd0:  m_uop = uop(rpu_pkg::FpOpFromFp32, SW + 8, SZero, 8);
-        6'd1:  m_uop = uop(rpu_pkg::FpOpFromFp32, SW + 9, SZero, 9);
-        6'd2:  m_uop = uop(rpu_pkg::FpOpFromFp32, SW + 10, SZero, 10);
-        6'd3:  m_uop = uop(rpu_pkg::FpOpFromFp32, SW + 11, SZero, 11);
-        6'd4:  m_uop = uop(rpu_pkg::FpOpFromFp32, SW + 0, SZero, 0);
-        6'd5:  m_uop = uop(rpu_pkg::FpOpFromFp32, SW + 1, SZero, 1);
-        6'd6:  m_uop = uop(rpu_pkg::FpOpFromFp32, SW + 2, SZero, 2);
-        6'd7:  m_uop = uop(rpu_pkg::FpOpFromFp32, SW + 3, SZero, 3);
-        6'd8:  m_uop = uop(rpu_pkg::FpOpFromFp32, SW + 4, SZero, 4);
-        6'd9:  m_uop = uop(rpu_pkg::FpOpFromFp32, SW + 5, SZero, 5);
-        6'd10: m_uop = uop(rpu_pkg::FpOpFromFp32, SW + 6, SZero, 6);
-        6'd11: m_uop = uop(rpu_pkg::FpOpFromFp32, SW + 7, SZero, 7);
+        6'd0:  m_uop = uop(rpu_pkg::FpOpFromFp32, SW + 3, SZero, 3);
+        6'd1:  m_uop = uop(rpu_pkg::FpOpFromFp32, SW + 7, SZero, 7);
+        6'd2:  m_uop = uop(rpu_pkg::FpOpFromFp32, SW + 11, SZero, 11);
+        6'd3:  m_uop = uop(rpu_pkg::FpOpFromFp32, SW + 8, SZero, 8);
+        6'd4:  m_uop = uop(rpu_pkg::FpOpFromFp32, SW + 9, SZero, 9);
+        6'd5:  m_uop = uop(rpu_pkg::FpOpFromFp32, SW + 10, SZero, 10);
+        6'd6:  m_uop = uop(rpu_pkg::FpOpFromFp32, SW + 0, SZero, 0);
+        6'd7:  m_uop = uop(rpu_pkg::FpOpFromFp32, SW + 1, SZero, 1);
+        6'd8:  m_uop = uop(rpu_pkg::FpOpFromFp32, SW + 2, SZero, 2);
+        6'd9:  m_uop = uop(rpu_pkg::FpOpFromFp32, SW + 4, SZero, 4);
+        6'd10: m_uop = uop(rpu_pkg::FpOpFromFp32, SW + 5, SZero, 5);
+        6'd11: m_uop = uop(rpu_pkg::FpOpFromFp32, SW + 6, SZero, 6);
         6'd12: m_uop = uop_flag(rpu_pkg::FpOpGt, ST + 23, STMin, 0);   // t > t_min
         6'd13: m_uop = uop_flag(rpu_pkg::FpOpLt, ST + 23, STBest, 1);  // t < t_best
         6'd14: m_uop = uop_flag(rpu_pkg::FpOpLe, SZero, ST + 48, 2);   // 0 <= u

@@ -69,24 +69,28 @@ V dot3(const Arith& ar, V a0, V a1, V a2, const std::array<V, 3>& b) {
 }
 
 // Woop's unit-triangle test (Woop, Schmittler, Slusallek 2005, §4.2). The record's rows
-// r0, r1, r2 (float4 each) map world space to the triangle's unit space.
+// r0, r1, r2 map world space to the triangle's unit space, (u, v, w) = L (p - A): their
+// xyz hold the linear part L, their w the vertex A (docs/memory-map.md). Measuring from
+// A rather than adding a stored translation -L A keeps t accurate relative to t: the
+// translation, rounded, would misplace the plane by an ulp of the scene's coordinates.
 template <class Arith>
 bool intersect_woop(const Arith& ar, const RayRegisters<Arith>& ray, const std::array<std::uint32_t, 12>& record,
                     typename Arith::Value t_best, UnitHit<Arith>& out) {
   using V = typename Arith::Value;
   // Rows are loaded as the test needs them: most tests end after row 2.
   std::array<V, 12> m;
-  for (int i = 8; i < 12; ++i) m[i] = ar.load(record[i]);
-  const V oz = ar.add(dot3(ar, m[8], m[9], m[10], ray.origin), m[11]);
+  for (const int i : {3, 7, 11, 8, 9, 10}) m[i] = ar.load(record[i]);
+  const std::array<V, 3> p{ar.sub(ray.origin[0], m[3]), ar.sub(ray.origin[1], m[7]), ar.sub(ray.origin[2], m[11])};
+  const V oz = dot3(ar, m[8], m[9], m[10], p);
   const V dz = dot3(ar, m[8], m[9], m[10], ray.direction);
   const V t = ar.neg(ar.div(oz, dz));
   if (!(ar.gt(t, ray.t_min) && ar.lt(t, t_best))) return false;
-  for (int i = 0; i < 8; ++i) m[i] = ar.load(record[i]);
-  const V ox = ar.add(dot3(ar, m[0], m[1], m[2], ray.origin), m[3]);
+  for (const int i : {0, 1, 2, 4, 5, 6}) m[i] = ar.load(record[i]);
+  const V ox = dot3(ar, m[0], m[1], m[2], p);
   const V dx = dot3(ar, m[0], m[1], m[2], ray.direction);
   const V u = ar.add(ox, ar.mul(t, dx));
   if (!(ar.le(ar.zero(), u) && ar.le(u, ar.one()))) return false;
-  const V oy = ar.add(dot3(ar, m[4], m[5], m[6], ray.origin), m[7]);
+  const V oy = dot3(ar, m[4], m[5], m[6], p);
   const V dy = dot3(ar, m[4], m[5], m[6], ray.direction);
   const V v = ar.add(oy, ar.mul(t, dy));
   if (!(ar.le(ar.zero(), v) && ar.le(ar.add(u, v), ar.one()))) return false;

@@ -35,13 +35,15 @@ glm::vec4 to_float4(const glm::dvec3& v, const std::string& source, std::string_
 
 // Woop's unit-triangle transform (Woop, Schmittler, Slusallek 2005, section 4.2): the
 // affine map T(x, y, z) = A + x (B - A) + y (C - A) + z N sends the unit triangle
-// (0,0,0), (1,0,0), (0,1,0) to A, B, C; the record holds M = T^-1 as three rows
-// [m0 m1 m2 m3], so that M p = (u, v, w). N is the unit normal: then row 2 is N itself
-// and w the signed distance from the plane, whose size does not depend on the
-// triangle's area (an unnormalised cross product would scale row 2 by 1/area, which
-// overflows fp32 for tiny triangles); u and v, and the hit distance
-// t = -w(origin) / w(direction), are the same either way. Computed in double and
-// rounded to fp32 once.
+// (0,0,0), (1,0,0), (0,1,0) to A, B, C; its inverse is (u, v, w) = L (p - A) with
+// L = [B - A, C - A, N]^-1. The record holds L's rows in the xyz of its three float4 and
+// A in their w (row i's w = A[i]), so that the unit measures from a vertex: a stored
+// translation -L A, rounded to fp32, would misplace the plane by an ulp of the scene's
+// coordinates, and t with it. N is the unit normal: then row 2 is N itself and w the
+// signed distance from the plane, whose size does not depend on the triangle's area (an
+// unnormalised cross product would scale row 2 by 1/area, which overflows fp32 for tiny
+// triangles); u and v, and the hit distance t = -w(origin) / w(direction), are the same
+// either way. Computed in double from the fp32 vertices and rounded to fp32 once.
 std::array<glm::vec4, 3> woop_rows(const glm::vec3& a32, const glm::vec3& b32, const glm::vec3& c32,
                                    const std::string& source, std::size_t triangle) {
   const glm::dvec3 a(a32), b(b32), c(c32);
@@ -51,8 +53,7 @@ std::array<glm::vec4, 3> woop_rows(const glm::vec3& a32, const glm::vec3& b32, c
   const glm::dmat3 inverse = glm::inverse(glm::dmat3(e1, e2, n));  // columns e1, e2, n
   std::array<glm::vec4, 3> rows;
   for (int i = 0; i < 3; ++i) {
-    const glm::dvec3 row(inverse[0][i], inverse[1][i], inverse[2][i]);
-    const glm::dvec4 m(row, -glm::dot(row, a));
+    const glm::dvec4 m(inverse[0][i], inverse[1][i], inverse[2][i], a[i]);
     for (int k = 0; k < 4; ++k) {
       if (!(std::abs(m[k]) <= static_cast<double>(std::numeric_limits<float>::max()))) {
         throw Error(fmt::format(

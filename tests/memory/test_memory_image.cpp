@@ -153,10 +153,11 @@ TEST_F(MemoryImageRoundTrip, SaveLoadValidateAndReadBackEveryField) {
   EXPECT_EQ(load_f32(in, l.camera.offset + mm::kCameraFocusDistanceAt), 6.5f);
 }
 
-// M maps A, B, C and A + N (N the unit normal, computed here in double) to the unit
-// triangle's corners and (0, 0, 1). M's entries were rounded to fp32 once, so each
-// result is off by at most 2^-24 times the sum of the magnitudes of its terms (doubled
-// for the rounding of the inverse itself); the products here are exact in double.
+// The rows' w hold A exactly, and their xyz, L, map B - A, C - A and N (the unit normal,
+// computed here in double) to the unit triangle's corners (1, 0, 0), (0, 1, 0) and
+// (0, 0, 1). L's entries were rounded to fp32 once, so each result is off by at most
+// 2^-24 times the sum of the magnitudes of its terms (doubled for the rounding of the
+// inverse itself); the products here are exact in double.
 TEST_F(MemoryImageRoundTrip, WoopRecordsMapTheTriangleToTheUnitTriangle) {
   for (std::size_t i = 0; i < scene.triangles.size(); ++i) {
     const std::size_t at = layout.isect_records.offset + i * mm::kTriangleRecordWoopBytes;
@@ -165,16 +166,17 @@ TEST_F(MemoryImageRoundTrip, WoopRecordsMapTheTriangleToTheUnitTriangle) {
                                 glm::dvec4(load_float4(bytes, at + mm::kTriangleRecordRow2At))};
     const glm::dvec3 a(scene.positions[scene.triangles[i].x]), b(scene.positions[scene.triangles[i].y]),
         c(scene.positions[scene.triangles[i].z]);
+    EXPECT_EQ(glm::dvec3(rows[0].w, rows[1].w, rows[2].w), a) << "triangle " << i;
     const glm::dvec3 cross(glm::cross(b - a, c - a));
     const glm::dvec3 n = cross / std::sqrt(glm::dot(cross, cross));
     const struct {
       glm::dvec3 p, want;
-    } cases[] = {{a, {0, 0, 0}}, {b, {1, 0, 0}}, {c, {0, 1, 0}}, {a + n, {0, 0, 1}}};
+    } cases[] = {{b - a, {1, 0, 0}}, {c - a, {0, 1, 0}}, {n, {0, 0, 1}}};
     for (const auto& [p, want] : cases) {
       for (int r = 0; r < 3; ++r) {
         const glm::dvec4& m = rows[r];
-        const double got = m.x * p.x + m.y * p.y + m.z * p.z + m.w;
-        const double scale = std::abs(m.x * p.x) + std::abs(m.y * p.y) + std::abs(m.z * p.z) + std::abs(m.w);
+        const double got = m.x * p.x + m.y * p.y + m.z * p.z;
+        const double scale = std::abs(m.x * p.x) + std::abs(m.y * p.y) + std::abs(m.z * p.z);
         EXPECT_NEAR(got, want[r], 2.0 * 0x1p-24 * scale)
             << "triangle " << i << " row " << r << " at (" << p.x << ", " << p.y << ", " << p.z << ")";
       }
