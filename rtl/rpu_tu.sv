@@ -168,10 +168,25 @@ module rpu_tu #(
   assign entry_reg = RBox + RegBits'(axis_q) + (inv_negative ? RegBits'(3) : RegBits'(0));
   assign exit_reg  = RBox + RegBits'(axis_q) + (inv_negative ? RegBits'(0) : RegBits'(3));
 
+  // Kd space (docs/traversal.md §1, §6): the image's geometry is world space times 2^-s;
+  // the origin and the interval move there before rounding, the hit distance back.
+  logic signed [9:0] to_world_exp, to_kd_exp;
+  logic [3*32-1:0]   kd_origin;
+  logic [31:0]       kd_t_min, kd_t_max, world_t;
+  assign to_world_exp = {{2{cfg_i.kd_scale_exponent[7]}}, cfg_i.kd_scale_exponent};
+  assign to_kd_exp    = -to_world_exp;
+  for (genvar i = 0; i < 3; i++) begin : gen_kd_origin
+    rpu_fp32_scale u_origin (
+      .value_i(ray_q.origin[32*i +: 32]), .exp_i(to_kd_exp), .value_o(kd_origin[32*i +: 32])
+    );
+  end
+  rpu_fp32_scale u_t_min (.value_i(ray_q.t_min), .exp_i(to_kd_exp), .value_o(kd_t_min));
+  rpu_fp32_scale u_t_max (.value_i(ray_q.t_max), .exp_i(to_kd_exp), .value_o(kd_t_max));
+  rpu_fp32_scale u_t_out (.value_i(out_q[0 +: 32]), .exp_i(to_world_exp), .value_o(world_t));
+
   // The raw fp32 words StLoad rounds: origin, direction, t_min, t_max, box lo, box hi.
   logic [14*32-1:0] raw;
-  assign raw = {cfg_i.bounds_hi, cfg_i.bounds_lo, ray_q.t_max, ray_q.t_min, ray_q.direction,
-                ray_q.origin};
+  assign raw = {cfg_i.bounds_hi, cfg_i.bounds_lo, kd_t_max, kd_t_min, ray_q.direction, kd_origin};
 
   // --- The FP units. ---
   logic             fma_valid, misc_valid, div_valid, div_ready;
@@ -941,7 +956,7 @@ module rpu_tu #(
 
   assign rsp_o.tag    = ray_q.tag;
   assign rsp_o.hit    = hit_q;
-  assign rsp_o.t      = out_q[0 +: 32];
+  assign rsp_o.t      = world_t;
   assign rsp_o.u      = out_q[32 +: 32];
   assign rsp_o.v      = out_q[64 +: 32];
   assign rsp_o.prim   = hit_prim_q;

@@ -18,6 +18,7 @@ module rpu_tu_cosim_top #(
   input  logic [31:0]   cfg_isect_records_i,
   input  logic [95:0]   cfg_bounds_lo_i,
   input  logic [95:0]   cfg_bounds_hi_i,
+  input  logic [7:0]    cfg_kd_scale_exponent_i,
 
   input  logic          req_valid_i,
   output logic          req_ready_o,
@@ -75,7 +76,8 @@ module rpu_tu_cosim_top #(
   rpu_pkg::iu_req_t  iu_req;
   rpu_pkg::iu_rsp_t  iu_rsp;
 
-  assign cfg = {cfg_kd_nodes_i, cfg_prim_refs_i, cfg_isect_records_i, cfg_bounds_lo_i, cfg_bounds_hi_i};
+  assign cfg = {cfg_kd_nodes_i, cfg_prim_refs_i, cfg_isect_records_i, cfg_bounds_lo_i, cfg_bounds_hi_i,
+                cfg_kd_scale_exponent_i};
   assign req = {req_tag_i, req_origin_i, req_direction_i, req_t_min_i, req_t_max_i, req_any_hit_i};
   assign {rsp_tag_o, rsp_hit_o, rsp_t_o, rsp_u_o, rsp_v_o, rsp_prim_o, rsp_nodes_o, rsp_leaves_o,
           rsp_tests_o, rsp_fault_o} = rsp;

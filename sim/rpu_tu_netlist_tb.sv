@@ -22,6 +22,7 @@ module rpu_tu_netlist_tb;
   reg          rst_n = 1'b0;
   reg  [31:0]  cfg_kd_nodes = '0, cfg_prim_refs = '0, cfg_isect_records = '0;
   reg  [95:0]  cfg_bounds_lo = '0, cfg_bounds_hi = '0;
+  reg  [7:0]   cfg_kd_scale_exponent = '0;
   reg          req_valid = 1'b0;
   wire         req_ready;
   reg  [7:0]   req_tag = '0;
@@ -57,6 +58,7 @@ module rpu_tu_netlist_tb;
     .clk_i(clk), .rst_ni(rst_n),
     .cfg_kd_nodes_i(cfg_kd_nodes), .cfg_prim_refs_i(cfg_prim_refs), .cfg_isect_records_i(cfg_isect_records),
     .cfg_bounds_lo_i(cfg_bounds_lo), .cfg_bounds_hi_i(cfg_bounds_hi),
+    .cfg_kd_scale_exponent_i(cfg_kd_scale_exponent),
     .req_valid_i(req_valid), .req_ready_o(req_ready), .req_tag_i(req_tag), .req_origin_i(req_origin),
     .req_direction_i(req_direction), .req_t_min_i(req_t_min), .req_t_max_i(req_t_max),
     .req_any_hit_i(req_any_hit),
@@ -74,7 +76,7 @@ module rpu_tu_netlist_tb;
   );
 
   reg [31:0] mem [0:MaxWords-1];
-  reg [31:0] cfg [0:8];
+  reg [31:0] cfg [0:9];
   reg [31:0] ray [0:MaxRays*RayFields-1];
   reg [31:0] test [0:MaxTests*TestFields-1];
 
@@ -109,13 +111,13 @@ module rpu_tu_netlist_tb;
       $fatal(2);
     end
     ok = 0;
-    for (i = 0; i < 9; i = i + 1) ok = ok + $fscanf(fd, "%h", cfg[i]);
+    for (i = 0; i < 10; i = i + 1) ok = ok + $fscanf(fd, "%h", cfg[i]);
     for (i = 0; i < words; i = i + 1) ok = ok + $fscanf(fd, "%h", mem[i]);
     for (i = 0; i < n * RayFields; i = i + 1) ok = ok + $fscanf(fd, "%h", ray[i]);
     for (i = 0; i < tests * TestFields; i = i + 1) ok = ok + $fscanf(fd, "%h", test[i]);
     $fclose(fd);
-    if (ok != 9 + words + n * RayFields + tests * TestFields) begin
-      $display("netlist FAIL: %0s: %0d words unreadable", path, 9 + words + n * RayFields + tests * TestFields - ok);
+    if (ok != 10 + words + n * RayFields + tests * TestFields) begin
+      $display("netlist FAIL: %0s: %0d words unreadable", path, 10 + words + n * RayFields + tests * TestFields - ok);
       $fatal(2);
     end
     cfg_kd_nodes      = cfg[0];
@@ -123,6 +125,7 @@ module rpu_tu_netlist_tb;
     cfg_isect_records = cfg[2];
     cfg_bounds_lo     = {cfg[5], cfg[4], cfg[3]};
     cfg_bounds_hi     = {cfg[8], cfg[7], cfg[6]};
+    cfg_kd_scale_exponent = cfg[9][7:0];
 
     reset_dut();
 

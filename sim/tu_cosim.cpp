@@ -254,7 +254,8 @@ int write_vectors(const Options& o, const functional::SceneImage& si, const func
                                  si.layout.isect_records.offset};
   for (int i = 0; i < 3; ++i) cfg.push_back(bits(si.layout.bounds_lo[i]));
   for (int i = 0; i < 3; ++i) cfg.push_back(bits(si.layout.bounds_hi[i]));
-  put(cfg, 9);
+  cfg.push_back(static_cast<std::uint32_t>(si.layout.kd_scale_exponent));
+  put(cfg, 10);
   put(words, 4);
   put(rays, 18);
   put(tests, 17);
@@ -335,6 +336,7 @@ int run(const Options& o) {
     in.bounds_lo[i] = bits(si.layout.bounds_lo[i]);
     in.bounds_hi[i] = bits(si.layout.bounds_hi[i]);
   }
+  in.kd_scale_exponent = si.layout.kd_scale_exponent;
   for (int i = 0; i < 4; ++i) {
     model->settle(in);
     model->clock();

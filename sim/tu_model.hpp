@@ -31,6 +31,7 @@ struct TuInputs {
   bool rst_n = false;
   std::uint32_t kd_nodes = 0, prim_refs = 0, isect_records = 0;
   std::array<std::uint32_t, 3> bounds_lo{}, bounds_hi{};
+  std::int32_t kd_scale_exponent = 0;
   bool req_valid = false;
   std::uint32_t req_tag = 0;
   std::array<std::uint32_t, 3> origin{}, direction{};

@@ -53,6 +53,7 @@ class VerilatedTu final : public TuModel {
     t.cfg_isect_records_i = in.isect_records;
     set_words(t.cfg_bounds_lo_i, in.bounds_lo);
     set_words(t.cfg_bounds_hi_i, in.bounds_hi);
+    t.cfg_kd_scale_exponent_i = static_cast<std::uint8_t>(in.kd_scale_exponent);
     t.req_valid_i = in.req_valid;
     t.req_tag_i = in.req_tag;
     set_words(t.req_origin_i, in.origin);

@@ -65,6 +65,21 @@ struct Format {
 
 inline constexpr Format kFp32{8, 23};
 
+// fp32 bits times 2^e: exact while the result is a normal number; a zero or subnormal
+// input gives a signed zero (DAZ), a result below the normal range a signed zero (FTZ),
+// one beyond it a signed infinity; infinities and NaNs pass unchanged. The traversal
+// unit moves rays into kd space and hits back with it (docs/traversal.md §1, §6); the
+// RTL's rpu_pkg::fp32_scale is the same function.
+constexpr std::uint32_t scale_fp32(std::uint32_t bits, int e) {
+  const std::uint32_t sign = bits & 0x80000000u, field = (bits >> 23) & 0xffu;
+  if (field == 0xffu) return bits;
+  if (field == 0) return sign;
+  const int exponent = static_cast<int>(field) + e;
+  if (exponent >= 0xff) return sign | 0x7f800000u;
+  if (exponent <= 0) return sign;
+  return sign | static_cast<std::uint32_t>(exponent) << 23 | (bits & 0x007fffffu);
+}
+
 // A format by spec name (rpu::spec::kFormats: "fp32", "rpu24", ...) or as "E<e>M<m>"
 // with 2 <= e <= 8 and 1 <= m <= 23. Throws rpu::Error listing the known names.
 Format format_by_name(std::string_view name);

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <utility>
 
+#include "fp/format.hpp"
 #include "functional/trace_types.hpp"
 
 namespace rpu::functional {
@@ -26,23 +27,26 @@ struct RayRegisters {
   V shear_x, shear_y;
 };
 
-// §1 Ray set-up: rounds the ray into the format, and for the watertight test picks the
-// axes and the shear. Returns false for a defined miss (a NaN or infinite component, a
-// zero direction or an empty interval), which fetches nothing.
+// §1 Ray set-up: moves the ray into kd space (origin and interval times 2^-kd_scale,
+// exact in fp32: the image's geometry is world space times 2^-kd_scale), rounds it into
+// the format, and for the watertight test picks the axes and the shear. Returns false
+// for a defined miss (a NaN or infinite component, a zero direction or an empty
+// interval), which fetches nothing.
 template <class Arith>
-bool setup_ray(const Arith& ar, const TraceRay& in, bool watertight, RayRegisters<Arith>& ray) {
+bool setup_ray(const Arith& ar, const TraceRay& in, bool watertight, int kd_scale, RayRegisters<Arith>& ray) {
   using V = typename Arith::Value;
+  const auto to_kd = [&](float x) { return ar.load(fp::scale_fp32(std::bit_cast<std::uint32_t>(x), -kd_scale)); };
   bool valid = true;
   bool zero_direction = true;
   const V infinity = ar.load(0x7f800000u);
   for (int i = 0; i < 3; ++i) {
-    ray.origin[i] = ar.load(std::bit_cast<std::uint32_t>(in.origin[i]));
+    ray.origin[i] = to_kd(in.origin[i]);
     ray.direction[i] = ar.load(std::bit_cast<std::uint32_t>(in.direction[i]));
     valid = valid && ar.lt(ar.abs(ray.origin[i]), infinity) && ar.lt(ar.abs(ray.direction[i]), infinity);
     zero_direction = zero_direction && ar.eq(ray.direction[i], ar.zero());
   }
-  ray.t_min = ar.load(std::bit_cast<std::uint32_t>(in.t_min));
-  ray.t_max = ar.load(std::bit_cast<std::uint32_t>(in.t_max));
+  ray.t_min = to_kd(in.t_min);
+  ray.t_max = to_kd(in.t_max);
   if (!valid || zero_direction || !ar.lt(ray.t_min, ray.t_max)) return false;
   for (int i = 0; i < 3; ++i) ray.inv_direction[i] = ar.rcp(ray.direction[i]);
   if (watertight) {

@@ -117,7 +117,8 @@ TraceHit Tracer::trace_with(const Arith& ar, const TraceRay& in, TraceMode mode,
   // §1 Ray set-up (intersection_unit.hpp).
   const bool watertight = layout_.isect_mode == IsectMode::kWatertight;
   RayRegisters<Arith> ray;
-  if (!setup_ray(ar, in, watertight, ray)) return result;
+  const int kd_scale = layout_.kd_scale_exponent;
+  if (!setup_ray(ar, in, watertight, kd_scale, ray)) return result;
 
   // §2 Clip to the scene box. The near and far plane of each axis are chosen by the
   // sign of 1/d (so +0 and -0 pick opposite planes); a NaN from 0 * inf (origin on a
@@ -191,7 +192,7 @@ TraceHit Tracer::trace_with(const Arith& ar, const TraceRay& in, TraceMode mode,
       t_best = hit.t;
       result.hit = true;
       result.prim = prim;
-      result.t = std::bit_cast<float>(ar.store(hit.t));
+      result.t = std::bit_cast<float>(fp::scale_fp32(ar.store(hit.t), kd_scale));  // §6: back to world space
       result.u = std::bit_cast<float>(ar.store(hit.u));
       result.v = std::bit_cast<float>(ar.store(hit.v));
       if (mode == TraceMode::kAny) return result;

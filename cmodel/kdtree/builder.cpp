@@ -287,14 +287,17 @@ class Builder {
   }
 
  private:
-  // Rounds every vertex into the format and derives the margin and the root box. The
+  // Moves every vertex into kd space, rounds it into the format and derives the margin
+  // and the root box. Kd-space magnitudes lie inside the format's range. The
   // margin is margin_ulps ulps of the format at the largest coordinate magnitude, the
   // scale of the units' rounding errors (docs/kdtree.md, "The margin").
   void round_vertices() {
     const fp::Format f = config_.format;
+    tree_.scale_exponent = kd_scale_exponent(scene_, f);
     positions_.resize(scene_.positions.size());
     for (std::size_t i = 0; i < positions_.size(); ++i) {
-      for (int k = 0; k < 3; ++k) positions_[i][k] = round_into(f, scene_.positions[i][k]);
+      const glm::vec3 kd = to_kd_space(scene_.positions[i], tree_.scale_exponent);
+      for (int k = 0; k < 3; ++k) positions_[i][k] = round_into(f, kd[k]);
     }
     for (int k = 0; k < 3; ++k) {
       root_.lo[k] = kInf;
@@ -305,10 +308,9 @@ class Builder {
       for (int v = 0; v < 3; ++v) {
         for (int k = 0; k < 3; ++k) {
           const float x = positions_[t[v]][k];
-          if (!(std::abs(x) <= grid_.max_finite())) {
-            throw Error(fmt::format("scene '{}': vertex {} coordinate {} is beyond the range of number format "
-                                    "{} (largest finite {}); scale the scene down or choose a wider format",
-                                    scene_.source, t[v], scene_.positions[t[v]][k], f.name(), grid_.max_finite()));
+          if (!std::isfinite(scene_.positions[t[v]][k])) {
+            throw Error(fmt::format("scene '{}': vertex {} coordinate {} is not finite; fix the geometry",
+                                    scene_.source, t[v], scene_.positions[t[v]][k]));
           }
           root_.lo[k] = std::min(root_.lo[k], x);
           root_.hi[k] = std::max(root_.hi[k], x);
@@ -320,7 +322,7 @@ class Builder {
     margin_ = config_.margin_ulps * std::ldexp(1.0, exponent - f.fraction_bits);
     if (!(double(magnitude) + margin_ <= grid_.max_finite())) {
       throw Error(fmt::format("scene '{}': coordinates up to {} plus the kd-tree margin of {} ulps exceed the "
-                              "range of number format {}; scale the scene down or choose a wider format",
+                              "range of number format {}; lower the margin or choose a wider format",
                               scene_.source, magnitude, config_.margin_ulps, f.name()));
     }
   }
@@ -830,6 +832,22 @@ void compute_stats(KdTree& tree, const KdBuildConfig& config) {
 }
 
 }  // namespace
+
+int kd_scale_exponent(const Scene& scene, fp::Format format) {
+  float magnitude = 0.0f;
+  for (const glm::uvec3& t : scene.triangles) {
+    for (int v = 0; v < 3; ++v) {
+      for (int k = 0; k < 3; ++k) {
+        const float x = std::abs(scene.positions[t[v]][k]);
+        if (x < std::numeric_limits<float>::infinity()) magnitude = std::max(magnitude, x);  // not NaN or inf
+      }
+    }
+  }
+  // Zero and subnormal magnitudes read as zero (docs/numbers.md): nothing to scale.
+  if (!(magnitude >= std::numeric_limits<float>::min())) return 0;
+  const int target = std::min(kKdMagnitudeExponent, format.max_exponent() / 2);
+  return std::max(std::ilogb(magnitude) - target, kKdMinScaleExponent);
+}
 
 KdTree build_kdtree(const Scene& scene, const KdBuildConfig& config) {
   check_config(scene, config);

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <bit>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -62,25 +63,55 @@ struct KdTreeStats {
   double build_seconds = 0.0;
 };
 
+// Kd space: the scene's coordinates times 2^-s, with s chosen so that the largest
+// vertex coordinate magnitude lies in [2^m, 2^(m+1)) whatever the scene's scale, where
+// m = min(kKdMagnitudeExponent, emax / 2) for the tree's number format (products of
+// two coordinates stay finite in the narrowest formats). The tree, the intersection records and the root box are
+// in kd space; the traversal unit moves each ray there and its hit distance back
+// (docs/kdtree.md, "Kd space"; docs/traversal.md §1). Scaling by a power of two is
+// exact in fp32 (fp::scale_fp32), so a scene scaled by 2^k has the same kd space, and
+// its rays give the same hits.
+//
+// 2^5: the units form products of two ray-relative coordinates (watertight edge
+// functions) and of a coordinate and an inverse edge length (Woop); the ranges of scale
+// over which each format kept its primitive ids on the SPD sphereflake are centred near
+// 2^5.6 (watertight) and 2^7.6 (Woop), and fp16's Woop range ends at 2^6.6
+// (docs/traversal.md, "Limits of the formats").
+inline constexpr int kKdMagnitudeExponent = 5;
+// s is at least this, so that the ray unit holds it in 8 bits and 2^-s is a normal fp32
+// power of two; scenes whose largest magnitude is below 2^-121 get a smaller kd space.
+inline constexpr int kKdMinScaleExponent = -126;
+int kd_scale_exponent(const Scene& scene, fp::Format format);
+inline glm::vec3 to_kd_space(const glm::vec3& world, int scale_exponent) {
+  glm::vec3 kd;
+  for (int k = 0; k < 3; ++k) {
+    kd[k] = std::bit_cast<float>(fp::scale_fp32(std::bit_cast<std::uint32_t>(world[k]), -scale_exponent));
+  }
+  return kd;
+}
+
 // A built tree, already in memory-image form: nodes[0] is the root, depth-first with
 // the below child right after its parent; prim_refs holds the leaves' triangle indices.
+// Split values and the root box are in kd space.
 struct KdTree {
   std::vector<KdNode> nodes;
   std::vector<std::uint32_t> prim_refs;
-  glm::vec3 bounds_lo{0.0f}, bounds_hi{0.0f};  // the root box (scene bounds)
+  glm::vec3 bounds_lo{0.0f}, bounds_hi{0.0f};  // the root box (the scene's bounds in kd space)
+  int scale_exponent = 0;                      // s of kd space = world x 2^-s
   KdTreeStats stats;
 };
 
-// Builds the tree over scene.triangles in O(N log N). Throws rpu::Error when the
-// configuration is impossible: max_depth > stack_depth (traversal pushes at most one
-// entry per level, so a deeper tree could overflow the unit's stack), negative costs,
-// max_depth < 0 or above kKdMaxDepthLimit, empty_bonus outside [0, 1), a scene without
-// triangles, a format or margin out of range, a vertex beyond the format's range, or a
-// tree whose node or reference count overflows the node's index bits. Every split value
-// and the root box are exact, normal (or zero) values of config.format. Every leaf
-// references each triangle whose vertices rounded into config.format span a triangle
-// that comes within the margin of its closed box (without perfect_splits: whose
-// bounding box does), so a point on a split plane finds its triangle on both sides.
+// Builds the tree over scene.triangles in kd space in O(N log N). Throws rpu::Error
+// when the configuration is impossible: max_depth > stack_depth (traversal pushes at
+// most one entry per level, so a deeper tree could overflow the unit's stack), negative
+// costs, max_depth < 0 or above kKdMaxDepthLimit, empty_bonus outside [0, 1), a scene
+// without triangles, a format or margin out of range (a margin beyond the format's
+// range), or a tree whose node or reference count overflows the node's index bits.
+// Every split value and the root box are exact, normal (or zero) values of
+// config.format. Every leaf references each triangle whose kd-space vertices rounded
+// into config.format span a triangle that comes within the margin of its closed box
+// (without perfect_splits: whose bounding box does), so a point on a split plane finds
+// its triangle on both sides.
 KdTree build_kdtree(const Scene& scene, const KdBuildConfig& config);
 
 // The statistics as a few aligned lines for `rpu tree`, each ending in a newline.

@@ -188,6 +188,7 @@ MemoryImage build_memory_image(const Scene& scene, const KdTree& tree, IsectMode
     store_f32(out, o + mm::kSceneRecordRayEpsilonAt, to_fp32(1e-4 * diagonal, src, "ray epsilon"));
     store_u32(out, o + mm::kSceneRecordMaterialCountAt, static_cast<std::uint32_t>(scene.materials.size()));
     store_u32(out, o + mm::kSceneRecordLightCountAt, static_cast<std::uint32_t>(scene.lights.size()));
+    store_u32(out, o + mm::kSceneRecordKdScaleExponentAt, static_cast<std::uint32_t>(tree.scale_exponent));
   }
   for (std::size_t i = 0, o = at(mm::kSectionIdKdNodes); i < tree.nodes.size(); ++i, o += mm::kKdNodeBytes) {
     store_u32(out, o + mm::kKdNodeWord0At, tree.nodes[i].word0);
@@ -199,7 +200,10 @@ MemoryImage build_memory_image(const Scene& scene, const KdTree& tree, IsectMode
   const std::size_t isect = at(mm::kSectionIdIsectRecords), tris = at(mm::kSectionIdTriangles);
   for (std::size_t i = 0; i < scene.triangles.size(); ++i) {
     const glm::uvec3 t = scene.triangles[i];
-    const glm::vec3 &a = scene.positions[t.x], &b = scene.positions[t.y], &c = scene.positions[t.z];
+    // The records hold the triangle in the tree's kd space.
+    const int kd = tree.scale_exponent;
+    const glm::vec3 a = to_kd_space(scene.positions[t.x], kd), b = to_kd_space(scene.positions[t.y], kd),
+                    c = to_kd_space(scene.positions[t.z], kd);
     const std::array<glm::vec4, 3> rows = mode == IsectMode::kWoop ? woop_rows(a, b, c, src, i)
                                                                      : watertight_rows(a, b, c);
     const std::size_t o = isect + i * isect_record_bytes(mode);

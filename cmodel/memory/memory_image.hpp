@@ -35,7 +35,8 @@ struct ImageSection {
 struct ImageLayout {
   ImageSection scene, kd_nodes, prim_refs, isect_records, vertex_normals, vertex_uvs, triangles, materials,
       lights, camera, vertex_positions;
-  glm::vec3 bounds_lo{0.0f}, bounds_hi{0.0f};  // the kd-tree's root box
+  glm::vec3 bounds_lo{0.0f}, bounds_hi{0.0f};  // the kd-tree's root box, in kd space
+  int kd_scale_exponent = 0;                    // s: kd space = world space x 2^-s
   IsectMode isect_mode = IsectMode::kWoop;
   std::uint32_t triangle_count = 0;
   float ray_epsilon = 0.0f;

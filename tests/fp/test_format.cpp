@@ -2,8 +2,11 @@
 // hand-computed bit patterns (independent of both the code and the MPFR oracle).
 #include <gtest/gtest.h>
 
+#include <bit>
+#include <cmath>
 #include <cstdint>
 #include <limits>
+#include <random>
 #include <string>
 
 #include "common/error.hpp"
@@ -125,6 +128,41 @@ TEST(Contract, Fp32UnaryAndConversionCases) {
   EXPECT_EQ(soft::from_fp32(kFp16, 0x387FC000u), 0x0000u);  // 2^-14 * (1 - 2^-9): tiny
   EXPECT_EQ(soft::to_fp32(kFp16, 0x3C00u), 0x3F800000u);
   EXPECT_EQ(soft::to_fp32(kFp16, 0x8001u), 0x80000000u);    // subnormal reads as -0
+}
+
+// scale_fp32 (kd space, docs/traversal.md §1) against std::ldexp in double, which is
+// exact for fp32 values, then the contract's flushing: hand cases, then random bits
+// (every class, both signs) times random powers of two.
+std::uint32_t ldexp_flushed(std::uint32_t bits, int e) {
+  const float x = std::bit_cast<float>(bits);
+  const bool negative = (bits >> 31) != 0;
+  if (std::isnan(x) || std::isinf(x)) return bits;
+  const std::uint32_t zero = negative ? 0x80000000u : 0u;
+  if (std::fpclassify(x) != FP_NORMAL) return zero;
+  const double r = std::ldexp(double(x), e);
+  if (std::abs(r) < double(std::numeric_limits<float>::min())) return zero;
+  if (std::abs(r) > double(std::numeric_limits<float>::max())) return zero | 0x7f800000u;
+  return std::bit_cast<std::uint32_t>(static_cast<float>(r));
+}
+
+TEST(Format, ScaleFp32IsExactWithFlushing) {
+  EXPECT_EQ(scale_fp32(0x3F800000u, 9), 0x44000000u);     // 1 * 2^9 = 512
+  EXPECT_EQ(scale_fp32(0xC4000000u, -9), 0xBF800000u);    // -512 * 2^-9 = -1
+  EXPECT_EQ(scale_fp32(0x00800000u, -1), 0x00000000u);    // 2^-126 / 2 is subnormal: +0
+  EXPECT_EQ(scale_fp32(0x80800000u, -1), 0x80000000u);    // -0 for a negative one
+  EXPECT_EQ(scale_fp32(0x00000001u, 100), 0x00000000u);   // a subnormal input reads as +0
+  EXPECT_EQ(scale_fp32(0x7F7FFFFFu, 1), 0x7F800000u);     // past the largest finite: inf
+  EXPECT_EQ(scale_fp32(0xFF800000u, -5), 0xFF800000u);    // -inf stays
+  EXPECT_EQ(scale_fp32(0x7FC00001u, 3), 0x7FC00001u);     // NaN passes unchanged
+  EXPECT_EQ(scale_fp32(0x3F800000u, 127), 0x7F000000u);   // 2^127
+  EXPECT_EQ(scale_fp32(0x3F800000u, -126), 0x00800000u);  // 2^-126
+  std::mt19937 rng(5);
+  std::uniform_int_distribution<int> exponent(-300, 300);
+  for (int i = 0; i < 1000000; ++i) {
+    const std::uint32_t bits = rng();
+    const int e = i % 4 == 0 ? exponent(rng) : exponent(rng) % 20;
+    ASSERT_EQ(scale_fp32(bits, e), ldexp_flushed(bits, e)) << std::hex << bits << std::dec << " * 2^" << e;
+  }
 }
 
 }  // namespace

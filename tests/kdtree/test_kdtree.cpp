@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <iostream>
+#include <limits>
 #include <random>
 #include <string>
 #include <vector>
@@ -269,13 +270,21 @@ KdBuildConfig config(bool perfect, fp::Format format = fp::kFp32) {
   return c;
 }
 
+// The scene as the tree sees it: its vertices in the tree's kd space.
+Scene in_kd_space(const Scene& scene, const KdTree& tree) {
+  Scene kd = scene;
+  for (glm::vec3& p : kd.positions) p = to_kd_space(p, tree.scale_exponent);
+  return kd;
+}
+
 void check_scene(const Scene& scene, bool perfect, int random_points, fp::Format format = fp::kFp32) {
   SCOPED_TRACE(scene.source + (perfect ? " (perfect splits)" : "") + " for " + format.name());
   const KdBuildConfig c = config(perfect, format);
   const KdTree tree = build_kdtree(scene, c);
-  expect_valid_structure(scene, tree, c);
+  const Scene kd = in_kd_space(scene, tree);
+  expect_valid_structure(kd, tree, c);
   expect_exact_in_format(tree, format);
-  expect_every_point_finds_its_triangle(scene, tree, c, random_points);
+  expect_every_point_finds_its_triangle(kd, tree, c, random_points);
   EXPECT_LT(tree.stats.sah_cost, c.intersection_cost * double(scene.triangles.size()))
       << "the tree must beat a single leaf";
 }
@@ -348,21 +357,61 @@ TEST(KdTree, ConfigForTakesTheHardwareFormat) {
   EXPECT_EQ(moved(build_kdtree(bunny, kd_build_config_for("rpu2005"))), 0u);
 }
 
-TEST(KdTree, RefusesSceneBeyondTheFormatRange) {
-  Scene s;
-  s.source = "big.json";
-  add_triangle(s, {0, 0, 0}, {70000, 0, 0}, {0, 1, 0});
-  EXPECT_EQ(error_of(s, config(false, fp::format_by_name("fp16"))),
-            "scene 'big.json': vertex 1 coordinate 70000 is beyond the range of number format E5M10 (largest "
-            "finite 65504); scale the scene down or choose a wider format");
+// Kd space puts the largest coordinate magnitude in [32, 64) (kdtree.hpp), the same for a
+// scene scaled by any power of two: the tree is the same, and a scene far beyond a
+// narrow format's range builds for it.
+TEST(KdTree, KdSpaceDoesNotDependOnTheSceneScale) {
+  const Scene base = make_cornell_box();
+  const KdTree reference = build_kdtree(base, config(true));
+  EXPECT_EQ(reference.scale_exponent, 9 - kKdMagnitudeExponent) << "the Cornell box spans 0 to about 559";
+  for (int k : {-100, -60, -1, 1, 60, 100}) {
+    Scene scaled = base;
+    for (glm::vec3& p : scaled.positions) p *= std::ldexp(1.0f, k);
+    const KdTree tree = build_kdtree(scaled, config(true));
+    EXPECT_EQ(tree.scale_exponent, reference.scale_exponent + k) << "k " << k;
+    EXPECT_EQ(tree.bounds_lo, reference.bounds_lo) << "k " << k;
+    EXPECT_EQ(tree.bounds_hi, reference.bounds_hi) << "k " << k;
+    EXPECT_EQ(tree.prim_refs, reference.prim_refs) << "k " << k;
+    ASSERT_EQ(tree.nodes.size(), reference.nodes.size()) << "k " << k;
+    for (std::size_t i = 0; i < tree.nodes.size(); ++i) {
+      ASSERT_EQ(tree.nodes[i].word0, reference.nodes[i].word0) << "k " << k << " node " << i;
+      ASSERT_EQ(tree.nodes[i].word1, reference.nodes[i].word1) << "k " << k << " node " << i;
+    }
+  }
+  float magnitude = 0.0f;
+  for (int k = 0; k < 3; ++k) {
+    magnitude = std::max({magnitude, std::abs(reference.bounds_lo[k]), std::abs(reference.bounds_hi[k])});
+  }
+  EXPECT_EQ(std::ilogb(magnitude), kKdMagnitudeExponent);
+  Scene big;
+  big.source = "big.json";
+  add_triangle(big, {0, 0, 0}, {70000, 0, 0}, {0, 50000, 20000});
+  const KdBuildConfig fp16 = config(true, fp::format_by_name("fp16"));
+  const KdTree tree = build_kdtree(big, fp16);
+  expect_valid_structure(in_kd_space(big, tree), tree, fp16);
+  expect_exact_in_format(tree, fp16.format);
+  expect_every_point_finds_its_triangle(in_kd_space(big, tree), tree, fp16, 8);
+}
+
+TEST(KdTree, RefusesAMarginBeyondTheFormatRange) {
+  // E2M1's largest finite value is 3; 4 of its ulps at magnitude 1.5 are 2.
   Scene edge;
   edge.source = "edge.json";
-  add_triangle(edge, {0, 0, 0}, {65504, 0, 0}, {0, 1, 0});
-  EXPECT_NE(error_of(edge, config(false, fp::format_by_name("fp16"))).find("plus the kd-tree margin of 4 ulps"),
-            std::string::npos);
-  KdBuildConfig c = config(false);
+  add_triangle(edge, {0, 0, 0}, {1.5f, 0, 0}, {0, 1, 0});
+  EXPECT_EQ(error_of(edge, config(false, fp::format_by_name("E2M1"))),
+            "scene 'edge.json': coordinates up to 1.5 plus the kd-tree margin of 4 ulps exceed the range of number "
+            "format E2M1; lower the margin or choose a wider format");
+  KdBuildConfig c = config(false, fp::format_by_name("E2M1"));
   c.margin_ulps = 0;
   EXPECT_EQ(error_of(edge, c), "no error");
+}
+
+TEST(KdTree, RefusesNonFiniteVertices) {
+  Scene s;
+  s.source = "nan.json";
+  add_triangle(s, {0, 0, 0}, {1, 0, 0}, {0, 1, 0});
+  s.positions[1].y = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_EQ(error_of(s, config(false)), "scene 'nan.json': vertex 1 coordinate nan is not finite; fix the geometry");
 }
 
 TEST(KdTree, SingleTriangleIsOneLeaf) {
@@ -374,8 +423,9 @@ TEST(KdTree, SingleTriangleIsOneLeaf) {
   EXPECT_TRUE(tree.nodes[0].is_leaf());
   EXPECT_EQ(tree.nodes[0].prim_count(), 1u);
   EXPECT_EQ(tree.prim_refs, std::vector<std::uint32_t>{0});
+  EXPECT_EQ(tree.scale_exponent, -kKdMagnitudeExponent);  // the largest coordinate, 1, becomes 32
   EXPECT_EQ(tree.bounds_lo, glm::vec3(0, 0, 0));
-  EXPECT_EQ(tree.bounds_hi, glm::vec3(1, 1, 0));
+  EXPECT_EQ(tree.bounds_hi, glm::vec3(32, 32, 0));
   EXPECT_DOUBLE_EQ(tree.stats.sah_cost, 20.0);
 }
 
@@ -391,8 +441,8 @@ TEST(KdTree, TwoDistantSquaresAreSeparated) {
   }
   KdBuildConfig c = config(false);
   const KdTree tree = build_kdtree(s, c);
-  expect_valid_structure(s, tree, c);
-  expect_every_point_finds_its_triangle(s, tree, c, 16);
+  expect_valid_structure(in_kd_space(s, tree), tree, c);
+  expect_every_point_finds_its_triangle(in_kd_space(s, tree), tree, c, 16);
   ASSERT_FALSE(tree.nodes[0].is_leaf());
   EXPECT_EQ(tree.nodes[0].split_axis(), 0);
   // Every reference is to one square only: no leaf mixes triangles 0-1 with 2-3.
@@ -413,7 +463,7 @@ TEST(KdTree, CoincidentTrianglesTerminate) {
   c.max_depth = c.stack_depth = 12;
   c.traversal_cost = 0.0;  // splitting looks free: only the depth limit and the cost stop it
   const KdTree tree = build_kdtree(s, c);
-  expect_valid_structure(s, tree, c);
+  expect_valid_structure(in_kd_space(s, tree), tree, c);
   EXPECT_LE(tree.stats.max_depth, 12);
   // The 3000 copies stay together in some leaf.
   bool found = false;
@@ -435,7 +485,7 @@ TEST(KdTree, BuildsAsDeepAsTheStackAllows) {
   c.stack_depth = 8;
   c.max_depth = 8;
   const KdTree tree = build_kdtree(s, c);
-  expect_valid_structure(s, tree, c);
+  expect_valid_structure(in_kd_space(s, tree), tree, c);
   EXPECT_EQ(tree.stats.max_depth, 8);
   c.max_depth = 9;
   try {

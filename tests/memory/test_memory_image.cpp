@@ -210,6 +210,25 @@ TEST(MemoryImage, WatertightRecordsHoldTheVerticesAndTheUnitNormal) {
   }
 }
 
+// The records hold the triangles in the tree's kd space (world x 2^-s, exactly), the
+// scene record holds s; the vertex positions shaders read stay in world space.
+TEST(MemoryImage, RecordsAreInTheTreesKdSpace) {
+  const Scene scene = test::tiny_scene();
+  KdTree tree = test::single_leaf_tree(4);
+  tree.scale_exponent = 3;
+  const MemoryImage image = build_memory_image(scene, tree, IsectMode::kWatertight);
+  const ImageLayout l = validate_memory_image(image.bytes, "kd.rpu");
+  EXPECT_EQ(l.kd_scale_exponent, 3);
+  for (std::size_t i = 0; i < scene.triangles.size(); ++i) {
+    const std::size_t at = l.isect_records.offset + i * mm::kTriangleRecordWatertightBytes;
+    EXPECT_EQ(glm::vec3(load_float4(image.bytes, at + mm::kTriangleRecordRow0At)),
+              scene.positions[scene.triangles[i].x] / 8.0f);
+  }
+  for (std::size_t i = 0; i < scene.positions.size(); ++i) {
+    EXPECT_EQ(glm::vec3(load_float4(image.bytes, l.vertex_positions.offset + 16 * i)), scene.positions[i]);
+  }
+}
+
 TEST(MemoryImage, SceneWithoutNormalsOrUvsHasEmptySections) {
   Scene scene = test::tiny_scene();
   scene.normals.clear();
@@ -398,6 +417,13 @@ TEST_F(BadImage, NaNSplit) {
 TEST_F(BadImage, NaNBounds) {
   store_f32(out(), layout.scene.offset + mm::kSceneRecordBoundsHiAt + 4, std::numeric_limits<float>::quiet_NaN());
   expect_rejected(bytes, {"bad.rpu: scene: bounds_hi at offset", "component 1 is nan"});
+}
+
+TEST_F(BadImage, KdScaleExponentOutOfRange) {
+  store_u32(out(), layout.scene.offset + mm::kSceneRecordKdScaleExponentAt, static_cast<std::uint32_t>(-127));
+  expect_rejected(bytes, {fmt::format("bad.rpu: scene: kd_scale_exponent at offset {:#x}: -127 is outside "
+                                      "[-126, 127]",
+                                      layout.scene.offset + mm::kSceneRecordKdScaleExponentAt)});
 }
 
 TEST_F(BadImage, UnknownIsectMode) {

@@ -1,8 +1,10 @@
 #include "trace_fixtures.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cstring>
 
+#include "fp/format.hpp"
 #include "kdtree/kd_node.hpp"
 #include "render/sampling.hpp"
 #include "scene/geometry.hpp"
@@ -68,6 +70,10 @@ std::vector<functional::TraceRay> split_plane_rays(const functional::SceneImage&
       if (k == 5) dir = -dir;
       functional::TraceRay r = make_ray(o, dir);
       r.origin[a] = node.split();
+      // The box and the splits are in kd space; the ray goes to the unit in world space.
+      for (float& x : r.origin) {
+        x = std::bit_cast<float>(fp::scale_fp32(std::bit_cast<std::uint32_t>(x), si.layout.kd_scale_exponent));
+      }
       rays.push_back(r);
     }
   }
