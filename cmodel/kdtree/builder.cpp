@@ -257,6 +257,8 @@ class Builder {
   Builder(const Scene& scene, const KdBuildConfig& config, KdTree& tree)
       : scene_(scene), config_(config), tree_(tree), grid_(config.format), sides_(scene.triangles.size()),
         straddlers_(scene.triangles.size() + 1) {
+    // No list is longer than two events per triangle, so the marks never reallocate.
+    for (std::vector<Mark>& marks : marks_) marks.reserve(2 * scene.triangles.size() / kSweepBlock + 1);
     round_vertices();
   }
 
