@@ -227,6 +227,16 @@ class Grid {
 // The splice advances its below output by bit 0 and its above output by bit 1.
 enum class Side : std::uint8_t { kBoth = 0, kBelow = 1, kAbove = 2 };
 
+// The sweep's blocks: a node's event list is swept in blocks of about this many events
+// (each starting at a new position), and lists shorter than two blocks in one.
+constexpr std::size_t kSweepBlock = 32;
+
+// The sweep's counts where a block starts (find_split): the block's first event and
+// #(lo <= q), #(hi < q) over the events before it.
+struct Mark {
+  std::uint32_t index = 0, lo_at_or_below = 0, hi_below = 0;
+};
+
 struct Split {
   double cost = std::numeric_limits<double>::infinity();
   int axis = -1;
@@ -247,6 +257,8 @@ class Builder {
   Builder(const Scene& scene, const KdBuildConfig& config, KdTree& tree)
       : scene_(scene), config_(config), tree_(tree), grid_(config.format), sides_(scene.triangles.size()),
         straddlers_(scene.triangles.size() + 1) {
+    // No list is longer than two events per triangle, so the marks never reallocate.
+    for (std::vector<Mark>& marks : marks_) marks.reserve(2 * scene.triangles.size() / kSweepBlock + 1);
     round_vertices();
   }
 
@@ -345,18 +357,77 @@ class Builder {
   // next_down(q') otherwise. Only that end is costed. Event positions lie in the
   // node's box, so only the gaps below the first and above the last position can
   // reach beyond it.
-  Split find_split(const EventLists& events, const Box& box, std::size_t n) const {
+  //
+  // Most gaps of a large node cannot win, and the sweep skips them in blocks (a
+  // branch-and-bound on W&H's sweep). A counting pass records the counts at every
+  // block boundary and the score of the plane the sweep would cost in the gap there;
+  // the smallest of these bounds the winner's score from above. A block's candidates
+  // lie between its first position and the next block's, with at least the counts at
+  // its start below and at its end above, and the score, computed in correctly
+  // rounded double from non-negative terms, is monotone in each; so a block whose
+  // score at those extremes exceeds the bound or the best so far holds no winner and
+  // is skipped. Every candidate the full sweep could pick is still costed in the same
+  // order and arithmetic, so the tree is the same.
+  Split find_split(const EventLists& events, const Box& box, std::size_t n) {
     // The sweep minimises bonus * (A_below * N_below + A_above * N_above) with A half a
     // child's surface area; the cost formula is applied to the winner only.
     double best_score = std::numeric_limits<double>::infinity();
     Split best;
     const double keep = 1.0 - config_.empty_bonus;
     const std::uint32_t total = static_cast<std::uint32_t>(n);
+    // Counts: #(lo <= q) and #(hi < q), one compare each per event on its code
+    // (kind << 30 | triangle): a start or planar event has lo at its position, an
+    // end or planar event hi.
+    constexpr std::uint32_t kPlanarCode = kPlanar << kTriBits, kStartCode = kStart << kTriBits;
+    struct Geometry {
+      double cap, side, lo, hi;
+      // The score of a plane with `below` and `above` triangles, taking the plane at
+      // c_below for the below child's area and at c_above for the above child's; a
+      // candidate's score has both at its position.
+      double score(float c_below, float c_above, std::uint32_t below, std::uint32_t above) const {
+        return (cap + (c_below - lo) * side) * below + (cap + (hi - c_above) * side) * above;
+      }
+    };
+    std::array<Geometry, 3> geometry;
+    double bound = std::numeric_limits<double>::infinity();
     for (int k = 0; k < 3; ++k) {
+      std::vector<Mark>& marks = marks_[k];
+      marks.assign(1, Mark{});
       if (!(box.lo[k] < box.hi[k])) continue;  // a flat node cannot be cut on this axis
       const int a = (k + 1) % 3, b = (k + 2) % 3;
       const double da = double(box.hi[a]) - box.lo[a], db = double(box.hi[b]) - box.lo[b];
-      const double cap = da * db, side = da + db, lo = box.lo[k], hi = box.hi[k];
+      const Geometry& g = geometry[k] = {da * db, da + db, box.lo[k], box.hi[k]};
+      // The counting pass, for lists long enough to have blocks to skip.
+      const EventList& ev = events[k];
+      const std::size_t size = ev.size();
+      std::uint32_t lo_at_or_below = 0, hi_below = 0;
+      std::size_t i = 0;
+      for (std::size_t next = kSweepBlock; size >= 2 * kSweepBlock && next < size; next = i + kSweepBlock) {
+        for (; next < size && ev[next].pos == ev[next - 1].pos; ++next) {}  // blocks start at a position
+        // In local sums over a plain range, which the compiler vectorises.
+        std::uint32_t lo_sum = 0, hi_sum = 0;
+        for (const Event *e = ev.data() + i, *const last = ev.data() + next; e != last; ++e) {
+          lo_sum += e->code >= kPlanarCode;
+          hi_sum += e->code < kStartCode;
+        }
+        lo_at_or_below += lo_sum;
+        hi_below += hi_sum;
+        i = next;
+        if (i == size) break;
+        marks.push_back({static_cast<std::uint32_t>(i), lo_at_or_below, hi_below});
+        // The gap between ev[i - 1] and ev[i] is an inner one; its plane when the two
+        // are not adjacent on the grid, as the sweep below chooses it.
+        const std::uint32_t below = lo_at_or_below, above = total - hi_below;
+        const float up = grid_.next_up(ev[i - 1].pos);
+        if (up != ev[i].pos) {
+          const float c = below >= above ? up : grid_.next_down(ev[i].pos);
+          bound = std::min(bound, g.score(c, c, below, above));
+        }
+      }
+    }
+    for (int k = 0; k < 3; ++k) {
+      if (!(box.lo[k] < box.hi[k])) continue;
+      const Geometry& g = geometry[k];
       const auto inside = [&](float c) { return box.lo[k] < c && c < box.hi[k]; };
       const auto consider = [&](double score, float c, std::uint32_t below, std::uint32_t above) {
         if (score < best_score) {
@@ -367,32 +438,27 @@ class Builder {
           best.above = above;
         }
       };
-      const auto area_score = [&](float c, std::uint32_t below, std::uint32_t above) {
-        return (cap + (c - lo) * side) * below + (cap + (hi - c) * side) * above;
-      };
       // Planes between the first and the last position have triangles on both sides,
       // so the empty bonus (a factor 1 there, which is exact) is only applied outside.
       const auto try_plane = [&](float c, std::uint32_t below, std::uint32_t above) {
-        consider(area_score(c, below, above), c, below, above);
+        consider(g.score(c, c, below, above), c, below, above);
       };
       const auto try_outer_plane = [&](float c, std::uint32_t below, std::uint32_t above) {
-        consider(area_score(c, below, above) * (below == 0 || above == 0 ? keep : 1.0), c, below, above);
+        consider(g.score(c, c, below, above) * (below == 0 || above == 0 ? keep : 1.0), c, below, above);
       };
-      // Counts: #(lo <= q) and #(hi < q), one compare each per event on its code
-      // (kind << 30 | triangle): a start or planar event has lo at its position, an
-      // end or planar event hi.
-      constexpr std::uint32_t kPlanarCode = kPlanar << kTriBits, kStartCode = kStart << kTriBits;
       const EventList& ev = events[k];
       const Event* const end = ev.data() + ev.size();
       if (const float down = grid_.next_down(ev.front().pos); inside(down)) {
         try_outer_plane(down, 0, total);  // below the first position
       }
-      // `next_up` and `next_down` give the grid neighbours of the positions between the
-      // first and the last; the outer planes use the grid's.
-      const auto sweep = [&](auto next_up, auto next_down) {
-        const Event* e = ev.data();
-        std::uint32_t lo_at_or_below = 0, hi_below = 0;
-        bool adjacent_below = false;  // the previous position is one grid step below q
+      // Sweeps the positions from `e` (the first of its position) to `stop` (likewise,
+      // or the end), with the counts before e. `next_up` and `next_down` give the grid
+      // neighbours of the positions between the first and the last; the outer planes
+      // use the grid's.
+      const auto sweep = [&](auto next_up, auto next_down, const Event* e, const Event* stop,
+                             std::uint32_t lo_at_or_below, std::uint32_t hi_below) {
+        // Whether the previous position is one grid step below q.
+        bool adjacent_below = e != ev.data() && next_up(e[-1].pos) == e->pos;
         for (;;) {
           const float q = e->pos;
           const std::uint32_t above_q = total - hi_below;  // the plane at q: #(hi >= q)
@@ -420,7 +486,21 @@ class Builder {
             if (below <= above) try_plane(next_down(e->pos), below, above);
           }
           if (adjacent_below || adjacent_above) try_plane(q, below, above_q);
+          if (e == stop) return;
           adjacent_below = adjacent_above;
+        }
+      };
+      const auto sweep_blocks = [&](auto next_up, auto next_down) {
+        const std::vector<Mark>& marks = marks_[k];
+        for (std::size_t m = 0; m < marks.size(); ++m) {
+          const Event* const first = ev.data() + marks[m].index;
+          const Event* stop = end;
+          if (m + 1 < marks.size()) {
+            stop = ev.data() + marks[m + 1].index;
+            const double least = g.score(first->pos, stop->pos, marks[m].lo_at_or_below, total - marks[m + 1].hi_below);
+            if (least > std::min(bound, best_score)) continue;
+          }
+          sweep(next_up, next_down, first, stop, marks[m].lo_at_or_below, marks[m].hi_below);
         }
       };
       if (box.lo[k] > 0.0f || box.hi[k] < 0.0f) {
@@ -428,10 +508,10 @@ class Builder {
         // normal numbers of one sign whose grid neighbours are one step of the fp32
         // bits away (the bits of a negative float grow with its magnitude).
         const std::uint32_t step = box.lo[k] > 0.0f ? grid_.step() : 0u - grid_.step();
-        sweep([step](float q) { return std::bit_cast<float>(std::bit_cast<std::uint32_t>(q) + step); },
-              [step](float q) { return std::bit_cast<float>(std::bit_cast<std::uint32_t>(q) - step); });
+        sweep_blocks([step](float q) { return std::bit_cast<float>(std::bit_cast<std::uint32_t>(q) + step); },
+                     [step](float q) { return std::bit_cast<float>(std::bit_cast<std::uint32_t>(q) - step); });
       } else {
-        sweep([this](float q) { return grid_.next_up(q); }, [this](float q) { return grid_.next_down(q); });
+        sweep_blocks([this](float q) { return grid_.next_up(q); }, [this](float q) { return grid_.next_down(q); });
       }
     }
     if (best.axis >= 0) {
@@ -556,17 +636,29 @@ class Builder {
     };
     float next_new = first_new();
     const unsigned below_bit = keep_below ? 1u : 0u, above_bit = keep_above ? 2u : 0u;
-    for (const Event& e : parent) {
-      if (e.pos >= next_new) {  // rare: new events may come first
-        for (; nb != nb_end && *nb < e; ++nb) *below++ = *nb;
-        for (; na != na_end && *na < e; ++na) *above++ = *na;
-        next_new = first_new();
-      }
+    const auto keep = [&](const Event& e) {
       const auto s = static_cast<unsigned>(sides_[e.tri()]);
       *below = e;
       below += s & below_bit;
       *above = e;
       above += (s & above_bit) >> 1;
+    };
+    // Runs of parent events that all lie below the next new position need no merge
+    // check (the positions are sorted, so the run's last one tells).
+    constexpr std::ptrdiff_t kRun = 16;
+    const Event* e = parent.data();
+    const Event* const end = e + parent.size();
+    while (e != end) {
+      if (end - e >= kRun && e[kRun - 1].pos < next_new) {
+        for (const Event* const run_end = e + kRun; e != run_end; ++e) keep(*e);
+        continue;
+      }
+      if (e->pos >= next_new) {  // rare: new events may come first
+        for (; nb != nb_end && *nb < *e; ++nb) *below++ = *nb;
+        for (; na != na_end && *na < *e; ++na) *above++ = *na;
+        next_new = first_new();
+      }
+      keep(*e++);
     }
     return {std::copy(nb, nb_end, below), std::copy(na, na_end, above)};
   }
@@ -717,6 +809,7 @@ class Builder {
   KdTree& tree_;
   Grid grid_;
   std::vector<Side> sides_;
+  std::array<std::vector<Mark>, 3> marks_;  // find_split's blocks, per axis
   // classify's output: one slot per triangle and one that the branch-free pass may
   // write without keeping.
   std::vector<std::uint32_t> straddlers_;
