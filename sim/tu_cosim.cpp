@@ -15,6 +15,7 @@
 //
 //   tu_cosim --scene cornell --format rpu24 --isect watertight --rays 10000 [--with-iu]
 //   tu_cosim --scene cornell --format fp16 --rays 3334 --write-vectors FILE
+//   tu_cosim --scene cornell --scale -60 --isect watertight --with-iu --rays 500
 //
 // --write-vectors needs no Verilated model: it writes the memory image, the unit's
 // configuration and the rays with the Tracer's results and IU tests for the netlist
@@ -62,6 +63,7 @@ struct Options {
   std::string format = "fp32";
   std::string isect = "woop";
   bool with_iu = false;
+  int scale = 0;  // the scene times 2^scale (kd space, docs/traversal.md §1)
   int rays = 10000;  // per kind: camera, random, shadow
   int plane_rays = -1;  // from origins on split planes; -1: a tenth of rays
   std::uint64_t seed = 1;
@@ -264,10 +266,27 @@ int write_vectors(const Options& o, const functional::SceneImage& si, const func
   return out ? 0 : 2;
 }
 
+// The scene with its geometry, camera and lights times 2^k, exactly: the rays made
+// from it scale too, and the image's kd space moves by k.
+Scene scaled(Scene scene, int k) {
+  const float s = std::ldexp(1.0f, k);
+  for (glm::vec3& p : scene.positions) p *= s;
+  const double d = std::ldexp(1.0, k);
+  scene.camera.position *= d;
+  scene.camera.look_at *= d;
+  scene.camera.focus_distance *= d;
+  for (Light& l : scene.lights) {
+    l.position *= d;
+    l.edge_u *= d;
+    l.edge_v *= d;
+  }
+  return scene;
+}
+
 int run(const Options& o) {
   const fp::Format format = fp::format_by_name(o.format);
   const bool watertight = o.isect == "watertight";
-  const Scene scene = resolve_scene(o.scene);
+  const Scene scene = scaled(resolve_scene(o.scene), o.scale);
   // The RTL's StackDepth is the default configuration's (rpu_tu.sv).
   KdBuildConfig build = kd_build_config_for("default");
   build.format = format;
@@ -521,6 +540,8 @@ int main(int argc, char** argv) {
   app.add_option("--format", o.format, "number format (spec/formats.toml)");
   app.add_option("--isect", o.isect, "intersection test")->check(CLI::IsMember({"woop", "watertight"}));
   app.add_flag("--with-iu", o.with_iu, "the RTL IU inside (rpu_ray_unit), else the C++ IU answers");
+  app.add_option("--scale", o.scale, "scale the scene by 2^K (its kd scale exponent moves by K)")
+      ->check(CLI::Range(-100, 100));
   app.add_option("--rays", o.rays, "rays of each kind (camera, random, shadow)")->check(CLI::PositiveNumber);
   app.add_option("--plane-rays", o.plane_rays, "rays from origins on split planes (default: a tenth of --rays)")
       ->check(CLI::NonNegativeNumber);
