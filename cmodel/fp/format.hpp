@@ -69,7 +69,7 @@ inline constexpr Format kFp32{8, 23};
 // input gives a signed zero (DAZ), a result below the normal range a signed zero (FTZ),
 // one beyond it a signed infinity; infinities and NaNs pass unchanged. The traversal
 // unit moves rays into kd space and hits back with it (docs/traversal.md §1, §6); the
-// RTL's rpu_pkg::fp32_scale is the same function.
+// RTL's rtl/rpu_fp32_scale.sv is the same function.
 constexpr std::uint32_t scale_fp32(std::uint32_t bits, int e) {
   const std::uint32_t sign = bits & 0x80000000u, field = (bits >> 23) & 0xffu;
   if (field == 0xffu) return bits;

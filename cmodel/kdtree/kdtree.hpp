@@ -78,9 +78,12 @@ struct KdTreeStats {
 // 2^5.6 (watertight) and 2^7.6 (Woop), and fp16's Woop range ends at 2^6.6
 // (docs/traversal.md, "Limits of the formats").
 inline constexpr int kKdMagnitudeExponent = 5;
-// s is at least this, so that the ray unit holds it in 8 bits and 2^-s is a normal fp32
-// power of two; scenes whose largest magnitude is below 2^-121 get a smaller kd space.
+// s lies within the exponents of normal fp32 numbers, so that 2^s and 2^-s are fp32
+// powers of two and the ray unit holds s in 8 bits; the builder clamps to the lower end
+// (scenes whose largest magnitude is below 2^-121 get a smaller kd space), the image
+// validator rejects anything outside.
 inline constexpr int kKdMinScaleExponent = -126;
+inline constexpr int kKdMaxScaleExponent = 127;
 int kd_scale_exponent(const Scene& scene, fp::Format format);
 inline glm::vec3 to_kd_space(const glm::vec3& world, int scale_exponent) {
   glm::vec3 kd;

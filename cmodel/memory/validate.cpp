@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "common/error.hpp"
+#include "kdtree/kdtree.hpp"
 #include "memory/image_sections.hpp"
 #include "memory/little_endian.hpp"
 #include "memory/memory_image.hpp"
@@ -177,12 +178,11 @@ void Validator::read_scene() {
                      mm::kIsectModeWatertight));
   }
   layout_.isect_mode = static_cast<IsectMode>(mode);
-  // s is the exponent of a normal fp32 magnitude, so that rays move to kd space and hits
-  // back without leaving fp32's range for that reason alone.
   const auto kd_scale = static_cast<std::int32_t>(u32(o + mm::kSceneRecordKdScaleExponentAt));
-  if (kd_scale < -126 || kd_scale > 127) {
+  if (kd_scale < kKdMinScaleExponent || kd_scale > kKdMaxScaleExponent) {
     fail("scene", "kd_scale_exponent", o + mm::kSceneRecordKdScaleExponentAt,
-         fmt::format("{} is outside [-126, 127], the exponents of normal fp32 numbers", kd_scale));
+         fmt::format("{} is outside [{}, {}], the exponents of normal fp32 numbers", kd_scale, kKdMinScaleExponent,
+                     kKdMaxScaleExponent));
   }
   layout_.kd_scale_exponent = kd_scale;
   if (!(layout_.ray_epsilon >= 0.0f && std::isfinite(layout_.ray_epsilon))) {
