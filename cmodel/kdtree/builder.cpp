@@ -882,6 +882,7 @@ void compute_stats(KdTree& tree, const KdBuildConfig& config) {
   s.nodes = tree.nodes.size();
   s.prim_refs = tree.prim_refs.size();
   s.bytes = spec::memory::kKdNodeBytes * s.nodes + 4 * s.prim_refs;
+  s.scale_exponent = tree.scale_exponent;
   struct Item {
     std::uint32_t index;
     Box box;
@@ -965,9 +966,11 @@ std::string format_kd_stats(const KdTreeStats& s) {
       "prim refs        {}\n"
       "SAH cost         {:.2f}\n"
       "memory           {} bytes ({:.2f} MiB)\n"
+      "kd space         world x 2^{}\n"
       "build time       {:.3f} s\n",
       s.nodes, inner, s.leaves, s.empty_leaves, s.max_depth, s.mean_leaf_depth, s.mean_prims_per_leaf,
-      s.prim_refs, s.sah_cost, s.bytes, static_cast<double>(s.bytes) / (1024.0 * 1024.0), s.build_seconds);
+      s.prim_refs, s.sah_cost, s.bytes, static_cast<double>(s.bytes) / (1024.0 * 1024.0), -s.scale_exponent,
+      s.build_seconds);
 }
 
 }  // namespace rpu

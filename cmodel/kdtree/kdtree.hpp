@@ -60,6 +60,7 @@ struct KdTreeStats {
   std::uint64_t prim_refs = 0;
   double sah_cost = 0.0;             // expected cost of a random ray hitting the root box
   std::uint64_t bytes = 0;           // nodes + primitive-reference list
+  int scale_exponent = 0;            // kd space = world x 2^-scale_exponent (KdTree)
   double build_seconds = 0.0;
 };
 

@@ -578,6 +578,7 @@ TEST(KdTree, StatsFormatNamesEveryField) {
                            "SAH cost", "bytes", "build time"}) {
     EXPECT_NE(text.find(word), std::string::npos) << word << " missing from:\n" << text;
   }
+  EXPECT_NE(text.find("kd space         world x 2^-4\n"), std::string::npos) << text;  // 559 -> 35
   EXPECT_EQ(text.back(), '\n');
 }
 
