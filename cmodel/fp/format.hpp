@@ -77,7 +77,7 @@ constexpr std::uint32_t scale_fp32(std::uint32_t bits, int e) {
   const int exponent = static_cast<int>(field) + e;
   if (exponent >= 0xff) return sign | 0x7f800000u;
   if (exponent <= 0) return sign;
-  return sign | static_cast<std::uint32_t>(exponent) << 23 | (bits & 0x007fffffu);
+  return sign | (static_cast<std::uint32_t>(exponent) << 23) | (bits & 0x007fffffu);
 }
 
 // A format by spec name (rpu::spec::kFormats: "fp32", "rpu24", ...) or as "E<e>M<m>"
