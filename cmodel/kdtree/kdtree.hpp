@@ -67,9 +67,9 @@ struct KdTreeStats {
 // Kd space: the scene's coordinates times 2^-s, with s chosen so that the largest
 // vertex coordinate magnitude lies in [2^m, 2^(m+1)) whatever the scene's scale, where
 // m = min(kKdMagnitudeExponent, emax / 2) for the tree's number format (products of
-// two coordinates stay finite in the narrowest formats). The tree, the intersection records and the root box are
-// in kd space; the traversal unit moves each ray there and its hit distance back
-// (docs/kdtree.md, "Kd space"; docs/traversal.md §1). Scaling by a power of two is
+// two coordinates stay finite in the narrowest formats). The tree, the intersection
+// records and the root box are in kd space; the traversal unit moves each ray there and
+// its hit distance back (docs/kdtree.md, "Kd space"; docs/traversal.md §1). Scaling by a power of two is
 // exact in fp32 (fp::scale_fp32), so a scene scaled by 2^k has the same kd space, and
 // its rays give the same hits.
 //
