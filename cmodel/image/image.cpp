@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <string>
 
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
@@ -11,6 +12,7 @@
 #include <fmt/format.h>
 
 #include "common/error.hpp"
+#include "common/output_file.hpp"
 
 namespace rpu {
 
@@ -40,13 +42,26 @@ void check_image_extension(const std::filesystem::path& file) {
   }
 }
 
+namespace {
+
+// OpenImageIO's errors may span lines (one per library layer): one line for rpu::Error.
+std::string one_line(std::string text) {
+  while (!text.empty() && text.back() == '\n') text.pop_back();
+  for (std::size_t at; (at = text.find('\n')) != std::string::npos;) text.replace(at, 1, "; ");
+  return text;
+}
+
+}  // namespace
+
 void write_image(const Image& image, const std::filesystem::path& file) {
   check_image_extension(file);
   const bool png = file.extension() == ".png";
-  std::unique_ptr<OIIO::ImageOutput> out = OIIO::ImageOutput::create(file.string());
-  if (!out) throw Error(fmt::format("{}: cannot create image writer: {}", file.string(), OIIO::geterror()));
+  OutputFile output(file);
+  const std::string temp = output.temp_path().string();
+  std::unique_ptr<OIIO::ImageOutput> out = OIIO::ImageOutput::create(temp);
+  if (!out) output.fail(fmt::format("cannot create an image writer: {}", one_line(OIIO::geterror())));
   OIIO::ImageSpec spec(image.width, image.height, 3, png ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::FLOAT);
-  bool ok = out->open(file.string(), spec);
+  bool ok = out->open(temp, spec);
   if (ok && png) {
     std::vector<unsigned char> bytes(image.pixels.size() * 3);
     for (std::size_t i = 0; i < image.pixels.size(); ++i) {
@@ -57,7 +72,22 @@ void write_image(const Image& image, const std::filesystem::path& file) {
     ok = out->write_image(OIIO::TypeDesc::FLOAT, image.pixels.data());
   }
   if (ok) ok = out->close();
-  if (!ok) throw Error(fmt::format("{}: cannot write image: {}", file.string(), out->geterror()));
+  if (!ok) output.fail(one_line(out->geterror()));
+  // OpenImageIO's PNG writer reports success when the disk filled up under it: only a
+  // file that reads back whole, at its size, replaces the target.
+  std::unique_ptr<OIIO::ImageInput> in = OIIO::ImageInput::open(temp);
+  if (!in) output.fail(fmt::format("it does not read back: {}", one_line(OIIO::geterror())));
+  const OIIO::ImageSpec& back = in->spec();
+  if (back.width != image.width || back.height != image.height || back.nchannels != 3) {
+    output.fail(fmt::format("it reads back as {}x{} pixels of {} channels, expected {}x{} of 3", back.width,
+                            back.height, back.nchannels, image.width, image.height));
+  }
+  std::vector<float> pixels(image.pixels.size() * 3);
+  if (!in->read_image(0, 0, 0, 3, OIIO::TypeDesc::FLOAT, pixels.data())) {
+    output.fail(fmt::format("it does not read back: {}", one_line(in->geterror())));
+  }
+  in->close();
+  output.commit();
 }
 
 Image read_image(const std::filesystem::path& file) {

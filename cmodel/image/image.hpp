@@ -32,8 +32,10 @@ glm::vec3 false_colour(double x);
 // lets a caller reject a bad output name before hours of rendering.
 void check_image_extension(const std::filesystem::path& file);
 
-// Writes by extension: .png as 8-bit sRGB, .exr as linear 32-bit float (OpenImageIO).
-// Throws rpu::Error naming the file on an unknown extension or a write failure.
+// Writes by extension: .png as 8-bit sRGB, .exr as linear 32-bit float (OpenImageIO),
+// through an OutputFile: the image must read back at its size before it replaces the
+// file. Throws rpu::Error naming the file on an unknown extension or a write failure,
+// which leaves the old file as it was.
 void write_image(const Image& image, const std::filesystem::path& file);
 
 // Peak signal-to-noise ratio in dB of `test` against `reference` (same size), over
