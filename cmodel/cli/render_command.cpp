@@ -3,6 +3,7 @@
 #include <chrono>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -66,6 +67,7 @@ Image render_device(const Scene& scene, const RenderOptions& o, std::string& sum
   const functional::SceneImage si = functional::make_scene_image(scene, build, o.chip.isect_mode());
   const isa::Firmware firmware =
       o.firmware.empty() ? device::builtin_firmware("whitted.s") : device::load_firmware_file(o.firmware);
+  std::optional<cycle::TimelineWriter> timeline;
   std::unique_ptr<device::Device> dev;
   if (o.backend == "cycle") {
     cycle::CycleOptions options;
@@ -73,6 +75,8 @@ Image render_device(const Scene& scene, const RenderOptions& o, std::string& sum
     if (!o.trace.empty()) {
       options.timeline_begin = o.trace_window[0];
       options.timeline_end = o.trace_window[1];
+      timeline.emplace(o.trace);
+      options.timeline = [&timeline](const cycle::TimelineSlice& s) { timeline->add(s); };
     }
     dev = cycle::make_cycle_device(o.chip.hardware_config(), build.format, options);
   } else {
@@ -105,7 +109,13 @@ Image render_device(const Scene& scene, const RenderOptions& o, std::string& sum
     fmt::print(stderr, "{}", cycle::summarize(*st.cycle));
     for (const std::filesystem::path& f : o.stats) cycle::write_stats(*st.cycle, sh, f);
     for (const std::filesystem::path& f : o.heatmap) write_cycle_heatmap(*st.cycle, f);
-    if (!o.trace.empty()) cycle::write_timeline(*st.cycle, o.trace);
+    if (timeline) {
+      timeline->finish(*st.cycle);
+      if (st.cycle->timeline_cut_at) {
+        fmt::print(stderr, "rpu: warning: --trace {}: {}; start --trace-window at {} to see the rest\n",
+                   o.trace.string(), cycle::timeline_cut_reason(*st.cycle), *st.cycle->timeline_cut_at);
+      }
+    }
   }
   return image;
 }

@@ -30,8 +30,8 @@ using functional::TraceLog;
 using isa::Opcode;
 
 constexpr Cycle kNever = std::numeric_limits<Cycle>::max();
-// Timeline slices kept at most; a wider window is cut there.
-constexpr std::size_t kMaxTimelineSlices = 2'000'000;
+// The timeline's latest slices, which a later one on the same track may still extend.
+constexpr std::size_t kOpenTimelineSlices = 8;
 
 // Why a shader core did not issue: where its idle cycles are accounted.
 enum class Wait : std::uint8_t { kIdle, kTrace, kMemory, kDependency };
@@ -118,6 +118,7 @@ class CycleDevice final : public device::DeviceBase {
   void tu_event(std::uint32_t u, Cycle now);
   void finish_ray(std::uint32_t u, Cycle now);
   void slice(std::string track, std::string name, Cycle begin, Cycle end);
+  void flush_timeline();
   void set_result(ChunkSlot& s, int reg, Cycle ready, bool from_load);
   void finish(Cycle end);
 
@@ -142,6 +143,7 @@ class CycleDevice final : public device::DeviceBase {
   const ProgressCallback* progress_ = nullptr;
   std::vector<functional::ShaderCore::Lane> lanes_;
   std::optional<std::string> fault_;
+  std::deque<TimelineSlice> open_slices_;
   CycleStats out_;
 };
 
@@ -473,20 +475,34 @@ void CycleDevice::finish_ray(std::uint32_t u, Cycle now) {
 void CycleDevice::slice(std::string track, std::string name, Cycle begin, Cycle end) {
   begin = std::max(begin, options_.timeline_begin);
   end = std::min(end, options_.timeline_end);
-  if (begin >= end || out_.timeline.size() >= kMaxTimelineSlices) return;
-  if (!out_.timeline.empty()) {
-    // Consecutive cycles of the same activity on a track make one slice.
-    for (auto it = out_.timeline.rbegin(); it != out_.timeline.rend() && it - out_.timeline.rbegin() < 8; ++it) {
-      if (it->track == track) {
-        if (it->name == name && it->begin + it->cycles == begin) {
-          it->cycles = end - it->begin;
-          return;
-        }
-        break;
+  if (begin >= end) return;
+  // Consecutive cycles of the same activity on a track make one slice.
+  for (auto it = open_slices_.rbegin(); it != open_slices_.rend(); ++it) {
+    if (it->track == track) {
+      if (it->name == name && it->begin + it->cycles == begin) {
+        it->cycles = end - it->begin;
+        return;
       }
+      break;
     }
   }
-  out_.timeline.push_back({std::move(track), std::move(name), begin, end - begin});
+  if (out_.timeline_slices == options_.timeline_max_slices) {
+    if (!out_.timeline_cut_at) out_.timeline_cut_at = begin;
+    return;
+  }
+  ++out_.timeline_slices;
+  open_slices_.push_back({std::move(track), std::move(name), begin, end - begin});
+  if (open_slices_.size() > kOpenTimelineSlices) {
+    if (options_.timeline) options_.timeline(open_slices_.front());
+    open_slices_.pop_front();
+  }
+}
+
+void CycleDevice::flush_timeline() {
+  for (const TimelineSlice& s : open_slices_) {
+    if (options_.timeline) options_.timeline(s);
+  }
+  open_slices_.clear();
 }
 
 void CycleDevice::run(const ProgressCallback& progress) {
@@ -501,6 +517,7 @@ void CycleDevice::run(const ProgressCallback& progress) {
   seq_ = 0;
   ray_queue_.clear();
   fault_.reset();
+  open_slices_.clear();
   out_ = {};
   out_.config = std::string(config_.name);
   out_.clock_mhz = config_.clock_mhz;
@@ -560,6 +577,7 @@ void CycleDevice::run(const ProgressCallback& progress) {
       }
     }
   }
+  flush_timeline();
   finish(now + 1);
   stats_.shader = shader_stats_;
   stats_.host_threads = 1;

@@ -1,8 +1,10 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 
+#include "cycle/cycle_stats.hpp"
 #include "cycle/memory_system.hpp"
 #include "device/device.hpp"
 
@@ -10,8 +12,13 @@ namespace rpu::cycle {
 
 struct CycleOptions {
   std::uint64_t watchdog = 50'000'000;  // instructions per thread and pixel, as functional
-  // The timeline's window [begin, end) in cycles; empty records none.
+  // The timeline's window [begin, end) in cycles; empty records none. Each slice goes to
+  // `timeline` once no later cycle can extend it, so the frame keeps only a few.
   Cycle timeline_begin = 0, timeline_end = 0;
+  std::function<void(const TimelineSlice&)> timeline;
+  // Slices at most (about 60 bytes of JSON each); the rest of the window is cut and
+  // CycleStats::timeline_cut_at says where.
+  std::uint64_t timeline_max_slices = 2'000'000;
 };
 
 // The cycle-approximate backend (docs/cycle-model.md): the functional shader core and

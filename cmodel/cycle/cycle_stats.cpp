@@ -1,6 +1,7 @@
 #include "cycle/cycle_stats.hpp"
 
-#include <fstream>
+#include <algorithm>
+#include <ostream>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -93,12 +94,6 @@ json stats_json(const CycleStats& s, const functional::ShaderStats& shader) {
   return j;
 }
 
-std::ofstream open_output(const std::filesystem::path& path) {
-  std::ofstream out(path);
-  if (!out) throw Error(fmt::format("cannot write '{}'", path.string()));
-  return out;
-}
-
 }  // namespace
 
 void write_stats(const CycleStats& stats, const functional::ShaderStats& shader, const std::filesystem::path& path) {
@@ -107,7 +102,8 @@ void write_stats(const CycleStats& stats, const functional::ShaderStats& shader,
     throw Error(fmt::format("statistics file '{}': the extension must be .json or .csv", path.string()));
   }
   const json j = stats_json(stats, shader);
-  std::ofstream out = open_output(path);
+  OutputFile file(path);
+  std::ostream& out = file.stream();
   if (ext == ".json") {
     out << j.dump(2) << '\n';
   } else {
@@ -116,7 +112,7 @@ void write_stats(const CycleStats& stats, const functional::ShaderStats& shader,
     const json flat = j.flatten();
     for (const auto& [key, value] : flat.items()) out << key << ',' << value.dump() << '\n';
   }
-  if (!out) throw Error(fmt::format("writing '{}' failed", path.string()));
+  file.commit();
 }
 
 std::string summarize(const CycleStats& s) {
@@ -160,24 +156,40 @@ std::string summarize(const CycleStats& s) {
   return text;
 }
 
-void write_timeline(const CycleStats& stats, const std::filesystem::path& path) {
-  json events = json::array();
-  std::vector<std::string> tracks;
-  for (const TimelineSlice& s : stats.timeline) {
-    auto it = std::find(tracks.begin(), tracks.end(), s.track);
-    const auto tid = static_cast<int>(it - tracks.begin());
-    if (it == tracks.end()) {
-      tracks.push_back(s.track);
-      events.push_back({{"name", "thread_name"}, {"ph", "M"}, {"pid", 0}, {"tid", tid}, {"args", {{"name", s.track}}}});
-    }
-    events.push_back({{"name", s.name}, {"ph", "X"}, {"pid", 0}, {"tid", tid}, {"ts", s.begin}, {"dur", s.cycles}});
+// The events go out as they come: the object's other members follow the array.
+TimelineWriter::TimelineWriter(const std::filesystem::path& path) : file_(path) {
+  file_.stream() << "{\"traceEvents\":[\n";
+}
+
+void TimelineWriter::add(const TimelineSlice& s) {
+  std::ostream& out = file_.stream();
+  auto it = std::find(tracks_.begin(), tracks_.end(), s.track);
+  const auto tid = static_cast<int>(it - tracks_.begin());
+  if (it == tracks_.end()) {
+    tracks_.push_back(s.track);
+    const json name = {{"name", "thread_name"}, {"ph", "M"}, {"pid", 0}, {"tid", tid}, {"args", {{"name", s.track}}}};
+    out << (first_ ? "" : ",\n") << name.dump();
+    first_ = false;
   }
-  const json j = {{"traceEvents", events},
-                  {"displayTimeUnit", "ns"},
-                  {"otherData", {{"config", stats.config}, {"time_unit", "1 us shown = 1 cycle"}}}};
-  std::ofstream out = open_output(path);
-  out << j.dump() << '\n';
-  if (!out) throw Error(fmt::format("writing '{}' failed", path.string()));
+  const json event = {{"name", s.name}, {"ph", "X"}, {"pid", 0}, {"tid", tid}, {"ts", s.begin}, {"dur", s.cycles}};
+  out << (first_ ? "" : ",\n") << event.dump();
+  first_ = false;
+}
+
+std::string timeline_cut_reason(const CycleStats& stats) {
+  return fmt::format("cut at cycle {}: the timeline holds at most {} slices, which keeps the file small enough for "
+                     "Perfetto to load; the later slices of the window are missing",
+                     *stats.timeline_cut_at, stats.timeline_slices);
+}
+
+void TimelineWriter::finish(const CycleStats& stats) {
+  json other = {{"config", stats.config}, {"time_unit", "1 us shown = 1 cycle"}, {"slices", stats.timeline_slices}};
+  if (stats.timeline_cut_at) {
+    other["cut_at_cycle"] = *stats.timeline_cut_at;
+    other["cut_reason"] = timeline_cut_reason(stats);
+  }
+  file_.stream() << "\n],\"displayTimeUnit\":\"ns\",\"otherData\":" << other.dump() << "}\n";
+  file_.commit();
 }
 
 }  // namespace rpu::cycle

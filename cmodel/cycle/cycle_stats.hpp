@@ -2,9 +2,11 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "common/output_file.hpp"
 #include "cycle/memory_system.hpp"
 #include "functional/shader_core.hpp"
 
@@ -67,14 +69,34 @@ struct CycleStats {
   // Per pixel (row 0 first): cycles from its thread's start to its halt.
   int width = 0, height = 0;
   std::vector<std::uint32_t> pixel_cycles;
-  std::vector<TimelineSlice> timeline;
+  // The timeline's slices (CycleOptions::timeline got them); when it reached its most
+  // (CycleOptions::timeline_max_slices), the begin of the first slice left out.
+  std::uint64_t timeline_slices = 0;
+  std::optional<Cycle> timeline_cut_at;
 };
 
 // JSON or CSV by the file's extension (.json, .csv); rpu::Error for another.
 void write_stats(const CycleStats& stats, const functional::ShaderStats& shader, const std::filesystem::path& path);
 // A few lines for the terminal.
 std::string summarize(const CycleStats& stats);
-// Chrome / Perfetto trace JSON of the timeline slices (one microsecond shown per cycle).
-void write_timeline(const CycleStats& stats, const std::filesystem::path& path);
+// The timeline as Chrome / Perfetto trace JSON (one microsecond shown per cycle),
+// streamed to the file slice by slice during the frame, so that memory does not grow
+// with the window. The file replaces `path` at finish(), not before.
+class TimelineWriter {
+ public:
+  // rpu::Error naming the path if its temporary cannot be created.
+  explicit TimelineWriter(const std::filesystem::path& path);
+  void add(const TimelineSlice& slice);
+  // The metadata ("otherData": the config, and where and why a cut timeline was cut),
+  // then the file is committed; rpu::Error if any write failed.
+  void finish(const CycleStats& stats);
+
+ private:
+  OutputFile file_;
+  std::vector<std::string> tracks_;
+  bool first_ = true;
+};
+// Why a timeline that reached `slices` slices was cut, for the file and the terminal.
+std::string timeline_cut_reason(const CycleStats& stats);
 
 }  // namespace rpu::cycle
