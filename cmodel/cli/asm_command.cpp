@@ -1,6 +1,7 @@
 // rpu asm / rpu disasm: shader assembly to a firmware file (.rfw) and back to text.
-#include <fstream>
+#include <filesystem>
 #include <memory>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -8,7 +9,8 @@
 #include "asm/firmware_file.hpp"
 #include "asm/firmware_text.hpp"
 #include "cli/commands.hpp"
-#include "common/error.hpp"
+#include "cli/output_paths.hpp"
+#include "common/output_file.hpp"
 
 namespace rpu::cli {
 
@@ -24,13 +26,22 @@ Command add_asm_command(CLI::App& app) {
   cmd->add_option("-o,--output", o->output, "Firmware file to write (.rfw)")->required();
   cmd->add_option("--listing", o->listing, "Also write a listing: pc, instruction word, source line");
   return {cmd, [o] {
-            const isa::Assembly assembly = isa::assemble_with_listing(o->input, isa::read_source_file);
+            // Every file the assembler reads (the source and its .includes): none may be
+            // an output.
+            std::vector<PlannedInput> inputs;
+            const auto record = [&inputs](const std::filesystem::path& file) {
+              inputs.push_back({inputs.empty() ? "the assembly source" : "the included file", file});
+              return isa::read_source_file(file);
+            };
+            const isa::Assembly assembly = isa::assemble_with_listing(o->input, record);
+            std::vector<PlannedOutput> outputs{{"-o", o->output, {".rfw"}}};
+            if (!o->listing.empty()) outputs.push_back({"--listing", o->listing, {}});
+            check_outputs(outputs, inputs);
             isa::save_firmware(assembly.firmware, o->output);
             if (!o->listing.empty()) {
-              std::ofstream out(o->listing, std::ios::binary | std::ios::trunc);
-              out << isa::format_listing(assembly);
-              out.close();
-              if (!out) throw Error(fmt::format("{}: cannot write the listing", o->listing));
+              OutputFile listing(o->listing);
+              listing.stream() << isa::format_listing(assembly);
+              listing.commit();
             }
             fmt::print(stderr, "rpu: {}: {} instructions, {} data bytes, {} symbols -> {}\n", o->input,
                        assembly.firmware.code.size(), assembly.firmware.data.size(), assembly.firmware.symbols.size(),

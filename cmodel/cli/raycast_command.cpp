@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <filesystem>
 #include <memory>
 #include <thread>
 #include <vector>
@@ -11,6 +12,7 @@
 
 #include "cli/chip_options.hpp"
 #include "cli/commands.hpp"
+#include "cli/output_paths.hpp"
 #include "cli/progress.hpp"
 #include "functional/scene_image.hpp"
 #include "functional/tracer.hpp"
@@ -30,7 +32,9 @@ struct RaycastOptions {
 };
 
 int run_raycast(const RaycastOptions& o) {
-  check_image_extension(o.output);
+  std::vector<PlannedInput> inputs;
+  if (std::filesystem::is_regular_file(o.scene)) inputs.push_back({"the scene", o.scene});
+  check_outputs({{"-o", o.output, {".png", ".exr"}}}, inputs);
   const Scene scene = resolve_scene(o.scene);
   for (const std::string& w : scene.warnings) fmt::print(stderr, "rpu: warning: {}\n", w);
   const KdBuildConfig build = o.chip.build_config();

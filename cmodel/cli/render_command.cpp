@@ -11,6 +11,7 @@
 
 #include "cli/chip_options.hpp"
 #include "cli/commands.hpp"
+#include "cli/output_paths.hpp"
 #include "cli/progress.hpp"
 #include "cycle/cycle_device.hpp"
 #include "device/builtin_firmware.hpp"
@@ -120,6 +121,19 @@ Image render_device(const Scene& scene, const RenderOptions& o, std::string& sum
   return image;
 }
 
+// Every file the render will write, and the files it reads that none may overwrite.
+void check_render_outputs(const RenderOptions& o) {
+  std::vector<PlannedOutput> outputs;
+  for (const std::filesystem::path& f : o.outputs) outputs.push_back({"-o", f, {".png", ".exr"}});
+  for (const std::filesystem::path& f : o.stats) outputs.push_back({"--stats", f, {".json", ".csv"}});
+  for (const std::filesystem::path& f : o.heatmap) outputs.push_back({"--heatmap", f, {".png", ".exr"}});
+  if (!o.trace.empty()) outputs.push_back({"--trace", o.trace, {".json"}});
+  std::vector<PlannedInput> inputs;
+  if (std::filesystem::is_regular_file(o.scene)) inputs.push_back({"the scene", o.scene});
+  if (!o.firmware.empty()) inputs.push_back({"the firmware", o.firmware});
+  check_outputs(outputs, inputs);
+}
+
 int run_render(const RenderOptions& options) {
   for (const std::filesystem::path& out : options.outputs) check_image_extension(out);
   for (const std::filesystem::path& out : options.heatmap) check_image_extension(out);
@@ -135,6 +149,7 @@ int run_render(const RenderOptions& options) {
   if (options.trace_window[0] >= options.trace_window[1]) {
     throw Error(fmt::format("--trace-window {} {}: the window is empty", options.trace_window[0], options.trace_window[1]));
   }
+  check_render_outputs(options);
   const Scene scene = resolve_scene(options.scene);
   for (const std::string& warning : scene.warnings) fmt::print(stderr, "rpu: warning: {}\n", warning);
 

@@ -8,6 +8,7 @@
 #include "asm/assembler.hpp"
 #include "asm/lexer.hpp"
 #include "common/error.hpp"
+#include "common/output_file.hpp"
 #include "rpu/spec.hpp"
 
 namespace rpu::isa {
@@ -175,10 +176,9 @@ Firmware firmware_from_bytes(std::span<const std::uint8_t> bytes, const std::str
 
 void save_firmware(const Firmware& firmware, const std::filesystem::path& file) {
   const std::vector<std::uint8_t> bytes = firmware_to_bytes(firmware);
-  std::ofstream out(file, std::ios::binary | std::ios::trunc);
-  out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-  out.close();
-  if (!out) throw Error(fmt::format("{}: cannot write the firmware file", file.string()));
+  OutputFile out(file);
+  out.stream().write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+  out.commit();
 }
 
 Firmware load_firmware(const std::filesystem::path& file) {

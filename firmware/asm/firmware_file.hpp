@@ -22,6 +22,7 @@ std::vector<std::uint8_t> firmware_to_bytes(const Firmware& firmware);
 // rpu::Error naming `name` and the byte offset of the first problem.
 Firmware firmware_from_bytes(std::span<const std::uint8_t> bytes, const std::string& name);
 
+// Through an OutputFile: a failed write leaves the old file as it was.
 void save_firmware(const Firmware& firmware, const std::filesystem::path& file);
 Firmware load_firmware(const std::filesystem::path& file);
 
