@@ -54,10 +54,11 @@ Command add_disasm_command(CLI::App& app) {
   auto input = std::make_shared<std::string>();
   CLI::App* cmd = app.add_subcommand(
       "disasm", "Print a firmware file (.rfw), or an assembly source after assembling it, as assembly text");
-  cmd->add_option("file", *input, "Firmware file (.rfw); any other name is assembled as a source first")->required();
+  cmd->add_option("file", *input, "Firmware file (starts with the magic \"RFW1\"); any other file is assembled as a "
+                                  "source first")
+      ->required();
   return {cmd, [input] {
-            const std::filesystem::path path(*input);
-            const isa::Firmware fw = path.extension() == ".rfw" ? isa::load_firmware(path) : isa::assemble(path);
+            const isa::Firmware fw = isa::load_firmware_or_assemble(*input);
             fmt::print("{}", isa::firmware_to_text(fw));
             return 0;
           }};

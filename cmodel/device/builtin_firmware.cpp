@@ -21,9 +21,6 @@ isa::Firmware builtin_firmware(std::string_view file) {
   return isa::assemble(file, builtin_firmware_source);
 }
 
-isa::Firmware load_firmware_file(const std::filesystem::path& file) {
-  if (file.extension() == ".rfw") return isa::load_firmware(file);
-  return isa::assemble(file);
-}
+isa::Firmware load_firmware_file(const std::filesystem::path& file) { return isa::load_firmware_or_assemble(file); }
 
 }  // namespace rpu::device

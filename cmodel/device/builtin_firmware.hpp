@@ -16,7 +16,7 @@ std::optional<std::string> builtin_firmware_source(const std::filesystem::path& 
 // Assembles a built-in firmware file, e.g. "whitted.s".
 isa::Firmware builtin_firmware(std::string_view file);
 
-// A firmware file given by the user: .rfw (assembled) or assembly source.
+// A firmware file given by the user: assembled firmware (by its magic) or a source.
 isa::Firmware load_firmware_file(const std::filesystem::path& file);
 
 }  // namespace rpu::device

@@ -181,12 +181,33 @@ void save_firmware(const Firmware& firmware, const std::filesystem::path& file) 
   out.commit();
 }
 
-Firmware load_firmware(const std::filesystem::path& file) {
+namespace {
+
+std::vector<std::uint8_t> read_firmware_bytes(const std::filesystem::path& file) {
   std::ifstream in(file, std::ios::binary);
   if (!in) throw Error(fmt::format("{}: cannot open the firmware file", file.string()));
   const std::vector<std::uint8_t> bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
   if (in.bad()) throw Error(fmt::format("{}: cannot read the firmware file", file.string()));
-  return firmware_from_bytes(bytes, file.string());
+  return bytes;
+}
+
+}  // namespace
+
+Firmware load_firmware(const std::filesystem::path& file) {
+  return firmware_from_bytes(read_firmware_bytes(file), file.string());
+}
+
+Firmware load_firmware_or_assemble(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::uint8_t head[4] = {};
+  in.read(reinterpret_cast<char*>(head), sizeof head);
+  std::uint32_t word = 0;
+  for (int i = 0; i < 4; ++i) word |= std::uint32_t{head[i]} << (8 * i);
+  const bool magic = in.gcount() == sizeof head && word == kFirmwareMagic;
+  // A .rfw without the magic is a damaged firmware file, not a source: the loader says
+  // what the first bytes are instead.
+  if (magic || file.extension() == ".rfw") return load_firmware(file);
+  return assemble(file);
 }
 
 }  // namespace rpu::isa

@@ -25,5 +25,9 @@ Firmware firmware_from_bytes(std::span<const std::uint8_t> bytes, const std::str
 // Through an OutputFile: a failed write leaves the old file as it was.
 void save_firmware(const Firmware& firmware, const std::filesystem::path& file);
 Firmware load_firmware(const std::filesystem::path& file);
+// By the file's first bytes, not its name: a file that starts with the firmware magic
+// is loaded, any other is assembled as source, except that a .rfw without the magic is
+// rejected by load_firmware (it names the bytes it found).
+Firmware load_firmware_or_assemble(const std::filesystem::path& file);
 
 }  // namespace rpu::isa
