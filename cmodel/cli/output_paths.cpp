@@ -25,7 +25,7 @@ bool same_file(const fs::path& a, const fs::path& b) {
   return !ec && ca == cb;
 }
 
-std::string quoted_list(const std::vector<std::string>& items) {
+std::string alternatives(const std::vector<std::string>& items) {
   std::string text;
   for (std::size_t i = 0; i < items.size(); ++i) text += (i == 0 ? "" : i + 1 == items.size() ? " or " : ", ") + items[i];
   return text;
@@ -36,16 +36,6 @@ std::string quoted_list(const std::vector<std::string>& items) {
 void check_outputs(const std::vector<PlannedOutput>& outputs, const std::vector<PlannedInput>& inputs) {
   for (std::size_t i = 0; i < outputs.size(); ++i) {
     const PlannedOutput& o = outputs[i];
-    const std::string ext = o.path.extension().string();
-    if (!o.extensions.empty() && std::find(o.extensions.begin(), o.extensions.end(), ext) == o.extensions.end()) {
-      throw Error(fmt::format("{} {}: unknown file type '{}', expected {}", o.option, o.path.string(), ext,
-                              quoted_list(o.extensions)));
-    }
-    try {
-      check_output_path(o.path);
-    } catch (const Error& e) {
-      throw Error(fmt::format("{} {}", o.option, e.what()));
-    }
     for (const PlannedInput& in : inputs) {
       if (same_file(o.path, in.path)) {
         throw Error(fmt::format("{} {}: the same file as {} {}, which it would overwrite; choose another output path",
@@ -58,6 +48,16 @@ void check_outputs(const std::vector<PlannedOutput>& outputs, const std::vector<
                                 "output its own path",
                                 outputs[j].option, outputs[j].path.string(), o.option, o.path.string()));
       }
+    }
+    const std::string ext = o.path.extension().string();
+    if (!o.extensions.empty() && std::find(o.extensions.begin(), o.extensions.end(), ext) == o.extensions.end()) {
+      throw Error(fmt::format("{} {}: unknown file type '{}', expected {}", o.option, o.path.string(), ext,
+                              alternatives(o.extensions)));
+    }
+    try {
+      check_output_path(o.path);
+    } catch (const Error& e) {
+      throw Error(fmt::format("{} {}", o.option, e.what()));
     }
   }
 }

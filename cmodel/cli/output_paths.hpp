@@ -19,9 +19,9 @@ struct PlannedInput {
   std::filesystem::path path;
 };
 
-// Throws rpu::Error naming the option and path unless every output has a known
-// extension and a writable directory (check_output_path), and none is the same file
-// as an input or as another output.
+// Throws rpu::Error naming the option and path unless no output is the same file as
+// an input or as another output, and every output has a known extension and a
+// writable directory (check_output_path).
 void check_outputs(const std::vector<PlannedOutput>& outputs, const std::vector<PlannedInput>& inputs);
 
 }  // namespace rpu::cli

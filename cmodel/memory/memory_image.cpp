@@ -1,9 +1,7 @@
 #include "memory/memory_image.hpp"
 
 #include <algorithm>
-#include <cerrno>
 #include <cmath>
-#include <cstring>
 #include <fstream>
 #include <limits>
 #include <string_view>
@@ -11,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "common/error.hpp"
+#include "common/output_file.hpp"
 #include "memory/image_sections.hpp"
 #include "memory/little_endian.hpp"
 #include "scene/geometry.hpp"
@@ -270,15 +269,9 @@ MemoryImage build_memory_image(const Scene& scene, const KdTree& tree, IsectMode
 }
 
 void save_memory_image(const MemoryImage& image, const std::filesystem::path& file) {
-  std::ofstream out(file, std::ios::binary | std::ios::trunc);
-  if (!out) {
-    throw Error(fmt::format("{}: cannot create the memory image ({})", file.string(), std::strerror(errno)));
-  }
-  out.write(reinterpret_cast<const char*>(image.bytes.data()), static_cast<std::streamsize>(image.bytes.size()));
-  out.close();
-  if (!out) {
-    throw Error(fmt::format("{}: cannot write the memory image ({})", file.string(), std::strerror(errno)));
-  }
+  OutputFile out(file);
+  out.stream().write(reinterpret_cast<const char*>(image.bytes.data()), static_cast<std::streamsize>(image.bytes.size()));
+  out.commit();
 }
 
 MemoryImage load_memory_image(const std::filesystem::path& file) {
