@@ -3,10 +3,15 @@
 // direction (more bandwidth, more threads, warm caches).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
+#include <filesystem>
+#include <fstream>
 #include <string>
+#include <vector>
 
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 
 #include "asm/assembler.hpp"
 #include "common/hardware_config.hpp"
@@ -255,6 +260,57 @@ TEST(CycleModel, AShaderFaultIsReportedAsByTheFunctionalBackend) {
   }
   EXPECT_NE(expected.find("shader fault"), std::string::npos) << expected;
   EXPECT_EQ(actual, expected);
+}
+
+// Issue 14 class 8: the timeline reaches its sink slice by slice during the frame; at
+// its most it is cut, and both the statistics and the file's metadata say where.
+TEST(CycleTimeline, StreamsEverySliceAndSaysWhereItWasCut) {
+  const Cornell c;
+  const spec::HardwareConfig& config = hardware_config("tiny");
+  const auto frame = [&](std::uint64_t max_slices, std::vector<TimelineSlice>& slices) {
+    CycleOptions options;
+    options.timeline_begin = 0;
+    options.timeline_end = 5000;
+    options.timeline_max_slices = max_slices;
+    options.timeline = [&slices](const TimelineSlice& s) { slices.push_back(s); };
+    const auto dev = make_cycle_device(config, fp::format_by_name(config.format), options);
+    return *render(*dev, c.scene, c.si.image, c.firmware, settings(16, 12)).stats.cycle;
+  };
+  std::vector<TimelineSlice> all, cut;
+  const CycleStats whole = frame(1'000'000, all);
+  EXPECT_GT(all.size(), 500u);
+  EXPECT_EQ(whole.timeline_slices, all.size());
+  EXPECT_FALSE(whole.timeline_cut_at);
+  const CycleStats part = frame(500, cut);
+  ASSERT_EQ(cut.size(), 500u);
+  EXPECT_EQ(part.timeline_slices, 500u);
+  // The first slice left out is the 501st the whole timeline received.
+  ASSERT_TRUE(part.timeline_cut_at);
+  EXPECT_EQ(*part.timeline_cut_at, all[500].begin);
+  for (std::size_t i = 0; i + 8 < cut.size(); ++i) {
+    EXPECT_EQ(cut[i].track + cut[i].name, all[i].track + all[i].name) << i;
+    EXPECT_EQ(cut[i].begin, all[i].begin) << i;
+  }
+
+  const std::filesystem::path file = std::filesystem::path(testing::TempDir()) / "cut_timeline.json";
+  {
+    TimelineWriter writer(file);
+    for (const TimelineSlice& s : cut) writer.add(s);
+    writer.finish(part);
+  }
+  std::ifstream in(file);
+  const nlohmann::json j = nlohmann::json::parse(in);
+  const nlohmann::json& other = j.at("otherData");
+  EXPECT_EQ(other.at("cut_at_cycle").get<Cycle>(), *part.timeline_cut_at);
+  EXPECT_EQ(other.at("slices").get<std::uint64_t>(), 500u);
+  EXPECT_EQ(other.at("cut_reason").get<std::string>(), timeline_cut_reason(part));
+  EXPECT_EQ(timeline_cut_reason(part),
+            fmt::format("cut at cycle {}: the timeline holds at most 500 slices, which keeps the file small enough "
+                        "for Perfetto to load; the later slices of the window are missing",
+                        *part.timeline_cut_at));
+  const auto slices = std::count_if(j.at("traceEvents").begin(), j.at("traceEvents").end(),
+                                    [](const nlohmann::json& e) { return e.at("ph") == "X"; });
+  EXPECT_EQ(slices, 500);
 }
 
 }  // namespace
