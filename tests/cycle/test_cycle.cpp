@@ -267,17 +267,28 @@ TEST(CycleModel, AShaderFaultIsReportedAsByTheFunctionalBackend) {
 TEST(CycleTimeline, StreamsEverySliceAndSaysWhereItWasCut) {
   const Cornell c;
   const spec::HardwareConfig& config = hardware_config("tiny");
+  // Progress reports before the first slice arrived, and in all: streamed slices
+  // arrive before the frame ends, not all at once after it.
+  std::size_t reports = 0, reports_before_first_slice = 0;
   const auto frame = [&](std::uint64_t max_slices, std::vector<TimelineSlice>& slices) {
     CycleOptions options;
     options.timeline_begin = 0;
     options.timeline_end = 5000;
     options.timeline_max_slices = max_slices;
-    options.timeline = [&slices](const TimelineSlice& s) { slices.push_back(s); };
+    options.timeline = [&](const TimelineSlice& s) {
+      if (slices.empty()) reports_before_first_slice = reports;
+      slices.push_back(s);
+    };
     const auto dev = make_cycle_device(config, fp::format_by_name(config.format), options);
-    return *render(*dev, c.scene, c.si.image, c.firmware, settings(16, 12)).stats.cycle;
+    reports = 0;
+    device::render_frame(*dev, c.scene, c.si.image, c.firmware, settings(16, 12),
+                         [&](std::size_t, std::size_t) { ++reports; });
+    return *dev->stats().cycle;
   };
   std::vector<TimelineSlice> all, cut;
   const CycleStats whole = frame(1'000'000, all);
+  EXPECT_GT(reports, 1u);
+  EXPECT_EQ(reports_before_first_slice, 0u);
   EXPECT_GT(all.size(), 500u);
   EXPECT_EQ(whole.timeline_slices, all.size());
   EXPECT_FALSE(whole.timeline_cut_at);
