@@ -32,6 +32,7 @@ struct Slot {
   std::atomic<bool> live{false};
   char temp[kPathBytes];
   char target[kPathBytes];
+  char sidecar[kPathBytes];  // empty: none
 };
 std::array<Slot, 16> slots;
 std::mutex slots_mutex;
@@ -39,7 +40,9 @@ const char* sigbus_program = nullptr;
 
 void remove_live_temporaries() {
   for (Slot& s : slots) {
-    if (s.live.load(std::memory_order_acquire)) ::unlink(s.temp);
+    if (!s.live.load(std::memory_order_acquire)) continue;
+    ::unlink(s.temp);
+    if (s.sidecar[0] != '\0') ::unlink(s.sidecar);
   }
 }
 
@@ -65,12 +68,12 @@ void on_sigbus(int) {
     if (!s.live.load(std::memory_order_acquire)) continue;
     any = true;
     write_stderr(sigbus_program);
-    write_stderr(": error: ");
+    write_stderr(": ");
     write_stderr(s.target);
     write_stderr(": cannot write the file: bus error in a memory-mapped write, most likely no space left on the "
                  "device; the file was left as it was\n");
-    ::unlink(s.temp);
   }
+  remove_live_temporaries();
   // No output being written: a bug, not a full disk. The default action (restored by
   // SA_RESETHAND) dumps core when the faulting access runs again.
   if (any) ::_exit(2);
@@ -109,6 +112,7 @@ int claim_slot(const fs::path& temp, const fs::path& target) {
     if (s.live.load(std::memory_order_relaxed)) continue;
     std::memcpy(s.temp, t.c_str(), t.size() + 1);
     std::memcpy(s.target, g.c_str(), g.size() + 1);
+    s.sidecar[0] = '\0';
     s.live.store(true, std::memory_order_release);
     return static_cast<int>(i);
   }
@@ -212,9 +216,10 @@ OutputFile::OutputFile(fs::path target) : target_(std::move(target)) {
             fmt::format(".{}.{}{}", real.filename().string(), random_tag(), real.extension().string());
     // 0666 less the umask, as a file the tool created directly would have.
     fd_ = ::open(temp_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-    if (fd_ < 0 && (errno != EEXIST || attempt == 100)) {
+    const int error = errno;
+    if (fd_ < 0 && (error != EEXIST || attempt == 100)) {
       throw Error(fmt::format("{}: cannot create a temporary file beside it: {}", target_.string(),
-                              std::strerror(errno)));
+                              std::strerror(error)));
     }
   }
   try {
@@ -231,11 +236,24 @@ void OutputFile::release() {
   if (fd_ >= 0) ::close(fd_);
   fd_ = -1;
   if (!committed_) ::unlink(temp_.c_str());
+  if (!sidecar_.empty()) ::unlink(sidecar_.c_str());
   if (slot_ >= 0) {
     const std::lock_guard lock(slots_mutex);
     slots[static_cast<std::size_t>(slot_)].live.store(false, std::memory_order_release);
   }
   slot_ = -1;
+}
+
+void OutputFile::add_sidecar(const fs::path& file) {
+  const std::string path = file.string();
+  if (path.size() >= kPathBytes) throw Error(fmt::format("{}: the path is longer than {} bytes", path, kPathBytes - 1));
+  sidecar_ = file;
+  const std::lock_guard lock(slots_mutex);
+  Slot& s = slots[static_cast<std::size_t>(slot_)];
+  // Hidden from the handler while it changes.
+  s.live.store(false, std::memory_order_release);
+  std::memcpy(s.sidecar, path.c_str(), path.size() + 1);
+  s.live.store(true, std::memory_order_release);
 }
 
 std::ostream& OutputFile::stream() {
@@ -273,8 +291,9 @@ void OutputFile::commit() {
   }
   if (!stream_ && size == 0) fail("nothing was written to it");
   const int closed = ::close(fd_);
+  const int close_error = errno;
   fd_ = -1;
-  if (closed != 0) fail(std::strerror(errno));
+  if (closed != 0) fail(std::strerror(close_error));
   const fs::path real = resolved(target_);
   struct stat old {};
   // A replaced file keeps its permissions.

@@ -34,6 +34,9 @@ class OutputFile {
   // FST writer). It ends in the target's extension, by which such libraries pick the
   // format. Use either this or stream(), not both.
   const std::filesystem::path& temp_path() const { return temp_; }
+  // A file the library writing temp_path() keeps beside it while it works (the FST
+  // writer's "<temp>.hier"): removed with the temporary on failure or a signal.
+  void add_sidecar(const std::filesystem::path& file);
   // The temporary as a stream; the first failed write is reported by commit().
   std::ostream& stream();
   // Flushes, fsyncs, checks the size on disk and renames the temporary over the target.
@@ -47,7 +50,7 @@ class OutputFile {
   class Buffer;
   void release();
 
-  std::filesystem::path target_, temp_;
+  std::filesystem::path target_, temp_, sidecar_;
   bool replaces_ = false;  // the target exists: messages say it is unchanged
   int fd_ = -1;
   int slot_ = -1;  // in the signal handler's table of live temporaries
@@ -59,8 +62,8 @@ class OutputFile {
 // For programs whose libraries write through memory-mapped files (the co-simulation
 // harnesses' FST writer): a store the full disk cannot back raises SIGBUS, which would
 // kill the process with a half file. After this call a SIGBUS prints
-// "<program>: error: <target>: ..." for every live output, removes their temporaries
-// and exits with status 2.
+// "<program>: <target>: cannot write the file: ..." for every live output (the
+// harnesses' error format), removes their temporaries and exits with status 2.
 void report_sigbus_as_write_failure(const char* program);
 
 }  // namespace rpu
