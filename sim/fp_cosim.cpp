@@ -15,7 +15,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <deque>
-#include <fstream>
+#include <ostream>
 #include <functional>
 #include <random>
 #include <string>
@@ -24,6 +24,7 @@
 
 #include "fp/format.hpp"
 #include "fp_unit_model.hpp"
+#include "harness_outputs.hpp"
 #include "operands.hpp"
 #include "oracle.hpp"
 #include "rpu/spec.hpp"
@@ -158,11 +159,8 @@ int write_vectors(const Options& o, const OpChoice& op, Format f) {
   const std::int64_t stride = o.edge_limit > 0 ? std::max<std::int64_t>(1, (edges + o.edge_limit - 1) / o.edge_limit) : 1;
   for (std::int64_t i = 0; i < edges; i += stride) picked.push_back(i);
   for (std::int64_t i = edges; i < source.size(); ++i) picked.push_back(i);
-  std::ofstream out(o.write_vectors);
-  if (!out) {
-    std::fprintf(stderr, "fp_cosim: cannot write %s\n", o.write_vectors.c_str());
-    return 2;
-  }
+  rpu::OutputFile file(o.write_vectors);
+  std::ostream& out = file.stream();
   char line[64];
   std::snprintf(line, sizeof line, "%x %zu\n", static_cast<unsigned>(op.spec->op), picked.size());
   out << line;
@@ -172,9 +170,10 @@ int write_vectors(const Options& o, const OpChoice& op, Format f) {
                   fp::soft_result(op.info->op, f, v));
     out << line;
   }
+  file.commit();
   std::printf("fp_cosim: wrote %zu vectors for %s %s to %s\n", picked.size(), o.op.c_str(),
               o.format.c_str(), o.write_vectors.c_str());
-  return out ? 0 : 2;
+  return 0;
 }
 
 // spec/configs.toml's [config.latency] for every configuration in this format: fpu for
@@ -330,6 +329,7 @@ int main(int argc, char** argv) {
                "fail unless spec/configs.toml's [config.latency] for this format equals the measured latency");
   CLI11_PARSE(app, argc, argv);
   try {
+    check_output_paths("", o.write_vectors);
     const OpChoice op = find_op(o.op);
     const rpu::fp::Format f = rpu::fp::format_by_name(o.format);
     if (o.seed == 0) o.seed = default_seed(o);

@@ -10,6 +10,9 @@ if(NOT rpu_ray_unit_formats)
 endif()
 add_library(rpu_iu_rtl_models STATIC ${CMAKE_CURRENT_BINARY_DIR}/iu_models.cpp)
 target_include_directories(rpu_iu_rtl_models PUBLIC ${CMAKE_CURRENT_SOURCE_DIR})
+# fst_output.hpp's OutputFile, in iu_models.cpp alone: the Verilated sources keep their
+# flags (no project warnings); iu_cosim links the library.
+set_source_files_properties(${CMAKE_CURRENT_BINARY_DIR}/iu_models.cpp PROPERTIES INCLUDE_DIRECTORIES ${PROJECT_SOURCE_DIR}/cmodel)
 add_dependencies(rpu_iu_rtl_models rpu_spec_generate)
 foreach(format IN LISTS rpu_ray_unit_formats)
   foreach(isect woop watertight)
@@ -24,7 +27,7 @@ endforeach()
 configure_file(iu_models.cpp.in ${CMAKE_CURRENT_BINARY_DIR}/iu_models.cpp @ONLY)
 
 add_executable(iu_cosim iu_cosim.cpp)
-target_link_libraries(iu_cosim PRIVATE rpu_iu_rtl_models rpu_test_support CLI11::CLI11 rpu_flags)
+target_link_libraries(iu_cosim PRIVATE rpu_iu_rtl_models rpu_test_support rpu_output_file CLI11::CLI11 rpu_flags)
 
 # CI: a thousand camera and random rays per scene; `slow`: the issue's 10^5 per kind.
 # cosim.iu.timing.*: the measured latency and interval against spec/configs.toml.
@@ -61,4 +64,14 @@ if(RPU_YOSYS)
       set_tests_properties(${name} PROPERTIES LABELS ${label} TIMEOUT 3600)
     endforeach()
   endforeach()
+endif()
+
+# --trace on a missing directory, under a file-size limit and on a full tmpfs (root):
+# an error naming the file, status 2, the old file kept (sim/trace_outputs.py).
+if("fp32 woop" IN_LIST rpu_iu_cases)
+  add_test(NAME cosim.iu.trace_outputs
+           COMMAND Python3::Interpreter ${CMAKE_CURRENT_SOURCE_DIR}/trace_outputs.py
+                   ${CMAKE_CURRENT_BINARY_DIR}/iu_trace_outputs --
+                   $<TARGET_FILE:iu_cosim> --format fp32 --isect woop --scene cornell --rays 300)
+  set_tests_properties(cosim.iu.trace_outputs PROPERTIES LABELS unit TIMEOUT 600)
 endif()

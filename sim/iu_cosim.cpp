@@ -19,7 +19,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <deque>
-#include <fstream>
+#include <ostream>
 #include <random>
 #include <string>
 #include <vector>
@@ -28,6 +28,7 @@
 #include "fp/soft.hpp"
 #include "functional/scene_image.hpp"
 #include "functional/tracer.hpp"
+#include "harness_outputs.hpp"
 #include "iu_model.hpp"
 #include "rpu/spec.hpp"
 #include "scene/geometry.hpp"
@@ -230,11 +231,12 @@ int write_vectors(const Options& o, TransactionSource& source) {
       queue.pop_front();
     }
   }
-  std::ofstream out(o.write_vectors);
-  out << lines.size() << "\n";
-  for (const std::string& l : lines) out << l;
+  OutputFile file(o.write_vectors);
+  file.stream() << lines.size() << "\n";
+  for (const std::string& l : lines) file.stream() << l;
+  file.commit();
   std::printf("iu_cosim: wrote %zu IU tests to %s\n", lines.size(), o.write_vectors.c_str());
-  return out ? 0 : 2;
+  return 0;
 }
 
 struct Pending {
@@ -281,8 +283,10 @@ Timing measure_timing(IuModel& model, const std::vector<Transaction>& burst) {
   return timing;
 }
 
-int run(const Options& o, fp::Format f, TransactionSource& source) {
-  std::unique_ptr<IuModel> model = make_iu_model(o.format, o.isect, o.seed);
+// `model` outlives the run, so that its waveforms are kept whether the run passed or
+// failed.
+int run(const Options& o, fp::Format f, TransactionSource& source, std::unique_ptr<IuModel>& model) {
+  model = make_iu_model(o.format, o.isect, o.seed);
   if (!model) {
     std::fprintf(stderr, "iu_cosim: no model for format %s, isect %s; built:", o.format.c_str(), o.isect.c_str());
     for (const IuModelName& n : iu_models()) std::fprintf(stderr, " %s/%s", n.format.c_str(), n.isect.c_str());
@@ -456,12 +460,17 @@ int main(int argc, char** argv) {
   app.add_option("--write-vectors", o.write_vectors, "write IU tests and results for the netlist testbench");
   app.add_option("--vectors", o.vectors, "with --write-vectors: how many")->check(CLI::PositiveNumber);
   CLI11_PARSE(app, argc, argv);
+  rpu::report_sigbus_as_write_failure("iu_cosim");
   try {
+    check_output_paths(o.trace, o.write_vectors);
     const rpu::fp::Format f = rpu::fp::format_by_name(o.format);
     const rpu::IsectMode mode = o.isect == "woop" ? rpu::IsectMode::kWoop : rpu::IsectMode::kWatertight;
     TransactionSource source(o, f, mode);
     if (!o.write_vectors.empty()) return write_vectors(o, source);
-    return run(o, f, source);
+    std::unique_ptr<IuModel> model;
+    const int status = run(o, f, source, model);
+    if (model) model->close_trace();
+    return status;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "iu_cosim: %s\n", e.what());
     return 2;

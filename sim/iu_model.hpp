@@ -38,8 +38,11 @@ class IuModel {
   virtual IuOutputs settle(const IuInputs& in) = 0;
   // One rising and one falling clock edge.
   virtual void clock() = 0;
-  // From now on, FST waveforms of every evaluation into `path`.
+  // From now on, FST waveforms of every evaluation for `path` (FstOutput).
   virtual void trace(const std::string& path) = 0;
+  // Closes the waveforms and renames them over the path; rpu::Error naming it if they
+  // could not be written. Without trace(), nothing.
+  virtual void close_trace() = 0;
 };
 
 struct IuModelName {

@@ -32,7 +32,7 @@
 #include <cstdio>
 #include <cstring>
 #include <deque>
-#include <fstream>
+#include <ostream>
 #include <map>
 #include <optional>
 #include <random>
@@ -45,6 +45,7 @@
 #include "functional/intersection_unit.hpp"
 #include "functional/scene_image.hpp"
 #include "functional/tracer.hpp"
+#include "harness_outputs.hpp"
 #include "kdtree/kdtree.hpp"
 #include "scene/geometry.hpp"
 #include "scene/resolve.hpp"
@@ -243,7 +244,8 @@ int write_vectors(const Options& o, const functional::SceneImage& si, const func
     }
     ++count;
   }
-  std::ofstream out(o.write_vectors);
+  OutputFile file(o.write_vectors);
+  std::ostream& out = file.stream();
   out << words.size() << " " << count << " " << tests.size() / 17 << "\n";
   char word[16];
   const auto put = [&](const std::vector<std::uint32_t>& v, std::size_t per_line) {
@@ -261,9 +263,10 @@ int write_vectors(const Options& o, const functional::SceneImage& si, const func
   put(words, 4);
   put(rays, 18);
   put(tests, 17);
+  file.commit();
   std::printf("tu_cosim: wrote %zu rays (%zu IU tests) and a %zu-byte image to %s\n", count, tests.size() / 17,
               image.size(), o.write_vectors.c_str());
-  return out ? 0 : 2;
+  return 0;
 }
 
 // The scene with its geometry, camera and lights times 2^k, exactly: the rays made
@@ -283,7 +286,9 @@ Scene scaled(Scene scene, int k) {
   return scene;
 }
 
-int run(const Options& o) {
+// `model` outlives the run, so that its waveforms are kept whether the run passed or
+// failed.
+int run(const Options& o, std::unique_ptr<TuModel>& model) {
   const fp::Format format = fp::format_by_name(o.format);
   const bool watertight = o.isect == "watertight";
   const Scene scene = scaled(resolve_scene(o.scene), o.scale);
@@ -325,7 +330,7 @@ int run(const Options& o) {
   if (!o.write_vectors.empty()) return write_vectors(o, si, tracer, cases);
 
   const TuModelName name{o.format, o.isect, o.with_iu};
-  std::unique_ptr<TuModel> model = make_tu_model(name, o.seed, o.trace);
+  model = make_tu_model(name, o.seed, o.trace);
   if (!model) {
     std::string built;
     for (const TuModelName& n : tu_models()) {
@@ -556,8 +561,13 @@ int main(int argc, char** argv) {
   app.add_option("--trace", o.trace, "write an FST waveform to this file");
   app.add_option("--write-vectors", o.write_vectors, "write the rays, results and image for the netlist testbench");
   CLI11_PARSE(app, argc, argv);
+  rpu::report_sigbus_as_write_failure("tu_cosim");
   try {
-    return rpu::sim::run(o);
+    rpu::sim::check_output_paths(o.trace, o.write_vectors);
+    std::unique_ptr<rpu::sim::TuModel> model;
+    const int status = rpu::sim::run(o, model);
+    if (model) model->close_trace();
+    return status;
   } catch (const rpu::Error& e) {
     std::fprintf(stderr, "tu_cosim: %s\n", e.what());
     return 2;

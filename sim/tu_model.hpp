@@ -70,6 +70,9 @@ class TuModel {
   virtual void clock() = 0;
   // Whether the IU port is open (the harness then answers it with the C++ IU).
   virtual bool has_iu_port() const = 0;
+  // Closes the waveforms and renames them over their path; rpu::Error naming it if
+  // they could not be written. Without waveforms, nothing.
+  virtual void close_trace() = 0;
 };
 
 struct TuModelName {

@@ -1,12 +1,12 @@
 #pragma once
 
 #include <verilated.h>
-#include <verilated_fst_c.h>
 
 #include <cstdint>
 #include <memory>
 #include <string>
 
+#include "fst_output.hpp"
 #include "iu_model.hpp"
 
 namespace rpu::sim {
@@ -22,10 +22,7 @@ class VerilatedIu final : public IuModel {
     top_ = std::make_unique<Top>(context_.get());
     top_->clk_i = 0;
   }
-  ~VerilatedIu() override {
-    top_->final();
-    if (fst_) fst_->close();
-  }
+  ~VerilatedIu() override { top_->final(); }
   VerilatedIu(const VerilatedIu&) = delete;
   VerilatedIu& operator=(const VerilatedIu&) = delete;
 
@@ -60,9 +57,11 @@ class VerilatedIu final : public IuModel {
 
   void trace(const std::string& path) override {
     context_->traceEverOn(true);
-    fst_ = std::make_unique<VerilatedFstC>();
-    top_->trace(fst_.get(), 99);
-    fst_->open(path.c_str());
+    fst_ = std::make_unique<FstOutput>(*top_, path);
+  }
+
+  void close_trace() override {
+    if (fst_) fst_->close();
   }
 
  private:
@@ -73,7 +72,7 @@ class VerilatedIu final : public IuModel {
 
   std::unique_ptr<VerilatedContext> context_;
   std::unique_ptr<Top> top_;
-  std::unique_ptr<VerilatedFstC> fst_;
+  std::unique_ptr<FstOutput> fst_;
   std::uint64_t time_ = 0;
 };
 

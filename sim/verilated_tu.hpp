@@ -1,12 +1,12 @@
 #pragma once
 
 #include <verilated.h>
-#include <verilated_fst_c.h>
 
 #include <cstdint>
 #include <memory>
 #include <string>
 
+#include "fst_output.hpp"
 #include "tu_model.hpp"
 
 namespace rpu::sim {
@@ -30,20 +30,17 @@ class VerilatedTu final : public TuModel {
     if (!fst.empty()) context_->traceEverOn(true);
     top_ = std::make_unique<Top>(context_.get());
     top_->clk_i = 0;
-    if (!fst.empty()) {
-      trace_ = std::make_unique<VerilatedFstC>();
-      top_->trace(trace_.get(), 99);
-      trace_->open(fst.c_str());
-    }
+    if (!fst.empty()) trace_ = std::make_unique<FstOutput>(*top_, fst);
   }
-  ~VerilatedTu() override {
-    if (trace_) trace_->close();
-    top_->final();
-  }
+  ~VerilatedTu() override { top_->final(); }
   VerilatedTu(const VerilatedTu&) = delete;
   VerilatedTu& operator=(const VerilatedTu&) = delete;
 
   bool has_iu_port() const override { return kIuPort; }
+
+  void close_trace() override {
+    if (trace_) trace_->close();
+  }
 
   TuOutputs settle(const TuInputs& in) override {
     Top& t = *top_;
@@ -125,7 +122,7 @@ class VerilatedTu final : public TuModel {
  private:
   std::unique_ptr<VerilatedContext> context_;
   std::unique_ptr<Top> top_;
-  std::unique_ptr<VerilatedFstC> trace_;
+  std::unique_ptr<FstOutput> trace_;
   std::uint64_t cycle_ = 0;
 };
 
