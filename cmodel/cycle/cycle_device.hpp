@@ -16,7 +16,7 @@ struct CycleOptions {
   // `timeline` once no later cycle can extend it, so the frame keeps only a few.
   Cycle timeline_begin = 0, timeline_end = 0;
   std::function<void(const TimelineSlice&)> timeline;
-  // Slices at most (about 60 bytes of JSON each); the rest of the window is cut and
+  // Slices at most (about 70 bytes of JSON each); the rest of the window is cut and
   // CycleStats::timeline_cut_at says where.
   std::uint64_t timeline_max_slices = 2'000'000;
 };

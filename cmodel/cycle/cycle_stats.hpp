@@ -96,7 +96,8 @@ class TimelineWriter {
   std::vector<std::string> tracks_;
   bool first_ = true;
 };
-// Why a timeline that reached `slices` slices was cut, for the file and the terminal.
+// Why the frame's timeline was cut (stats.timeline_cut_at is set), for the file's
+// metadata and the terminal.
 std::string timeline_cut_reason(const CycleStats& stats);
 
 }  // namespace rpu::cycle
