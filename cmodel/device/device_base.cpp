@@ -27,6 +27,8 @@ void DeviceBase::load_image(std::vector<std::uint8_t> image, const std::string& 
 
 void DeviceBase::load_firmware(isa::Firmware firmware, std::vector<std::string> shader_names) {
   idle();
+  // Here rather than when the frame's threads make their shader cores.
+  functional::raygen_entry(firmware);
   std::vector<std::uint32_t> table;
   for (const std::string& name : shader_names) {
     const std::string label = "hit_" + name;

@@ -99,6 +99,14 @@ Vec swizzle(const Vec& r, std::uint8_t swz) {
 
 }  // namespace
 
+std::uint32_t raygen_entry(const isa::Firmware& firmware) {
+  const auto entry = firmware.symbols.find("raygen");
+  if (entry == firmware.symbols.end() || entry->second.kind != isa::Symbol::Kind::kCode) {
+    throw Error("the firmware has no code label 'raygen' (the ray-generation entry point every thread starts at)");
+  }
+  return entry->second.value;
+}
+
 ShaderCore::ShaderCore(const isa::Firmware& firmware, DeviceMemory& memory, const Tracer& tracer, fp::Format format,
                        const ShaderCoreConfig& config, bool fast_path)
     : firmware_(firmware),
@@ -106,12 +114,8 @@ ShaderCore::ShaderCore(const isa::Firmware& firmware, DeviceMemory& memory, cons
       tracer_(tracer),
       format_(format),
       config_(config),
-      fast_(fast_path && format == fp::kFp32) {
-  const auto entry = firmware.symbols.find("raygen");
-  if (entry == firmware.symbols.end() || entry->second.kind != isa::Symbol::Kind::kCode) {
-    throw Error("the firmware has no code label 'raygen' (the ray-generation entry point every thread starts at)");
-  }
-  raygen_ = entry->second.value;
+      fast_(fast_path && format == fp::kFp32),
+      raygen_(raygen_entry(firmware)) {
   code_.resize(firmware.code.size());
   uses_.resize(firmware.code.size());
   illegal_why_.resize(firmware.code.size());

@@ -77,10 +77,14 @@ struct StepRecord {
   std::size_t trace_count = 0;
 };
 
+// The pc of the firmware's `raygen` code label, where every thread starts; rpu::Error
+// if it has none.
+std::uint32_t raygen_entry(const isa::Firmware& firmware);
+
 class ShaderCore {
  public:
   // `firmware`, `memory` and `tracer` must outlive the core. The firmware must have a
-  // `raygen` code label.
+  // `raygen` code label (raygen_entry).
   ShaderCore(const isa::Firmware& firmware, DeviceMemory& memory, const Tracer& tracer, fp::Format format,
              const ShaderCoreConfig& config, bool fast_path = true);
 
