@@ -98,6 +98,7 @@ class CycleDevice final : public device::DeviceBase {
  public:
   CycleDevice(const spec::HardwareConfig& config, fp::Format format, const CycleOptions& options)
       : DeviceBase(config, format), options_(options) {}
+  ~CycleDevice() override { end_frame(); }
 
   std::string_view backend() const override { return "cycle"; }
 

@@ -11,7 +11,9 @@ namespace rpu::device {
 
 namespace mm = spec::memory;
 
-DeviceBase::~DeviceBase() {
+DeviceBase::~DeviceBase() { end_frame(); }
+
+void DeviceBase::end_frame() noexcept {
   if (frame_.valid()) frame_.wait();
 }
 

@@ -23,6 +23,7 @@ class FunctionalDevice final : public DeviceBase {
  public:
   FunctionalDevice(const spec::HardwareConfig& config, fp::Format format, const FunctionalOptions& options)
       : DeviceBase(config, format), options_(options) {}
+  ~FunctionalDevice() override { end_frame(); }
 
   std::string_view backend() const override { return "functional"; }
 

@@ -161,5 +161,19 @@ TEST(FunctionalDevice, AnErrorOnAnyHostThreadIsReportedAsOnOne) {
   }
 }
 
+// A device destroyed while its frame runs waits for the frame instead of leaving it to
+// call into a destroyed backend ("pure virtual method called").
+TEST(FunctionalDevice, DestroyingADeviceDuringItsFrameWaitsForTheFrame) {
+  const Fixture f;
+  FunctionalOptions o;
+  o.watchdog = 200'000;
+  for (int i = 0; i < 3; ++i) {
+    const auto dev = make_functional_device(hardware_config("tiny"), fp::kFp32, o);
+    dev->load_image(f.si.image.bytes, f.scene.source);
+    dev->load_firmware(assemble_text("raygen:\nspin:\n bra spin\nhit_whitted:\n ret\n"), shader_names(f.scene));
+    dev->launch({4, 4, 1, 0, 1});
+  }
+}
+
 }  // namespace
 }  // namespace rpu::device
