@@ -163,6 +163,7 @@ void ShaderCore::start(Chunk& chunk, std::span<const Lane> lanes, ShaderStats& s
     t.returns.clear();
     t.stack.clear();
   }
+  chunk.fault_.reset();
   chunk.update_next_pc();
   stats.pixels += lanes.size();
 }
@@ -196,7 +197,16 @@ void ShaderCore::step_with(const Ops& ops, Chunk& chunk, ShaderStats& stats, Ste
     Thread& t = chunk.threads_[l];
     if (t.done || t.pc != pc) continue;
     if (record) record->lanes |= 1u << l;
-    execute(ops, t, stats, record);
+    try {
+      execute(ops, t, stats, record);
+    } catch (const ShaderFault& f) {
+      t.done = true;
+      if (!chunk.fault_ || f.pixel() < chunk.fault_->pixel()) chunk.fault_ = f;
+      // Later pixels cannot be the one reported; earlier ones run on to halt or fault.
+      for (Thread& u : chunk.threads_) {
+        if (u.lane.pixel > chunk.fault_->pixel()) u.done = true;
+      }
+    }
   }
   chunk.update_next_pc();
 }
@@ -214,6 +224,7 @@ void ShaderCore::run_chunk(std::span<const Lane> lanes, ShaderStats& stats,
   } else {
     run(SoftOps{format_});
   }
+  if (chunk.fault_) throw *chunk.fault_;
   if (end_registers) {
     end_registers->clear();
     for (const Thread& t : chunk.threads_) end_registers->push_back(t.regs);
