@@ -332,12 +332,15 @@ void ShaderCore::execute(const Ops& ops, Thread& t, ShaderStats& stats, StepReco
     if (to_format) v = ops.out(ops.in(v));
     write({v, v, v, v});
   };
-  const auto call = [&](std::uint32_t target) {
+  const auto push_return = [&](std::uint32_t pc) {
     if (t.returns.size() >= static_cast<std::size_t>(config_.call_depth)) {
       fault(t, fmt::format("call-depth overflow: the return stack holds {} entries (call_depth of the configuration)",
                            config_.call_depth));
     }
-    t.returns.push_back(t.pc + 1);
+    t.returns.push_back(pc);
+  };
+  const auto call = [&](std::uint32_t target) {
+    push_return(t.pc + 1);
     t.pc = target;
   };
   const std::uint32_t stack_slots = config_.stack_bytes / 16;
@@ -519,6 +522,14 @@ void ShaderCore::execute(const Ops& ops, Thread& t, ShaderStats& stats, StepReco
       next = t.returns.back();
       t.returns.pop_back();
       break;
+    case Opcode::kMfra: {
+      if (t.returns.empty()) fault(t, "mfra with an empty return stack");
+      const std::uint32_t ra = t.returns.back();
+      t.returns.pop_back();
+      write({ra, ra, ra, ra});
+      break;
+    }
+    case Opcode::kMtra: push_return(raw(0)[0]); break;
     case Opcode::kHalt: t.done = true; break;
     case Opcode::kTrace:
     case Opcode::kTracea: {
