@@ -53,6 +53,7 @@ class DeviceBase : public Device {
 
  private:
   void idle();
+  void check_stacks(int max_depth) const;
 
   std::vector<std::uint32_t> shader_table_;
   bool has_firmware_ = false;

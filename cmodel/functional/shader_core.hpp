@@ -47,7 +47,7 @@ struct ShaderCoreConfig {
   int registers = 32;
   int chunk_size = 4;
   int call_depth = 16;
-  std::uint32_t stack_bytes = 4096;
+  std::uint32_t stack_bytes = 16384;
   std::uint64_t watchdog = 50'000'000;  // instructions one thread may retire for one pixel
 };
 
