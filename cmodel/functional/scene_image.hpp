@@ -18,7 +18,7 @@ struct SceneImage {
 // The scene as a frame renders it: every length times 2^-s, s = kd_scale_exponent(scene,
 // format), so that the shaders' arithmetic sees, like the kd-tree, the same numbers
 // inside the format's range for the scene at any power-of-two scale: the image of a
-// scene scaled by 2^k is the same bit for bit (docs/numbers.md "Scale"). The kd scale of
+// scene scaled by 2^k is the same bit for bit (docs/traversal.md "Limits of the formats"). The kd scale of
 // its memory image is then 0.
 Scene chip_space_scene(const Scene& scene, fp::Format format);
 
