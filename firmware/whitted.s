@@ -5,6 +5,17 @@
 ;   r15 = (launch block address, ray epsilon (float), max depth (int), 0)
 ;   r14 = (random stream state, depth of the current ray (int), -, -)
 ; Everything else is clobbered by calls; callers push what they need.
+;
+; Recursion: shade_ray and hit_whitted keep their return addresses on the memory stack
+; (mfra/mtra), so the return stack never holds more than FIRMWARE_RETURN_STACK_ENTRIES
+; (raygen or hit_whitted -> rand -> permute, below a hit shader's calli) at any depth.
+; The memory stack holds raygen's two pushes and the primary ray's shade_ray, then per
+; bounce hit_whitted's eight reflection pushes (its return address rides in r9.z) and
+; shade_ray's one. The device checks these against the configuration at launch
+; (docs/shader-core.md "The shader ABI").
+.equ FIRMWARE_RETURN_STACK_ENTRIES, 3
+.equ FIRMWARE_STACK_BYTES, 3 * 16
+.equ FIRMWARE_STACK_BYTES_PER_DEPTH, 9 * 16
 
 .text
 
@@ -130,7 +141,11 @@ shade_ray:
         imuli   r6.x, r5.w, MATERIAL_BYTES
         iadd    r4.x, r4.x, r6.x
         ld1     r6.x, [r4 + MATERIAL_SHADER_AT]
+        mfra    r7.x                    ; the hit shader may call shade_ray again
+        push    r7
         calli   r6.x
+        pop     r7
+        mtra    r7.x
         ret
 shade_miss:
         call    miss
@@ -263,6 +278,7 @@ next_light:
 lights_done:
         ilt     r0.x, r14.y, r15.z
         bz      r0.x, whitted_done      ; depth >= max depth: local shading only
+        mfra    r9.z                    ; kept with r9 while the secondary rays recurse
         ld1f    r9.x, [r4 + MATERIAL_REFLECTANCE_AT]
         ld1f    r9.y, [r4 + MATERIAL_TRANSMITTANCE_AT]
         flt     r0.x, r15.w, r9.x
@@ -297,7 +313,7 @@ lights_done:
         mad     r3.xyz, r8, r9.x, r3    ; + kr trace(reflected)
 no_reflection:
         flt     r0.x, r15.w, r9.y
-        bz      r0.x, whitted_done
+        bz      r0.x, secondary_done
         ld1f    r10.x, [r4 + MATERIAL_IOR_AT]
         rcp     r10.y, r10.x
         sel     r10.z, r4.y, r10.y, r10.x   ; eta = entering ? 1/ior : ior
@@ -337,6 +353,8 @@ transmitted:
         pop     r9
         pop     r3
         mad     r3.xyz, r0, r9.y, r3        ; + kt trace(transmitted)
+secondary_done:
+        mtra    r9.z
 whitted_done:
         mov     r0.xyz, r3
         ret

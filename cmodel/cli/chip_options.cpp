@@ -15,7 +15,8 @@ KdBuildConfig ChipOptions::build_config() const {
   c.empty_bonus = build.empty_bonus;
   c.max_leaf_prims = build.max_leaf_prims;
   c.perfect_splits = build.perfect_splits;
-  if (max_depth >= 0) c.max_depth = max_depth;
+  // Any given depth, a negative one too, goes to the builder's range check.
+  if (max_depth) c.max_depth = *max_depth;
   c.format = number_format();
   return c;
 }

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <optional>
 #include <string>
 
 #include <CLI/CLI.hpp>
@@ -18,7 +19,7 @@ struct ChipOptions {
   std::string config = "default";
   std::string format;  // empty: the configuration's format
   std::string isect = "woop";
-  int max_depth = -1;  // -1: the configuration's stack depth
+  std::optional<int> max_depth;  // none: the configuration's stack depth
   KdBuildConfig build;
 
   // Resolves the configuration; throws rpu::Error for unknown names or an impossible

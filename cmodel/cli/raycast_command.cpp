@@ -14,6 +14,7 @@
 #include "cli/commands.hpp"
 #include "cli/output_paths.hpp"
 #include "cli/progress.hpp"
+#include "common/host_threads.hpp"
 #include "functional/scene_image.hpp"
 #include "functional/tracer.hpp"
 #include "image/image.hpp"
@@ -65,9 +66,7 @@ int run_raycast(const RaycastOptions& o) {
       }
     };
     const unsigned n = o.threads > 0 ? static_cast<unsigned>(o.threads) : std::max(1u, std::thread::hardware_concurrency());
-    std::vector<std::jthread> pool;
-    for (unsigned i = 1; i < n; ++i) pool.emplace_back(worker);
-    worker();
+    run_host_threads(static_cast<int>(n), [&](int) { worker(); });
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 

@@ -1,13 +1,17 @@
 // rpu render: a scene to PNG/EXR through one view of the chip.
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "cli/chip_options.hpp"
 #include "cli/commands.hpp"
@@ -61,11 +65,47 @@ void write_cycle_heatmap(const cycle::CycleStats& st, const std::filesystem::pat
   write_image(image, file);
 }
 
+// whitted.s turns pixel coordinates into floats: a format whose largest number is below
+// the image's width or height would overflow them and render nothing but background.
+void check_builtin_firmware_format(fp::Format format, const RenderSettings& s) {
+  const double largest = std::ldexp(2.0 - std::ldexp(1.0, -format.fraction_bits), format.max_exponent());
+  if (largest < std::max(s.width, s.height)) {
+    throw Error(fmt::format("number format {}: its largest number, {}, is below the image's {}x{} pixel "
+                            "coordinates, which the built-in firmware computes in it; choose a format with more "
+                            "exponent bits (docs/numbers.md) or a smaller image",
+                            format.name(), largest, s.width, s.height));
+  }
+}
+
+// A frame of one colour is what a format too narrow for the scene's arithmetic (or a
+// camera that sees nothing) gives: say so rather than leave a plain image unexplained.
+void warn_if_constant(const Image& image, const std::string& backend, const std::string& format) {
+  if (image.pixels.size() < 2) return;
+  const glm::vec3 first = image.pixels.front();
+  std::size_t not_finite = 0;
+  bool constant = true;
+  for (const glm::vec3& p : image.pixels) {
+    constant = constant && std::memcmp(&p, &first, sizeof p) == 0;
+    not_finite += std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z) ? 0 : 1;
+  }
+  if (not_finite != 0) {
+    fmt::print(stderr, "rpu: warning: {} of {} pixels are NaN or infinite\n", not_finite, image.pixels.size());
+  }
+  if (constant) {
+    fmt::print(stderr,
+               "rpu: warning: every pixel of the image is ({}, {}, {}){}; the camera may see nothing, or the number "
+               "format's range or precision is too small for the scene's arithmetic (docs/numbers.md)\n",
+               first.x, first.y, first.z, backend == "reference" ? "" : fmt::format(" (format {})", format));
+  }
+}
+
 // Firmware on a device: the functional golden model, or the cycle model (which also
 // writes its statistics, heatmap and timeline).
-Image render_device(const Scene& scene, const RenderOptions& o, std::string& summary) {
+Image render_device(const Scene& world, const RenderOptions& o, std::string& summary) {
   const KdBuildConfig build = o.chip.build_config();
+  const Scene scene = functional::chip_space_scene(world, build.format);
   const functional::SceneImage si = functional::make_scene_image(scene, build, o.chip.isect_mode());
+  if (o.firmware.empty()) check_builtin_firmware_format(build.format, o.settings);
   const isa::Firmware firmware =
       o.firmware.empty() ? device::builtin_firmware("whitted.s") : device::load_firmware_file(o.firmware);
   std::optional<cycle::TimelineWriter> timeline;
@@ -134,7 +174,33 @@ void check_render_outputs(const RenderOptions& o) {
   check_outputs(outputs, inputs);
 }
 
-int run_render(const RenderOptions& options) {
+// The options that only a device backend reads: the reference renderer computes in
+// double precision, without firmware, chip configuration or kd-tree.
+constexpr std::string_view kDeviceOptions[] = {"--firmware", "--watchdog", "--config", "--format", "--isect",
+                                               "--kd-depth", "--leaf-prims", "--traversal-cost",
+                                               "--intersection-cost", "--empty-bonus", "--perfect-splits"};
+
+void check_reference_options(const CLI::App& command, const Scene& scene) {
+  std::vector<std::string_view> given;
+  for (const std::string_view name : kDeviceOptions) {
+    if (command.count(std::string(name)) != 0) given.push_back(name);
+  }
+  if (!given.empty()) {
+    throw Error(fmt::format("{} {} no effect on the reference backend, which renders in double precision "
+                            "without firmware, chip configuration or kd-tree; use --backend functional or cycle",
+                            fmt::join(given, ", "), given.size() == 1 ? "has" : "have"));
+  }
+  for (const Material& m : scene.materials) {
+    if (m.shader != Material{}.shader) {
+      fmt::print(stderr,
+                 "rpu: warning: material '{}' names the shader '{}'; the reference backend shades every "
+                 "material with its built-in Whitted model (docs/shading.md)\n",
+                 m.name, m.shader);
+    }
+  }
+}
+
+int run_render(const RenderOptions& options, const CLI::App& command) {
   for (const std::filesystem::path& out : options.outputs) check_image_extension(out);
   for (const std::filesystem::path& out : options.heatmap) check_image_extension(out);
   const bool cycle_outputs = !options.stats.empty() || !options.heatmap.empty() || !options.trace.empty();
@@ -152,6 +218,7 @@ int run_render(const RenderOptions& options) {
   check_render_outputs(options);
   const Scene scene = resolve_scene(options.scene);
   for (const std::string& warning : scene.warnings) fmt::print(stderr, "rpu: warning: {}\n", warning);
+  if (options.backend == "reference") check_reference_options(command, scene);
 
   const auto start = std::chrono::steady_clock::now();
   RayCounts counts;
@@ -159,6 +226,7 @@ int run_render(const RenderOptions& options) {
   const Image image = options.backend == "reference" ? render_reference(scene, options.settings, counts)
                                                      : render_device(scene, options, device_summary);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  warn_if_constant(image, options.backend, options.chip.number_format().name());
   std::vector<std::string> written;
   for (const std::filesystem::path& out : options.outputs) {
     write_image(image, out);
@@ -216,7 +284,13 @@ Command add_render_command(CLI::App& app) {
   render_cmd->add_option("--watchdog", render->watchdog,
                          "functional and cycle backends: instructions one thread may retire for one pixel before it "
                          "faults")
-      ->check(CLI::PositiveNumber)
+      ->check(CLI::Validator(
+          [](const std::string& text) {
+            return text.find_first_not_of("0123456789") == std::string::npos && text.find_first_not_of('0') != std::string::npos
+                       ? std::string()
+                       : fmt::format("the watchdog must be a whole number of instructions >= 1, got {}", text);
+          },
+          "INSTRUCTIONS>=1"))
       ->capture_default_str();
   render_cmd->add_option("--stats", render->stats, "cycle backend: statistics file(s), .json and/or .csv");
   render_cmd->add_option("--heatmap", render->heatmap,
@@ -228,7 +302,7 @@ Command add_render_command(CLI::App& app) {
       ->capture_default_str();
   add_chip_options(*render_cmd, render->chip);
 
-  return {render_cmd, [render] { return run_render(*render); }};
+  return {render_cmd, [render, render_cmd] { return run_render(*render, *render_cmd); }};
 }
 
 }  // namespace rpu::cli

@@ -98,6 +98,7 @@ class CycleDevice final : public device::DeviceBase {
  public:
   CycleDevice(const spec::HardwareConfig& config, fp::Format format, const CycleOptions& options)
       : DeviceBase(config, format), options_(options) {}
+  ~CycleDevice() override { end_frame(); }
 
   std::string_view backend() const override { return "cycle"; }
 
@@ -112,6 +113,7 @@ class CycleDevice final : public device::DeviceBase {
   void plan(std::uint32_t c, Cycle from);
   void core_event(std::uint32_t c, Cycle now);
   void issue(std::uint32_t c, std::uint32_t i, Cycle now);
+  void time_issue(std::uint32_t c, std::uint32_t i, std::uint32_t pc, Cycle now);
   void start_round(std::uint32_t c, std::uint32_t i, Cycle at);
   void dispatch(Ray&& ray, Cycle at);
   void start_ray(std::uint32_t u, Ray&& ray, Cycle at);
@@ -142,7 +144,11 @@ class CycleDevice final : public device::DeviceBase {
   std::uint64_t rounds_done_ = 0, rounds_total_ = 0;
   const ProgressCallback* progress_ = nullptr;
   std::vector<functional::ShaderCore::Lane> lanes_;
-  std::optional<std::string> fault_;
+  // The first faulting pixel so far (none: kNoFault). Chunks whose pixels all come
+  // after it stop; those before it run on, so that the fault reported is the first in
+  // pixel order, the functional backend's (docs/shader-core.md "Faults").
+  static constexpr std::uint32_t kNoFault = std::numeric_limits<std::uint32_t>::max();
+  std::uint32_t fault_pixel_ = kNoFault;
   std::deque<TimelineSlice> open_slices_;
   CycleStats out_;
 };
@@ -188,6 +194,10 @@ Cycle CycleDevice::compute_ready_time(const ChunkSlot& s, Wait& why) const {
   }
   if (s.halted) {
     why = Wait::kTrace;
+    return kNever;
+  }
+  if (s.chunk.threads().front().lane.pixel > fault_pixel_) {
+    why = Wait::kIdle;
     return kNever;
   }
   why = Wait::kDependency;
@@ -244,7 +254,7 @@ void CycleDevice::core_event(std::uint32_t c, Cycle now) {
     issue(c, i, now);
     break;
   }
-  if (!fault_) plan(c, now + 1);
+  plan(c, now + 1);
 }
 
 void CycleDevice::set_result(ChunkSlot& s, int reg, Cycle ready, bool from_load) {
@@ -259,14 +269,30 @@ void CycleDevice::issue(std::uint32_t c, std::uint32_t i, Cycle now) {
   ChunkSlot& s = core.chunks[i];
   s.ready_known = false;
   const std::uint32_t pc = s.chunk.next_pc();
-  try {
-    shader_->step(s.chunk, shader_stats_, &record_);
-  } catch (const Error& e) {
-    fault_ = e.what();
-    return;
+  shader_->step(s.chunk, shader_stats_, &record_);
+  if (const functional::ShaderFault* f = s.chunk.fault(); f && f->pixel() < fault_pixel_) {
+    fault_pixel_ = f->pixel();
+    for (Core& other : cores_) {
+      for (ChunkSlot& slot : other.chunks) slot.ready_known = false;
+    }
   }
   ++core.time.chunk_issues;
   s.earliest = now + 1;
+  // A step whose every lane faulted at an illegal pc has no instruction to time.
+  if (record_.insn) time_issue(c, i, pc, now);
+  if (s.chunk.done()) {
+    if (s.rays_in_flight) {
+      s.halted = true;
+    } else {
+      start_round(c, i, now + 1);
+    }
+  }
+}
+
+// When the results of the step just issued are ready, and the memory and rays it sends.
+void CycleDevice::time_issue(std::uint32_t c, std::uint32_t i, std::uint32_t pc, Cycle now) {
+  Core& core = cores_[c];
+  ChunkSlot& s = core.chunks[i];
   const isa::Instruction& in = *record_.insn;
   const isa::RegisterUse& use = shader_->register_use(pc);
   const spec::LatencyConfig& lat = config_.latency;
@@ -331,13 +357,6 @@ void CycleDevice::issue(std::uint32_t c, std::uint32_t i, Cycle now) {
       }
     }
   }
-  if (s.chunk.done()) {
-    if (s.rays_in_flight) {
-      s.halted = true;
-    } else {
-      start_round(c, i, now + 1);
-    }
-  }
 }
 
 // The chunk's current round is over: it takes its next round of pixels, if any.
@@ -351,7 +370,8 @@ void CycleDevice::start_round(std::uint32_t c, std::uint32_t i, Cycle at) {
   }
   s.halted = false;
   lanes_of(s.round, s.index, lanes_);
-  s.live = !lanes_.empty();
+  // A chunk that faulted keeps its fault: its next round's pixels all come after it.
+  s.live = !lanes_.empty() && lanes_.front().pixel < fault_pixel_;
   if (!s.live) return;
   shader_->start(s.chunk, lanes_, shader_stats_);
   s.round_start = at;
@@ -516,7 +536,7 @@ void CycleDevice::run(const ProgressCallback& progress) {
   events_ = {};
   seq_ = 0;
   ray_queue_.clear();
-  fault_.reset();
+  fault_pixel_ = kNoFault;
   open_slices_.clear();
   out_ = {};
   out_.config = std::string(config_.name);
@@ -559,7 +579,7 @@ void CycleDevice::run(const ProgressCallback& progress) {
   {
     // One flush-to-zero scope for the frame's fp32 fast path, not one per step.
     const fp::fast32::FlushScope flush;
-    while (!events_.empty() && !fault_) {
+    while (!events_.empty()) {
       const Event e = events_.top();
       events_.pop();
       now = e.at;
@@ -570,7 +590,13 @@ void CycleDevice::run(const ProgressCallback& progress) {
       }
     }
   }
-  if (!fault_) {
+  const ShaderCore::Chunk* faulted = nullptr;
+  for (const Core& core : cores_) {
+    for (const ChunkSlot& s : core.chunks) {
+      if (s.chunk.fault() && s.chunk.fault()->pixel() == fault_pixel_) faulted = &s.chunk;
+    }
+  }
+  if (!faulted) {
     for (const Core& core : cores_) {
       for (const ChunkSlot& s : core.chunks) {
         if (s.live) throw Error(fmt::format("cycle model: no event left at cycle {} while chunk {} is live", now, s.index));
@@ -584,9 +610,14 @@ void CycleDevice::run(const ProgressCallback& progress) {
   stats_.host_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   out_.host_seconds = stats_.host_seconds;
   stats_.cycle = std::move(out_);
+  if (faulted) {
+    const functional::ShaderFault fault = *faulted->fault();
+    tracer_.reset();
+    shader_.reset();
+    throw fault;
+  }
   tracer_.reset();
   shader_.reset();
-  if (fault_) throw Error(*fault_);
 }
 
 // The totals, the idle time and the bounds of the frame that ended at `end`.

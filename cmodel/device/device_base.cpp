@@ -2,6 +2,8 @@
 
 #include <cstring>
 #include <limits>
+#include <optional>
+#include <string>
 
 #include <fmt/format.h>
 
@@ -11,7 +13,9 @@ namespace rpu::device {
 
 namespace mm = spec::memory;
 
-DeviceBase::~DeviceBase() {
+DeviceBase::~DeviceBase() { end_frame(); }
+
+void DeviceBase::end_frame() noexcept {
   if (frame_.valid()) frame_.wait();
 }
 
@@ -27,6 +31,8 @@ void DeviceBase::load_image(std::vector<std::uint8_t> image, const std::string& 
 
 void DeviceBase::load_firmware(isa::Firmware firmware, std::vector<std::string> shader_names) {
   idle();
+  // Here rather than when the frame's threads make their shader cores.
+  functional::raygen_entry(firmware);
   std::vector<std::uint32_t> table;
   for (const std::string& name : shader_names) {
     const std::string label = "hit_" + name;
@@ -54,10 +60,40 @@ void DeviceBase::launch(const Launch& launch, ProgressCallback progress) {
     throw Error(fmt::format("a {}x{} framebuffer does not fit the device's address space", launch.width,
                             launch.height));
   }
+  check_stacks(launch.max_depth);
   memory_.emplace(image_, make_launch_block(image_, layout_, launch, shader_table_), firmware_.data,
                   static_cast<std::uint32_t>(n));
   launch_ = launch;
   frame_ = std::async(std::launch::async, [this, progress] { run(progress); });
+}
+
+// Firmware that recurses per bounce declares what it needs (docs/shader-core.md "The
+// shader ABI"), so that a launch too deep for the configuration's stacks is refused
+// before it runs instead of faulting in the middle of the frame.
+void DeviceBase::check_stacks(int max_depth) const {
+  const auto constant = [&](std::string_view name) -> std::optional<std::uint64_t> {
+    const auto s = firmware_.symbols.find(name);
+    if (s == firmware_.symbols.end() || s->second.kind != isa::Symbol::Kind::kConstant) return std::nullopt;
+    return s->second.value;
+  };
+  const auto depth = static_cast<std::uint64_t>(max_depth);
+  if (const auto entries = constant("FIRMWARE_RETURN_STACK_ENTRIES");
+      entries && *entries > static_cast<std::uint64_t>(config_.call_depth)) {
+    throw Error(fmt::format("the firmware needs {} return-stack entries per thread (its FIRMWARE_RETURN_STACK_ENTRIES); "
+                            "config '{}' has call_depth {} (spec/configs.toml): use a configuration with more",
+                            *entries, config_.name, config_.call_depth));
+  }
+  const std::uint64_t fixed = constant("FIRMWARE_STACK_BYTES").value_or(0);
+  const std::uint64_t per_depth = constant("FIRMWARE_STACK_BYTES_PER_DEPTH").value_or(0);
+  const auto have = static_cast<std::uint64_t>(config_.stack_bytes);
+  if (fixed + depth * per_depth > have) {
+    throw Error(fmt::format(
+        "max depth {} needs {} stack bytes per thread (the firmware's FIRMWARE_STACK_BYTES {} + {} x "
+        "FIRMWARE_STACK_BYTES_PER_DEPTH {}); config '{}' has stack_bytes {} (spec/configs.toml): {}",
+        max_depth, fixed + depth * per_depth, fixed, max_depth, per_depth, config_.name, have,
+        fixed > have ? std::string("use a configuration with more")
+                     : fmt::format("use --max-depth {} or less", (have - fixed) / per_depth)));
+  }
 }
 
 void DeviceBase::wait() {

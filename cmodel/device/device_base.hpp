@@ -29,6 +29,9 @@ class DeviceBase : public Device {
  protected:
   // Runs the launched frame (on the frame's host thread); throws rpu::Error on a fault.
   virtual void run(const ProgressCallback& progress) = 0;
+  // Waits for a running frame, dropping its error. A backend's destructor calls it: the
+  // frame runs the backend's run(), so it must end before the backend does.
+  void end_frame() noexcept;
 
   std::uint64_t pixels() const { return std::uint64_t(launch_.width) * std::uint64_t(launch_.height); }
   std::uint64_t device_threads() const {
@@ -50,6 +53,7 @@ class DeviceBase : public Device {
 
  private:
   void idle();
+  void check_stacks(int max_depth) const;
 
   std::vector<std::uint32_t> shader_table_;
   bool has_firmware_ = false;

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <exception>
 #include <limits>
 #include <mutex>
 #include <optional>
@@ -22,6 +23,7 @@ class FunctionalDevice final : public DeviceBase {
  public:
   FunctionalDevice(const spec::HardwareConfig& config, fp::Format format, const FunctionalOptions& options)
       : DeviceBase(config, format), options_(options) {}
+  ~FunctionalDevice() override { end_frame(); }
 
   std::string_view backend() const override { return "functional"; }
 
@@ -37,35 +39,44 @@ class FunctionalDevice final : public DeviceBase {
     const std::uint64_t items = (pixels() + chunk - 1) / chunk;
 
     std::atomic<std::uint64_t> next{0}, done{0};
-    std::atomic<std::uint64_t> first_fault_item{std::numeric_limits<std::uint64_t>::max()};
+    // The first error in item order, of any kind, is what one host thread would meet.
+    // Its key is the item + 1; making the core comes before every item (key 0).
+    std::atomic<std::uint64_t> error_key{std::numeric_limits<std::uint64_t>::max()};
     std::mutex mutex;
-    std::optional<std::string> fault;
-    std::uint64_t fault_item = std::numeric_limits<std::uint64_t>::max();
+    std::exception_ptr error;
     functional::ShaderStats total;
+    const auto keep = [&](std::uint64_t key) {
+      const std::lock_guard lock(mutex);
+      if (key < error_key.load()) {
+        error = std::current_exception();
+        error_key = key;
+      }
+    };
 
+    // Runs on every host thread; nothing may escape it, since an exception leaving a
+    // std::jthread ends the process.
     const auto worker = [&] {
-      functional::ShaderCore core(firmware_, *memory_, tracer, format_, core_config, options_.fast_path);
-      functional::ShaderStats stats;
-      std::vector<functional::ShaderCore::Lane> lanes;
-      for (std::uint64_t item; (item = next.fetch_add(1)) < items;) {
-        // After a fault, only items before it still run, so that the fault reported is
-        // the first in pixel order whatever the host threads' timing.
-        if (item > first_fault_item.load()) break;
-        lanes_of(item / chunks_per_round, item % chunks_per_round, lanes);
-        try {
-          core.run_chunk(lanes, stats);
-        } catch (const Error& e) {
-          const std::lock_guard lock(mutex);
-          if (item < fault_item) {
-            fault_item = item;
-            fault = e.what();
-            first_fault_item = item;
+      try {
+        functional::ShaderCore core(firmware_, *memory_, tracer, format_, core_config, options_.fast_path);
+        functional::ShaderStats stats;
+        std::vector<functional::ShaderCore::Lane> lanes;
+        for (std::uint64_t item; (item = next.fetch_add(1)) < items;) {
+          // After an error only items before it still run, so that the one reported
+          // is the first in pixel order whatever the host threads' timing.
+          if (item + 1 > error_key.load()) break;
+          lanes_of(item / chunks_per_round, item % chunks_per_round, lanes);
+          try {
+            core.run_chunk(lanes, stats);
+            if (progress) progress(done.fetch_add(1) + 1, items);
+          } catch (...) {
+            keep(item + 1);
           }
         }
-        if (progress) progress(done.fetch_add(1) + 1, items);
+        const std::lock_guard lock(mutex);
+        total += stats;
+      } catch (...) {
+        keep(0);
       }
-      const std::lock_guard lock(mutex);
-      total += stats;
     };
     const int n = options_.host_threads > 0 ? options_.host_threads
                                              : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
@@ -77,7 +88,7 @@ class FunctionalDevice final : public DeviceBase {
     stats_.shader = total;
     stats_.host_threads = n;
     stats_.host_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    if (fault) throw Error(*fault);
+    if (error) std::rethrow_exception(error);
   }
 
   FunctionalOptions options_;

@@ -99,6 +99,14 @@ Vec swizzle(const Vec& r, std::uint8_t swz) {
 
 }  // namespace
 
+std::uint32_t raygen_entry(const isa::Firmware& firmware) {
+  const auto entry = firmware.symbols.find("raygen");
+  if (entry == firmware.symbols.end() || entry->second.kind != isa::Symbol::Kind::kCode) {
+    throw Error("the firmware has no code label 'raygen' (the ray-generation entry point every thread starts at)");
+  }
+  return entry->second.value;
+}
+
 ShaderCore::ShaderCore(const isa::Firmware& firmware, DeviceMemory& memory, const Tracer& tracer, fp::Format format,
                        const ShaderCoreConfig& config, bool fast_path)
     : firmware_(firmware),
@@ -106,12 +114,8 @@ ShaderCore::ShaderCore(const isa::Firmware& firmware, DeviceMemory& memory, cons
       tracer_(tracer),
       format_(format),
       config_(config),
-      fast_(fast_path && format == fp::kFp32) {
-  const auto entry = firmware.symbols.find("raygen");
-  if (entry == firmware.symbols.end() || entry->second.kind != isa::Symbol::Kind::kCode) {
-    throw Error("the firmware has no code label 'raygen' (the ray-generation entry point every thread starts at)");
-  }
-  raygen_ = entry->second.value;
+      fast_(fast_path && format == fp::kFp32),
+      raygen_(raygen_entry(firmware)) {
   code_.resize(firmware.code.size());
   uses_.resize(firmware.code.size());
   illegal_why_.resize(firmware.code.size());
@@ -159,6 +163,7 @@ void ShaderCore::start(Chunk& chunk, std::span<const Lane> lanes, ShaderStats& s
     t.returns.clear();
     t.stack.clear();
   }
+  chunk.fault_.reset();
   chunk.update_next_pc();
   stats.pixels += lanes.size();
 }
@@ -192,7 +197,16 @@ void ShaderCore::step_with(const Ops& ops, Chunk& chunk, ShaderStats& stats, Ste
     Thread& t = chunk.threads_[l];
     if (t.done || t.pc != pc) continue;
     if (record) record->lanes |= 1u << l;
-    execute(ops, t, stats, record);
+    try {
+      execute(ops, t, stats, record);
+    } catch (const ShaderFault& f) {
+      t.done = true;
+      if (!chunk.fault_ || f.pixel() < chunk.fault_->pixel()) chunk.fault_ = f;
+      // Later pixels cannot be the one reported; earlier ones run on to halt or fault.
+      for (Thread& u : chunk.threads_) {
+        if (u.lane.pixel > chunk.fault_->pixel()) u.done = true;
+      }
+    }
   }
   chunk.update_next_pc();
 }
@@ -210,6 +224,7 @@ void ShaderCore::run_chunk(std::span<const Lane> lanes, ShaderStats& stats,
   } else {
     run(SoftOps{format_});
   }
+  if (chunk.fault_) throw *chunk.fault_;
   if (end_registers) {
     end_registers->clear();
     for (const Thread& t : chunk.threads_) end_registers->push_back(t.regs);
@@ -317,12 +332,15 @@ void ShaderCore::execute(const Ops& ops, Thread& t, ShaderStats& stats, StepReco
     if (to_format) v = ops.out(ops.in(v));
     write({v, v, v, v});
   };
-  const auto call = [&](std::uint32_t target) {
+  const auto push_return = [&](std::uint32_t pc) {
     if (t.returns.size() >= static_cast<std::size_t>(config_.call_depth)) {
       fault(t, fmt::format("call-depth overflow: the return stack holds {} entries (call_depth of the configuration)",
                            config_.call_depth));
     }
-    t.returns.push_back(t.pc + 1);
+    t.returns.push_back(pc);
+  };
+  const auto call = [&](std::uint32_t target) {
+    push_return(t.pc + 1);
     t.pc = target;
   };
   const std::uint32_t stack_slots = config_.stack_bytes / 16;
@@ -504,6 +522,14 @@ void ShaderCore::execute(const Ops& ops, Thread& t, ShaderStats& stats, StepReco
       next = t.returns.back();
       t.returns.pop_back();
       break;
+    case Opcode::kMfra: {
+      if (t.returns.empty()) fault(t, "mfra with an empty return stack");
+      const std::uint32_t ra = t.returns.back();
+      t.returns.pop_back();
+      write({ra, ra, ra, ra});
+      break;
+    }
+    case Opcode::kMtra: push_return(raw(0)[0]); break;
     case Opcode::kHalt: t.done = true; break;
     case Opcode::kTrace:
     case Opcode::kTracea: {

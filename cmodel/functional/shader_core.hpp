@@ -2,6 +2,7 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -46,7 +47,7 @@ struct ShaderCoreConfig {
   int registers = 32;
   int chunk_size = 4;
   int call_depth = 16;
-  std::uint32_t stack_bytes = 4096;
+  std::uint32_t stack_bytes = 16384;
   std::uint64_t watchdog = 50'000'000;  // instructions one thread may retire for one pixel
 };
 
@@ -77,10 +78,14 @@ struct StepRecord {
   std::size_t trace_count = 0;
 };
 
+// The pc of the firmware's `raygen` code label, where every thread starts; rpu::Error
+// if it has none.
+std::uint32_t raygen_entry(const isa::Firmware& firmware);
+
 class ShaderCore {
  public:
   // `firmware`, `memory` and `tracer` must outlive the core. The firmware must have a
-  // `raygen` code label.
+  // `raygen` code label (raygen_entry).
   ShaderCore(const isa::Firmware& firmware, DeviceMemory& memory, const Tracer& tracer, fp::Format format,
              const ShaderCoreConfig& config, bool fast_path = true);
 
@@ -105,6 +110,8 @@ class ShaderCore {
   class Chunk {
    public:
     bool done() const { return next_pc_ == kDone; }
+    // The fault of the chunk's first faulting pixel so far, or null.
+    const ShaderFault* fault() const { return fault_ ? &*fault_ : nullptr; }
     // The pc the next step issues (the smallest live pc); only while !done().
     std::uint32_t next_pc() const { return next_pc_; }
     const std::vector<Thread>& threads() const { return threads_; }
@@ -115,13 +122,17 @@ class ShaderCore {
     void update_next_pc();
     std::vector<Thread> threads_;
     std::uint32_t next_pc_ = kDone;
+    std::optional<ShaderFault> fault_;
   };
 
   // Puts the lanes at raygen with cleared registers.
   void start(Chunk& chunk, std::span<const Lane> lanes, ShaderStats& stats) const;
   // One lockstep step: the instruction at next_pc() for the lanes standing there.
-  // Throws ShaderFault. With `record`, reports what the step did. On the fp32 fast path
-  // it sets flush-to-zero for the step unless the calling thread holds a FlushScope.
+  // A lane that faults stops, and so do the lanes of later pixels, while those of
+  // earlier pixels run on: once the chunk is done, fault() is its first faulting pixel's
+  // fault in pixel order, whatever the lanes' timing (docs/shader-core.md "Faults").
+  // With `record`, reports what the step did. On the fp32 fast path it sets
+  // flush-to-zero for the step unless the calling thread holds a FlushScope.
   void step(Chunk& chunk, ShaderStats& stats, StepRecord* record = nullptr);
   // The decoded instruction at `pc`, or null (illegal or past the end).
   const isa::Instruction* instruction(std::uint32_t pc) const {
@@ -129,7 +140,8 @@ class ShaderCore {
   }
   const isa::RegisterUse& register_use(std::uint32_t pc) const { return uses_[pc]; }
 
-  // Runs the chunk's lanes from raygen until every one halts. Throws ShaderFault.
+  // Runs the chunk's lanes from raygen until every one halts or faults; then throws the
+  // chunk's fault (ShaderFault), if any.
   // With `end_registers`, receives each lane's registers after its halt (for tests
   // that check a program's end state).
   void run_chunk(std::span<const Lane> lanes, ShaderStats& stats,

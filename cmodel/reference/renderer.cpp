@@ -6,6 +6,7 @@
 #include <thread>
 #include <vector>
 
+#include "common/host_threads.hpp"
 #include "scene/geometry.hpp"
 
 namespace rpu {
@@ -143,11 +144,8 @@ Image ReferenceRenderer::render(const RenderSettings& settings, RayCounts* count
   const unsigned hardware = std::max(1u, std::thread::hardware_concurrency());
   const auto thread_count = static_cast<std::size_t>(settings.threads > 0 ? settings.threads : hardware);
   std::vector<RayCounts> per_thread(thread_count);
-  {
-    std::vector<std::jthread> threads;
-    for (std::size_t i = 1; i < thread_count; ++i) threads.emplace_back(worker, std::ref(per_thread[i]));
-    worker(per_thread[0]);
-  }
+  run_host_threads(static_cast<int>(thread_count),
+                   [&](int i) { worker(per_thread[static_cast<std::size_t>(i)]); });
   if (counts) {
     *counts = {};
     for (const RayCounts& c : per_thread) *counts += c;

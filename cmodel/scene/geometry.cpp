@@ -1,6 +1,11 @@
 #include "scene/geometry.hpp"
 
 #include <algorithm>
+#include <array>
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -83,6 +88,94 @@ std::size_t drop_degenerate_triangles(Scene& part, const std::string& name) {
         fmt::format("{}: dropped {} degenerate triangles ({})", name, dropped, why));
   }
   return dropped;
+}
+
+namespace {
+
+// A vertex's attributes as bit patterns, -0 read as +0, for exact comparison.
+struct VertexKey {
+  std::array<std::uint32_t, 8> words{};
+  bool operator==(const VertexKey&) const = default;
+};
+
+struct VertexKeyHash {
+  std::size_t operator()(const VertexKey& k) const {
+    std::uint64_t h = 1469598103934665603ull;  // FNV-1a over the words
+    for (const std::uint32_t w : k.words) h = (h ^ w) * 1099511628211ull;
+    return static_cast<std::size_t>(h);
+  }
+};
+
+std::uint32_t key_bits(float x) { return std::bit_cast<std::uint32_t>(x == 0.0f ? 0.0f : x); }
+
+VertexKey position_key(const glm::vec3& p) { return {{key_bits(p.x), key_bits(p.y), key_bits(p.z)}}; }
+
+}  // namespace
+
+void weld_identical_vertices(Scene& part) {
+  std::unordered_map<VertexKey, std::uint32_t, VertexKeyHash> first;
+  first.reserve(part.positions.size());
+  std::vector<std::uint32_t> remap(part.positions.size());
+  std::size_t kept = 0;
+  for (std::size_t v = 0; v < part.positions.size(); ++v) {
+    VertexKey key = position_key(part.positions[v]);
+    if (!part.normals.empty()) {
+      for (int c = 0; c < 3; ++c) key.words[3 + c] = key_bits(part.normals[v][c]);
+    }
+    if (!part.uvs.empty()) {
+      for (int c = 0; c < 2; ++c) key.words[6 + c] = key_bits(part.uvs[v][c]);
+    }
+    const auto [at, inserted] = first.try_emplace(key, static_cast<std::uint32_t>(kept));
+    if (inserted) {
+      part.positions[kept] = part.positions[v];
+      if (!part.normals.empty()) part.normals[kept] = part.normals[v];
+      if (!part.uvs.empty()) part.uvs[kept] = part.uvs[v];
+      ++kept;
+    }
+    remap[v] = at->second;
+  }
+  part.positions.resize(kept);
+  if (!part.normals.empty()) part.normals.resize(kept);
+  if (!part.uvs.empty()) part.uvs.resize(kept);
+  for (glm::uvec3& t : part.triangles) t = glm::uvec3(remap[t.x], remap[t.y], remap[t.z]);
+}
+
+void generate_smooth_normals(Scene& part) {
+  std::unordered_map<VertexKey, glm::dvec3, VertexKeyHash> sums;
+  for (const glm::uvec3& t : part.triangles) {
+    const glm::dvec3 a(part.positions[t.x]), b(part.positions[t.y]), c(part.positions[t.z]);
+    const glm::dvec3 n = glm::cross(b - a, c - a);
+    const double len = glm::length(n);
+    if (!(len > 0.0) || !std::isfinite(len)) continue;  // degenerate: dropped later
+    for (int k = 0; k < 3; ++k) sums[position_key(part.positions[t[k]])] += n / len;
+  }
+  part.normals.assign(part.positions.size(), glm::vec3(0.0f, 0.0f, 1.0f));
+  for (std::size_t v = 0; v < part.positions.size(); ++v) {
+    const auto s = sums.find(position_key(part.positions[v]));
+    if (s == sums.end()) continue;
+    const double len = glm::length(s->second);
+    if (len > 0.0 && std::isfinite(len)) part.normals[v] = glm::vec3(s->second / len);
+  }
+}
+
+void scale_scene(Scene& scene, int exponent) {
+  const auto scaled = [exponent](double x) { return std::ldexp(x, exponent); };
+  const auto scaled3 = [exponent](const glm::dvec3& v) {
+    return glm::dvec3(std::ldexp(v.x, exponent), std::ldexp(v.y, exponent), std::ldexp(v.z, exponent));
+  };
+  for (glm::vec3& p : scene.positions) {
+    p = glm::vec3(std::ldexp(p.x, exponent), std::ldexp(p.y, exponent), std::ldexp(p.z, exponent));
+  }
+  Camera& c = scene.camera;
+  c.position = scaled3(c.position);
+  c.look_at = scaled3(c.look_at);
+  c.aperture_radius = scaled(c.aperture_radius);
+  c.focus_distance = scaled(c.focus_distance);
+  for (Light& l : scene.lights) {
+    l.position = scaled3(l.position);
+    l.edge_u = scaled3(l.edge_u);
+    l.edge_v = scaled3(l.edge_v);
+  }
 }
 
 void append_geometry(Scene& scene, Scene&& part) {

@@ -37,6 +37,23 @@ bool is_degenerate(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c);
 // part.warnings. Returns how many were dropped.
 std::size_t drop_degenerate_triangles(Scene& part, const std::string& name);
 
+// Merges vertices whose position, normal and uv (where the part has them) are equal,
+// +0 and -0 alike, and renumbers the triangles. Equality, not a distance: a tolerance
+// would merge differently at each scale of the same mesh (Assimp's
+// JoinIdenticalVertices welded distinct vertices of small meshes).
+void weld_identical_vertices(Scene& part);
+
+// Gives every vertex the normalised sum of the unit normals of the triangles that use
+// its position (Assimp's GenSmoothNormals without its distance tolerance); (0, 0, 1)
+// where they cancel. Replaces any normals the part had.
+void generate_smooth_normals(Scene& part);
+
+// Multiplies every length of the scene by 2^exponent: vertices, the camera's position,
+// look-at point, aperture and focus distance, the lights' positions and edges. Exact in
+// binary floating point while nothing overflows or turns subnormal, so the scaled scene
+// renders the same image; directions, colours and materials do not change.
+void scale_scene(Scene& scene, int exponent);
+
 // Appends the geometry and warnings of `part` to `scene`. part.material_ids already
 // index scene.materials. Per-vertex normals and uvs are all or nothing over the whole
 // scene: a side without normals gets flat (face) normals, which un-shares its

@@ -98,6 +98,8 @@ Scene convert_mesh(const aiScene& ai, unsigned index, const glm::dmat4& to_world
     part.triangles.push_back(t);
     part.material_ids.push_back(options.material_id);
   }
+  weld_identical_vertices(part);
+  if (options.smooth && part.normals.empty()) generate_smooth_normals(part);
   return part;
 }
 
@@ -163,9 +165,9 @@ Scene load_mesh(const fs::path& path, const MeshOptions& options) {
                             importer.GetErrorString()));
   }
   check_finite(*ai, path);
-  unsigned steps = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_SortByPType;
-  if (options.smooth) steps |= aiProcess_GenSmoothNormals;
-  ai = importer.ApplyPostProcessing(steps);
+  // Welding and smooth normals are ours (convert_mesh): Assimp's use distance
+  // tolerances, so the same mesh at another scale would weld and shade differently.
+  ai = importer.ApplyPostProcessing(aiProcess_Triangulate | aiProcess_SortByPType);
   if (ai == nullptr || ai->mRootNode == nullptr) {
     throw Error(fmt::format("{}: cannot read the mesh: {}", path.string(),
                             importer.GetErrorString()));

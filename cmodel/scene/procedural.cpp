@@ -4,6 +4,7 @@
 #include <charconv>
 #include <cmath>
 #include <numbers>
+#include <optional>
 #include <utility>
 
 #include <fmt/format.h>
@@ -358,17 +359,21 @@ bool is_builtin_scene(std::string_view name_and_size) {
 Scene make_builtin_scene(std::string_view name_and_size) {
   const std::size_t colon = name_and_size.find(':');
   const std::string_view name = name_and_size.substr(0, colon);
-  int size = -1;
+  // No size means the generator's default; every given size, negative ones too, goes to
+  // the generator's own range check.
+  std::optional<int> size;
   if (colon != std::string_view::npos) {
     const std::string_view digits = name_and_size.substr(colon + 1);
-    const auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), size);
+    int value = 0;
+    const auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), value);
     if (digits.empty() || ec != std::errc() || end != digits.data() + digits.size()) {
       throw Error(fmt::format("{}: the size after ':' must be a whole number", name_and_size));
     }
+    size = value;
   }
-  if (name == "cornell") return size < 0 ? make_cornell_box() : make_cornell_box(size);
-  if (name == "balls") return size < 0 ? make_sphereflake() : make_sphereflake(size);
-  if (name == "tetra") return size < 0 ? make_tetra() : make_tetra(size);
+  if (name == "cornell") return size ? make_cornell_box(*size) : make_cornell_box();
+  if (name == "balls") return size ? make_sphereflake(*size) : make_sphereflake();
+  if (name == "tetra") return size ? make_tetra(*size) : make_tetra();
   throw Error(fmt::format("unknown built-in scene '{}' (built-ins: {})", name,
                           fmt::join(builtin_scene_names(), ", ")));
 }

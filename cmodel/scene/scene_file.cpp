@@ -6,10 +6,12 @@
 #include <initializer_list>
 #include <numbers>
 #include <optional>
+#include <set>
 #include <sstream>
 #include <string>
 #include <string_view>
 #include <utility>
+#include <vector>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -165,8 +167,50 @@ std::string read_text(const fs::path& path) {
 // nlohmann reports the byte offset just past the offending character; editors want
 // line:column (both from 1).
 Json parse_json(const std::string& text, const std::string& file) {
+  // nlohmann keeps the last of two equal keys; a scene file with both is ambiguous, so
+  // the parser's events track each object's keys and the JSON pointer to name it.
+  struct Frame {
+    bool object;
+    std::set<std::string> keys;
+    std::string key;         // object: the key being read
+    std::size_t next = 0;    // array: the index of the next element
+  };
+  std::vector<Frame> frames;
+  const auto pointer = [&frames] {
+    std::string out;
+    for (std::size_t i = 0; i + 1 < frames.size(); ++i) {
+      out += '/';
+      out += frames[i].object ? escape_pointer_token(frames[i].key) : std::to_string(frames[i].next - 1);
+    }
+    return out.empty() ? std::string("/") : out;
+  };
+  const auto track = [&](int, Json::parse_event_t event, Json& parsed) {
+    using E = Json::parse_event_t;
+    const bool element_starts = event == E::object_start || event == E::array_start || event == E::value;
+    if (element_starts && !frames.empty() && !frames.back().object) ++frames.back().next;
+    if (event == E::object_start || event == E::array_start) frames.push_back({event == E::object_start, {}, {}});
+    if (event == E::object_end || event == E::array_end) frames.pop_back();
+    if (event == E::key) {
+      Frame& f = frames.back();
+      f.key = parsed.get<std::string>();
+      if (!f.keys.insert(f.key).second) {
+        throw Error(fmt::format("{}: {}: duplicate key \"{}\" (the keys of an object must be unique)", file,
+                                pointer(), f.key));
+      }
+    }
+    return true;
+  };
+  // nlohmann stops at a NUL byte and accepts the document before it: bytes after it,
+  // a truncated or binary file, would be ignored unseen.
+  if (const std::size_t nul = text.find('\0'); nul != std::string::npos) {
+    const auto line = 1 + std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(nul), '\n');
+    const std::size_t line_start = text.rfind('\n', nul);
+    const std::size_t column = line_start == std::string::npos ? nul + 1 : nul - line_start;
+    throw Error(fmt::format("{}:{}:{}: malformed JSON: a NUL byte (byte {} of {}); a scene file is UTF-8 text", file,
+                            line, column, nul, text.size()));
+  }
   try {
-    return Json::parse(text);
+    return Json::parse(text, track);
   } catch (const Json::parse_error& e) {
     const std::size_t at = std::min<std::size_t>(e.byte == 0 ? 0 : e.byte - 1, text.size());
     const std::size_t line = 1 + static_cast<std::size_t>(
@@ -383,7 +427,9 @@ Camera frame_bounds(const Bounds& box) {
 }
 
 Light light_near(const Camera& camera, const Bounds& box) {
-  const double radius = box.empty() ? 1.0 : std::max(0.5 * glm::length(box.hi - box.lo), 1e-6);
+  // Relative to the scene's own size only, so that a scene scaled by 2^k lights the same.
+  double radius = box.empty() ? 0.0 : 0.5 * glm::length(box.hi - box.lo);
+  if (!(radius > 0.0)) radius = 1.0;
   const glm::dvec3 view = glm::normalize(camera.look_at - camera.position);
   const glm::dvec3 right = glm::normalize(glm::cross(view, camera.up));
   Light l;

@@ -7,6 +7,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -260,6 +261,90 @@ TEST(CycleModel, AShaderFaultIsReportedAsByTheFunctionalBackend) {
   }
   EXPECT_NE(expected.find("shader fault"), std::string::npos) << expected;
   EXPECT_EQ(actual, expected);
+}
+
+// The fault of a frame on every backend: functional on one and on several host
+// threads, and cycle.
+std::vector<std::string> faults_on_every_backend(const isa::Firmware& firmware, std::uint64_t watchdog,
+                                                 int width, int height) {
+  const Scene scene = resolve_scene("tests/isa/scenes/one_triangle.json");
+  const spec::HardwareConfig& config = hardware_config("default");
+  const functional::SceneImage si =
+      functional::make_scene_image(scene, kd_build_config_for("default"), IsectMode::kWoop);
+  std::vector<std::unique_ptr<device::Device>> devices;
+  for (const int threads : {1, 3}) {
+    device::FunctionalOptions o;
+    o.host_threads = threads;
+    o.watchdog = watchdog;
+    devices.push_back(device::make_functional_device(config, fp::kFp32, o));
+  }
+  CycleOptions o;
+  o.watchdog = watchdog;
+  devices.push_back(make_cycle_device(config, fp::kFp32, o));
+  std::vector<std::string> faults;
+  for (const auto& dev : devices) {
+    try {
+      render(*dev, scene, si.image, firmware, settings(width, height));
+      faults.push_back("no fault");
+    } catch (const Error& e) {
+      faults.push_back(e.what());
+    }
+  }
+  return faults;
+}
+
+// Issue 14 (7): pixel 0 halts, even pixels fault at pc 5 and odd ones one step later at
+// pc 6 (the smallest pc issues first). Pixel 2 faults first in time, pixel 1 first in
+// pixel order: every backend names pixel 1.
+TEST(CycleModel, TheFirstFaultInPixelOrderIsReportedByEveryBackend) {
+  const isa::Firmware firmware = assemble_text(R"(
+raygen:
+        rdsr    r0, pixel
+        li      r2.x, 0x30000000
+        bz      r0.z, done
+        andi    r1.x, r0.z, 1
+        bnz     r1.x, odd
+        ld      r3, [r2]
+odd:
+        ld      r3, [r2 + 16]
+done:
+        halt
+hit_whitted:
+        ret
+)");
+  for (const std::string& fault : faults_on_every_backend(firmware, 100'000, 16, 16)) {
+    EXPECT_EQ(fault,
+              "shader fault in thread 1 (core 0, chunk 0, lane 1; pixel 1, 0) at pc 6 (ld r3, [r2 + 16]): load of 16 "
+              "bytes at address 0x30000010 is outside the device memory");
+  }
+}
+
+// Pixel 37 runs away; pixel 50 faults at once, long before 37's watchdog. The watchdog
+// counts one thread's instructions for one pixel on every backend, and pixel 37 is the
+// one reported.
+TEST(CycleModel, ARunawayPixelIsReportedBeforeALaterPixelsEarlierFault) {
+  const isa::Firmware firmware = assemble_text(R"(
+raygen:
+        rdsr    r0, pixel
+        iaddi   r1.x, r0.z, -50
+        bz      r1.x, bad_load
+        iaddi   r1.x, r0.z, -37
+        bnz     r1.x, done
+spin:
+        bra     spin
+bad_load:
+        li      r2.x, 0x30000000
+        ld      r3, [r2]
+done:
+        halt
+hit_whitted:
+        ret
+)");
+  for (const std::string& fault : faults_on_every_backend(firmware, 5'000, 8, 8)) {
+    EXPECT_EQ(fault,
+              "shader fault in thread 37 (core 1, chunk 1, lane 1; pixel 5, 4) at pc 5 (bra 5): watchdog: the thread "
+              "retired 5000 instructions for one pixel; a runaway shader?");
+  }
 }
 
 // Issue 14 class 8: the timeline reaches its sink slice by slice during the frame; at

@@ -2,6 +2,7 @@
 // how a faulting shader is reported.
 #include <gtest/gtest.h>
 
+#include <stdexcept>
 #include <string>
 
 #include "asm/assembler.hpp"
@@ -120,6 +121,57 @@ hit_whitted:
       EXPECT_NE(m.find("load of 16 bytes at address 0x30000000 is outside the device memory"), std::string::npos)
           << m;
     }
+  }
+}
+
+// Issue 14 (4): firmware without raygen is refused when it is loaded, before the
+// frame's host threads make their shader cores.
+TEST(FunctionalDevice, FirmwareWithoutRaygenIsRefusedWhenLoaded) {
+  const Fixture f;
+  FunctionalOptions o;
+  o.host_threads = 4;
+  const auto dev = make_functional_device(hardware_config("default"), fp::kFp32, o);
+  dev->load_image(f.si.image.bytes, f.scene.source);
+  try {
+    dev->load_firmware(assemble_text("main:\n halt\nhit_whitted:\n ret\n"), shader_names(f.scene));
+    FAIL() << "firmware without raygen was accepted";
+  } catch (const Error& e) {
+    EXPECT_STREQ(e.what(),
+                 "the firmware has no code label 'raygen' (the ray-generation entry point every thread starts at)");
+  }
+}
+
+// Any exception on any host thread, not only a shader fault, reaches wait() as it would
+// on one thread, instead of ending the process: here the progress callback's.
+TEST(FunctionalDevice, AnErrorOnAnyHostThreadIsReportedAsOnOne) {
+  const Fixture f;
+  for (const int threads : {1, 2, 4}) {
+    FunctionalOptions o;
+    o.host_threads = threads;
+    const auto dev = make_functional_device(hardware_config("default"), fp::kFp32, o);
+    dev->load_image(f.si.image.bytes, f.scene.source);
+    dev->load_firmware(assemble_text(kOneRayPerPixel), shader_names(f.scene));
+    dev->launch({16, 16, 1, 0, 1}, [](std::size_t, std::size_t) { throw std::runtime_error("the display went away"); });
+    try {
+      dev->wait();
+      FAIL() << "the callback's exception was lost on " << threads << " host threads";
+    } catch (const std::runtime_error& e) {
+      EXPECT_STREQ(e.what(), "the display went away") << threads << " host threads";
+    }
+  }
+}
+
+// A device destroyed while its frame runs waits for the frame instead of leaving it to
+// call into a destroyed backend ("pure virtual method called").
+TEST(FunctionalDevice, DestroyingADeviceDuringItsFrameWaitsForTheFrame) {
+  const Fixture f;
+  FunctionalOptions o;
+  o.watchdog = 200'000;
+  for (int i = 0; i < 3; ++i) {
+    const auto dev = make_functional_device(hardware_config("tiny"), fp::kFp32, o);
+    dev->load_image(f.si.image.bytes, f.scene.source);
+    dev->load_firmware(assemble_text("raygen:\nspin:\n bra spin\nhit_whitted:\n ret\n"), shader_names(f.scene));
+    dev->launch({4, 4, 1, 0, 1});
   }
 }
 

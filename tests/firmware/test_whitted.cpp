@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "common/hardware_config.hpp"
+#include "cycle/cycle_device.hpp"
 #include "device/builtin_firmware.hpp"
 #include "device/device.hpp"
 #include "device/render_frame.hpp"
@@ -91,6 +92,141 @@ TEST(Whitted, NarrowFormatsRender) {
     const double psnr = psnr_srgb(reference, render_functional(scene, settings, "default", fp::format_by_name(name), 2));
     RecordProperty(fmt::format("psnr_db_{}", name), fmt::format("{:.1f}", psnr));
     EXPECT_GE(psnr, 35.0) << name;
+  }
+}
+
+// A closed box of mirrors with the camera inside: every ray reflects until the launch's
+// max depth, so the firmware recurses as deep as it may.
+constexpr const char* kMirrorBox = "tests/firmware/scenes/mirror_box.json";
+
+RenderSettings mirror_box_settings(int max_depth) {
+  RenderSettings s;
+  s.width = 12;
+  s.height = 9;
+  s.spp = 1;
+  s.max_depth = max_depth;
+  s.seed = 5;
+  return s;
+}
+
+Image render_on(device::Device& dev, const Scene& scene, const spec::HardwareConfig& config,
+                const isa::Firmware& firmware, const RenderSettings& settings) {
+  const functional::SceneImage si =
+      functional::make_scene_image(scene, kd_build_config_for(std::string(config.name)), IsectMode::kWoop);
+  return device::render_frame(dev, scene, si.image, firmware, settings);
+}
+
+// Issue 14 (6): shade_ray and hit_whitted keep their return addresses on the memory
+// stack, so the deepest --max-depth the CLI accepts (64) renders on every named
+// configuration, and the cycle backend's image is the functional one bit for bit.
+TEST(Whitted, MaxDepth64RendersOnEveryConfigurationAndBackend) {
+  const Scene scene = resolve_scene(kMirrorBox);
+  const isa::Firmware firmware = device::builtin_firmware("whitted.s");
+  for (const spec::HardwareConfig& config : spec::kConfigs) {
+    SCOPED_TRACE(std::string(config.name));
+    const fp::Format format = fp::format_by_name(config.format);
+    const auto functional = device::make_functional_device(config, format);
+    const auto cycle = cycle::make_cycle_device(config, format);
+    const Image f = render_on(*functional, scene, config, firmware, mirror_box_settings(64));
+    const Image c = render_on(*cycle, scene, config, firmware, mirror_box_settings(64));
+    EXPECT_TRUE(same_pixels(f, c)) << "the cycle backend's depth-64 image is not the functional one";
+  }
+}
+
+// The 64 bounces are traced, not cut short: the fp32 depth-64 image is the reference's
+// at depth 64 within the 40 dB of docs/accuracy.md, and far from its depth-8 image.
+TEST(Whitted, MaxDepth64MatchesTheReferenceAtDepth64) {
+  const Scene scene = resolve_scene(kMirrorBox);
+  RenderSettings settings = mirror_box_settings(64);
+  settings.width = 40;
+  settings.height = 30;
+  const Image functional = render_functional(scene, settings, "default", fp::kFp32, 2);
+  const double psnr = psnr_srgb(ReferenceRenderer(scene).render(settings), functional);
+  settings.max_depth = 8;
+  const double psnr_depth8 = psnr_srgb(ReferenceRenderer(scene).render(settings), functional);
+  RecordProperty("psnr_db", fmt::format("{:.1f}", psnr));
+  RecordProperty("psnr_db_against_depth_8", fmt::format("{:.1f}", psnr_depth8));
+  EXPECT_GE(psnr, 40.0);
+  EXPECT_LT(psnr_depth8, 30.0);
+}
+
+// What whitted.s declares (FIRMWARE_RETURN_STACK_ENTRIES, FIRMWARE_STACK_BYTES[_PER_DEPTH])
+// is what it uses: with exactly that the mirror box renders; with one return-stack entry
+// or 16 stack bytes less, and the declaration taken away so that the launch is not
+// refused up front, the frame faults.
+TEST(Whitted, DeclaresExactlyTheStacksItUses) {
+  const Scene scene = resolve_scene(kMirrorBox);
+  const isa::Firmware firmware = device::builtin_firmware("whitted.s");
+  const auto constant = [&](const char* name) { return static_cast<int>(firmware.symbols.at(name).value); };
+  const int depth = 10;
+  spec::HardwareConfig exact = hardware_config("tiny");
+  exact.call_depth = constant("FIRMWARE_RETURN_STACK_ENTRIES");
+  exact.stack_bytes = constant("FIRMWARE_STACK_BYTES") + depth * constant("FIRMWARE_STACK_BYTES_PER_DEPTH");
+  EXPECT_EQ(exact.call_depth, 3);
+  EXPECT_EQ(exact.stack_bytes, 48 + 10 * 144);
+  const auto fits = device::make_functional_device(exact, fp::kFp32);
+  EXPECT_NO_THROW(render_on(*fits, scene, exact, firmware, mirror_box_settings(depth)));
+
+  isa::Firmware undeclared = firmware;
+  for (const char* name : {"FIRMWARE_RETURN_STACK_ENTRIES", "FIRMWARE_STACK_BYTES", "FIRMWARE_STACK_BYTES_PER_DEPTH"}) {
+    undeclared.symbols.erase(name);
+  }
+  const auto fault_of = [&](const spec::HardwareConfig& config) {
+    const auto dev = device::make_functional_device(config, fp::kFp32);
+    try {
+      render_on(*dev, scene, config, undeclared, mirror_box_settings(depth));
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no fault");
+  };
+  spec::HardwareConfig small_stack = exact;
+  small_stack.stack_bytes -= 16;
+  EXPECT_NE(fault_of(small_stack).find("stack overflow"), std::string::npos) << fault_of(small_stack);
+  spec::HardwareConfig small_return_stack = exact;
+  small_return_stack.call_depth -= 1;
+  EXPECT_NE(fault_of(small_return_stack).find("call-depth overflow"), std::string::npos)
+      << fault_of(small_return_stack);
+}
+
+// Where a limit remains, the launch is refused before any thread runs, on every backend,
+// with what the depth needs and what to do.
+TEST(Whitted, ALaunchTooDeepForTheStacksIsRefusedUpFront) {
+  const Scene scene = resolve_scene(kMirrorBox);
+  const isa::Firmware firmware = device::builtin_firmware("whitted.s");
+  spec::HardwareConfig config = hardware_config("default");
+  config.stack_bytes = 4096;
+  for (const bool cycle_backend : {false, true}) {
+    const std::unique_ptr<device::Device> dev = cycle_backend ? cycle::make_cycle_device(config, fp::kFp32)
+                                                              : device::make_functional_device(config, fp::kFp32);
+    const functional::SceneImage si =
+        functional::make_scene_image(scene, kd_build_config_for("default"), IsectMode::kWoop);
+    dev->load_image(si.image.bytes, scene.source);
+    dev->load_firmware(firmware, shader_names(scene));
+    try {
+      dev->launch({4, 4, 1, 64, 1});
+      FAIL() << "a launch needing 9264 stack bytes per thread ran with 4096";
+    } catch (const Error& e) {
+      EXPECT_STREQ(e.what(),
+                   "max depth 64 needs 9264 stack bytes per thread (the firmware's FIRMWARE_STACK_BYTES 48 + 64 x "
+                   "FIRMWARE_STACK_BYTES_PER_DEPTH 144); config 'default' has stack_bytes 4096 (spec/configs.toml): "
+                   "use --max-depth 28 or less");
+    }
+    EXPECT_NO_THROW(dev->launch({4, 4, 1, 28, 1}));
+    EXPECT_NO_THROW(dev->wait());
+  }
+  config.call_depth = 2;
+  const auto dev = device::make_functional_device(config, fp::kFp32);
+  const functional::SceneImage si = functional::make_scene_image(scene, kd_build_config_for("default"), IsectMode::kWoop);
+  dev->load_image(si.image.bytes, scene.source);
+  dev->load_firmware(firmware, shader_names(scene));
+  try {
+    dev->launch({4, 4, 1, 0, 1});
+    FAIL() << "a launch needing 3 return-stack entries ran with 2";
+  } catch (const Error& e) {
+    EXPECT_STREQ(e.what(),
+                 "the firmware needs 3 return-stack entries per thread (its FIRMWARE_RETURN_STACK_ENTRIES); config "
+                 "'default' has call_depth 2 (spec/configs.toml): use a configuration with more");
   }
 }
 

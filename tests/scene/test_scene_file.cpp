@@ -290,3 +290,51 @@ TEST_F(SceneFile, BareMeshGetsCameraLightAndGreyMaterial) {
 
 }  // namespace
 }  // namespace rpu
+
+namespace rpu {
+namespace {
+
+// nlohmann keeps the last of two equal keys; the file is ambiguous, so it is an error
+// naming the object and the key.
+TEST_F(SceneFile, DuplicateKeysAreErrors) {
+  write("tri.obj", kTriangleObj);
+  write("top.json", R"({"meshes": [{"file": "tri.obj"}], "background": [0, 0, 0], "background": [1, 1, 1]})");
+  EXPECT_EQ(error_of("top.json"),
+            file("top.json") + ": /: duplicate key \"background\" (the keys of an object must be unique)");
+  write("nested.json", R"({"materials": [{"name": "a"}, {"name": "b", "diffuse": [1, 0, 0], "diffuse": [0, 1, 0]}],
+                          "meshes": [{"file": "tri.obj", "material": "b"}]})");
+  EXPECT_EQ(error_of("nested.json"),
+            file("nested.json") + ": /materials/1: duplicate key \"diffuse\" (the keys of an object must be unique)");
+  // Equal keys in different objects are fine.
+  write("fine.json", R"({"materials": [{"name": "a"}, {"name": "b"}], "meshes": [{"file": "tri.obj", "material": "b"}]})");
+  EXPECT_EQ(error_of("fine.json"), "no error");
+}
+
+// Text after the document is an error; so is a NUL byte, where nlohmann would stop
+// reading and accept what came before.
+TEST_F(SceneFile, BytesAfterTheDocumentAreErrors) {
+  write("tri.obj", kTriangleObj);
+  write("second.json", scene_with("") + " {}");
+  EXPECT_NE(error_of("second.json").find(file("second.json") + ":1:"), std::string::npos) << error_of("second.json");
+  EXPECT_NE(error_of("second.json").find("expected end of input"), std::string::npos);
+  const fs::path nul = dir_ / "nul.json";
+  std::ofstream(nul, std::ios::binary) << scene_with("") << '\n' << std::string(3, '\0') << "garbage";
+  EXPECT_EQ(error_of("nul.json"),
+            file("nul.json") + ":2:1: malformed JSON: a NUL byte (byte " + std::to_string(scene_with("").size() + 1) +
+                " of " + std::to_string(scene_with("").size() + 11) + "); a scene file is UTF-8 text");
+}
+
+// A size given is the size asked for: a negative one is refused, never the default.
+TEST_F(SceneFile, NegativeGeneratorSizesAreErrors) {
+  write("neg.json", R"({"procedural": {"generator": "tetra", "size": -3}})");
+  EXPECT_EQ(error_of("neg.json"), file("neg.json") +
+                                      ": /procedural/size: tetra:-3: size must be 1..10 (levels of recursion; "
+                                      "4^size triangles)");
+  for (const std::string name : {"cornell:-100", "balls:-1", "tetra:-2"}) {
+    EXPECT_THROW(make_builtin_scene(name), Error) << name;
+  }
+  EXPECT_NO_THROW(make_builtin_scene("tetra"));
+}
+
+}  // namespace
+}  // namespace rpu

@@ -1,4 +1,4 @@
-; push past the thread's stack_bytes (4096 bytes = 256 pushes on tiny).
+; push past the thread's stack_bytes (16384 bytes = 1024 pushes on tiny).
 raygen:
 loop:
         push    r0
