@@ -201,16 +201,9 @@ void check_reference_options(const CLI::App& command, const Scene& scene) {
 }
 
 int run_render(const RenderOptions& options, const CLI::App& command) {
-  for (const std::filesystem::path& out : options.outputs) check_image_extension(out);
-  for (const std::filesystem::path& out : options.heatmap) check_image_extension(out);
   const bool cycle_outputs = !options.stats.empty() || !options.heatmap.empty() || !options.trace.empty();
   if (cycle_outputs && options.backend != "cycle") {
     throw Error("--stats, --heatmap and --trace need --backend cycle");
-  }
-  for (const std::filesystem::path& f : options.stats) {
-    if (f.extension() != ".json" && f.extension() != ".csv") {
-      throw Error(fmt::format("statistics file '{}': the extension must be .json or .csv", f.string()));
-    }
   }
   if (options.trace_window[0] >= options.trace_window[1]) {
     throw Error(fmt::format("--trace-window {} {}: the window is empty", options.trace_window[0], options.trace_window[1]));
