@@ -35,6 +35,45 @@ std::string vertex_name(const aiScene& ai, unsigned mesh, unsigned vertex) {
                             : fmt::format("vertex {} of mesh {}", vertex, mesh);
 }
 
+std::string face_name(const aiScene& ai, unsigned mesh, unsigned face) {
+  return ai.mNumMeshes == 1 ? fmt::format("face {}", face)
+                            : fmt::format("face {} of mesh {}", face, mesh);
+}
+
+// Readers leave faces without indices (an OFF file with fewer face lines than it
+// declares) and indices past the last vertex (corrupt files); post-processing asserts or
+// crashes on either, so they are errors here, before it runs.
+void check_faces(const aiScene& ai, const fs::path& path) {
+  for (unsigned m = 0; m < ai.mNumMeshes; ++m) {
+    const aiMesh& mesh = *ai.mMeshes[m];
+    for (unsigned f = 0; f < mesh.mNumFaces; ++f) {
+      const aiFace& face = mesh.mFaces[f];
+      if (face.mNumIndices == 0 || face.mIndices == nullptr) {
+        throw Error(fmt::format("{}: {} has no vertices (the file holds fewer faces than it "
+                                "declares, or a face line is empty)",
+                                path.string(), face_name(ai, m, f)));
+      }
+      for (unsigned k = 0; k < face.mNumIndices; ++k) {
+        if (face.mIndices[k] >= mesh.mNumVertices) {
+          throw Error(fmt::format("{}: {} names vertex {}, but there are {} vertices",
+                                  path.string(), face_name(ai, m, f), face.mIndices[k],
+                                  mesh.mNumVertices));
+        }
+      }
+    }
+  }
+}
+
+bool has_surfaces(const aiScene& ai) {
+  for (unsigned m = 0; m < ai.mNumMeshes; ++m) {
+    const aiMesh& mesh = *ai.mMeshes[m];
+    for (unsigned f = 0; f < mesh.mNumFaces; ++f) {
+      if (mesh.mFaces[f].mNumIndices >= 3) return true;
+    }
+  }
+  return false;
+}
+
 // Assimp's file readers accept "nan" and overflowing literals; a non-finite vertex would
 // poison the kd-tree bounds, so it is an error naming the vertex in file order.
 void check_finite(const aiScene& ai, const fs::path& path) {
@@ -105,6 +144,10 @@ void add_node(const aiScene& ai, const aiNode& node, const glm::dmat4& parent,
               const MeshOptions& options, const fs::path& path, Scene& out) {
   const glm::dmat4 to_world = parent * to_glm(node.mTransformation);
   for (unsigned k = 0; k < node.mNumMeshes; ++k) {
+    if (node.mMeshes[k] >= ai.mNumMeshes) {
+      throw Error(fmt::format("{}: node \"{}\" names mesh {}, but there are {} meshes", path.string(),
+                              node.mName.C_Str(), node.mMeshes[k], ai.mNumMeshes));
+    }
     append_geometry(out, convert_mesh(ai, node.mMeshes[k], to_world, options, path));
   }
   for (unsigned c = 0; c < node.mNumChildren; ++c) {
@@ -162,7 +205,14 @@ Scene load_mesh(const fs::path& path, const MeshOptions& options) {
     throw Error(fmt::format("{}: cannot read the mesh: {}", path.string(),
                             importer.GetErrorString()));
   }
+  check_faces(*ai, path);
   check_finite(*ai, path);
+  Scene out;
+  // Post-processing fails when SortByPType removes every mesh.
+  if (!has_surfaces(*ai)) {
+    out.warnings.push_back(fmt::format("{}: no triangles in the file", path.string()));
+    return out;
+  }
   unsigned steps = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_SortByPType;
   if (options.smooth) steps |= aiProcess_GenSmoothNormals;
   ai = importer.ApplyPostProcessing(steps);
@@ -170,7 +220,6 @@ Scene load_mesh(const fs::path& path, const MeshOptions& options) {
     throw Error(fmt::format("{}: cannot read the mesh: {}", path.string(),
                             importer.GetErrorString()));
   }
-  Scene out;
   add_node(*ai, *ai->mRootNode, options.transform, options, path, out);
   if (out.triangles.empty()) {
     out.warnings.push_back(fmt::format("{}: no triangles in the file", path.string()));
