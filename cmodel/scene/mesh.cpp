@@ -1,10 +1,17 @@
 #include "scene/mesh.hpp"
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdlib>
+#include <fstream>
+#include <iterator>
+#include <set>
 #include <string>
 #include <utility>
+#include <vector>
 
+#include <assimp/BaseImporter.h>
 #include <assimp/Importer.hpp>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
@@ -12,6 +19,7 @@
 
 #include "common/error.hpp"
 #include "scene/geometry.hpp"
+#include "scene/mesh_check.hpp"
 
 namespace rpu {
 namespace {
@@ -38,6 +46,52 @@ std::string vertex_name(const aiScene& ai, unsigned mesh, unsigned vertex) {
 std::string face_name(const aiScene& ai, unsigned mesh, unsigned face) {
   return ai.mNumMeshes == 1 ? fmt::format("face {}", face)
                             : fmt::format("face {} of mesh {}", face, mesh);
+}
+
+// The reader Importer::ReadFile (Importer.cpp, 5.2) hands the file to: the one reader
+// that claims its extension, else the first claimant, else the first reader at all, whose
+// signature check takes it.
+MeshFormat reader_format(const Assimp::Importer& importer, const fs::path& path) {
+  const std::string file = path.string();
+  const auto claims = [&](Assimp::BaseImporter& reader) {
+    std::set<std::string> extensions;
+    reader.GetExtensionList(extensions);
+    for (const std::string& e : extensions) {
+      const std::string suffix = "." + e;
+      if (suffix.size() <= file.size() &&
+          std::equal(suffix.begin(), suffix.end(), file.end() - static_cast<std::ptrdiff_t>(suffix.size()),
+                     [](char a, char b) { return std::tolower(static_cast<unsigned char>(a)) ==
+                                                 std::tolower(static_cast<unsigned char>(b)); })) {
+        return true;
+      }
+    }
+    return false;
+  };
+  std::vector<Assimp::BaseImporter*> claimants, all;
+  for (std::size_t i = 0; i < importer.GetImporterCount(); ++i) {
+    Assimp::BaseImporter* reader = importer.GetImporter(i);
+    all.push_back(reader);
+    if (claims(*reader)) claimants.push_back(reader);
+  }
+  Assimp::BaseImporter* chosen = claimants.size() == 1 ? claimants[0] : nullptr;
+  for (const auto* candidates : {&claimants, &all}) {
+    for (Assimp::BaseImporter* reader : *candidates) {
+      if (chosen == nullptr && reader->CanRead(file, importer.GetIOHandler(), true)) chosen = reader;
+    }
+  }
+  if (chosen == nullptr) return MeshFormat::kOther;
+  std::set<std::string> extensions;
+  chosen->GetExtensionList(extensions);
+  if (extensions.contains("ply")) return MeshFormat::kPly;
+  if (extensions.contains("off")) return MeshFormat::kOff;
+  if (extensions.contains("stl")) return MeshFormat::kStl;
+  return MeshFormat::kOther;
+}
+
+std::string read_bytes(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error(fmt::format("{}: cannot open the mesh file", path.string()));
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
 // Readers leave faces without indices (an OFF file with fewer face lines than it
@@ -199,6 +253,7 @@ Scene load_mesh(const fs::path& path, const MeshOptions& options) {
   // Points and lines cannot be hit by a ray: let SortByPType remove them.
   importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE,
                               aiPrimitiveType_POINT | aiPrimitiveType_LINE);
+  check_mesh_bytes(path, reader_format(importer, path), read_bytes(path));
   // Read without post-processing first, so that vertex numbers in errors follow the file.
   const aiScene* ai = importer.ReadFile(path.string(), 0);
   if (ai == nullptr) {

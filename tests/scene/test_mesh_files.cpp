@@ -1,11 +1,15 @@
-// Mesh files whose faces Assimp's post-processing cannot take: each is an rpu::Error
-// naming the file and the face; a file without triangles is a warning that leaves the
-// scene's other meshes alone (docs/scene-format.md, "Bad mesh files"). Each test writes
-// its files into a fresh temp directory.
+// Mesh files that lie about their size or end early: each is an rpu::Error naming the
+// file and what it promised, raised before Assimp allocates what the header declares; a
+// file without triangles is a warning that leaves the scene's other meshes alone
+// (docs/scene-format.md, "Bad mesh files"). Each test writes its files into a fresh
+// temp directory.
+#include <cstdint>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <string>
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -46,6 +50,46 @@ class MeshFile : public ::testing::Test {
   fs::path dir_;
 };
 
+template <typename T>
+std::string bytes_of(T value) {
+  std::string out(sizeof value, '\0');
+  std::memcpy(out.data(), &value, sizeof value);
+  return out;
+}
+std::string floats(std::initializer_list<float> values) {
+  std::string out;
+  for (const float v : values) out += bytes_of(v);
+  return out;
+}
+
+// A binary PLY header for `vertices` float positions and `faces` int index lists.
+std::string binary_ply(int vertices, int faces) {
+  return fmt::format(
+      "ply\nformat binary_little_endian 1.0\nelement vertex {}\nproperty float x\n"
+      "property float y\nproperty float z\nelement face {}\n"
+      "property list uchar int vertex_indices\nend_header\n",
+      vertices, faces);
+}
+
+TEST_F(MeshFile, OffHeaderPromisingAGigavertexIsRefusedBeforeAllocating) {
+  // 40 bytes that promise 10^9 vertices: Assimp would allocate 12 GB for them.
+  const std::string off = "OFF\n1000000000 1 0\n0 0 0\n1 0 0\n0 1 0\n\n\n\n";
+  ASSERT_EQ(off.size(), 40u);
+  const std::string path = write("huge.off", off);
+  EXPECT_EQ(error_of("huge.off"),
+            path + ": the header promises 1000000000 vertices, but the 21 bytes after the header "
+                   "can hold at most 3 (each takes at least 6 bytes): the file is truncated or its "
+                   "header is wrong");
+}
+
+TEST_F(MeshFile, OffWithMoreFacesDeclaredThanLinesIsRefused) {
+  const std::string path = write("faces.off", "OFF\n3 5 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+  EXPECT_EQ(error_of("faces.off"),
+            path + ": the header promises 5 faces, but the 8 bytes left after the vertex lines "
+                   "can hold at most 2 (each takes at least 4 bytes): the file is truncated or its "
+                   "header is wrong");
+}
+
 TEST_F(MeshFile, FaceWithoutIndicesIsAnErrorNotAnAssimpAssert) {
   // Room for two faces by size (a long vertex line), but one face line: Assimp leaves the
   // second face empty and Triangulate asserts on it.
@@ -55,6 +99,75 @@ TEST_F(MeshFile, FaceWithoutIndicesIsAnErrorNotAnAssimpAssert) {
                                           "than it declares, or a face line is empty)");
 }
 
+TEST_F(MeshFile, BinaryPlyPromisingMoreThanItHoldsIsRefused) {
+  // Eight vertices and four faces promised; three vertices and one face present. Assimp
+  // reads on into its buffer's padding and post-processing crashes on the indices.
+  const std::string path = write("short.ply", binary_ply(8, 4) + floats({0, 0, 0, 1, 0, 0, 0, 1, 0}) +
+                                                  bytes_of<std::uint8_t>(3) + bytes_of(0) +
+                                                  bytes_of(1) + bytes_of(2));
+  EXPECT_EQ(error_of("short.ply"),
+            path + ": the header promises 8 vertices, but the 49 bytes after the header can hold "
+                   "at most 4 (each takes at least 12 bytes): the file is truncated or its header "
+                   "is wrong");
+  const std::string giga = write("giga.ply", binary_ply(1000000000, 1) + floats({0, 0, 0}));
+  EXPECT_EQ(error_of("giga.ply").rfind(giga + ": the header promises 1000000000 vertices", 0), 0u)
+      << error_of("giga.ply");
+}
+
+TEST_F(MeshFile, BinaryPlyEndingInsideItsLastFaceIsRefused) {
+  // The counts fit the size, but the last face's indices are cut off.
+  const std::string header = binary_ply(3, 2);
+  const std::string path = write("cut.ply", header + floats({0, 0, 0, 1, 0, 0, 0, 1, 0}) +
+                                                bytes_of<std::uint8_t>(3) + bytes_of(0) + bytes_of(1) +
+                                                bytes_of(2) + bytes_of<std::uint8_t>(3) + bytes_of(0));
+  EXPECT_EQ(error_of("cut.ply"), path + ": face 1 of 2 (offset " + std::to_string(header.size() + 50) +
+                                      ") has a list of 3 items, but only 4 bytes follow: the file is "
+                                      "truncated or corrupt");
+}
+
+TEST_F(MeshFile, BinaryPlyListLongerThanTheFileIsRefused) {
+  // A list length of 4 * 10^9 items: Assimp resizes the list to it before reading one.
+  const std::string header =
+      "ply\nformat binary_big_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+      "property float z\nelement face 1\nproperty list uint int vertex_indices\nend_header\n";
+  const std::string path = write("list.ply", header + std::string(36, '\0') + std::string("\xee\x6b\x28\x00", 4) +
+                                                 std::string(12, '\0'));
+  EXPECT_EQ(error_of("list.ply"), path + ": face 0 of 1 (offset " + std::to_string(header.size() + 40) +
+                                      ") has a list of 4000000000 items, but only 12 bytes follow: "
+                                      "the file is truncated or corrupt");
+}
+
+TEST_F(MeshFile, AsciiPlyListLongerThanItsLineIsRefused) {
+  const std::string path = write(
+      "list.ply",
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+      "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n"
+      "4000000000 0 1 2\n");
+  EXPECT_EQ(error_of("list.ply"),
+            path + ": line 13: face 0 of 1 has a list of 4000000000 items, but the line holds only 3");
+}
+
+TEST_F(MeshFile, AsciiPlyEndingEarlyIsRefused) {
+  // Two faces declared and room for them by size, but one face line.
+  const std::string path = write(
+      "early.ply",
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+      "element face 2\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n"
+      "3 0 1 2                  \n");
+  EXPECT_EQ(error_of("early.ply"), path + ": the file ends before face 1 of 2 (line 14): it is "
+                                          "truncated or its header promises too much");
+}
+
+TEST_F(MeshFile, AsciiPlyLineShorterThanItsPropertiesIsRefused) {
+  // Assimp would read the missing value from the tail of an earlier, longer line.
+  const std::string path = write(
+      "short.ply",
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+      "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0\n0 1 0 0 0 0\n"
+      "3 0 1 2\n");
+  EXPECT_EQ(error_of("short.ply"), path + ": line 11: vertex 1 of 3 has fewer values than its 3 properties");
+}
+
 TEST_F(MeshFile, PlyFaceIndexPastTheLastVertexIsAnError) {
   const std::string path = write(
       "index.ply",
@@ -62,6 +175,19 @@ TEST_F(MeshFile, PlyFaceIndexPastTheLastVertexIsAnError) {
       "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n"
       "3 0 1 7\n");
   EXPECT_EQ(error_of("index.ply"), path + ": face 0 names vertex 7, but there are 3 vertices");
+}
+
+TEST_F(MeshFile, BinaryStlWithAHugeTriangleCountIsRefused) {
+  const std::string path = write("huge.stl", std::string(80, ' ') + bytes_of(std::uint32_t{1000000000}) +
+                                                 std::string(50, '\0'));
+  EXPECT_EQ(error_of("huge.stl"),
+            path + ": the binary STL header promises 1000000000 triangles (84 + 50 x 1000000000 = "
+                   "50000000084 bytes), but the file has 134 bytes: it is truncated or its header is "
+                   "wrong");
+  // The same file with its count right reads.
+  write("one.stl", std::string(80, ' ') + bytes_of(std::uint32_t{1}) + floats({0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0}) +
+                       std::string(2, '\0'));
+  EXPECT_EQ(load_mesh(dir_ / "one.stl", MeshOptions{}).triangles.size(), 1u);
 }
 
 TEST_F(MeshFile, PointsAndLinesOnlyMeshIsAWarningAndTheSceneKeepsItsOtherMeshes) {
