@@ -21,6 +21,18 @@
 #include "scene/geometry.hpp"
 #include "scene/mesh_check.hpp"
 
+// Debian builds libassimp with its ai_assert checks on, and their handler aborts the
+// process. Assimp 5.2 keeps setAiAssertHandler out of the library's exports, so the
+// handler is replaced by defining the function every ai_assert calls: the dynamic linker
+// binds the library's calls to the executable's definition. Thrown inside a reader, the
+// error becomes Assimp's read error; the checks below are meant to leave none to throw.
+namespace Assimp {
+void aiAssertViolation(const char* expression, const char* file, int line);
+void aiAssertViolation(const char* expression, const char* file, int line) {
+  throw rpu::Error(fmt::format("Assimp's internal check \"{}\" failed ({}:{})", expression, file, line));
+}
+}  // namespace Assimp
+
 namespace rpu {
 namespace {
 

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <string>
 
+#include <assimp/material.h>
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -205,6 +206,14 @@ TEST_F(MeshFile, PointsAndLinesOnlyMeshIsAWarningAndTheSceneKeepsItsOtherMeshes)
   EXPECT_EQ(s.warnings[0], points + ": no triangles in the file");
   EXPECT_EQ(s.warnings[1], lines + ": no triangles in the file");
   EXPECT_EQ(s.warnings[2], cloud + ": no triangles in the file");
+}
+
+TEST_F(MeshFile, AssimpAssertionIsAnErrorNotAnAbort) {
+  // Debian's libassimp checks its ai_asserts; AddBinaryProperty asserts a non-zero size.
+  // The library's call must reach rpu's handler (mesh.cpp), which throws.
+  aiMaterial material;
+  const int value = 0;
+  EXPECT_THROW(material.AddBinaryProperty(&value, 0, "key", 0, 0, aiPTI_Integer), Error);
 }
 
 }  // namespace
