@@ -97,6 +97,7 @@ MeshFormat reader_format(const Assimp::Importer& importer, const fs::path& path)
   if (extensions.contains("ply")) return MeshFormat::kPly;
   if (extensions.contains("off")) return MeshFormat::kOff;
   if (extensions.contains("stl")) return MeshFormat::kStl;
+  if (extensions.contains("obj")) return MeshFormat::kObj;
   return MeshFormat::kOther;
 }
 

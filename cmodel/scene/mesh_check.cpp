@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
 #include <stdexcept>
 #include <string>
@@ -30,6 +31,13 @@ class NotANumber : public std::runtime_error {
   template <typename... Parts>
   explicit NotANumber(Parts&&... parts) : std::runtime_error((std::string() + ... + std::string(parts))) {}
 };
+
+// The word at `p`, for a message: up to the next space or line end, at most 32 characters.
+std::string word_at(const char* p) {
+  std::string word;
+  while (word.size() < 32 && !Assimp::IsSpaceOrNewLine(*p)) word += *p++;
+  return fmt::format("\"{}\"", word);
+}
 
 // Assimp's strtoul10 and strtol10 (fast_atof.h), wrapping in 32 bits as they do, without
 // their signed overflow.
@@ -60,6 +68,11 @@ void check_count(const fs::path& path, std::uint64_t count, std::string_view wha
                            count, what, bytes_left, where, most, least_bytes));
   }
   bytes_left -= std::min(bytes_left, count * least_bytes);
+}
+
+// The 1-based number of the line that `at` (a pointer into `text`) is on.
+std::size_t line_at(const std::string& text, const char* at) {
+  return 1 + static_cast<std::size_t>(std::count(text.c_str(), at, '\n'));
 }
 
 // --- OFF -------------------------------------------------------------------------------
@@ -118,24 +131,191 @@ void check_off(const fs::path& path, const std::string& text) {
   check_count(path, vertices, "vertices", std::max(2u, 2u * numbers), 1, bytes_left,
               "after the header");
   check_count(path, faces, "faces", 4, 1, bytes_left, "left after the vertex lines");
+
+  // The vertex and face lines, read as OFFLoader.cpp reads them (GetNextLine into a
+  // 4096-byte line, which it overruns by one byte for a longer line). It skips a face of
+  // 0 or more than 9 corners and takes one off the mesh's face count for it, so that
+  // enough of them wrap the count around; such a face is refused here.
+  std::array<char, 4097> line{};
+  const char* line_start = p;
+  const auto read_line = [&] {
+    line_start = p;
+    const bool read = Assimp::GetNextLine(p, line.data());
+    if (read && std::strlen(line.data()) >= 4096) {
+      fail(path, fmt::format("line {} is longer than Assimp's 4095 characters", line_at(text, line_start)));
+    }
+    return read;
+  };
+  for (std::uint32_t v = 0; v < vertices && read_line(); ++v) {
+  }
+  for (std::uint32_t f = 0; f < faces && read_line(); ++f) {
+    const char* q = line.data();
+    Assimp::SkipSpaces(&q);
+    const std::uint32_t corners = strtoul10(q);
+    if (corners == 0 || corners > 9) {
+      fail(path, fmt::format("line {}: face {} has {} corners; Assimp 5.2 reads OFF faces of 1 to 9",
+                             line_at(text, line_start), f, corners));
+    }
+  }
 }
 
 // --- STL -------------------------------------------------------------------------------
-// Assimp takes a file as binary STL when 84 + 50 x count equals its size, else as ascii
-// when it starts with "solid". A file that does not start with "solid" can only be binary,
-// so a count that disagrees with the size is a truncated file or a lying header.
+// Assimp's STL reader (STLLoader.cpp, 5.2) takes a file as binary when 84 + 50 x count
+// equals its size (32-bit), else as ascii when it starts with "solid". Its ascii reader
+// keeps the meshes it builds outside the scene until the end, so every error it throws
+// leaks them: the ascii text is walked here first, with its steps, and refused where it
+// would throw.
+
+bool is_binary_stl(const char* p, std::size_t size) {
+  if (size < 84) return false;
+  std::uint32_t count = 0;
+  std::memcpy(&count, p + 80, sizeof count);
+  return count * 50u + 84u == size;
+}
+
+// STLLoader.cpp's IsAsciiSTL. (It also looks for a char above 127 in the first 500,
+// which finds none where char is signed, as on x86.)
+bool is_ascii_stl(const char* p, std::size_t size) {
+  if (is_binary_stl(p, size)) return false;
+  const char* const end = p + size;
+  return Assimp::SkipSpaces(&p) && p + 5 < end && std::strncmp(p, "solid", 5) == 0;
+}
+
+// STLImporter::LoadASCIIFile's walk over `text` (the file plus a terminating zero).
+void walk_ascii_stl(const fs::path& path, const std::string& text) {
+  const char* p = text.c_str();
+  const char* const end = p + text.size();
+  const auto number = [&](const char* q, const char* what) {
+    try {
+      float value = 0.0f;
+      return Assimp::fast_atoreal_move<float, NotANumber>(q, value);
+    } catch (const NotANumber&) {
+      fail(path, fmt::format("offset {}: {} {} is not a number", q - text.c_str(), what, word_at(q)));
+    }
+  };
+  const auto three_numbers = [&](const char*& q, const char* what) {
+    for (int k = 0; k < 3; ++k) {
+      Assimp::SkipSpaces(&q);
+      q = number(q, what);
+    }
+  };
+  for (unsigned solid = 0; is_ascii_stl(p, static_cast<std::size_t>(end - p)); ++solid) {
+    Assimp::SkipSpaces(&p);
+    p += 5;
+    Assimp::SkipSpaces(&p);
+    const char* const name = p;
+    while (!Assimp::IsSpaceOrNewLine(*p)) ++p;
+    if (p - name >= static_cast<std::ptrdiff_t>(MAXLEN)) {
+      fail(path, fmt::format("offset {}: the solid's name is longer than Assimp's {} characters",
+                             name - text.c_str(), MAXLEN - 1));
+    }
+    std::size_t positions = 0, normals = 0;
+    unsigned corners = 3;
+    for (;;) {
+      if (!Assimp::SkipSpacesAndLineEnd(&p)) break;
+      if (std::strncmp(p, "facet", 5) == 0 && Assimp::IsSpaceOrNewLine(p[5]) && p[5] != '\0') {
+        corners = 0;
+        p += 6;
+        Assimp::SkipSpaces(&p);
+        if (std::strncmp(p, "normal", 6) == 0) {
+          if (p[6] == '\0') fail(path, "the file ends inside a facet");
+          p += 7;
+          three_numbers(p, "facet normal");
+          normals += 3;
+        }
+      } else if (std::strncmp(p, "vertex", 6) == 0 && Assimp::IsSpaceOrNewLine(p[6])) {
+        if (corners >= 3) {
+          ++p;
+        } else {
+          if (p[6] == '\0') fail(path, "the file ends inside a facet");
+          p += 7;
+          three_numbers(p, "vertex");
+          ++positions;
+          ++corners;
+        }
+      } else if (std::strncmp(p, "endsolid", 8) == 0) {
+        do ++p;
+        while (!Assimp::IsLineEnd(*p));
+        Assimp::SkipSpacesAndLineEnd(&p);
+        break;
+      } else {
+        do ++p;
+        while (!Assimp::IsSpaceOrNewLine(*p));
+      }
+    }
+    if (positions % 3 != 0) {
+      fail(path, fmt::format("solid {} has {} vertices, not three per facet", solid, positions));
+    }
+    if (normals != positions) {
+      fail(path, fmt::format("solid {} has {} facet normals for {} facets", solid, normals / 3, positions / 3));
+    }
+  }
+}
+
 void check_stl(const fs::path& path, const std::string& bytes) {
-  const std::size_t start = bytes.find_first_not_of(" \t");
-  if (bytes.size() < 84 || bytes.compare(start == std::string::npos ? 0 : start, 5, "solid") == 0) {
+  if (is_binary_stl(bytes.data(), bytes.size())) return;  // Assimp checks the count itself
+  if (is_ascii_stl(bytes.c_str(), bytes.size())) {
+    walk_ascii_stl(path, bytes);
     return;
   }
+  // Not ascii, so binary to Assimp: a count that disagrees with the size is a truncated
+  // file or a lying header.
+  if (bytes.size() < 84) return;
   std::uint32_t count = 0;
   std::memcpy(&count, bytes.data() + 80, sizeof count);  // little endian, as Assimp reads it
-  const std::uint64_t expected = 84 + 50 * std::uint64_t{count};
-  if (expected != bytes.size()) {
-    fail(path, fmt::format("the binary STL header promises {} triangles (84 + 50 x {} = {} bytes), "
-                           "but the file has {} bytes: it is truncated or its header is wrong",
-                           count, count, expected, bytes.size()));
+  fail(path, fmt::format("the binary STL header promises {} triangles (84 + 50 x {} = {} bytes), "
+                         "but the file has {} bytes: it is truncated or its header is wrong",
+                         count, count, 84 + 50 * std::uint64_t{count}, bytes.size()));
+}
+
+// --- OBJ -------------------------------------------------------------------------------
+// Assimp's OBJ reader (ObjFileImporter.cpp, 5.2) counts a line statement of n vertices as
+// n - 1 segments but copies all n vertices, so a line of one vertex makes it throw ("no
+// vertices", "bad vertex index") with the meshes it has built not yet in the scene: they
+// leak. Such a statement is refused here; vertices are counted as ObjFileParser::getFace
+// counts them (atoi, stepping by the digits of the value read), on lines joined at a
+// trailing backslash as its reader joins them.
+void check_obj(const fs::path& path, const std::string& text) {
+  std::size_t line = 1;
+  for (std::size_t at = 0; at < text.size();) {
+    const std::size_t start_line = line;
+    std::string statement;
+    for (; at < text.size() && text[at] != '\n'; ++at) {
+      if (text[at] == '\\' && (text.compare(at + 1, 1, "\n") == 0 || text.compare(at + 1, 2, "\r\n") == 0)) {
+        at = text.find('\n', at);
+        ++line;
+        statement += ' ';
+        continue;
+      }
+      statement += text[at];
+    }
+    ++at;
+    ++line;
+    if (statement.empty() || statement[0] != 'l') continue;
+    const char* p = statement.c_str();
+    while (*p != '\0' && !Assimp::IsSpaceOrNewLine(*p)) ++p;  // the keyword
+    unsigned vertices = 0;
+    int slot = 0;
+    while (*p != '\0' && !Assimp::IsLineEnd(*p)) {
+      int step = 1;
+      if (*p == '/') {
+        ++slot;
+      } else if (Assimp::IsSpace(*p)) {
+        slot = 0;
+      } else {
+        const long value = std::strtol(p, nullptr, 10);
+        const int v = static_cast<int>(value);  // as glibc's atoi
+        if (v < 0) ++step;
+        for (int rest = v; (rest /= 10) != 0;) ++step;
+        if (slot == 0 && v != 0) ++vertices;
+      }
+      p += step;
+    }
+    if (vertices == 1) {
+      fail(path, fmt::format("line {}: a line statement with one vertex (Assimp 5.2 fails on it "
+                             "and leaks what it has read; give two or more)",
+                             start_line));
+    }
   }
 }
 
@@ -537,6 +717,7 @@ void walk_ascii(const fs::path& path, PlyLines& lines, std::string& b, const Ply
                                  instance_name(e, i), e.properties.size()));
         }
         if (!Assimp::SkipSpaces(&p)) continue;
+        const char* value_start = p;
         try {
           if (property.list) {
             std::uint64_t items = 0;
@@ -551,13 +732,15 @@ void walk_ascii(const fs::path& path, PlyLines& lines, std::string& b, const Ply
                                        "only {}",
                                        lines.line(), instance_name(e, i), items, item));
               }
+              value_start = p;
               ascii_value(p, property.type);
             }
           } else {
             ascii_value(p, property.type);
           }
-        } catch (const NotANumber& x) {
-          fail(path, fmt::format("line {}: {}", lines.line(), x.what()));  // so would Assimp
+        } catch (const NotANumber&) {
+          fail(path, fmt::format("line {}: {} has {}, which is not a number", lines.line(),
+                                 instance_name(e, i), word_at(value_start)));  // so would Assimp
         }
         Assimp::SkipSpacesAndLineEnd(&p);
       }
@@ -600,6 +783,7 @@ void check_mesh_bytes(const fs::path& path, MeshFormat format, const std::string
     case MeshFormat::kPly: check_ply(path, bytes); break;
     case MeshFormat::kOff: check_off(path, bytes); break;
     case MeshFormat::kStl: check_stl(path, bytes); break;
+    case MeshFormat::kObj: check_obj(path, bytes); break;
     case MeshFormat::kOther: break;
   }
 }

@@ -5,9 +5,8 @@
 
 namespace rpu {
 
-// The readers whose headers declare element counts that Assimp allocates before it reads
-// the data; every other format is left to Assimp.
-enum class MeshFormat { kPly, kOff, kStl, kOther };
+// The readers checked before Assimp reads a file; every other format is left to Assimp.
+enum class MeshFormat { kPly, kOff, kStl, kObj, kOther };
 
 // Checks, before Assimp allocates anything, that `bytes` (the whole file at `path`) can
 // hold what its header declares, so that memory stays proportional to the file's size
@@ -15,7 +14,9 @@ enum class MeshFormat { kPly, kOff, kStl, kOther };
 //   PLY  every element count times the least bytes an instance takes, then every list
 //        length in the data against what is left of its line (ascii) or of the file;
 //   OFF  the vertex and face counts times the least bytes of their lines;
-//   STL  a binary file's triangle count against 84 + 50 x count == its size.
+//   STL  a binary file's triangle count against 84 + 50 x count == its size; an ascii
+//        file walked as Assimp walks it, refused where Assimp would throw (and leak);
+//   OBJ  line statements of one vertex, on which Assimp throws (and leaks).
 // The PLY header is read as Assimp 5.2 reads it, quirks included, since the counts it
 // acts on are the ones that must be bounded. Throws rpu::Error naming the file, the
 // element and the offset or line.

@@ -191,6 +191,32 @@ TEST_F(MeshFile, BinaryStlWithAHugeTriangleCountIsRefused) {
   EXPECT_EQ(load_mesh(dir_ / "one.stl", MeshOptions{}).triangles.size(), 1u);
 }
 
+TEST_F(MeshFile, OffFaceOfNoCornersIsRefused) {
+  // Assimp skips such a face line and takes one off the face count; enough of them wrap
+  // the count around and crash it (found by fuzz_mesh_files).
+  const std::string path = write("corners.off", "OFF\n3 2 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\nabc\n");
+  EXPECT_EQ(error_of("corners.off"),
+            path + ": line 7: face 1 has 0 corners; Assimp 5.2 reads OFF faces of 1 to 9");
+}
+
+TEST_F(MeshFile, AsciiStlWithANonNumberIsRefusedBeforeAssimpLeaks) {
+  // Assimp's ascii STL reader throws on it and leaks its meshes (found by fuzz_mesh_files).
+  const std::string stl =
+      "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 x\n"
+      "endloop\nendfacet\nendsolid t\n";
+  const std::string path = write("nan.stl", stl);
+  EXPECT_EQ(error_of("nan.stl"), path + ": offset " + std::to_string(stl.rfind('x')) +
+                                     ": vertex \"x\" is not a number");
+}
+
+TEST_F(MeshFile, ObjLineOfOneVertexIsRefusedBeforeAssimpLeaks) {
+  // Assimp counts it as no segment but copies its vertex, throws, and leaks the meshes it
+  // has built (found by fuzz_mesh_files).
+  const std::string path = write("line.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nl 2\n");
+  EXPECT_EQ(error_of("line.obj"), path + ": line 5: a line statement with one vertex (Assimp 5.2 "
+                                         "fails on it and leaks what it has read; give two or more)");
+}
+
 TEST_F(MeshFile, PointsAndLinesOnlyMeshIsAWarningAndTheSceneKeepsItsOtherMeshes) {
   write("tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
   const std::string points = write("points.obj", "v 0 0 0\nv 1 0 0\np 1\np 2\n");
