@@ -545,6 +545,9 @@ bool parse_element(PlyLines& lines, std::string& b, PlyElement& out, const fs::p
   return true;
 }
 
+inline constexpr std::uint64_t kPlyMaxMaterials = 256;
+inline constexpr std::uint64_t kPlyMaxKeptValues = std::uint64_t{1} << 20;
+
 struct PlyHeader {
   bool binary = false;
   bool big_endian = false;
@@ -768,6 +771,27 @@ void check_ply(const fs::path& path, const std::string& bytes) {
     check_count(path, e.count, what, least_instance_bytes(e, header.binary), header.binary ? 0 : 1,
                 bytes_left, where);
     where = fmt::format("left after the {}", what);
+  }
+  // Assimp keeps every instance of an element that is neither vertex, face nor
+  // tristrips, at about 100 bytes a value, and makes each material a whole aiMaterial
+  // of some kilobytes; rpu uses neither, so both are capped to keep memory in step with
+  // the file's size.
+  std::uint64_t kept_values = 0, materials = 0;
+  for (const PlyElement& e : header.elements) {
+    if (e.semantic == PlySemantic::kEdge || e.semantic == PlySemantic::kMaterial) {
+      kept_values += std::uint64_t{e.count} * std::max<std::size_t>(e.properties.size(), 1);
+    }
+    if (e.semantic == PlySemantic::kMaterial) materials += e.count;
+  }
+  if (materials > kPlyMaxMaterials) {
+    fail(path, fmt::format("the header declares {} materials; Assimp makes a whole material of "
+                           "each, and rpu reads at most {} (rpu takes materials from the scene file)",
+                           materials, kPlyMaxMaterials));
+  }
+  if (kept_values > kPlyMaxKeptValues) {
+    fail(path, fmt::format("the header declares {} edge and material values; Assimp keeps each at "
+                           "about 100 bytes, and rpu reads at most {} (rpu does not use them)",
+                           kept_values, kPlyMaxKeptValues));
   }
   if (header.binary) {
     walk_binary(path, bytes, data, header);

@@ -169,6 +169,26 @@ TEST_F(MeshFile, AsciiPlyLineShorterThanItsPropertiesIsRefused) {
   EXPECT_EQ(error_of("short.ply"), path + ": line 11: vertex 1 of 3 has fewer values than its 3 properties");
 }
 
+TEST_F(MeshFile, PlyMaterialAndEdgeElementsAreCapped) {
+  // Assimp makes a whole aiMaterial of each material instance: 5 MB of one-byte materials
+  // took 23 GB. rpu uses neither materials nor edges from a PLY file.
+  const std::string triangle =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\n"
+      "property float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\n";
+  const std::string materials =
+      write("materials.ply", triangle + "element material 300\nproperty uchar ambient_red\nend_header\n" +
+                                 std::string(36 + 13 + 300, '\0'));
+  EXPECT_EQ(error_of("materials.ply"),
+            materials + ": the header declares 300 materials; Assimp makes a whole material of each, "
+                        "and rpu reads at most 256 (rpu takes materials from the scene file)");
+  const std::string edges = write("edges.ply", triangle + "element edge 600000\nproperty uchar a\n"
+                                                          "property uchar b\nend_header\n" +
+                                                   std::string(36 + 13 + 1200000, '\0'));
+  EXPECT_EQ(error_of("edges.ply"),
+            edges + ": the header declares 1200000 edge and material values; Assimp keeps each at "
+                    "about 100 bytes, and rpu reads at most 1048576 (rpu does not use them)");
+}
+
 TEST_F(MeshFile, PlyFaceIndexPastTheLastVertexIsAnError) {
   const std::string path = write(
       "index.ply",
