@@ -7,6 +7,7 @@
 #include <cstring>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <assimp/ParsingUtils.h>
@@ -729,6 +730,13 @@ void walk_ascii(const fs::path& path, PlyLines& lines, std::string& b, const Ply
               fail(path, fmt::format("line {}: {} has a list length of {}", lines.line(),
                                      instance_name(e, i), length));
             }
+            // Each item takes at least a character of the line; an integer item that is
+            // not a number leaves Assimp's cursor where it was.
+            if (items > lines.line_length()) {
+              fail(path, fmt::format("line {}: {} has a list of {} items, more than its line's {} "
+                                     "characters",
+                                     lines.line(), instance_name(e, i), items, lines.line_length()));
+            }
             for (std::uint64_t item = 0; item < items; ++item) {
               if (!Assimp::SkipSpaces(&p)) {
                 fail(path, fmt::format("line {}: {} has a list of {} items, but the line holds "
@@ -737,6 +745,10 @@ void walk_ascii(const fs::path& path, PlyLines& lines, std::string& b, const Ply
               }
               value_start = p;
               ascii_value(p, property.type);
+              if (p == value_start) {
+                fail(path, fmt::format("line {}: {} has {} in its list, which is not a number",
+                                       lines.line(), instance_name(e, i), word_at(value_start)));
+              }
             }
           } else {
             ascii_value(p, property.type);

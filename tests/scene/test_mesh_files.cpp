@@ -145,7 +145,15 @@ TEST_F(MeshFile, AsciiPlyListLongerThanItsLineIsRefused) {
       "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n"
       "4000000000 0 1 2\n");
   EXPECT_EQ(error_of("list.ply"),
-            path + ": line 13: face 0 of 1 has a list of 4000000000 items, but the line holds only 3");
+            path + ": line 13: face 0 of 1 has a list of 4000000000 items, more than its line's 16 "
+                   "characters");
+  const std::string short_list = write(
+      "short.ply",
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+      "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n"
+      "4 0 1 2\n");
+  EXPECT_EQ(error_of("short.ply"),
+            short_list + ": line 13: face 0 of 1 has a list of 4 items, but the line holds only 3");
 }
 
 TEST_F(MeshFile, AsciiPlyEndingEarlyIsRefused) {
@@ -187,6 +195,17 @@ TEST_F(MeshFile, PlyMaterialAndEdgeElementsAreCapped) {
   EXPECT_EQ(error_of("edges.ply"),
             edges + ": the header declares 1200000 edge and material values; Assimp keeps each at "
                     "about 100 bytes, and rpu reads at most 1048576 (rpu does not use them)");
+}
+
+TEST_F(MeshFile, AsciiPlyListItemThatIsNotANumberIsRefused) {
+  // Assimp's cursor stays on it, so every item of the list reads it again: a list length
+  // of 10^9 on a short line spun for minutes (found by fuzz_mesh_files).
+  const std::string path = write(
+      "item.ply",
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+      "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n"
+      "3 0 x 2\n");
+  EXPECT_EQ(error_of("item.ply"), path + ": line 13: face 0 of 1 has \"x\" in its list, which is not a number");
 }
 
 TEST_F(MeshFile, PlyFaceIndexPastTheLastVertexIsAnError) {
