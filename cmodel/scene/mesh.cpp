@@ -1,10 +1,17 @@
 #include "scene/mesh.hpp"
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdlib>
+#include <fstream>
+#include <iterator>
+#include <set>
 #include <string>
 #include <utility>
+#include <vector>
 
+#include <assimp/BaseImporter.h>
 #include <assimp/Importer.hpp>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
@@ -12,6 +19,19 @@
 
 #include "common/error.hpp"
 #include "scene/geometry.hpp"
+#include "scene/mesh_check.hpp"
+
+// Debian builds libassimp with its ai_assert checks on, and their handler aborts the
+// process. Assimp 5.2 keeps setAiAssertHandler out of the library's exports, so the
+// handler is replaced by defining the function every ai_assert calls: the dynamic linker
+// binds the library's calls to the executable's definition. Thrown inside a reader, the
+// error becomes Assimp's read error; the checks below are meant to leave none to throw.
+namespace Assimp {
+void aiAssertViolation(const char* expression, const char* file, int line);
+void aiAssertViolation(const char* expression, const char* file, int line) {
+  throw rpu::Error(fmt::format("Assimp's internal check \"{}\" failed ({}:{})", expression, file, line));
+}
+}  // namespace Assimp
 
 namespace rpu {
 namespace {
@@ -33,6 +53,92 @@ bool finite(const glm::dvec3& v) {
 std::string vertex_name(const aiScene& ai, unsigned mesh, unsigned vertex) {
   return ai.mNumMeshes == 1 ? fmt::format("vertex {}", vertex)
                             : fmt::format("vertex {} of mesh {}", vertex, mesh);
+}
+
+std::string face_name(const aiScene& ai, unsigned mesh, unsigned face) {
+  return ai.mNumMeshes == 1 ? fmt::format("face {}", face)
+                            : fmt::format("face {} of mesh {}", face, mesh);
+}
+
+// The reader Importer::ReadFile (Importer.cpp, 5.2) hands the file to: the one reader
+// that claims its extension, else the first claimant, else the first reader at all, whose
+// signature check takes it.
+MeshFormat reader_format(const Assimp::Importer& importer, const fs::path& path) {
+  const std::string file = path.string();
+  const auto claims = [&](Assimp::BaseImporter& reader) {
+    std::set<std::string> extensions;
+    reader.GetExtensionList(extensions);
+    for (const std::string& e : extensions) {
+      const std::string suffix = "." + e;
+      if (suffix.size() <= file.size() &&
+          std::equal(suffix.begin(), suffix.end(), file.end() - static_cast<std::ptrdiff_t>(suffix.size()),
+                     [](char a, char b) { return std::tolower(static_cast<unsigned char>(a)) ==
+                                                 std::tolower(static_cast<unsigned char>(b)); })) {
+        return true;
+      }
+    }
+    return false;
+  };
+  std::vector<Assimp::BaseImporter*> claimants, all;
+  for (std::size_t i = 0; i < importer.GetImporterCount(); ++i) {
+    Assimp::BaseImporter* reader = importer.GetImporter(i);
+    all.push_back(reader);
+    if (claims(*reader)) claimants.push_back(reader);
+  }
+  Assimp::BaseImporter* chosen = claimants.size() == 1 ? claimants[0] : nullptr;
+  for (const auto* candidates : {&claimants, &all}) {
+    for (Assimp::BaseImporter* reader : *candidates) {
+      if (chosen == nullptr && reader->CanRead(file, importer.GetIOHandler(), true)) chosen = reader;
+    }
+  }
+  if (chosen == nullptr) return MeshFormat::kOther;
+  std::set<std::string> extensions;
+  chosen->GetExtensionList(extensions);
+  if (extensions.contains("ply")) return MeshFormat::kPly;
+  if (extensions.contains("off")) return MeshFormat::kOff;
+  if (extensions.contains("stl")) return MeshFormat::kStl;
+  if (extensions.contains("obj")) return MeshFormat::kObj;
+  return MeshFormat::kOther;
+}
+
+std::string read_bytes(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error(fmt::format("{}: cannot open the mesh file", path.string()));
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// Readers leave faces without indices (an OFF file with fewer face lines than it
+// declares) and indices past the last vertex (corrupt files); post-processing asserts or
+// crashes on either, so they are errors here, before it runs.
+void check_faces(const aiScene& ai, const fs::path& path) {
+  for (unsigned m = 0; m < ai.mNumMeshes; ++m) {
+    const aiMesh& mesh = *ai.mMeshes[m];
+    for (unsigned f = 0; f < mesh.mNumFaces; ++f) {
+      const aiFace& face = mesh.mFaces[f];
+      if (face.mNumIndices == 0 || face.mIndices == nullptr) {
+        throw Error(fmt::format("{}: {} has no vertices (the file holds fewer faces than it "
+                                "declares, or a face line is empty)",
+                                path.string(), face_name(ai, m, f)));
+      }
+      for (unsigned k = 0; k < face.mNumIndices; ++k) {
+        if (face.mIndices[k] >= mesh.mNumVertices) {
+          throw Error(fmt::format("{}: {} names vertex {}, but there are {} vertices",
+                                  path.string(), face_name(ai, m, f), face.mIndices[k],
+                                  mesh.mNumVertices));
+        }
+      }
+    }
+  }
+}
+
+bool has_surfaces(const aiScene& ai) {
+  for (unsigned m = 0; m < ai.mNumMeshes; ++m) {
+    const aiMesh& mesh = *ai.mMeshes[m];
+    for (unsigned f = 0; f < mesh.mNumFaces; ++f) {
+      if (mesh.mFaces[f].mNumIndices >= 3) return true;
+    }
+  }
+  return false;
 }
 
 // Assimp's file readers accept "nan" and overflowing literals; a non-finite vertex would
@@ -107,6 +213,10 @@ void add_node(const aiScene& ai, const aiNode& node, const glm::dmat4& parent,
               const MeshOptions& options, const fs::path& path, Scene& out) {
   const glm::dmat4 to_world = parent * to_glm(node.mTransformation);
   for (unsigned k = 0; k < node.mNumMeshes; ++k) {
+    if (node.mMeshes[k] >= ai.mNumMeshes) {
+      throw Error(fmt::format("{}: node \"{}\" names mesh {}, but there are {} meshes", path.string(),
+                              node.mName.C_Str(), node.mMeshes[k], ai.mNumMeshes));
+    }
     append_geometry(out, convert_mesh(ai, node.mMeshes[k], to_world, options, path));
   }
   for (unsigned c = 0; c < node.mNumChildren; ++c) {
@@ -158,13 +268,21 @@ Scene load_mesh(const fs::path& path, const MeshOptions& options) {
   // Points and lines cannot be hit by a ray: let SortByPType remove them.
   importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE,
                               aiPrimitiveType_POINT | aiPrimitiveType_LINE);
+  check_mesh_bytes(path, reader_format(importer, path), read_bytes(path));
   // Read without post-processing first, so that vertex numbers in errors follow the file.
   const aiScene* ai = importer.ReadFile(path.string(), 0);
   if (ai == nullptr) {
     throw Error(fmt::format("{}: cannot read the mesh: {}", path.string(),
                             importer.GetErrorString()));
   }
+  check_faces(*ai, path);
   check_finite(*ai, path);
+  Scene out;
+  // Post-processing fails when SortByPType removes every mesh.
+  if (!has_surfaces(*ai)) {
+    out.warnings.push_back(fmt::format("{}: no triangles in the file", path.string()));
+    return out;
+  }
   // Welding and smooth normals are ours (convert_mesh): Assimp's use distance
   // tolerances, so the same mesh at another scale would weld and shade differently.
   ai = importer.ApplyPostProcessing(aiProcess_Triangulate | aiProcess_SortByPType);
@@ -172,7 +290,6 @@ Scene load_mesh(const fs::path& path, const MeshOptions& options) {
     throw Error(fmt::format("{}: cannot read the mesh: {}", path.string(),
                             importer.GetErrorString()));
   }
-  Scene out;
   add_node(*ai, *ai->mRootNode, options.transform, options, path, out);
   if (out.triangles.empty()) {
     out.warnings.push_back(fmt::format("{}: no triangles in the file", path.string()));

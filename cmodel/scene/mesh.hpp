@@ -31,9 +31,12 @@ struct MeshOptions {
 // Reads a mesh file with Assimp into world-space geometry: the node graph's transforms
 // are applied, then options.transform. Returns a Scene holding only geometry (and its
 // warnings): normals when the file has them or options.smooth asks for them, uvs when
-// the file has them. Degenerate triangles are dropped with one warning. Throws
-// rpu::Error naming the file for a file Assimp cannot read (with Assimp's message) and
-// for a vertex that is not finite.
+// the file has them. Degenerate triangles are dropped with one warning; a file without
+// triangles (points or lines only) gives no geometry and the warning "no triangles in the
+// file". Throws rpu::Error naming the file for a file Assimp cannot read (with Assimp's
+// message), for one that check_mesh_bytes refuses (mesh_check.hpp: counts beyond the
+// file's size, data ending early), for a face without vertices or naming a vertex past
+// the last, for a vertex that is not finite, and for an Assimp internal check that fails.
 Scene load_mesh(const std::filesystem::path& path, const MeshOptions& options);
 
 }  // namespace rpu

@@ -3,48 +3,31 @@
 // it accepts must also become a valid memory image (over a one-leaf tree) or be refused
 // with rpu::Error. Only rpu::Error may escape either step.
 //
-// Inputs that ask a built-in generator for a large scene are skipped: balls:5 is 15
-// million triangles and takes minutes under ASan, which is a legitimate cost, not a
-// finding, and would stall the run. The generators' size limits are unit-tested.
+// Inputs that ask a built-in generator for a large scene are skipped (large_scene.hpp).
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
 #include <numeric>
 #include <string_view>
 
-#include <nlohmann/json.hpp>
-
 #include "common/error.hpp"
 #include "memory/memory_image.hpp"
 #include "scene/geometry.hpp"
 #include "scene/scene_file.hpp"
+#include "large_scene.hpp"
 
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
   setenv("RPU_MESH_DIR", "/nonexistent/rpu-fuzz-mesh-cache", 1);
   return 0;
 }
 
-namespace {
-
-// True for {"procedural": {"generator": G, "size": N}} with N above what runs in well
-// under a second here: balls 3 (184 k triangles), tetra 7 (16 k), cornell 128 (16 k).
-bool asks_for_large_scene(std::string_view text) {
-  const nlohmann::json j = nlohmann::json::parse(text, nullptr, false);
-  if (!j.is_object() || !j.contains("procedural")) return false;
-  const nlohmann::json& p = j["procedural"];
-  if (!p.is_object() || !p.contains("size") || !p["size"].is_number_integer() || !p.contains("generator")) {
-    return false;
-  }
-  const nlohmann::json& g = p["generator"];
-  const long long n = p["size"].get<long long>();
-  return (g == "balls" && n > 3) || (g == "tetra" && n > 7) || (g == "cornell" && n > 128);
-}
-
-}  // namespace
+// Scenes that run in well under a second here: balls 3 (184 k triangles), tetra 7 (16 k),
+// cornell 128 (16 k).
+constexpr rpu::fuzz::GeneratorLimits kLimits{3, 7, 128};
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string_view text(reinterpret_cast<const char*>(data), size);
-  if (asks_for_large_scene(text)) return 0;
+  if (rpu::fuzz::asks_for_large_scene(text, kLimits)) return 0;
   try {
     const rpu::Scene scene = rpu::parse_scene_json(text, RPU_SOURCE_DIR "/scenes", "fuzz.json");
     rpu::KdTree tree;
