@@ -197,6 +197,18 @@ TEST_F(MeshFile, PlyMaterialAndEdgeElementsAreCapped) {
                     "about 100 bytes, and rpu reads at most 1048576 (rpu does not use them)");
 }
 
+TEST_F(MeshFile, PlyEmptyMaterialElementIsRefusedBeforeAssimpLeaks) {
+  // Found by fuzz_mesh_files: Assimp 5.2 leaks on a material element of no instances.
+  const std::string path =
+      write("no_materials.ply",
+            "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+            "element face 1\nproperty list uchar int vertex_indices\nelement material 0\n"
+            "property uchar ambient_red\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+  EXPECT_EQ(error_of("no_materials.ply"),
+            path + ": the \"material\" element has no instances; leave it out (Assimp 5.2 mishandles an empty "
+                   "material element, and rpu takes materials from the scene file)");
+}
+
 TEST_F(MeshFile, AsciiPlyListItemThatIsNotANumberIsRefused) {
   // Assimp's cursor stays on it, so every item of the list reads it again: a list length
   // of 10^9 on a short line spun for minutes (found by fuzz_mesh_files).
