@@ -294,6 +294,9 @@ void check_obj(const fs::path& path, const std::string& text) {
     ++line;
     if (statement.empty() || statement[0] != 'l') continue;
     const char* p = statement.c_str();
+    // Assimp's step (the digits of the int that atoi made of a longer number) can go
+    // past the statement's end; it reads on into its buffer, this stops at the end.
+    const char* const end = p + statement.size();
     while (*p != '\0' && !Assimp::IsSpaceOrNewLine(*p)) ++p;  // the keyword
     unsigned vertices = 0;
     int slot = 0;
@@ -310,7 +313,7 @@ void check_obj(const fs::path& path, const std::string& text) {
         for (int rest = v; (rest /= 10) != 0;) ++step;
         if (slot == 0 && v != 0) ++vertices;
       }
-      p += step;
+      p += std::min<std::ptrdiff_t>(step, end - p);
     }
     if (vertices == 1) {
       fail(path, fmt::format("line {}: a line statement with one vertex (Assimp 5.2 fails on it "

@@ -209,6 +209,20 @@ TEST_F(MeshFile, PlyEmptyMaterialElementIsRefusedBeforeAssimpLeaks) {
                    "material element, and rpu takes materials from the scene file)");
 }
 
+// Found by fuzz_mesh_files: a number longer than an int in a line statement made the
+// OBJ check step past the statement's end (a heap overflow under ASan).
+TEST_F(MeshFile, ObjNumberLongerThanAnIntIsReadWithinTheLine) {
+  const fs::path corpus =
+      fs::path(RPU_SOURCE_DIR) / "tests/fuzz/corpus/mesh_files/regress_obj_line_number_past_the_end.obj";
+  try {
+    load_mesh(corpus, MeshOptions{});
+    ADD_FAILURE() << "the file's bad face index was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("cannot read the mesh: OBJ: Invalid face index"), std::string::npos)
+        << e.what();
+  }
+}
+
 TEST_F(MeshFile, AsciiPlyListItemThatIsNotANumberIsRefused) {
   // Assimp's cursor stays on it, so every item of the list reads it again: a list length
   // of 10^9 on a short line spun for minutes (found by fuzz_mesh_files).
