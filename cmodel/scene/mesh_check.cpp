@@ -269,6 +269,34 @@ void check_stl(const fs::path& path, const std::string& bytes) {
                          count, count, 84 + 50 * std::uint64_t{count}, bytes.size()));
 }
 
+// --- Polygons ----------------------------------------------------------------------------
+// Assimp's Triangulate clips ears in time quadratic in a polygon's corners: one
+// non-convex polygon of 65,536 corners took 33 s, one of 2 million would take hours. The
+// squared corners of a file's polygons (of more than four) are capped at about 8 s of it.
+constexpr std::uint64_t kMaxTriangulationWork = std::uint64_t{1} << 30;
+
+class TriangulationWork {
+ public:
+  explicit TriangulationWork(const fs::path& path) : path_(path) {}
+  // `where` names the polygon, called only when it is refused.
+  template <typename Where>
+  void add(std::uint64_t corners, const Where& where) {
+    if (corners <= 4) return;
+    largest_ = std::max(largest_, corners);
+    work_ += std::min(corners, kMaxTriangulationWork) * std::min(corners, kMaxTriangulationWork);
+    if (work_ > kMaxTriangulationWork) {
+      fail(path_, fmt::format("{}: the polygons up to here (the largest of {} corners) would take Assimp's "
+                              "triangulation more than {} steps (corners squared, summed); split them "
+                              "into smaller polygons or triangles",
+                              where(), largest_, kMaxTriangulationWork));
+    }
+  }
+
+ private:
+  const fs::path& path_;
+  std::uint64_t work_ = 0, largest_ = 0;
+};
+
 // --- OBJ -------------------------------------------------------------------------------
 // Assimp's OBJ reader (ObjFileImporter.cpp, 5.2) counts a line statement of n vertices as
 // n - 1 segments but copies all n vertices, so a line of one vertex makes it throw ("no
@@ -277,6 +305,7 @@ void check_stl(const fs::path& path, const std::string& bytes) {
 // counts them (atoi, stepping by the digits of the value read), on lines joined at a
 // trailing backslash as its reader joins them.
 void check_obj(const fs::path& path, const std::string& text) {
+  TriangulationWork polygons(path);
   std::size_t line = 1;
   for (std::size_t at = 0; at < text.size();) {
     const std::size_t start_line = line;
@@ -292,6 +321,16 @@ void check_obj(const fs::path& path, const std::string& text) {
     }
     ++at;
     ++line;
+    if (!statement.empty() && statement[0] == 'f') {
+      std::uint64_t corners = 0;
+      for (std::size_t k = statement.find_first_of(" \t"); k < statement.size();) {
+        const std::size_t begin = statement.find_first_not_of(" \t\r", k);
+        if (begin == std::string::npos) break;
+        ++corners;
+        k = statement.find_first_of(" \t", begin);
+      }
+      polygons.add(corners, [&] { return fmt::format("line {}", start_line); });
+    }
     if (statement.empty() || statement[0] != 'l') continue;
     const char* p = statement.c_str();
     // Assimp's step (the digits of the int that atoi made of a longer number) can go
@@ -645,6 +684,7 @@ double binary_value(const std::string& bytes, std::size_t at, PlyType t, bool bi
 
 // PLY::DOM::ParseElementInstanceListsBinary: every instance must lie inside the file.
 void walk_binary(const fs::path& path, const std::string& bytes, std::size_t at, const PlyHeader& h) {
+  TriangulationWork polygons(path);
   const auto truncated = [&](const PlyElement& e, std::uint32_t i) {
     fail(path, fmt::format("the data ends inside {} (offset {} of {} bytes): the file is truncated "
                            "or its header promises too much",
@@ -671,6 +711,7 @@ void walk_binary(const fs::path& path, const std::string& bytes, std::size_t at,
           }
           truncated(e, i);
         }
+        if (p.list && e.semantic == PlySemantic::kFace) polygons.add(items, [&] { return instance_name(e, i); });
         at += items * type_size(p.type);
       }
     }
@@ -706,6 +747,7 @@ double ascii_value(const char*& p, PlyType t) {
 // line (Assimp goes on into the buffer's stale tail) or a list longer than its line is an
 // error, and so is a file that ends before the last instance.
 void walk_ascii(const fs::path& path, PlyLines& lines, std::string& b, const PlyHeader& h) {
+  TriangulationWork polygons(path);
   bool have_line = lines.next(b);
   for (const PlyElement& e : h.elements) {
     const bool parsed = e.semantic != PlySemantic::kInvalid && !e.properties.empty();
@@ -739,6 +781,9 @@ void walk_ascii(const fs::path& path, PlyLines& lines, std::string& b, const Ply
               fail(path, fmt::format("line {}: {} has a list of {} items, more than its line's {} "
                                      "characters",
                                      lines.line(), instance_name(e, i), items, lines.line_length()));
+            }
+            if (e.semantic == PlySemantic::kFace) {
+              polygons.add(items, [&] { return fmt::format("line {}: {}", lines.line(), instance_name(e, i)); });
             }
             for (std::uint64_t item = 0; item < items; ++item) {
               if (!Assimp::SkipSpaces(&p)) {

@@ -223,6 +223,42 @@ TEST_F(MeshFile, ObjNumberLongerThanAnIntIsReadWithinTheLine) {
   }
 }
 
+// Assimp triangulates in time quadratic in a polygon's corners (65,536 took 33 s): the
+// corners squared, summed over a file's polygons, are capped at 2^30.
+TEST_F(MeshFile, PolygonsTooLargeToTriangulateInTimeAreRefused) {
+  const auto polygon_obj = [](int corners, int polygons) {
+    std::string text;
+    for (int i = 0; i < corners; ++i) text += fmt::format("v {} {} 0\n", i, i % 2);
+    for (int p = 0; p < polygons; ++p) {
+      text += "f";
+      for (int i = 1; i <= corners; ++i) text += fmt::format(" {}", i);
+      text += "\n";
+    }
+    return text;
+  };
+  const std::string one = write("one.obj", polygon_obj(33000, 1));
+  EXPECT_EQ(error_of("one.obj"),
+            one + ": line 33001: the polygons up to here (the largest of 33000 corners) would take Assimp's "
+                  "triangulation more than 1073741824 steps (corners squared, summed); split them into smaller "
+                  "polygons or triangles");
+  // Their sum counts: two of 24,000 corners are refused at the second.
+  const std::string two = write("two.obj", polygon_obj(24000, 2));
+  EXPECT_NE(error_of("two.obj").find(two + ": line 24002: the polygons up to here (the largest of 24000"),
+            std::string::npos)
+      << error_of("two.obj");
+  // PLY face lists count the same way.
+  std::string ply = "ply\nformat binary_little_endian 1.0\nelement vertex 33000\nproperty float x\nproperty float y\n"
+                    "property float z\nelement face 1\nproperty list int int vertex_indices\nend_header\n";
+  ply += std::string(33000 * 12, '\0');
+  const std::int32_t corners = 33000;
+  ply.append(reinterpret_cast<const char*>(&corners), 4);
+  for (std::int32_t i = 0; i < corners; ++i) ply.append(reinterpret_cast<const char*>(&i), 4);
+  const std::string path = write("one.ply", ply);
+  EXPECT_NE(error_of("one.ply").find(path + ": face 0 of 1: the polygons up to here (the largest of 33000"),
+            std::string::npos)
+      << error_of("one.ply");
+}
+
 TEST_F(MeshFile, AsciiPlyListItemThatIsNotANumberIsRefused) {
   // Assimp's cursor stays on it, so every item of the list reads it again: a list length
   // of 10^9 on a short line spun for minutes (found by fuzz_mesh_files).
