@@ -176,26 +176,25 @@ int write_vectors(const Options& o, const OpChoice& op, Format f) {
   return 0;
 }
 
-// spec/configs.toml's [config.latency] for every configuration in this format: fpu for
-// the fma and misc units, sfu for div, rcp and sqrt, rsq for rsqrt. The smallest latency
-// of a run is the unit's (stalls only add).
+// spec/latencies.toml's [latency.<format>]: fpu for the fma and misc units, sfu for
+// div, rcp and sqrt, rsq for rsqrt. The smallest latency of a run is the unit's (stalls
+// only add).
 int check_config(const Options& o, const OpChoice& op, std::uint64_t latency) {
-  int failures = 0;
-  for (const spec::HardwareConfig& c : spec::kConfigs) {
-    if (c.format != o.format) continue;
-    const char* field = op.spec->unit != "divsqrt" ? "fpu" : o.op == "rsqrt" ? "rsq" : "sfu";
-    const int want = op.spec->unit != "divsqrt" ? c.latency.fpu : o.op == "rsqrt" ? c.latency.rsq : c.latency.sfu;
+  const char* field = op.spec->unit != "divsqrt" ? "fpu" : o.op == "rsqrt" ? "rsq" : "sfu";
+  for (const auto& m : spec::kShaderLatencies) {
+    if (m.format != o.format) continue;
+    const int want = op.spec->unit != "divsqrt" ? m.value.fpu : o.op == "rsqrt" ? m.value.rsq : m.value.sfu;
     const bool ok = static_cast<std::uint64_t>(want) == latency;
-    std::printf("%s config %.*s: [config.latency] %s = %d; RTL %s latency %" PRIu64 "\n", ok ? "ok  " : "FAIL",
-                static_cast<int>(c.name.size()), c.name.data(), field, want, o.op.c_str(), latency);
-    failures += ok ? 0 : 1;
-  }
-  if (failures > 0) {
-    std::fprintf(stderr, "cosim FAIL: spec/configs.toml disagrees with the RTL's measured latency; set "
-                         "[config.latency] to the RTL's number above\n");
+    std::printf("%s [latency.%s] %s = %d; RTL %s latency %" PRIu64 "\n", ok ? "ok  " : "FAIL", o.format.c_str(),
+                field, want, o.op.c_str(), latency);
+    if (ok) return 0;
+    std::fprintf(stderr, "cosim FAIL: spec/latencies.toml disagrees with the RTL's measured latency; set "
+                         "[latency.%s] %s to the RTL's number above\n", o.format.c_str(), field);
     return 1;
   }
-  return 0;
+  std::fprintf(stderr, "cosim FAIL: spec/latencies.toml has no [latency.%s]; the RTL's %s latency is %" PRIu64 "\n",
+               o.format.c_str(), field, latency);
+  return 1;
 }
 
 int run(const Options& o, const OpChoice& op, Format f) {
@@ -326,7 +325,7 @@ int main(int argc, char** argv) {
   app.add_option("--edge-limit", o.edge_limit, "with --write-vectors: at most this many edge vectors (0: all)")
       ->check(CLI::NonNegativeNumber);
   app.add_flag("--check-config", o.check_config,
-               "fail unless spec/configs.toml's [config.latency] for this format equals the measured latency");
+               "fail unless spec/latencies.toml's [latency.FORMAT] equals the measured latency");
   CLI11_PARSE(app, argc, argv);
   try {
     check_output_paths("", o.write_vectors);

@@ -30,7 +30,7 @@ add_executable(iu_cosim iu_cosim.cpp)
 target_link_libraries(iu_cosim PRIVATE rpu_iu_rtl_models rpu_test_support rpu_output_file CLI11::CLI11 rpu_flags)
 
 # CI: a thousand camera and random rays per scene; `slow`: the issue's 10^5 per kind.
-# cosim.iu.timing.*: the measured latency and interval against spec/configs.toml.
+# cosim.iu.timing.*: the measured latency and interval against spec/latencies.toml.
 foreach(case IN LISTS rpu_iu_cases)
   string(REPLACE " " ";" case "${case}")
   list(GET case 0 format)

@@ -413,28 +413,28 @@ int run(const Options& o, fp::Format f, TransactionSource& source, std::unique_p
   }
 
   if (o.check_config) {
-    // spec/configs.toml's [config.iu] for every configuration in this format.
-    int failures = 0, matched = 0;
-    for (const spec::HardwareConfig& c : spec::kConfigs) {
-      if (c.format != o.format) continue;
-      ++matched;
-      const bool woop = o.isect == "woop";
-      const int want_latency = woop ? c.iu.woop : c.iu.watertight;
-      const int want_interval = woop ? c.iu.interval_woop : c.iu.interval_watertight;
-      const bool ok = static_cast<std::uint64_t>(want_latency) == timing.latency &&
-                      static_cast<std::uint64_t>(want_interval) == timing.interval;
-      std::printf("%s config %.*s: [config.iu] %s = %d, interval_%s = %d; RTL latency %" PRIu64
-                  ", interval %" PRIu64 "\n",
-                  ok ? "ok  " : "FAIL", static_cast<int>(c.name.size()), c.name.data(), o.isect.c_str(),
-                  want_latency, o.isect.c_str(), want_interval, timing.latency, timing.interval);
-      failures += ok ? 0 : 1;
-    }
-    if (failures > 0) {
-      std::fprintf(stderr, "iu cosim FAIL: spec/configs.toml disagrees with the RTL's measured IU timing; set "
-                           "[config.iu] to the RTL's numbers above\n");
+    // spec/latencies.toml's [iu.<format>].
+    const auto m = std::find_if(spec::kIuLatencies.begin(), spec::kIuLatencies.end(),
+                                [&](const auto& e) { return e.format == o.format; });
+    if (m == spec::kIuLatencies.end()) {
+      std::fprintf(stderr, "iu cosim FAIL: spec/latencies.toml has no [iu.%s]; the RTL's %s latency is %" PRIu64
+                           ", interval %" PRIu64 "\n", o.format.c_str(), o.isect.c_str(), timing.latency,
+                   timing.interval);
       return 1;
     }
-    if (matched == 0) std::printf("no configuration uses format %s\n", o.format.c_str());
+    const bool woop = o.isect == "woop";
+    const int want_latency = woop ? m->value.woop : m->value.watertight;
+    const int want_interval = woop ? m->value.interval_woop : m->value.interval_watertight;
+    const bool ok = static_cast<std::uint64_t>(want_latency) == timing.latency &&
+                    static_cast<std::uint64_t>(want_interval) == timing.interval;
+    std::printf("%s [iu.%s] %s = %d, interval_%s = %d; RTL latency %" PRIu64 ", interval %" PRIu64 "\n",
+                ok ? "ok  " : "FAIL", o.format.c_str(), o.isect.c_str(), want_latency, o.isect.c_str(), want_interval,
+                timing.latency, timing.interval);
+    if (!ok) {
+      std::fprintf(stderr, "iu cosim FAIL: spec/latencies.toml disagrees with the RTL's measured IU timing; set "
+                           "[iu.%s] to the RTL's numbers above\n", o.format.c_str());
+      return 1;
+    }
   }
   return 0;
 }
@@ -456,7 +456,7 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0, 90));
   app.add_option("--trace", o.trace, "write FST waveforms of the whole run to this file");
   app.add_flag("--check-config", o.check_config,
-               "fail unless spec/configs.toml's [config.iu] equals the measured latency and interval");
+               "fail unless spec/latencies.toml's [iu.FORMAT] equals the measured latency and interval");
   app.add_option("--write-vectors", o.write_vectors, "write IU tests and results for the netlist testbench");
   app.add_option("--vectors", o.vectors, "with --write-vectors: how many")->check(CLI::PositiveNumber);
   CLI11_PARSE(app, argc, argv);

@@ -522,7 +522,7 @@ int run(const Options& o, std::unique_ptr<TuModel>& model) {
       const std::int64_t expected = k[0] + k[1] * s.inner + k[2] * s.leaves + k[3] * s.pops;
       if (static_cast<std::int64_t>(s.busy) != expected) {
         std::printf("tu_cosim FAIL: a ray with %u inner nodes, %u leaves and %u pops spent %" PRIu64
-                    " cycles besides memory and IU waits; spec/configs.toml [config.tu] (setup,inner,leaf,pop = %s) "
+                    " cycles besides memory and IU waits; spec/latencies.toml [tu.<format>] (setup,inner,leaf,pop = %s) "
                     "gives %" PRId64 " (measure with --timing; docs/rtl.md)\n",
                     s.inner, s.leaves, s.pops, s.busy, o.expect_timing.c_str(), expected);
         return 1;
