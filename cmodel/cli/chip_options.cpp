@@ -3,13 +3,13 @@
 #include <fmt/format.h>
 
 #include "common/error.hpp"
-#include "common/hardware_config.hpp"
+#include "config/config.hpp"
 #include "rpu/spec.hpp"
 
 namespace rpu::cli {
 
 KdBuildConfig ChipOptions::build_config() const {
-  KdBuildConfig c = kd_build_config_for(config);
+  KdBuildConfig c = kd_build_config_for(hardware_config());
   c.traversal_cost = build.traversal_cost;
   c.intersection_cost = build.intersection_cost;
   c.empty_bonus = build.empty_bonus;
@@ -17,22 +17,27 @@ KdBuildConfig ChipOptions::build_config() const {
   c.perfect_splits = build.perfect_splits;
   // Any given depth, a negative one too, goes to the builder's range check.
   if (max_depth) c.max_depth = *max_depth;
-  c.format = number_format();
   return c;
 }
 
-const spec::HardwareConfig& ChipOptions::hardware_config() const { return rpu::hardware_config(config); }
-
-fp::Format ChipOptions::number_format() const {
-  return format.empty() ? fp::format_by_name(hardware_config().format) : fp::format_by_name(format);
+const spec::HardwareConfig& ChipOptions::hardware_config() const {
+  if (!resolved_) {
+    std::vector<std::string> all = sets;
+    if (!format.empty()) all.push_back("format=" + format);
+    resolved_ = config::resolve(config, all);
+  }
+  return *resolved_;
 }
 
+fp::Format ChipOptions::number_format() const { return fp::format_by_name(hardware_config().format); }
+
 void add_chip_options(CLI::App& command, ChipOptions& o) {
-  std::vector<std::string> configs;
-  for (const spec::HardwareConfig& c : spec::kConfigs) configs.emplace_back(c.name);
-  command.add_option("--config", o.config, "Hardware configuration (spec/configs.toml)")
-      ->check(CLI::IsMember(configs))
+  std::string names;
+  for (const spec::HardwareConfig& c : spec::kConfigs) names += (names.empty() ? "" : ", ") + c.name;
+  command.add_option("--config", o.config, "Hardware configuration: " + names + ", or a TOML file (docs/configurations.md)")
       ->capture_default_str();
+  command.add_option("--set", o.sets, "Change one configuration key, e.g. --set shader_cores=8 (repeatable)")
+      ->type_name("KEY=VALUE");
   command.add_option("--format", o.format,
                      "Number format: fp32, e8m15, rpu24, bf16, fp16 or E<e>M<m> (default: the configuration's)");
   command.add_option("--isect", o.isect, "Ray/triangle test")

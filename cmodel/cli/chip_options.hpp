@@ -2,6 +2,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
@@ -13,21 +14,26 @@
 namespace rpu::cli {
 
 // Options shared by the commands that build what the chip reads: which hardware
-// configuration (spec/configs.toml), number format, intersection test and kd-tree
-// build parameters.
+// configuration (named, or a TOML file, with --set changes: docs/configurations.md),
+// number format, intersection test and kd-tree build parameters.
 struct ChipOptions {
   std::string config = "default";
+  std::vector<std::string> sets;  // "key=value", applied in order
   std::string format;  // empty: the configuration's format
   std::string isect = "woop";
   std::optional<int> max_depth;  // none: the configuration's stack depth
   KdBuildConfig build;
 
-  // Resolves the configuration; throws rpu::Error for unknown names or an impossible
+  // Resolves the configuration (once; --format counts as a last --set format=...);
+  // throws rpu::Error for an unknown name or key, a bad value, or an impossible
   // combination (a tree deeper than the stack).
   KdBuildConfig build_config() const;
   fp::Format number_format() const;
   const spec::HardwareConfig& hardware_config() const;
   IsectMode isect_mode() const { return isect == "watertight" ? IsectMode::kWatertight : IsectMode::kWoop; }
+
+ private:
+  mutable std::optional<spec::HardwareConfig> resolved_;
 };
 
 void add_chip_options(CLI::App& command, ChipOptions& options);

@@ -176,7 +176,7 @@ void check_render_outputs(const RenderOptions& o) {
 
 // The options that only a device backend reads: the reference renderer computes in
 // double precision, without firmware, chip configuration or kd-tree.
-constexpr std::string_view kDeviceOptions[] = {"--firmware", "--watchdog", "--config", "--format", "--isect",
+constexpr std::string_view kDeviceOptions[] = {"--firmware", "--watchdog", "--config", "--set", "--format", "--isect",
                                                "--kd-depth", "--leaf-prims", "--traversal-cost",
                                                "--intersection-cost", "--empty-bonus", "--perfect-splits"};
 

@@ -34,13 +34,14 @@
 
 namespace rpu {
 
-KdBuildConfig kd_build_config_for(const std::string& name) {
-  const spec::HardwareConfig& c = hardware_config(name);
+KdBuildConfig kd_build_config_for(const std::string& name) { return kd_build_config_for(hardware_config(name)); }
+
+KdBuildConfig kd_build_config_for(const spec::HardwareConfig& c) {
   KdBuildConfig config;
   config.max_depth = c.stack_depth;
   config.stack_depth = c.stack_depth;
   config.format = fp::format_by_name(c.format);
-  config.hardware_config = name;
+  config.hardware_config = c.name;
   return config;
 }
 

@@ -9,6 +9,7 @@
 
 #include "fp/format.hpp"
 #include "kdtree/kd_node.hpp"
+#include "rpu/spec.hpp"
 #include "scene/scene.hpp"
 
 namespace rpu {
@@ -49,6 +50,8 @@ inline constexpr int kKdMaxMarginUlps = 1024;
 // format of the named hardware configuration (spec/configs.toml). Throws rpu::Error for
 // an unknown name.
 KdBuildConfig kd_build_config_for(const std::string& hardware_config);
+// The same for a resolved configuration (rpu::config::resolve).
+KdBuildConfig kd_build_config_for(const spec::HardwareConfig& hardware_config);
 
 struct KdTreeStats {
   std::uint64_t nodes = 0;

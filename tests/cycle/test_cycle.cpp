@@ -16,6 +16,7 @@
 
 #include "asm/assembler.hpp"
 #include "common/hardware_config.hpp"
+#include "config/config.hpp"
 #include "cycle/cycle_device.hpp"
 #include "device/builtin_firmware.hpp"
 #include "device/device.hpp"
@@ -156,6 +157,51 @@ TEST(CycleModel, MoreDramBandwidthNeverCostsCycles) {
     EXPECT_LE(f.stats.cycle->cycles, previous) << bytes << " bytes/cycle";
     previous = f.stats.cycle->cycles;
   }
+}
+
+// Configurations changed at run time (rpu::config, --set) move a frame the way the
+// hardware would: more shader cores never cost cycles when the shaders bound the frame.
+TEST(CycleModel, MoreShaderCoresNeverCostCyclesOnAShaderBoundFrame) {
+  // Arithmetic only, a chain of dependent mads: no rays and no loads, so only the cores
+  // bound the frame.
+  std::string text = "raygen:\n        lif     r1, 1.0\n        lif     r2, 0.5\n";
+  for (int i = 0; i < 64; ++i) text += "        mad     r2, r2, r1, r1\n";
+  text += "        halt\nhit_whitted:\n        ret\n";
+  const isa::Firmware firmware = assemble_text(text);
+  const Cornell c;
+  std::uint64_t previous = std::numeric_limits<std::uint64_t>::max(), one_core = 0;
+  for (int cores = 1; cores <= 32; cores *= 2) {
+    const spec::HardwareConfig config = config::resolve("tiny", {fmt::format("shader_cores={}", cores)});
+    const Frame f = render_cycle(config, c.scene, c.si.image, firmware, settings(16, 16));
+    const CycleStats& st = *f.stats.cycle;
+    for (const ShaderCoreTime& core : st.cores) {
+      EXPECT_EQ(core.wait_trace + core.wait_memory, 0u) << cores << " cores: the frame is not shader-bound";
+    }
+    EXPECT_LE(st.cycles, previous) << cores << " shader cores";
+    if (cores == 1) one_core = st.cycles;
+    previous = st.cycles;
+  }
+  // 256 pixels on 4 threads a core: 32 cores run them in an eighth of 1 core's rounds.
+  EXPECT_LT(previous * 4, one_core) << "1 core: " << one_core << " cycles, 32 cores: " << previous;
+}
+
+// A larger node cache never lowers its hit rate on a fixed frame: more sets of the same
+// ways hold every line the smaller one held (LRU inclusion).
+TEST(CycleModel, ALargerNodeCacheNeverLowersItsHitRate) {
+  const Scene scene = resolve_scene("scenes/bunny.json");
+  const functional::SceneImage si =
+      functional::make_scene_image(scene, kd_build_config_for("default"), IsectMode::kWoop);
+  const isa::Firmware firmware = device::builtin_firmware("whitted.s");
+  double previous = -1, smallest = 0;
+  for (int bytes = 1024; bytes <= 131072; bytes *= 2) {
+    const spec::HardwareConfig config = config::resolve("default", {fmt::format("node_cache.bytes={}", bytes)});
+    const Frame f = render_cycle(config, scene, si.image, firmware, settings(24, 18));
+    const double rate = f.stats.cycle->node_cache.hit_rate();
+    EXPECT_GE(rate, previous) << bytes << "-byte node cache";
+    if (previous < 0) smallest = rate;
+    previous = rate;
+  }
+  EXPECT_GT(previous, smallest + 0.05) << "the sizes should matter on this frame";
 }
 
 // On a frame bound by DRAM latency, twice the threads hide much of it.

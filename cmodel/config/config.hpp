@@ -1,0 +1,38 @@
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <variant>
+#include <vector>
+
+#include "rpu/spec.hpp"
+
+// Hardware configurations at run time (docs/configurations.md): a named one of
+// spec/configs.toml or a TOML file a user writes, changed by `--set key=value`, checked
+// against the keys, ranges and rules of spec/config_keys.toml and completed with the
+// derived values and the measured latencies of spec/latencies.toml.
+namespace rpu::config {
+
+// `name_or_file`: a named configuration, or a .toml file holding every key of
+// spec/config_keys.toml, or `base = "NAME"` and the keys it changes. Then each of `sets`
+// ("key=value", dotted keys) in order. Throws rpu::Error naming the file and line, or
+// the --set, for a malformed file, an unknown key (with the nearest known one), a value
+// out of range or not a power of two where one is needed, and a broken rule.
+spec::HardwareConfig resolve(std::string_view name_or_file, const std::vector<std::string>& sets = {});
+
+// Every value of a resolved configuration by dotted name, in the order of
+// spec/config_keys.toml: the choices, the derived values, the latencies and the
+// latencies.toml entries they came from.
+struct Entry {
+  std::string name;
+  std::variant<std::int64_t, std::string> value;
+  enum class Kind { kChoice, kDerived, kMeasured } kind;
+};
+std::vector<Entry> entries(const spec::HardwareConfig& config);
+
+// The configuration as TOML that `resolve` reads back to the same configuration: the
+// choices as keys, the derived values and latencies as comments.
+std::string to_toml(const spec::HardwareConfig& config);
+
+}  // namespace rpu::config
