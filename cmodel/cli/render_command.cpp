@@ -13,12 +13,13 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include "asm/builtin_firmware.hpp"
+#include "asm/firmware_file.hpp"
 #include "cli/chip_options.hpp"
 #include "cli/commands.hpp"
 #include "cli/output_paths.hpp"
 #include "cli/progress.hpp"
 #include "cycle/cycle_device.hpp"
-#include "device/builtin_firmware.hpp"
 #include "device/device.hpp"
 #include "device/render_frame.hpp"
 #include "functional/scene_image.hpp"
@@ -107,7 +108,7 @@ Image render_device(const Scene& world, const RenderOptions& o, std::string& sum
   const functional::SceneImage si = functional::make_scene_image(scene, build, o.chip.isect_mode());
   if (o.firmware.empty()) check_builtin_firmware_format(build.format, o.settings);
   const isa::Firmware firmware =
-      o.firmware.empty() ? device::builtin_firmware("whitted.s") : device::load_firmware_file(o.firmware);
+      o.firmware.empty() ? isa::builtin_firmware("whitted.s") : isa::load_firmware_or_assemble(o.firmware);
   std::optional<cycle::TimelineWriter> timeline;
   std::unique_ptr<device::Device> dev;
   if (o.backend == "cycle") {

@@ -15,9 +15,9 @@
 #include <nlohmann/json.hpp>
 
 #include "asm/assembler.hpp"
+#include "asm/builtin_firmware.hpp"
 #include "common/hardware_config.hpp"
 #include "cycle/cycle_device.hpp"
-#include "device/builtin_firmware.hpp"
 #include "device/device.hpp"
 #include "device/render_frame.hpp"
 #include "functional/scene_image.hpp"
@@ -75,7 +75,7 @@ TEST_P(CycleImage, IsBitIdenticalToTheFunctionalImage) {
   const spec::HardwareConfig& config = hardware_config(config_name);
   const functional::SceneImage si =
       functional::make_scene_image(scene, kd_build_config_for(std::string(config.name)), IsectMode::kWoop);
-  const isa::Firmware firmware = device::builtin_firmware("whitted.s");
+  const isa::Firmware firmware = isa::builtin_firmware("whitted.s");
   const RenderSettings s = settings(24, 18);
   const auto functional = device::make_functional_device(config, fp::format_by_name(config.format));
   const Frame expected = render(*functional, scene, si.image, firmware, s);
@@ -108,7 +108,7 @@ TEST(CycleModel, WatertightImageIsTheFunctionalImage) {
   const spec::HardwareConfig& config = hardware_config("default");
   const functional::SceneImage si =
       functional::make_scene_image(scene, kd_build_config_for("default"), IsectMode::kWatertight);
-  const isa::Firmware firmware = device::builtin_firmware("whitted.s");
+  const isa::Firmware firmware = isa::builtin_firmware("whitted.s");
   const auto functional = device::make_functional_device(config, fp::kFp32);
   const Frame expected = render(*functional, scene, si.image, firmware, settings(20, 16));
   const Frame actual = render_cycle(config, scene, si.image, firmware, settings(20, 16));
@@ -118,7 +118,7 @@ TEST(CycleModel, WatertightImageIsTheFunctionalImage) {
 struct Cornell {
   Scene scene = resolve_scene("cornell");
   functional::SceneImage si = functional::make_scene_image(scene, kd_build_config_for("tiny"), IsectMode::kWoop);
-  isa::Firmware firmware = device::builtin_firmware("whitted.s");
+  isa::Firmware firmware = isa::builtin_firmware("whitted.s");
 };
 
 TEST(CycleModel, SameInputsGiveTheSameCycles) {
