@@ -38,7 +38,7 @@ void run(benchmark::State& state, device::Device& dev, const std::string& scene,
     device::render_frame(dev, w.scene, w.image.image, firmware, frame(size));
     const device::DeviceStats st = dev.stats();
     host += st.host_seconds;
-    if (st.cycle) cycles += static_cast<double>(st.cycle->cycles);
+    if (st.report.find("cycles")) cycles += st.report.number("cycles");
   }
   const auto n = static_cast<double>(state.iterations());
   state.counters["host_s/frame"] = host / n;
