@@ -10,9 +10,9 @@
 #include <string>
 
 #include "asm/assembler.hpp"
+#include "asm/builtin_firmware.hpp"
 #include "common/hardware_config.hpp"
 #include "cycle/cycle_device.hpp"
-#include "device/builtin_firmware.hpp"
 #include "device/device.hpp"
 #include "device/render_frame.hpp"
 #include "scene_workload.hpp"
@@ -38,7 +38,7 @@ void run(benchmark::State& state, device::Device& dev, const std::string& scene,
     device::render_frame(dev, w.scene, w.image.image, firmware, frame(size));
     const device::DeviceStats st = dev.stats();
     host += st.host_seconds;
-    if (st.cycle) cycles += static_cast<double>(st.cycle->cycles);
+    if (st.report.find("cycles")) cycles += st.report.number("cycles");
   }
   const auto n = static_cast<double>(state.iterations());
   state.counters["host_s/frame"] = host / n;
@@ -62,12 +62,12 @@ void functional_frame(benchmark::State& state, const std::string& scene) {
   device::FunctionalOptions options;
   options.host_threads = 1;
   const auto dev = device::make_functional_device(hardware_config("default"), fp::kFp32, options);
-  run(state, *dev, scene, device::builtin_firmware("whitted.s"), 128);
+  run(state, *dev, scene, isa::builtin_firmware("whitted.s"), 128);
 }
 
 void cycle_frame(benchmark::State& state, const std::string& scene, const std::string& config) {
   const auto dev = cycle::make_cycle_device(config == "16 cores" ? sixteen_cores() : hardware_config(config), fp::kFp32);
-  run(state, *dev, scene, device::builtin_firmware("whitted.s"), static_cast<int>(state.range(0)));
+  run(state, *dev, scene, isa::builtin_firmware("whitted.s"), static_cast<int>(state.range(0)));
 }
 
 // Host cost per simulated cycle on a frame that mostly waits for DRAM (a long latency,
@@ -91,7 +91,7 @@ void dram_bound(benchmark::State& state) {
   c.dram.latency = 2000;
   c.dram.bytes_per_cycle = 1;
   const auto dev = cycle::make_cycle_device(c, fp::kFp32);
-  run(state, *dev, "cornell", device::builtin_firmware("whitted.s"), 32);
+  run(state, *dev, "cornell", isa::builtin_firmware("whitted.s"), 32);
 }
 
 void compute_bound(benchmark::State& state) {

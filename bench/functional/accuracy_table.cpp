@@ -11,8 +11,8 @@
 
 #include <fmt/format.h>
 
+#include "asm/builtin_firmware.hpp"
 #include "common/hardware_config.hpp"
-#include "device/builtin_firmware.hpp"
 #include "device/device.hpp"
 #include "device/render_frame.hpp"
 #include "functional/scene_image.hpp"
@@ -43,7 +43,7 @@ int main(int argc, char** argv) {
   for (std::size_t i = 0; i < std::size(formats); ++i) rule += "--:|";
   fmt::print("| scene | {} |\n{}\n", fmt::join(formats, " | "), rule);
   try {
-    const isa::Firmware firmware = device::builtin_firmware("whitted.s");
+    const isa::Firmware firmware = isa::builtin_firmware("whitted.s");
     for (const std::string& name : scenes) {
       const Scene scene = resolve_scene(name);
       const Image reference = ReferenceRenderer(scene).render(settings);

@@ -8,8 +8,8 @@
 #include <memory>
 #include <string>
 
+#include "asm/builtin_firmware.hpp"
 #include "common/hardware_config.hpp"
-#include "device/builtin_firmware.hpp"
 #include "device/device.hpp"
 #include "device/render_frame.hpp"
 #include "scene_workload.hpp"
@@ -19,7 +19,7 @@ namespace {
 
 void render(benchmark::State& state, const std::string& scene, bool soft_path) {
   const bench::SceneWorkload& w = bench::scene_workload(scene);
-  const isa::Firmware firmware = device::builtin_firmware("whitted.s");
+  const isa::Firmware firmware = isa::builtin_firmware("whitted.s");
   RenderSettings settings;
   settings.width = 128;
   settings.height = 128;

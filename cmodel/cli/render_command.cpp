@@ -13,12 +13,14 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include "asm/builtin_firmware.hpp"
+#include "asm/firmware_file.hpp"
 #include "cli/chip_options.hpp"
 #include "cli/commands.hpp"
 #include "cli/output_paths.hpp"
 #include "cli/progress.hpp"
+#include "common/stats_tree.hpp"
 #include "cycle/cycle_device.hpp"
-#include "device/builtin_firmware.hpp"
 #include "device/device.hpp"
 #include "device/render_frame.hpp"
 #include "functional/scene_image.hpp"
@@ -35,8 +37,10 @@ struct RenderOptions {
   std::string backend = "reference";
   std::filesystem::path firmware;  // empty: the built-in whitted.s
   std::uint64_t watchdog = device::FunctionalOptions{}.watchdog;
+  // device backend outputs
+  std::vector<std::filesystem::path> stats;      // .json / .csv
+  std::vector<std::filesystem::path> stats_row;  // .csv, one wide row
   // cycle backend outputs
-  std::vector<std::filesystem::path> stats;    // .json / .csv
   std::vector<std::filesystem::path> heatmap;  // .png false colour / .exr linear cycles
   std::filesystem::path trace;                 // Chrome trace JSON
   std::vector<std::uint64_t> trace_window{0, 200'000};
@@ -100,19 +104,21 @@ void warn_if_constant(const Image& image, const std::string& backend, const std:
 }
 
 // Firmware on a device: the functional golden model, or the cycle model (which also
-// writes its statistics, heatmap and timeline).
+// writes its heatmap and timeline). Both write their statistics.
 Image render_device(const Scene& world, const RenderOptions& o, std::string& summary) {
   const KdBuildConfig build = o.chip.build_config();
   const Scene scene = functional::chip_space_scene(world, build.format);
   const functional::SceneImage si = functional::make_scene_image(scene, build, o.chip.isect_mode());
   if (o.firmware.empty()) check_builtin_firmware_format(build.format, o.settings);
   const isa::Firmware firmware =
-      o.firmware.empty() ? device::builtin_firmware("whitted.s") : device::load_firmware_file(o.firmware);
+      o.firmware.empty() ? isa::builtin_firmware("whitted.s") : isa::load_firmware_or_assemble(o.firmware);
   std::optional<cycle::TimelineWriter> timeline;
+  std::optional<cycle::CycleStats> cycle_stats;
   std::unique_ptr<device::Device> dev;
   if (o.backend == "cycle") {
     cycle::CycleOptions options;
     options.watchdog = o.watchdog;
+    options.frame_stats = [&cycle_stats](const cycle::CycleStats& s) { cycle_stats = s; };
     if (!o.trace.empty()) {
       options.timeline_begin = o.trace_window[0];
       options.timeline_end = o.trace_window[1];
@@ -146,18 +152,19 @@ Image render_device(const Scene& world, const RenderOptions& o, std::string& sum
                         o.chip.hardware_config().chunk_size, millions(sh.closest_rays + sh.any_rays),
                         millions(sh.closest_rays), millions(sh.any_rays), millions(sh.nodes), millions(sh.leaves),
                         millions(sh.tests));
-  if (st.cycle) {
-    fmt::print(stderr, "{}", cycle::summarize(*st.cycle));
-    for (const std::filesystem::path& f : o.stats) cycle::write_stats(*st.cycle, sh, f);
-    for (const std::filesystem::path& f : o.heatmap) write_cycle_heatmap(*st.cycle, f);
+  if (cycle_stats) {
+    fmt::print(stderr, "{}", cycle::summarize(st.report));
+    for (const std::filesystem::path& f : o.heatmap) write_cycle_heatmap(*cycle_stats, f);
     if (timeline) {
-      timeline->finish(*st.cycle);
-      if (st.cycle->timeline_cut_at) {
+      timeline->finish(*cycle_stats);
+      if (cycle_stats->timeline_cut_at) {
         fmt::print(stderr, "rpu: warning: --trace {}: {}; start --trace-window at {} to see the rest\n",
-                   o.trace.string(), cycle::timeline_cut_reason(*st.cycle), *st.cycle->timeline_cut_at);
+                   o.trace.string(), cycle::timeline_cut_reason(*cycle_stats), *cycle_stats->timeline_cut_at);
       }
     }
   }
+  for (const std::filesystem::path& f : o.stats) write_stats(st.report, f);
+  for (const std::filesystem::path& f : o.stats_row) write_stats_row(st.report, f);
   return image;
 }
 
@@ -166,6 +173,7 @@ void check_render_outputs(const RenderOptions& o) {
   std::vector<PlannedOutput> outputs;
   for (const std::filesystem::path& f : o.outputs) outputs.push_back({"-o", f, {".png", ".exr"}});
   for (const std::filesystem::path& f : o.stats) outputs.push_back({"--stats", f, {".json", ".csv"}});
+  for (const std::filesystem::path& f : o.stats_row) outputs.push_back({"--stats-row", f, {".csv"}});
   for (const std::filesystem::path& f : o.heatmap) outputs.push_back({"--heatmap", f, {".png", ".exr"}});
   if (!o.trace.empty()) outputs.push_back({"--trace", o.trace, {".json"}});
   std::vector<PlannedInput> inputs;
@@ -201,9 +209,11 @@ void check_reference_options(const CLI::App& command, const Scene& scene) {
 }
 
 int run_render(const RenderOptions& options, const CLI::App& command) {
-  const bool cycle_outputs = !options.stats.empty() || !options.heatmap.empty() || !options.trace.empty();
-  if (cycle_outputs && options.backend != "cycle") {
-    throw Error("--stats, --heatmap and --trace need --backend cycle");
+  if ((!options.heatmap.empty() || !options.trace.empty()) && options.backend != "cycle") {
+    throw Error("--heatmap and --trace need --backend cycle");
+  }
+  if ((!options.stats.empty() || !options.stats_row.empty()) && options.backend == "reference") {
+    throw Error("--stats and --stats-row need --backend functional or cycle: the reference renderer keeps no statistics");
   }
   if (options.trace_window[0] >= options.trace_window[1]) {
     throw Error(fmt::format("--trace-window {} {}: the window is empty", options.trace_window[0], options.trace_window[1]));
@@ -285,7 +295,11 @@ Command add_render_command(CLI::App& app) {
           },
           "INSTRUCTIONS>=1"))
       ->capture_default_str();
-  render_cmd->add_option("--stats", render->stats, "cycle backend: statistics file(s), .json and/or .csv");
+  render_cmd->add_option("--stats", render->stats,
+                         "functional and cycle backends: statistics file(s), .json and/or .csv (one metric a line)");
+  render_cmd->add_option("--stats-row", render->stats_row,
+                         "functional and cycle backends: statistics as one CSV row under a header of metric names "
+                         "(.csv), for tables of many runs");
   render_cmd->add_option("--heatmap", render->heatmap,
                          "cycle backend: per-pixel cycle cost, .png (false colour) and/or .exr (cycles, linear)");
   render_cmd->add_option("--trace", render->trace,

@@ -609,7 +609,8 @@ void CycleDevice::run(const ProgressCallback& progress) {
   stats_.host_threads = 1;
   stats_.host_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   out_.host_seconds = stats_.host_seconds;
-  stats_.cycle = std::move(out_);
+  stats_.report = report(out_, shader_stats_);
+  if (options_.frame_stats) options_.frame_stats(out_);
   if (faulted) {
     const functional::ShaderFault fault = *faulted->fault();
     tracer_.reset();

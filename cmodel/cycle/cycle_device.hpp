@@ -19,11 +19,15 @@ struct CycleOptions {
   // Slices at most (about 70 bytes of JSON each); the rest of the window is cut and
   // CycleStats::timeline_cut_at says where.
   std::uint64_t timeline_max_slices = 2'000'000;
+  // Called with the frame's typed statistics as it ends (also when it faults), for
+  // what the report tree does not hold: the per-pixel cycles, the timeline's cut.
+  std::function<void(const CycleStats&)> frame_stats;
 };
 
 // The cycle-approximate backend (docs/cycle-model.md): the functional shader core and
 // tracer compute every result; this model decides when each step happens. One host
-// thread; the same inputs give the same cycles. stats().cycle holds the timing.
+// thread; the same inputs give the same cycles. stats().report holds the timing
+// (cycle::report).
 std::unique_ptr<device::Device> make_cycle_device(const spec::HardwareConfig& config, fp::Format format,
                                                   const CycleOptions& options = {});
 

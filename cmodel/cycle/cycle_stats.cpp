@@ -2,11 +2,12 @@
 
 #include <algorithm>
 #include <ostream>
+#include <string_view>
+#include <variant>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include "common/error.hpp"
 
 namespace rpu::cycle {
 
@@ -16,142 +17,116 @@ using nlohmann::json;
 
 double ratio(double a, double b) { return b > 0 ? a / b : 0.0; }
 
-json cache_json(const CacheStats& c) {
-  return {{"accesses", c.accesses}, {"hits", c.hits},         {"merged", c.merged},
-          {"misses", c.misses},     {"writes", c.writes},     {"hit_rate", c.hit_rate()},
-          {"mshr_wait_cycles", c.mshr_wait_cycles}};
-}
-
-json stats_json(const CycleStats& s, const functional::ShaderStats& shader) {
-  const auto cycles = static_cast<double>(s.cycles);
-  json j;
-  j["config"] = s.config;
-  j["clock_mhz"] = s.clock_mhz;
-  j["cycles"] = s.cycles;
-  j["frame_seconds"] = s.frame_seconds();
-  j["fps"] = ratio(1.0, s.frame_seconds());
-  j["host_seconds"] = s.host_seconds;
-  j["simulated_cycles_per_host_second"] = ratio(cycles, s.host_seconds);
-  j["rays"] = {{"closest", s.closest_rays}, {"any", s.any_rays}, {"total", s.closest_rays + s.any_rays}};
-  json by_class;
-  for (std::size_t k = 0; k < spec::isa::kClassNames.size(); ++k) by_class[std::string(spec::isa::kClassNames[k])] = shader.retired[k];
-  std::uint64_t issues = 0;
-  json cores = json::array();
-  for (const ShaderCoreTime& t : s.cores) {
-    issues += t.chunk_issues;
-    cores.push_back({{"busy", t.busy},
-                     {"wait_trace", t.wait_trace},
-                     {"wait_memory", t.wait_memory},
-                     {"wait_dependency", t.wait_dependency},
-                     {"idle", t.idle},
-                     {"chunk_issues", t.chunk_issues},
-                     {"utilisation", ratio(static_cast<double>(t.busy), cycles)}});
-  }
-  j["instructions"] = {{"thread", s.thread_instructions},
-                       {"chunk_issues", issues},
-                       {"ipc_per_core", ratio(static_cast<double>(issues), cycles * static_cast<double>(s.cores.size()))},
-                       {"thread_ipc", ratio(static_cast<double>(s.thread_instructions), cycles)},
-                       {"simd_efficiency", ratio(static_cast<double>(s.thread_instructions),
-                                                 static_cast<double>(shader.lanes_issued))},
-                       {"by_class", by_class}};
-  j["shader_cores"] = cores;
-  std::uint64_t steps = 0, tests = 0;
-  json tus = json::array();
-  for (const TraversalUnitTime& t : s.tus) {
-    steps += t.inner + t.leaves;
-    tus.push_back({{"busy", t.busy},   {"wait_memory", t.wait_memory}, {"wait_iu", t.wait_iu}, {"idle", t.idle},
-                   {"rays", t.rays},   {"inner_nodes", t.inner},       {"leaves", t.leaves}, {"prim_refs", t.refs},
-                   {"tests", t.tests}, {"pops", t.pops},
-                   {"utilisation", ratio(static_cast<double>(t.busy), cycles)}});
-  }
-  j["traversal_units"] = tus;
-  j["tu_steps_per_cycle"] = ratio(static_cast<double>(steps), cycles);
-  json ius = json::array();
-  for (const IntersectionUnitTime& t : s.ius) {
-    tests += t.tests;
-    ius.push_back({{"tests", t.tests}, {"busy", t.busy}, {"utilisation", ratio(static_cast<double>(t.busy), cycles)}});
-  }
-  j["intersection_units"] = ius;
-  j["iu_tests_per_cycle"] = ratio(static_cast<double>(tests), cycles);
-  j["caches"] = {{"node", cache_json(s.node_cache)},
-                 {"triangle", cache_json(s.triangle_cache)},
-                 {"data", cache_json(s.data_cache)}};
-  const double bytes = static_cast<double>(s.dram.bytes_read + s.dram.bytes_written);
-  j["dram"] = {{"reads", s.dram.reads},
-               {"writes", s.dram.writes},
-               {"bytes_read", s.dram.bytes_read},
-               {"bytes_written", s.dram.bytes_written},
-               {"bytes_per_cycle", ratio(bytes, cycles)},
-               {"bus_utilisation", ratio(static_cast<double>(s.dram.bus_cycles), cycles)}};
-  json bounds;
-  for (const Bound& b : s.bounds) bounds[b.unit] = b.cycles;
-  if (!s.bounds.empty()) {
-    j["speed_of_light"] = {{"limiter", s.bounds.front().unit},
-                           {"cycles", s.bounds.front().cycles},
-                           {"efficiency", ratio(s.bounds.front().cycles, cycles)},
-                           {"bounds", bounds}};
-  }
-  return j;
+void add_cache(StatsTree& t, const CacheStats& c) {
+  t.set("accesses", c.accesses).set("hits", c.hits).set("merged", c.merged).set("misses", c.misses);
+  t.set("writes", c.writes).set("hit_rate", c.hit_rate()).set("mshr_wait_cycles", c.mshr_wait_cycles);
 }
 
 }  // namespace
 
-void write_stats(const CycleStats& stats, const functional::ShaderStats& shader, const std::filesystem::path& path) {
-  const std::string ext = path.extension().string();
-  if (ext != ".json" && ext != ".csv") {
-    throw Error(fmt::format("statistics file '{}': the extension must be .json or .csv", path.string()));
+StatsTree report(const CycleStats& s, const functional::ShaderStats& shader) {
+  const auto cycles = static_cast<double>(s.cycles);
+  StatsTree r;
+  r.set("config", s.config).set("clock_mhz", s.clock_mhz).set("cycles", s.cycles);
+  r.set("frame_seconds", s.frame_seconds()).set("fps", ratio(1.0, s.frame_seconds()));
+  r.set("host_seconds", s.host_seconds).set("simulated_cycles_per_host_second", ratio(cycles, s.host_seconds));
+  r.group("rays").set("closest", s.closest_rays).set("any", s.any_rays).set("total", s.closest_rays + s.any_rays);
+  std::uint64_t issues = 0;
+  for (const ShaderCoreTime& t : s.cores) issues += t.chunk_issues;
+  StatsTree& instructions = r.group("instructions");
+  instructions.set("thread", s.thread_instructions).set("chunk_issues", issues);
+  instructions.set("ipc_per_core", ratio(static_cast<double>(issues), cycles * static_cast<double>(s.cores.size())));
+  instructions.set("thread_ipc", ratio(static_cast<double>(s.thread_instructions), cycles));
+  instructions.set("simd_efficiency",
+                   ratio(static_cast<double>(s.thread_instructions), static_cast<double>(shader.lanes_issued)));
+  StatsTree& by_class = instructions.group("by_class");
+  for (std::size_t k = 0; k < spec::isa::kClassNames.size(); ++k) by_class.set(spec::isa::kClassNames[k], shader.retired[k]);
+  StatsTree& cores = r.list("shader_cores");
+  for (const ShaderCoreTime& t : s.cores) {
+    cores.add()
+        .set("busy", t.busy)
+        .set("wait_trace", t.wait_trace)
+        .set("wait_memory", t.wait_memory)
+        .set("wait_dependency", t.wait_dependency)
+        .set("idle", t.idle)
+        .set("chunk_issues", t.chunk_issues)
+        .set("utilisation", ratio(static_cast<double>(t.busy), cycles));
   }
-  const json j = stats_json(stats, shader);
-  OutputFile file(path);
-  std::ostream& out = file.stream();
-  if (ext == ".json") {
-    out << j.dump(2) << '\n';
-  } else {
-    // One row per value, named by its JSON pointer: /caches/node/hit_rate.
-    out << "metric,value\n";
-    const json flat = j.flatten();
-    for (const auto& [key, value] : flat.items()) out << key << ',' << value.dump() << '\n';
+  std::uint64_t steps = 0, tests = 0;
+  StatsTree& tus = r.list("traversal_units");
+  for (const TraversalUnitTime& t : s.tus) {
+    steps += t.inner + t.leaves;
+    tus.add()
+        .set("busy", t.busy)
+        .set("wait_memory", t.wait_memory)
+        .set("wait_iu", t.wait_iu)
+        .set("idle", t.idle)
+        .set("rays", t.rays)
+        .set("inner_nodes", t.inner)
+        .set("leaves", t.leaves)
+        .set("prim_refs", t.refs)
+        .set("tests", t.tests)
+        .set("pops", t.pops)
+        .set("utilisation", ratio(static_cast<double>(t.busy), cycles));
   }
-  file.commit();
+  r.set("tu_steps_per_cycle", ratio(static_cast<double>(steps), cycles));
+  StatsTree& ius = r.list("intersection_units");
+  for (const IntersectionUnitTime& t : s.ius) {
+    tests += t.tests;
+    ius.add().set("tests", t.tests).set("busy", t.busy).set("utilisation", ratio(static_cast<double>(t.busy), cycles));
+  }
+  r.set("iu_tests_per_cycle", ratio(static_cast<double>(tests), cycles));
+  StatsTree& caches = r.group("caches");
+  add_cache(caches.group("node"), s.node_cache);
+  add_cache(caches.group("triangle"), s.triangle_cache);
+  add_cache(caches.group("data"), s.data_cache);
+  const double bytes = static_cast<double>(s.dram.bytes_read + s.dram.bytes_written);
+  r.group("dram")
+      .set("reads", s.dram.reads)
+      .set("writes", s.dram.writes)
+      .set("bytes_read", s.dram.bytes_read)
+      .set("bytes_written", s.dram.bytes_written)
+      .set("bytes_per_cycle", ratio(bytes, cycles))
+      .set("bus_utilisation", ratio(static_cast<double>(s.dram.bus_cycles), cycles));
+  if (!s.bounds.empty()) {
+    StatsTree& light = r.group("speed_of_light");
+    light.set("limiter", s.bounds.front().unit).set("cycles", s.bounds.front().cycles);
+    light.set("efficiency", ratio(s.bounds.front().cycles, cycles));
+    StatsTree& bounds = light.group("bounds");
+    for (const Bound& b : s.bounds) bounds.set(b.unit, b.cycles);
+  }
+  return r;
 }
 
-std::string summarize(const CycleStats& s) {
-  const auto cycles = static_cast<double>(s.cycles);
-  std::uint64_t busy = 0, issues = 0, trace = 0, memory = 0, dependency = 0;
-  for (const ShaderCoreTime& t : s.cores) {
-    busy += t.busy;
-    issues += t.chunk_issues;
-    trace += t.wait_trace;
-    memory += t.wait_memory;
-    dependency += t.wait_dependency;
-  }
-  std::uint64_t tu_busy = 0, tu_mem = 0, tu_iu = 0, tests = 0;
-  for (const TraversalUnitTime& t : s.tus) {
-    tu_busy += t.busy;
-    tu_mem += t.wait_memory;
-    tu_iu += t.wait_iu;
-    tests += t.tests;
-  }
-  const double core_cycles = cycles * static_cast<double>(s.cores.size());
-  const double tu_cycles = cycles * static_cast<double>(s.tus.size());
+std::string summarize(const StatsTree& r) {
+  const double cycles = r.number("cycles");
+  // A unit list's total of one counter, and that over the list's unit-cycles.
+  const auto share = [&](std::string_view list, std::string_view counter) {
+    double total = 0;
+    const std::vector<StatsTree>& units = r.find(list)->children();
+    for (const StatsTree& u : units) total += u.number(counter);
+    return ratio(total, cycles * static_cast<double>(units.size()));
+  };
   std::string text = fmt::format(
       "{} cycles on '{}' = {:.3f} ms at {} MHz ({:.2f} fps); simulated in {:.2f} s ({:.2f} M cycles/s)\n"
       "  shader cores: busy {:.1f}%, waiting for rays {:.1f}%, memory {:.1f}%, results {:.1f}%; IPC {:.2f} chunk "
       "instructions per core-cycle\n"
       "  traversal units: busy {:.1f}%, waiting for memory {:.1f}%, for the IU {:.1f}%; {} rays, {:.3f} IU tests/cycle\n"
       "  caches: node {:.1f}% hits, triangle {:.1f}%, data {:.1f}%; DRAM {:.2f} bytes/cycle ({:.1f}% of the bus)\n",
-      s.cycles, s.config, s.frame_seconds() * 1e3, s.clock_mhz, ratio(1.0, s.frame_seconds()), s.host_seconds,
-      ratio(cycles, s.host_seconds) / 1e6, 100 * ratio(static_cast<double>(busy), core_cycles),
-      100 * ratio(static_cast<double>(trace), core_cycles), 100 * ratio(static_cast<double>(memory), core_cycles),
-      100 * ratio(static_cast<double>(dependency), core_cycles), ratio(static_cast<double>(issues), core_cycles),
-      100 * ratio(static_cast<double>(tu_busy), tu_cycles), 100 * ratio(static_cast<double>(tu_mem), tu_cycles),
-      100 * ratio(static_cast<double>(tu_iu), tu_cycles), s.closest_rays + s.any_rays,
-      ratio(static_cast<double>(tests), cycles), 100 * s.node_cache.hit_rate(), 100 * s.triangle_cache.hit_rate(),
-      100 * s.data_cache.hit_rate(), ratio(static_cast<double>(s.dram.bytes_read + s.dram.bytes_written), cycles),
-      100 * ratio(static_cast<double>(s.dram.bus_cycles), cycles));
-  if (!s.bounds.empty()) {
+      std::get<std::uint64_t>(r.find("cycles")->value()), std::get<std::string>(r.find("config")->value()),
+      r.number("frame_seconds") * 1e3, std::get<std::int64_t>(r.find("clock_mhz")->value()), r.number("fps"),
+      r.number("host_seconds"), r.number("simulated_cycles_per_host_second") / 1e6,
+      100 * share("shader_cores", "busy"), 100 * share("shader_cores", "wait_trace"),
+      100 * share("shader_cores", "wait_memory"), 100 * share("shader_cores", "wait_dependency"),
+      r.number("instructions.ipc_per_core"), 100 * share("traversal_units", "busy"),
+      100 * share("traversal_units", "wait_memory"), 100 * share("traversal_units", "wait_iu"),
+      std::get<std::uint64_t>(r.find("rays.total")->value()), r.number("iu_tests_per_cycle"),
+      100 * r.number("caches.node.hit_rate"), 100 * r.number("caches.triangle.hit_rate"),
+      100 * r.number("caches.data.hit_rate"), r.number("dram.bytes_per_cycle"), 100 * r.number("dram.bus_utilisation"));
+  if (r.find("speed_of_light")) {
     text += fmt::format("  speed of light: {:.0f} cycles, set by the {}; this frame reached {:.1f}% of it\n",
-                        s.bounds.front().cycles, s.bounds.front().unit, 100 * ratio(s.bounds.front().cycles, cycles));
+                        r.number("speed_of_light.cycles"), std::get<std::string>(r.find("speed_of_light.limiter")->value()),
+                        100 * r.number("speed_of_light.efficiency"));
   }
   return text;
 }

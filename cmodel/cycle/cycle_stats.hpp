@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "common/output_file.hpp"
+#include "common/stats_tree.hpp"
 #include "cycle/memory_system.hpp"
 #include "functional/shader_core.hpp"
 
@@ -75,10 +76,11 @@ struct CycleStats {
   std::optional<Cycle> timeline_cut_at;
 };
 
-// JSON or CSV by the file's extension (.json, .csv); rpu::Error for another.
-void write_stats(const CycleStats& stats, const functional::ShaderStats& shader, const std::filesystem::path& path);
-// A few lines for the terminal.
-std::string summarize(const CycleStats& stats);
+// The frame's statistics as the backend reports them (device::DeviceStats::report;
+// docs/cycle-model.md "Statistics" lists them).
+StatsTree report(const CycleStats& stats, const functional::ShaderStats& shader);
+// A few lines for the terminal, from a cycle backend's report.
+std::string summarize(const StatsTree& report);
 // The timeline as Chrome / Perfetto trace JSON (one microsecond shown per cycle),
 // streamed to the file slice by slice during the frame, so that memory does not grow
 // with the window. The file replaces `path` at finish(), not before.

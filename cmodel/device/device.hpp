@@ -2,14 +2,13 @@
 
 #include <cstdint>
 #include <memory>
-#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include <glm/glm.hpp>
 
-#include "cycle/cycle_stats.hpp"
+#include "common/stats_tree.hpp"
 #include "fp/format.hpp"
 #include "functional/shader_core.hpp"
 #include "isa/firmware.hpp"
@@ -33,7 +32,10 @@ struct DeviceStats {
   functional::ShaderStats shader;
   double host_seconds = 0.0;  // wall time of the last launch
   int host_threads = 1;
-  std::optional<cycle::CycleStats> cycle;  // the cycle backend's timing
+  // Everything the backend counted, for the writers (common/stats_tree.hpp): the
+  // functional backend's shader work; the cycle backend's also its timing
+  // (cycle::report).
+  StatsTree report;
 };
 
 class Device {

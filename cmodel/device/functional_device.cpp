@@ -19,6 +19,23 @@ namespace rpu::device {
 
 namespace {
 
+// What the shader cores did, under the names the cycle backend's report gives the same
+// counts (cycle::report); the functional backend has no timing.
+StatsTree report(const functional::ShaderStats& s, double host_seconds, int host_threads) {
+  StatsTree r;
+  r.set("host_seconds", host_seconds).set("host_threads", host_threads).set("pixels", s.pixels);
+  r.group("rays").set("closest", s.closest_rays).set("any", s.any_rays).set("total", s.closest_rays + s.any_rays);
+  StatsTree& instructions = r.group("instructions");
+  instructions.set("thread", s.instructions()).set("chunk_issues", s.chunk_issues);
+  instructions.set("simd_efficiency", s.lanes_issued ? static_cast<double>(s.instructions()) /
+                                                           static_cast<double>(s.lanes_issued)
+                                                     : 0.0);
+  StatsTree& by_class = instructions.group("by_class");
+  for (std::size_t k = 0; k < spec::isa::kClassNames.size(); ++k) by_class.set(spec::isa::kClassNames[k], s.retired[k]);
+  r.group("traversal").set("nodes", s.nodes).set("leaves", s.leaves).set("tests", s.tests);
+  return r;
+}
+
 class FunctionalDevice final : public DeviceBase {
  public:
   FunctionalDevice(const spec::HardwareConfig& config, fp::Format format, const FunctionalOptions& options)
@@ -88,6 +105,7 @@ class FunctionalDevice final : public DeviceBase {
     stats_.shader = total;
     stats_.host_threads = n;
     stats_.host_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    stats_.report = report(total, stats_.host_seconds, n);
     if (error) std::rethrow_exception(error);
   }
 

@@ -7,7 +7,7 @@
 #include <fmt/format.h>
 
 #include "fp/fast32.hpp"
-#include "fp/soft.hpp"
+#include "functional/arith.hpp"
 
 namespace rpu::functional {
 
@@ -38,57 +38,13 @@ ShaderStats& ShaderStats::operator+=(const ShaderStats& o) {
 
 namespace {
 
-// Float operations on register lanes (fp32 bits) in the configured format: each
-// reads its operands rounded into the format and writes the result widened to fp32
-// (docs/numbers.md). Two policies with identical results: any format via the soft
-// path, fp32 via host float (fp::fast32, under a FlushScope).
-struct SoftOps {
-  fp::Format f;
-  std::uint32_t in(std::uint32_t lane) const { return fp::soft::from_fp32(f, lane); }
-  std::uint32_t out(std::uint32_t v) const { return fp::soft::to_fp32(f, v); }
-  std::uint32_t neg(std::uint32_t v) const { return f.is_nan(v) ? v : v ^ f.sign_mask(); }
-  std::uint32_t abs(std::uint32_t v) const { return f.is_nan(v) ? v : v & ~f.sign_mask(); }
-  std::uint32_t add(std::uint32_t a, std::uint32_t b) const { return fp::soft::add(f, a, b); }
-  std::uint32_t mul(std::uint32_t a, std::uint32_t b) const { return fp::soft::mul(f, a, b); }
-  std::uint32_t fma(std::uint32_t a, std::uint32_t b, std::uint32_t c) const { return fp::soft::fma(f, a, b, c); }
-  std::uint32_t min(std::uint32_t a, std::uint32_t b) const { return fp::soft::min(f, a, b); }
-  std::uint32_t max(std::uint32_t a, std::uint32_t b) const { return fp::soft::max(f, a, b); }
-  std::uint32_t rcp(std::uint32_t a) const { return fp::soft::rcp(f, a); }
-  std::uint32_t rsqrt(std::uint32_t a) const { return fp::soft::rsqrt(f, a); }
-  std::uint32_t sqrt(std::uint32_t a) const { return fp::soft::sqrt(f, a); }
-  std::uint32_t floor(std::uint32_t a) const { return fp::soft::floor(f, a); }
-  std::uint32_t fract(std::uint32_t a) const { return fp::soft::fract(f, a); }
-  bool eq(std::uint32_t a, std::uint32_t b) const { return fp::soft::eq(f, a, b); }
-  bool ne(std::uint32_t a, std::uint32_t b) const { return fp::soft::ne(f, a, b); }
-  bool lt(std::uint32_t a, std::uint32_t b) const { return fp::soft::lt(f, a, b); }
-  bool le(std::uint32_t a, std::uint32_t b) const { return fp::soft::le(f, a, b); }
-  std::uint32_t from_int(std::int32_t v) const { return fp::soft::from_int32(f, v); }
-  std::int32_t to_int(std::uint32_t a) const { return fp::soft::to_int32(f, a); }
-};
+// Float instructions read their lanes with Arith::load (rounded into the format) and
+// write them with Arith::store (widened to fp32), docs/numbers.md: SoftArith for any
+// format, Fast32Arith for fp32 on host float (under a FlushScope).
 
-struct Fast32Ops {
-  std::uint32_t in(std::uint32_t lane) const { return fp::fast32::from_fp32(lane); }
-  std::uint32_t out(std::uint32_t v) const { return v; }
-  std::uint32_t neg(std::uint32_t v) const { return is_nan(v) ? v : v ^ 0x80000000u; }
-  std::uint32_t abs(std::uint32_t v) const { return is_nan(v) ? v : v & 0x7fffffffu; }
-  std::uint32_t add(std::uint32_t a, std::uint32_t b) const { return fp::fast32::add(a, b); }
-  std::uint32_t mul(std::uint32_t a, std::uint32_t b) const { return fp::fast32::mul(a, b); }
-  std::uint32_t fma(std::uint32_t a, std::uint32_t b, std::uint32_t c) const { return fp::fast32::fma(a, b, c); }
-  std::uint32_t min(std::uint32_t a, std::uint32_t b) const { return fp::fast32::min(a, b); }
-  std::uint32_t max(std::uint32_t a, std::uint32_t b) const { return fp::fast32::max(a, b); }
-  std::uint32_t rcp(std::uint32_t a) const { return fp::fast32::rcp(a); }
-  std::uint32_t rsqrt(std::uint32_t a) const { return fp::fast32::rsqrt(a); }
-  std::uint32_t sqrt(std::uint32_t a) const { return fp::fast32::sqrt(a); }
-  std::uint32_t floor(std::uint32_t a) const { return fp::fast32::floor(a); }
-  std::uint32_t fract(std::uint32_t a) const { return fp::fast32::fract(a); }
-  bool eq(std::uint32_t a, std::uint32_t b) const { return fp::fast32::eq(a, b); }
-  bool ne(std::uint32_t a, std::uint32_t b) const { return fp::fast32::ne(a, b); }
-  bool lt(std::uint32_t a, std::uint32_t b) const { return fp::fast32::lt(a, b); }
-  bool le(std::uint32_t a, std::uint32_t b) const { return fp::fast32::le(a, b); }
-  std::uint32_t from_int(std::int32_t v) const { return fp::fast32::from_int32(v); }
-  std::int32_t to_int(std::uint32_t a) const { return fp::fast32::to_int32(a); }
-  static bool is_nan(std::uint32_t v) { return (v & 0x7fffffffu) > 0x7f800000u; }
-};
+// mov's sign modifiers act on the raw lane as fp32 bits (spec/isa.toml), in any
+// format: the same sign operations as the float modifiers, on fp32.
+constexpr SoftArith kFp32Bits{fp::kFp32};
 
 constexpr std::uint32_t kTrue = 0xffffffffu;
 constexpr std::uint32_t kMissPrim = 0xffffffffu;
@@ -172,17 +128,17 @@ void ShaderCore::step(Chunk& chunk, ShaderStats& stats, StepRecord* record) {
   if (fast_ && fp::fast32::flush_mode_active()) {
     // A caller stepping many times holds one FlushScope for all of them (the cycle
     // device holds one per frame): setting MXCSR twice a step costs more than the check.
-    step_with(Fast32Ops{}, chunk, stats, record);
+    step_with(Fast32Arith{}, chunk, stats, record);
   } else if (fast_) {
     const fp::fast32::FlushScope flush;
-    step_with(Fast32Ops{}, chunk, stats, record);
+    step_with(Fast32Arith{}, chunk, stats, record);
   } else {
-    step_with(SoftOps{format_}, chunk, stats, record);
+    step_with(SoftArith{format_}, chunk, stats, record);
   }
 }
 
-template <class Ops>
-void ShaderCore::step_with(const Ops& ops, Chunk& chunk, ShaderStats& stats, StepRecord* record) {
+template <class Arith>
+void ShaderCore::step_with(const Arith& ar, Chunk& chunk, ShaderStats& stats, StepRecord* record) {
   const std::uint32_t pc = chunk.next_pc_;
   ++stats.chunk_issues;
   stats.lanes_issued += static_cast<std::uint64_t>(config_.chunk_size);
@@ -198,7 +154,7 @@ void ShaderCore::step_with(const Ops& ops, Chunk& chunk, ShaderStats& stats, Ste
     if (t.done || t.pc != pc) continue;
     if (record) record->lanes |= 1u << l;
     try {
-      execute(ops, t, stats, record);
+      execute(ar, t, stats, record);
     } catch (const ShaderFault& f) {
       t.done = true;
       if (!chunk.fault_ || f.pixel() < chunk.fault_->pixel()) chunk.fault_ = f;
@@ -220,9 +176,9 @@ void ShaderCore::run_chunk(std::span<const Lane> lanes, ShaderStats& stats,
   };
   if (fast_) {
     const fp::fast32::FlushScope flush;
-    run(Fast32Ops{});
+    run(Fast32Arith{});
   } else {
-    run(SoftOps{format_});
+    run(SoftArith{format_});
   }
   if (chunk.fault_) throw *chunk.fault_;
   if (end_registers) {
@@ -231,8 +187,8 @@ void ShaderCore::run_chunk(std::span<const Lane> lanes, ShaderStats& stats,
   }
 }
 
-template <class Ops>
-void ShaderCore::execute(const Ops& ops, Thread& t, ShaderStats& stats, StepRecord* record) {
+template <class Arith>
+void ShaderCore::execute(const Arith& ar, Thread& t, ShaderStats& stats, StepRecord* record) {
   if (t.pc >= code_.size()) fault(t, fmt::format("pc {} is past the end of the code ({} instructions)", t.pc, code_.size()));
   const Instruction& in = code_[t.pc];
   if (!in.spec) fault(t, "illegal instruction: " + illegal_why_[t.pc]);
@@ -258,14 +214,17 @@ void ShaderCore::execute(const Ops& ops, Thread& t, ShaderStats& stats, StepReco
   // Raw source lanes (swizzled) and float source lanes (rounded into the format, abs,
   // then neg).
   const auto raw = [&](int s) { return swizzle(t.regs[in.src[s].reg], in.src[s].swizzle); };
+  using Value = typename Arith::Value;
+  using Values = std::array<Value, 4>;
   const auto flt = [&](int s) {
-    Vec v = raw(s);
-    for (std::uint32_t& x : v) {
-      x = ops.in(x);
-      if (in.src[s].abs) x = ops.abs(x);
-      if (in.src[s].neg) x = ops.neg(x);
+    const Vec v = raw(s);
+    Values r;
+    for (int i = 0; i < 4; ++i) {
+      r[i] = ar.load(v[i]);
+      if (in.src[s].abs) r[i] = ar.abs(r[i]);
+      if (in.src[s].neg) r[i] = ar.neg(r[i]);
     }
-    return v;
+    return r;
   };
   Vec& dst = t.regs[in.dst];
   const auto write = [&](const Vec& v) {
@@ -273,23 +232,22 @@ void ShaderCore::execute(const Ops& ops, Thread& t, ShaderStats& stats, StepReco
       if (in.wmask >> i & 1) dst[i] = v[i];
     }
   };
-  const auto write_float = [&](Vec v) {
-    for (std::uint32_t& x : v) x = ops.out(x);
-    write(v);
+  const auto write_float = [&](const Values& v) {
+    write({ar.store(v[0]), ar.store(v[1]), ar.store(v[2]), ar.store(v[3])});
   };
   const auto float_unary = [&](auto op) {
-    Vec a = flt(0);
-    for (std::uint32_t& x : a) x = op(x);
+    Values a = flt(0);
+    for (Value& x : a) x = op(x);
     write_float(a);
   };
   const auto float_binary = [&](auto op) {
-    const Vec a = flt(0), b = flt(1);
-    Vec r;
+    const Values a = flt(0), b = flt(1);
+    Values r;
     for (int i = 0; i < 4; ++i) r[i] = op(a[i], b[i]);
     write_float(r);
   };
   const auto compare = [&](auto op) {
-    const Vec a = flt(0), b = flt(1);
+    const Values a = flt(0), b = flt(1);
     Vec r;
     for (int i = 0; i < 4; ++i) r[i] = op(a[i], b[i]) ? kTrue : 0;
     write(r);
@@ -321,7 +279,7 @@ void ShaderCore::execute(const Ops& ops, Thread& t, ShaderStats& stats, StepReco
     Vec v;
     for (int i = 0; i < 4; ++i) {
       v[i] = memory_.load32(addr + 4 * static_cast<std::uint32_t>(i));
-      if (to_format) v[i] = ops.out(ops.in(v[i]));
+      if (to_format) v[i] = ar.store(ar.load(v[i]));
     }
     write(v);
   };
@@ -329,7 +287,7 @@ void ShaderCore::execute(const Ops& ops, Thread& t, ShaderStats& stats, StepReco
     const std::uint32_t addr = address(4, false);
     mem_check(addr, 4, false);
     std::uint32_t v = memory_.load32(addr);
-    if (to_format) v = ops.out(ops.in(v));
+    if (to_format) v = ar.store(ar.load(v));
     write({v, v, v, v});
   };
   const auto push_return = [&](std::uint32_t pc) {
@@ -356,59 +314,60 @@ void ShaderCore::execute(const Ops& ops, Thread& t, ShaderStats& stats, StepReco
         // Sign modifiers act on the lane as an fp32 value; the raw bits move otherwise.
         Vec v = raw(0);
         for (std::uint32_t& x : v) {
-          const bool nan = Fast32Ops::is_nan(x);
-          if (in.src[0].abs && !nan) x &= 0x7fffffffu;
-          if (in.src[0].neg && !nan) x ^= 0x80000000u;
+          if (in.src[0].abs) x = kFp32Bits.abs(x);
+          if (in.src[0].neg) x = kFp32Bits.neg(x);
         }
         write(v);
       } else {
         write(raw(0));
       }
       break;
-    case Opcode::kAdd: float_binary([&](auto a, auto b) { return ops.add(a, b); }); break;
-    case Opcode::kMul: float_binary([&](auto a, auto b) { return ops.mul(a, b); }); break;
+    case Opcode::kAdd: float_binary([&](auto a, auto b) { return ar.add(a, b); }); break;
+    case Opcode::kMul: float_binary([&](auto a, auto b) { return ar.mul(a, b); }); break;
     case Opcode::kMad: {
-      const Vec a = flt(0), b = flt(1), c = flt(2);
-      Vec r;
-      for (int i = 0; i < 4; ++i) r[i] = ops.fma(a[i], b[i], c[i]);
+      const Values a = flt(0), b = flt(1), c = flt(2);
+      Values r;
+      for (int i = 0; i < 4; ++i) r[i] = ar.fma(a[i], b[i], c[i]);
       write_float(r);
       break;
     }
     case Opcode::kDp3:
     case Opcode::kDp4: {
-      const Vec a = flt(0), b = flt(1);
-      std::uint32_t s = ops.add(ops.mul(a[0], b[0]), ops.mul(a[1], b[1]));
-      s = in.opcode() == Opcode::kDp3 ? ops.add(s, ops.mul(a[2], b[2]))
-                                      : ops.add(s, ops.add(ops.mul(a[2], b[2]), ops.mul(a[3], b[3])));
+      const Values a = flt(0), b = flt(1);
+      Value s = ar.add(ar.mul(a[0], b[0]), ar.mul(a[1], b[1]));
+      s = in.opcode() == Opcode::kDp3 ? ar.add(s, ar.mul(a[2], b[2]))
+                                      : ar.add(s, ar.add(ar.mul(a[2], b[2]), ar.mul(a[3], b[3])));
       write_float({s, s, s, s});
       break;
     }
-    case Opcode::kMin: float_binary([&](auto a, auto b) { return ops.min(a, b); }); break;
-    case Opcode::kMax: float_binary([&](auto a, auto b) { return ops.max(a, b); }); break;
-    case Opcode::kRcp: float_unary([&](auto a) { return ops.rcp(a); }); break;
-    case Opcode::kRsq: float_unary([&](auto a) { return ops.rsqrt(a); }); break;
-    case Opcode::kSqrt: float_unary([&](auto a) { return ops.sqrt(a); }); break;
-    case Opcode::kFrc: float_unary([&](auto a) { return ops.fract(a); }); break;
-    case Opcode::kFlr: float_unary([&](auto a) { return ops.floor(a); }); break;
-    case Opcode::kFeq: compare([&](auto a, auto b) { return ops.eq(a, b); }); break;
-    case Opcode::kFne: compare([&](auto a, auto b) { return ops.ne(a, b); }); break;
-    case Opcode::kFlt: compare([&](auto a, auto b) { return ops.lt(a, b); }); break;
-    case Opcode::kFle: compare([&](auto a, auto b) { return ops.le(a, b); }); break;
+    case Opcode::kMin: float_binary([&](auto a, auto b) { return ar.min(a, b); }); break;
+    case Opcode::kMax: float_binary([&](auto a, auto b) { return ar.max(a, b); }); break;
+    case Opcode::kRcp: float_unary([&](auto a) { return ar.rcp(a); }); break;
+    case Opcode::kRsq: float_unary([&](auto a) { return ar.rsqrt(a); }); break;
+    case Opcode::kSqrt: float_unary([&](auto a) { return ar.sqrt(a); }); break;
+    case Opcode::kFrc: float_unary([&](auto a) { return ar.fract(a); }); break;
+    case Opcode::kFlr: float_unary([&](auto a) { return ar.floor(a); }); break;
+    case Opcode::kFeq: compare([&](auto a, auto b) { return ar.eq(a, b); }); break;
+    case Opcode::kFne: compare([&](auto a, auto b) { return ar.ne(a, b); }); break;
+    case Opcode::kFlt: compare([&](auto a, auto b) { return ar.lt(a, b); }); break;
+    case Opcode::kFle: compare([&](auto a, auto b) { return ar.le(a, b); }); break;
     case Opcode::kSel: {
       const Vec a = raw(0), b = raw(1), c = raw(2);
       write({a[0] ? b[0] : c[0], a[1] ? b[1] : c[1], a[2] ? b[2] : c[2], a[3] ? b[3] : c[3]});
       break;
     }
     case Opcode::kI2f: {
-      Vec a = raw(0);
-      for (std::uint32_t& x : a) x = ops.from_int(static_cast<std::int32_t>(x));
-      write_float(a);
+      const Vec a = raw(0);
+      Values r;
+      for (int i = 0; i < 4; ++i) r[i] = ar.from_int(static_cast<std::int32_t>(a[i]));
+      write_float(r);
       break;
     }
     case Opcode::kF2i: {
-      Vec a = flt(0);
-      for (std::uint32_t& x : a) x = static_cast<std::uint32_t>(ops.to_int(x));
-      write(a);
+      const Values a = flt(0);
+      Vec r;
+      for (int i = 0; i < 4; ++i) r[i] = static_cast<std::uint32_t>(ar.to_int(a[i]));
+      write(r);
       break;
     }
     case Opcode::kIadd: int_binary([](std::uint32_t a, std::uint32_t b) { return a + b; }); break;
@@ -455,7 +414,7 @@ void ShaderCore::execute(const Ops& ops, Thread& t, ShaderStats& stats, StepReco
       break;
     case Opcode::kLi: write({in.imm, in.imm, in.imm, in.imm}); break;
     case Opcode::kLif: {
-      const std::uint32_t v = ops.out(ops.in(in.imm));
+      const std::uint32_t v = ar.store(ar.load(in.imm));
       write({v, v, v, v});
       break;
     }

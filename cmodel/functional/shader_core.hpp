@@ -148,10 +148,10 @@ class ShaderCore {
                  std::vector<std::vector<std::array<std::uint32_t, 4>>>* end_registers = nullptr);
 
  private:
-  template <class Ops>
-  void step_with(const Ops& ops, Chunk& chunk, ShaderStats& stats, StepRecord* record);
-  template <class Ops>
-  void execute(const Ops& ops, Thread& t, ShaderStats& stats, StepRecord* record);
+  template <class Arith>
+  void step_with(const Arith& ar, Chunk& chunk, ShaderStats& stats, StepRecord* record);
+  template <class Arith>
+  void execute(const Arith& ar, Thread& t, ShaderStats& stats, StepRecord* record);
   [[noreturn]] void fault(const Thread& t, const std::string& what) const;
 
   const isa::Firmware& firmware_;

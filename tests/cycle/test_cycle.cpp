@@ -15,10 +15,10 @@
 #include <nlohmann/json.hpp>
 
 #include "asm/assembler.hpp"
+#include "asm/builtin_firmware.hpp"
 #include "common/hardware_config.hpp"
 #include "config/config.hpp"
 #include "cycle/cycle_device.hpp"
-#include "device/builtin_firmware.hpp"
 #include "device/device.hpp"
 #include "device/render_frame.hpp"
 #include "functional/scene_image.hpp"
@@ -44,6 +44,7 @@ RenderSettings settings(int width, int height, int spp = 1) {
 struct Frame {
   Image image;
   device::DeviceStats stats;
+  CycleStats cycle;  // render_cycle only
 };
 
 Frame render(device::Device& dev, const Scene& scene, const MemoryImage& image, const isa::Firmware& firmware,
@@ -56,8 +57,13 @@ Frame render(device::Device& dev, const Scene& scene, const MemoryImage& image, 
 
 Frame render_cycle(const spec::HardwareConfig& config, const Scene& scene, const MemoryImage& image,
                    const isa::Firmware& firmware, const RenderSettings& s) {
-  const auto dev = make_cycle_device(config, fp::format_by_name(config.format));
-  return render(*dev, scene, image, firmware, s);
+  CycleStats cycle;
+  CycleOptions options;
+  options.frame_stats = [&cycle](const CycleStats& st) { cycle = st; };
+  const auto dev = make_cycle_device(config, fp::format_by_name(config.format), options);
+  Frame f = render(*dev, scene, image, firmware, s);
+  f.cycle = std::move(cycle);
+  return f;
 }
 
 bool same_bits(const Image& a, const Image& b) {
@@ -76,19 +82,23 @@ TEST_P(CycleImage, IsBitIdenticalToTheFunctionalImage) {
   const spec::HardwareConfig& config = hardware_config(config_name);
   const functional::SceneImage si =
       functional::make_scene_image(scene, kd_build_config_for(std::string(config.name)), IsectMode::kWoop);
-  const isa::Firmware firmware = device::builtin_firmware("whitted.s");
+  const isa::Firmware firmware = isa::builtin_firmware("whitted.s");
   const RenderSettings s = settings(24, 18);
   const auto functional = device::make_functional_device(config, fp::format_by_name(config.format));
   const Frame expected = render(*functional, scene, si.image, firmware, s);
   const Frame actual = render_cycle(config, scene, si.image, firmware, s);
   EXPECT_TRUE(same_bits(expected.image, actual.image)) << scene_name << " on " << config_name;
-  ASSERT_TRUE(actual.stats.cycle);
-  EXPECT_GT(actual.stats.cycle->cycles, 0u);
+  EXPECT_GT(actual.cycle.cycles, 0u);
+  // The device's report is the typed statistics as a tree.
+  EXPECT_EQ(actual.stats.report.number("cycles"), static_cast<double>(actual.cycle.cycles));
+  EXPECT_EQ(actual.stats.report.number("rays.total"), static_cast<double>(actual.stats.shader.closest_rays +
+                                                                          actual.stats.shader.any_rays));
+  EXPECT_EQ(expected.stats.report.number("instructions.thread"), actual.stats.report.number("instructions.thread"));
   // Both ran the same instructions; the cycle model adds when, not what.
   EXPECT_EQ(expected.stats.shader.instructions(), actual.stats.shader.instructions());
   EXPECT_EQ(expected.stats.shader.tests, actual.stats.shader.tests);
   std::uint64_t tests = 0;
-  for (const IntersectionUnitTime& iu : actual.stats.cycle->ius) tests += iu.tests;
+  for (const IntersectionUnitTime& iu : actual.cycle.ius) tests += iu.tests;
   EXPECT_EQ(tests, actual.stats.shader.tests);
 }
 
@@ -109,7 +119,7 @@ TEST(CycleModel, WatertightImageIsTheFunctionalImage) {
   const spec::HardwareConfig& config = hardware_config("default");
   const functional::SceneImage si =
       functional::make_scene_image(scene, kd_build_config_for("default"), IsectMode::kWatertight);
-  const isa::Firmware firmware = device::builtin_firmware("whitted.s");
+  const isa::Firmware firmware = isa::builtin_firmware("whitted.s");
   const auto functional = device::make_functional_device(config, fp::kFp32);
   const Frame expected = render(*functional, scene, si.image, firmware, settings(20, 16));
   const Frame actual = render_cycle(config, scene, si.image, firmware, settings(20, 16));
@@ -119,23 +129,23 @@ TEST(CycleModel, WatertightImageIsTheFunctionalImage) {
 struct Cornell {
   Scene scene = resolve_scene("cornell");
   functional::SceneImage si = functional::make_scene_image(scene, kd_build_config_for("tiny"), IsectMode::kWoop);
-  isa::Firmware firmware = device::builtin_firmware("whitted.s");
+  isa::Firmware firmware = isa::builtin_firmware("whitted.s");
 };
 
 TEST(CycleModel, SameInputsGiveTheSameCycles) {
   const Cornell c;
   const Frame a = render_cycle(hardware_config("default"), c.scene, c.si.image, c.firmware, settings(16, 12));
   const Frame b = render_cycle(hardware_config("default"), c.scene, c.si.image, c.firmware, settings(16, 12));
-  EXPECT_EQ(a.stats.cycle->cycles, b.stats.cycle->cycles);
-  EXPECT_EQ(a.stats.cycle->pixel_cycles, b.stats.cycle->pixel_cycles);
-  EXPECT_EQ(a.stats.cycle->dram.bytes_read, b.stats.cycle->dram.bytes_read);
+  EXPECT_EQ(a.cycle.cycles, b.cycle.cycles);
+  EXPECT_EQ(a.cycle.pixel_cycles, b.cycle.pixel_cycles);
+  EXPECT_EQ(a.cycle.dram.bytes_read, b.cycle.dram.bytes_read);
 }
 
 // Every cycle of every unit is busy, waiting or idle, exactly once.
 TEST(CycleModel, UnitTimeAddsUpToTheFrame) {
   const Cornell c;
   const Frame f = render_cycle(hardware_config("default"), c.scene, c.si.image, c.firmware, settings(16, 12));
-  const CycleStats& st = *f.stats.cycle;
+  const CycleStats& st = f.cycle;
   for (const ShaderCoreTime& t : st.cores) {
     EXPECT_EQ(t.busy + t.wait_trace + t.wait_memory + t.wait_dependency + t.idle, st.cycles);
     EXPECT_EQ(t.busy, t.chunk_issues);
@@ -154,8 +164,8 @@ TEST(CycleModel, MoreDramBandwidthNeverCostsCycles) {
   for (int bytes = 1; bytes <= 64; bytes *= 2) {
     config.dram.bytes_per_cycle = bytes;
     const Frame f = render_cycle(config, c.scene, c.si.image, c.firmware, settings(16, 12));
-    EXPECT_LE(f.stats.cycle->cycles, previous) << bytes << " bytes/cycle";
-    previous = f.stats.cycle->cycles;
+    EXPECT_LE(f.cycle.cycles, previous) << bytes << " bytes/cycle";
+    previous = f.cycle.cycles;
   }
 }
 
@@ -216,7 +226,7 @@ TEST(CycleModel, DoublingThreadsHidesLatencyOnAMemoryBoundFrame) {
   config.threads_per_core = 8;
   const Frame more = render_cycle(config, c.scene, c.si.image, c.firmware, settings(16, 16));
   EXPECT_TRUE(same_bits(few.image, more.image));
-  const auto f = static_cast<double>(few.stats.cycle->cycles), m = static_cast<double>(more.stats.cycle->cycles);
+  const auto f = static_cast<double>(few.cycle.cycles), m = static_cast<double>(more.cycle.cycles);
   EXPECT_LT(m, 0.7 * f) << "4 threads: " << f << " cycles, 8 threads: " << m;
 }
 
@@ -247,7 +257,7 @@ raygen:
     return text + "        halt\nhit_whitted:\n        ret\n";
   }
   std::uint64_t cycles(int traces) const {
-    return render_cycle(config, scene, si.image, assemble_text(program(traces)), settings(1, 1)).stats.cycle->cycles;
+    return render_cycle(config, scene, si.image, assemble_text(program(traces)), settings(1, 1)).cycle.cycles;
   }
   // The cycles of a read that misses: tag check, DRAM latency, one line on the bus.
   Cycle miss(const spec::CacheConfig& cache) const {
@@ -410,11 +420,13 @@ TEST(CycleTimeline, StreamsEverySliceAndSaysWhereItWasCut) {
       if (slices.empty()) reports_before_first_slice = reports;
       slices.push_back(s);
     };
+    CycleStats stats;
+    options.frame_stats = [&stats](const CycleStats& st) { stats = st; };
     const auto dev = make_cycle_device(config, fp::format_by_name(config.format), options);
     reports = 0;
     device::render_frame(*dev, c.scene, c.si.image, c.firmware, settings(16, 12),
                          [&](std::size_t, std::size_t) { ++reports; });
-    return *dev->stats().cycle;
+    return stats;
   };
   std::vector<TimelineSlice> all, cut;
   const CycleStats whole = frame(1'000'000, all);

@@ -16,8 +16,8 @@
 
 #include <fmt/format.h>
 
+#include "asm/builtin_firmware.hpp"
 #include "common/hardware_config.hpp"
-#include "device/builtin_firmware.hpp"
 #include "device/device.hpp"
 #include "device/render_frame.hpp"
 #include "functional/scene_image.hpp"
@@ -82,7 +82,7 @@ Image render_functional(const Scene& world, const std::string& format) {
   device::FunctionalOptions options;
   options.host_threads = 1;
   const auto dev = device::make_functional_device(hardware_config("default"), f, options);
-  return device::render_frame(*dev, scene, si.image, device::builtin_firmware("whitted.s"), small_frame());
+  return device::render_frame(*dev, scene, si.image, isa::builtin_firmware("whitted.s"), small_frame());
 }
 
 // The first differing pixel, or "" when the images are equal bit for bit.

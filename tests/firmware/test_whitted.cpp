@@ -7,9 +7,9 @@
 
 #include <fmt/format.h>
 
+#include "asm/builtin_firmware.hpp"
 #include "common/hardware_config.hpp"
 #include "cycle/cycle_device.hpp"
-#include "device/builtin_firmware.hpp"
 #include "device/device.hpp"
 #include "device/render_frame.hpp"
 #include "functional/scene_image.hpp"
@@ -39,7 +39,7 @@ Image render_functional(const Scene& scene, const RenderSettings& settings, std:
   device::FunctionalOptions options;
   options.host_threads = host_threads;
   const auto dev = device::make_functional_device(config, format, options);
-  return device::render_frame(*dev, scene, si.image, device::builtin_firmware("whitted.s"), settings);
+  return device::render_frame(*dev, scene, si.image, isa::builtin_firmware("whitted.s"), settings);
 }
 
 class WhittedScene : public testing::TestWithParam<std::string> {};
@@ -121,7 +121,7 @@ Image render_on(device::Device& dev, const Scene& scene, const spec::HardwareCon
 // configuration, and the cycle backend's image is the functional one bit for bit.
 TEST(Whitted, MaxDepth64RendersOnEveryConfigurationAndBackend) {
   const Scene scene = resolve_scene(kMirrorBox);
-  const isa::Firmware firmware = device::builtin_firmware("whitted.s");
+  const isa::Firmware firmware = isa::builtin_firmware("whitted.s");
   for (const spec::HardwareConfig& config : spec::kConfigs) {
     SCOPED_TRACE(std::string(config.name));
     const fp::Format format = fp::format_by_name(config.format);
@@ -156,7 +156,7 @@ TEST(Whitted, MaxDepth64MatchesTheReferenceAtDepth64) {
 // refused up front, the frame faults.
 TEST(Whitted, DeclaresExactlyTheStacksItUses) {
   const Scene scene = resolve_scene(kMirrorBox);
-  const isa::Firmware firmware = device::builtin_firmware("whitted.s");
+  const isa::Firmware firmware = isa::builtin_firmware("whitted.s");
   const auto constant = [&](const char* name) { return static_cast<int>(firmware.symbols.at(name).value); };
   const int depth = 10;
   spec::HardwareConfig exact = hardware_config("tiny");
@@ -193,7 +193,7 @@ TEST(Whitted, DeclaresExactlyTheStacksItUses) {
 // with what the depth needs and what to do.
 TEST(Whitted, ALaunchTooDeepForTheStacksIsRefusedUpFront) {
   const Scene scene = resolve_scene(kMirrorBox);
-  const isa::Firmware firmware = device::builtin_firmware("whitted.s");
+  const isa::Firmware firmware = isa::builtin_firmware("whitted.s");
   spec::HardwareConfig config = hardware_config("default");
   config.stack_bytes = 4096;
   for (const bool cycle_backend : {false, true}) {
