@@ -183,7 +183,7 @@ TEST(CycleModel, MoreShaderCoresNeverCostCyclesOnAShaderBoundFrame) {
   for (int cores = 1; cores <= 32; cores *= 2) {
     const spec::HardwareConfig config = config::resolve("tiny", {fmt::format("shader_cores={}", cores)});
     const Frame f = render_cycle(config, c.scene, c.si.image, firmware, settings(16, 16));
-    const CycleStats& st = *f.stats.cycle;
+    const CycleStats& st = f.cycle;
     for (const ShaderCoreTime& core : st.cores) {
       EXPECT_EQ(core.wait_trace + core.wait_memory, 0u) << cores << " cores: the frame is not shader-bound";
     }
@@ -201,12 +201,12 @@ TEST(CycleModel, ALargerNodeCacheNeverLowersItsHitRate) {
   const Scene scene = resolve_scene("scenes/bunny.json");
   const functional::SceneImage si =
       functional::make_scene_image(scene, kd_build_config_for("default"), IsectMode::kWoop);
-  const isa::Firmware firmware = device::builtin_firmware("whitted.s");
+  const isa::Firmware firmware = isa::builtin_firmware("whitted.s");
   double previous = -1, smallest = 0;
   for (int bytes = 1024; bytes <= 131072; bytes *= 2) {
     const spec::HardwareConfig config = config::resolve("default", {fmt::format("node_cache.bytes={}", bytes)});
     const Frame f = render_cycle(config, scene, si.image, firmware, settings(24, 18));
-    const double rate = f.stats.cycle->node_cache.hit_rate();
+    const double rate = f.cycle.node_cache.hit_rate();
     EXPECT_GE(rate, previous) << bytes << "-byte node cache";
     if (previous < 0) smallest = rate;
     previous = rate;
