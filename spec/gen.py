@@ -494,6 +494,8 @@ def main() -> int:
                          "measured traversal unit (spec/latencies.toml), one a line (CMake reads "
                          "these at configure time)")
     ap.add_argument("--isa-doc", type=pathlib.Path, help="write docs/isa.md here")
+    ap.add_argument("--config-doc", type=pathlib.Path,
+                    help="rewrite the generated tables of this docs/configurations.md in place")
     args = ap.parse_args()
     try:
         spec = load(args.spec_dir)
@@ -518,6 +520,14 @@ def main() -> int:
     write_if_changed(args.sv, gen_sv(spec))
     if args.isa_doc:
         write_if_changed(args.isa_doc, gen_isa_doc(spec))
+    if args.config_doc:
+        try:
+            text = configs.fill_doc(args.config_doc.read_text(), configs.doc_tables(spec["schema"], spec["resolved"]),
+                                    str(args.config_doc))
+        except (configs.ConfigError, OSError) as e:
+            print(f"spec/gen.py: error: {e}", file=sys.stderr)
+            return 1
+        write_if_changed(args.config_doc, text)
     return 0
 
 

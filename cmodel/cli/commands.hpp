@@ -1,6 +1,8 @@
 #pragma once
 
+#include <chrono>
 #include <functional>
+#include <string>
 
 #include <CLI/CLI.hpp>
 
@@ -12,6 +14,14 @@ struct Command {
   CLI::App* subcommand;
   std::function<int()> run;
 };
+
+// How the tool was started, for the records a run writes (rpu render --stats).
+struct Invocation {
+  std::string command_line;  // the arguments, quoted for a POSIX shell where they need it
+  std::chrono::steady_clock::time_point start;
+};
+void record_invocation(int argc, const char* const* argv);
+const Invocation& invocation();
 
 Command add_render_command(CLI::App& app);
 Command add_raycast_command(CLI::App& app);

@@ -1,6 +1,10 @@
 // rpu: the command-line front end of every view of the chip.
+#include <algorithm>
+#include <cctype>
 #include <cstdio>
 #include <exception>
+#include <string>
+#include <string_view>
 
 #include <CLI/CLI.hpp>
 
@@ -11,6 +15,7 @@ namespace rpu::cli {
 namespace {
 
 int run(int argc, char** argv) {
+  record_invocation(argc, argv);
   CLI::App app{"rpu: a programmable Ray Processing Unit, modelled (reference renderer, golden model)"};
   app.require_subcommand(1);
   const Command commands[] = {add_render_command(app), add_raycast_command(app), add_tree_command(app),
@@ -24,6 +29,31 @@ int run(int argc, char** argv) {
 }
 
 }  // namespace
+
+namespace {
+Invocation the_invocation;
+
+// A POSIX shell word: as it is when made of safe characters only (shlex.quote's set),
+// else in single quotes, each ' written '"'"'.
+std::string shell_word(std::string_view arg) {
+  const bool safe = !arg.empty() && std::all_of(arg.begin(), arg.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || std::string_view("@%+=:,./-_").find(c) != std::string_view::npos;
+  });
+  if (safe) return std::string(arg);
+  std::string out = "'";
+  for (const char c : arg) out += c == '\'' ? std::string("'\"'\"'") : std::string(1, c);
+  return out + "'";
+}
+}  // namespace
+
+void record_invocation(int argc, const char* const* argv) {
+  the_invocation.start = std::chrono::steady_clock::now();
+  the_invocation.command_line.clear();
+  for (int i = 0; i < argc; ++i) the_invocation.command_line += (i ? " " : "") + shell_word(argv[i]);
+}
+
+const Invocation& invocation() { return the_invocation; }
+
 }  // namespace rpu::cli
 
 int main(int argc, char** argv) {

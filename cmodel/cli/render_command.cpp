@@ -8,6 +8,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <variant>
 #include <vector>
 
 #include <fmt/format.h>
@@ -20,12 +21,14 @@
 #include "cli/output_paths.hpp"
 #include "cli/progress.hpp"
 #include "common/stats_tree.hpp"
+#include "config/config.hpp"
 #include "cycle/cycle_device.hpp"
 #include "device/device.hpp"
 #include "device/render_frame.hpp"
 #include "functional/scene_image.hpp"
 #include "image/image.hpp"
 #include "reference/renderer.hpp"
+#include "rpu/version.hpp"
 #include "scene/resolve.hpp"
 
 namespace rpu::cli {
@@ -39,7 +42,6 @@ struct RenderOptions {
   std::uint64_t watchdog = device::FunctionalOptions{}.watchdog;
   // device backend outputs
   std::vector<std::filesystem::path> stats;      // .json / .csv
-  std::vector<std::filesystem::path> stats_row;  // .csv, one wide row
   // cycle backend outputs
   std::vector<std::filesystem::path> heatmap;  // .png false colour / .exr linear cycles
   std::filesystem::path trace;                 // Chrome trace JSON
@@ -103,6 +105,32 @@ void warn_if_constant(const Image& image, const std::string& backend, const std:
   }
 }
 
+// The facts of the run in its statistics (docs/cycle-model.md, "Statistics"): how it
+// was started, what it rendered, the whole resolved configuration, what built the tool.
+void record_run(StatsTree& report, const RenderOptions& o, const std::string& scene, int host_threads) {
+  StatsTree& run = report.group("run");
+  const RenderSettings& s = o.settings;
+  run.set("command_line", invocation().command_line).set("backend", o.backend).set("scene", scene);
+  run.set("width", s.width).set("height", s.height).set("spp", s.spp).set("max_depth", s.max_depth).set("seed", s.seed);
+  run.set("format", o.chip.number_format().name()).set("isect", o.chip.isect);
+  run.set("version", std::string(kVersion)).set("commit", std::string(kCommit));
+  run.set("host_seconds",
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - invocation().start).count());
+  run.set("host_threads", host_threads);
+  const spec::HardwareConfig& c = o.chip.hardware_config();
+  StatsTree& cfg = report.group("config");
+  cfg.set("name", c.name).set("doc", c.doc);
+  for (const config::Entry& e : config::entries(c)) {
+    StatsTree* group = &cfg;
+    std::string_view name = e.name;
+    for (std::size_t dot = name.find('.'); dot != std::string_view::npos; dot = name.find('.')) {
+      group = &group->group(name.substr(0, dot));
+      name.remove_prefix(dot + 1);
+    }
+    std::visit([&](const auto& value) { group->set(name, value); }, e.value);
+  }
+}
+
 // Firmware on a device: the functional golden model, or the cycle model (which also
 // writes its heatmap and timeline). Both write their statistics.
 Image render_device(const Scene& world, const RenderOptions& o, std::string& summary) {
@@ -139,7 +167,7 @@ Image render_device(const Scene& world, const RenderOptions& o, std::string& sum
     image = device::render_frame(*dev, scene, si.image, firmware, o.settings,
                                  [&bar](std::size_t done, std::size_t total) { bar.update(done, total); });
   }
-  const device::DeviceStats st = dev->stats();
+  device::DeviceStats st = dev->stats();
   const functional::ShaderStats& sh = st.shader;
   std::string classes;
   for (std::size_t i = 0; i < sh.retired.size(); ++i) {
@@ -163,8 +191,8 @@ Image render_device(const Scene& world, const RenderOptions& o, std::string& sum
       }
     }
   }
+  if (!o.stats.empty()) record_run(st.report, o, world.source, st.host_threads);
   for (const std::filesystem::path& f : o.stats) write_stats(st.report, f);
-  for (const std::filesystem::path& f : o.stats_row) write_stats_row(st.report, f);
   return image;
 }
 
@@ -173,7 +201,6 @@ void check_render_outputs(const RenderOptions& o) {
   std::vector<PlannedOutput> outputs;
   for (const std::filesystem::path& f : o.outputs) outputs.push_back({"-o", f, {".png", ".exr"}});
   for (const std::filesystem::path& f : o.stats) outputs.push_back({"--stats", f, {".json", ".csv"}});
-  for (const std::filesystem::path& f : o.stats_row) outputs.push_back({"--stats-row", f, {".csv"}});
   for (const std::filesystem::path& f : o.heatmap) outputs.push_back({"--heatmap", f, {".png", ".exr"}});
   if (!o.trace.empty()) outputs.push_back({"--trace", o.trace, {".json"}});
   std::vector<PlannedInput> inputs;
@@ -212,8 +239,8 @@ int run_render(const RenderOptions& options, const CLI::App& command) {
   if ((!options.heatmap.empty() || !options.trace.empty()) && options.backend != "cycle") {
     throw Error("--heatmap and --trace need --backend cycle");
   }
-  if ((!options.stats.empty() || !options.stats_row.empty()) && options.backend == "reference") {
-    throw Error("--stats and --stats-row need --backend functional or cycle: the reference renderer keeps no statistics");
+  if (!options.stats.empty() && options.backend == "reference") {
+    throw Error("--stats needs --backend functional or cycle: the reference renderer keeps no statistics");
   }
   if (options.trace_window[0] >= options.trace_window[1]) {
     throw Error(fmt::format("--trace-window {} {}: the window is empty", options.trace_window[0], options.trace_window[1]));
@@ -296,10 +323,8 @@ Command add_render_command(CLI::App& app) {
           "INSTRUCTIONS>=1"))
       ->capture_default_str();
   render_cmd->add_option("--stats", render->stats,
-                         "functional and cycle backends: statistics file(s), .json and/or .csv (one metric a line)");
-  render_cmd->add_option("--stats-row", render->stats_row,
-                         "functional and cycle backends: statistics as one CSV row under a header of metric names "
-                         "(.csv), for tables of many runs");
+                         "functional and cycle backends: statistics and the facts of the run, .json and/or .csv "
+                         "(one wide row under a header of metric names)");
   render_cmd->add_option("--heatmap", render->heatmap,
                          "cycle backend: per-pixel cycle cost, .png (false colour) and/or .exr (cycles, linear)");
   render_cmd->add_option("--trace", render->trace,

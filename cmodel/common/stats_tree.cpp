@@ -50,7 +50,7 @@ void row_of(const StatsTree& t, const std::string& path, std::vector<std::string
             std::vector<std::string>& values) {
   if (t.kind() == StatsTree::Kind::kValue) {
     names.push_back(csv_field(path));
-    // Text always quoted, as in stats_csv; numbers as the JSON writes them.
+    // Text always quoted; numbers as the JSON writes them.
     const auto* text = std::get_if<std::string>(&t.value());
     values.push_back(text ? csv_field(*text, true) : scalar_json(t.value()).dump());
     return;
@@ -124,13 +124,6 @@ double StatsTree::number(std::string_view path) const {
 
 std::string stats_json(const StatsTree& tree) { return to_json(tree).dump(2) + '\n'; }
 
-std::string stats_csv(const StatsTree& tree) {
-  std::string out = "metric,value\n";
-  const json flat = to_json(tree).flatten();
-  for (const auto& [key, value] : flat.items()) out += key + ',' + value.dump() + '\n';
-  return out;
-}
-
 std::string stats_csv_row(const StatsTree& tree) {
   std::vector<std::string> names, values;
   row_of(tree, "", names, values);
@@ -143,16 +136,7 @@ void write_stats(const StatsTree& tree, const std::filesystem::path& path) {
     throw Error(fmt::format("statistics file '{}': the extension must be .json or .csv", path.string()));
   }
   OutputFile file(path);
-  file.stream() << (ext == ".json" ? stats_json(tree) : stats_csv(tree));
-  file.commit();
-}
-
-void write_stats_row(const StatsTree& tree, const std::filesystem::path& path) {
-  if (path.extension() != ".csv") {
-    throw Error(fmt::format("statistics row file '{}': the extension must be .csv", path.string()));
-  }
-  OutputFile file(path);
-  file.stream() << stats_csv_row(tree);
+  file.stream() << (ext == ".json" ? stats_json(tree) : stats_csv_row(tree));
   file.commit();
 }
 

@@ -62,16 +62,13 @@ class StatsTree {
 
 // JSON: a group is an object (keys sorted), a list an array, integers stay integers.
 std::string stats_json(const StatsTree& tree);
-// One "metric,value" line per value, the metric its JSON pointer (/caches/node/hit_rate),
-// in the JSON's order.
-std::string stats_csv(const StatsTree& tree);
-// One wide row for tables of many runs: a header line of dotted paths
-// (caches.node.hit_rate), then one line of values, both in the tree's order.
+// One wide row, so that many runs join into one table (a spreadsheet, pandas): a header
+// line of dotted paths (caches.node.hit_rate), then one line of values, both in the
+// tree's order.
 std::string stats_csv_row(const StatsTree& tree);
 
-// By the file's extension, .json (stats_json) or .csv (stats_csv); rpu::Error for
-// another. Written through an OutputFile, as is the row (stats_csv_row, a .csv).
+// By the file's extension, .json (stats_json) or .csv (stats_csv_row); rpu::Error for
+// another. Written through an OutputFile.
 void write_stats(const StatsTree& tree, const std::filesystem::path& path);
-void write_stats_row(const StatsTree& tree, const std::filesystem::path& path);
 
 }  // namespace rpu

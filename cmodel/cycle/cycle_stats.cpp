@@ -27,10 +27,15 @@ void add_cache(StatsTree& t, const CacheStats& c) {
 StatsTree report(const CycleStats& s, const functional::ShaderStats& shader) {
   const auto cycles = static_cast<double>(s.cycles);
   StatsTree r;
-  r.set("config", s.config).set("clock_mhz", s.clock_mhz).set("cycles", s.cycles);
+  r.group("config").set("name", s.config);
+  r.set("clock_mhz", s.clock_mhz).set("cycles", s.cycles);
   r.set("frame_seconds", s.frame_seconds()).set("fps", ratio(1.0, s.frame_seconds()));
   r.set("host_seconds", s.host_seconds).set("simulated_cycles_per_host_second", ratio(cycles, s.host_seconds));
   r.group("rays").set("closest", s.closest_rays).set("any", s.any_rays).set("total", s.closest_rays + s.any_rays);
+  const auto rays = static_cast<double>(s.closest_rays + s.any_rays);
+  r.group("rates")
+      .set("rays_per_cycle", ratio(rays, cycles))
+      .set("rays_per_second", ratio(rays, cycles) * s.clock_mhz * 1e6);  // at the modelled clock
   std::uint64_t issues = 0;
   for (const ShaderCoreTime& t : s.cores) issues += t.chunk_issues;
   StatsTree& instructions = r.group("instructions");
@@ -113,7 +118,7 @@ std::string summarize(const StatsTree& r) {
       "instructions per core-cycle\n"
       "  traversal units: busy {:.1f}%, waiting for memory {:.1f}%, for the IU {:.1f}%; {} rays, {:.3f} IU tests/cycle\n"
       "  caches: node {:.1f}% hits, triangle {:.1f}%, data {:.1f}%; DRAM {:.2f} bytes/cycle ({:.1f}% of the bus)\n",
-      std::get<std::uint64_t>(r.find("cycles")->value()), std::get<std::string>(r.find("config")->value()),
+      std::get<std::uint64_t>(r.find("cycles")->value()), std::get<std::string>(r.find("config.name")->value()),
       r.number("frame_seconds") * 1e3, std::get<std::int64_t>(r.find("clock_mhz")->value()), r.number("fps"),
       r.number("host_seconds"), r.number("simulated_cycles_per_host_second") / 1e6,
       100 * share("shader_cores", "busy"), 100 * share("shader_cores", "wait_trace"),

@@ -62,19 +62,6 @@ TEST(StatsTree, JsonSortsKeysAndKeepsIntegers) {
             "}\n");
 }
 
-TEST(StatsTree, CsvHasOneMetricALineByJsonPointer) {
-  EXPECT_EQ(stats_csv(sample()),
-            "metric,value\n"
-            "/caches/node/hit_rate,0.5\n"
-            "/caches/node/hits,3\n"
-            "/clock_mhz,100\n"
-            "/cycles,12\n"
-            "/delta,-2\n"
-            "/run,\"a, \\\"quoted\\\" name\"\n"
-            "/units/0/busy,7\n"
-            "/units/1/busy,9\n");
-}
-
 TEST(StatsTree, CsvRowHasOneColumnPerMetricInTheTreesOrder) {
   EXPECT_EQ(stats_csv_row(sample()),
             "run,cycles,clock_mhz,caches.node.hit_rate,caches.node.hits,units.0.busy,units.1.busy,delta\n"
