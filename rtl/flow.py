@@ -130,7 +130,7 @@ def yosys(args, top: str, chparams: dict, extra: list, out: pathlib.Path, stem: 
         print(f"synth FAIL: yosys exited {r.returncode}; log in {log}\n{r.stderr[-3000:]}")
         return None
     # Yosys 0.23 reports some mis-read constructs only as warnings (arrays of packed
-    # structs become 1-bit flops, TOOLCHAIN.md), so any warning fails the run.
+    # structs become 1-bit flops, docs/style.md "What Yosys 0.23 reads"), so any warning fails the run.
     warnings = [l for l in r.stdout.splitlines() if l.startswith("Warning:")]
     if warnings:
         print("synth FAIL: yosys warnings:\n" + "\n".join(warnings))
@@ -278,7 +278,7 @@ def build_netlist_sim(args, out: pathlib.Path, stem: str, netlist: pathlib.Path,
     glitches of a multiplier's gate netlist made it take minutes per netlist (fp32 fma:
     12k vectors in 340 s against under a second for the Verilated netlist, which costs
     about 30 s to compile). Verilator 5.006 mis-simulated some netlists without
-    splitnets (TOOLCHAIN.md); a mis-simulation shows up as a mismatch here.
+    splitnets (docs/style.md "What Yosys 0.23 reads"); a mis-simulation shows up as a mismatch here.
     """
     if params is None:
         op_bits, tag_bits = port_widths()
@@ -301,7 +301,7 @@ def build_netlist_sim(args, out: pathlib.Path, stem: str, netlist: pathlib.Path,
                  "--x-assign", "unique", "--x-initial", "unique", "--top-module", tb_top, f"-I{ROOT / 'sim'}",
                  *[f"-G{k}={v}" for k, v in params.items()], "-Mdir", obj, "-j", "1",
                  "-CFLAGS", "-O0", tb, netlist], env=env)
-        # Registers and X start random but reproducible (STYLE.md 7).
+        # Registers and X start random but reproducible (docs/style.md "SystemVerilog").
         command = [obj / f"V{tb_top}", "+verilator+rand+reset+2", "+verilator+seed+1"]
     if r.returncode != 0:
         print(f"synth FAIL: building the {args.sim} netlist simulation:\n{r.stdout[-3000:]}{r.stderr[-3000:]}")
