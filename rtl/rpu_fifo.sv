@@ -2,7 +2,8 @@
 // oldest entry (first-word fall-through: valid_o the cycle after a write into an empty
 // FIFO); in_ready_o is high while an entry is free, so a full FIFO takes a new entry
 // only after one leaves. Storage is one flat vector (Yosys 0.23 mis-reads arrays of
-// packed structs, TOOLCHAIN.md); callers pack their structs into Width bits.
+// packed structs, docs/style.md "What Yosys 0.23 reads"); callers pack their structs
+// into Width bits.
 module rpu_fifo #(
   parameter int unsigned Width = 1,
   parameter int unsigned Depth = 2

@@ -2,7 +2,7 @@
 """Generate the C++ header, the SystemVerilog package and docs/isa.md from spec/.
 
 spec/*.toml is the single source of truth for facts both the C++ model and the RTL
-need (ARCHITECTURE.md "One source of truth"). This script validates the tables and
+need (docs/architecture.md "One source of truth"). This script validates the tables and
 writes one C++ header and one SV package; both say in their first line that they are
 generated. The build runs it; the header and package are not committed. docs/isa.md
 is committed so that it can be read on the web; a test regenerates it and fails on a

@@ -15,7 +15,7 @@
 #include "render/render.hpp"
 #include "rpu/spec.hpp"
 
-// The host's one interface to every view of the chip (ARCHITECTURE.md "The four
+// The host's one interface to every view of the chip (docs/architecture.md "Four
 // views"): load a memory image and firmware, launch a frame, wait, read the
 // framebuffer and the statistics. The functional backend is the golden model; the
 // cycle and RTL backends sit behind the same interface.

@@ -1,4 +1,4 @@
-"""docs/isa.md is what spec/gen.py writes from spec/isa.toml today (STYLE.md: CI
+"""docs/isa.md is what spec/gen.py writes from spec/isa.toml today (docs/style.md "One source": CI
 regenerates and fails on a diff)."""
 import difflib
 import pathlib
