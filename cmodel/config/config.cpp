@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <charconv>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <optional>
 #include <sstream>
@@ -86,7 +87,7 @@ std::string unknown_key(std::string_view name) {
 
 // The configuration being built, and where each value came from (for messages).
 struct Builder {
-  spec::HardwareConfig config;
+  spec::HardwareConfig config{};
   std::map<std::string, std::string, std::less<>> origin;
 
   void set_from(const spec::HardwareConfig& base, const std::string& where) {
@@ -157,16 +158,10 @@ std::optional<std::string> top_string(const toml::table& table, std::string_view
   return node->as_string()->get();
 }
 
-void read_file(const std::string& file, Builder& b) {
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(file, ec)) {
-    throw Error(fmt::format("--config {}: no such configuration file, and no named configuration '{}' "
-                            "(spec/configs.toml has {}){}",
-                            file, file, fmt::join(config_names(), ", "), did_you_mean(file, config_names())));
-  }
+void read_text(std::string_view text, const std::string& file, Builder& b) {
   toml::table table;
   try {
-    table = toml::parse_file(file);
+    table = toml::parse(text, file);
   } catch (const toml::parse_error& e) {
     throw Error(fmt::format("{}: {}", where_in(file, e.source()), e.description()));
   }
@@ -197,6 +192,20 @@ void read_file(const std::string& file, Builder& b) {
   b.config.name = top_string(table, "name", file).value_or(std::filesystem::path(file).stem().string());
   b.config.doc = top_string(table, "doc", file).value_or(base ? fmt::format("{} with the changes of {}", *base, file)
                                                              : fmt::format("from {}", file));
+}
+
+std::string read_file(const std::string& file) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(file, ec)) {
+    throw Error(fmt::format("--config {}: no such configuration file, and no named configuration '{}' "
+                            "(spec/configs.toml has {}){}",
+                            file, file, fmt::join(config_names(), ", "), did_you_mean(file, config_names())));
+  }
+  std::ifstream in(file, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (!in && !in.eof()) throw Error(fmt::format("{}: cannot read the file", file));
+  return text.str();
 }
 
 void apply_set(const std::string& assignment, Builder& b) {
@@ -256,17 +265,8 @@ std::string value_text(const Entry& e) {
   return std::to_string(std::get<std::int64_t>(e.value));
 }
 
-}  // namespace
-
-spec::HardwareConfig resolve(std::string_view name_or_file, const std::vector<std::string>& sets) {
-  Builder b;
-  const auto named = std::find_if(spec::kConfigs.begin(), spec::kConfigs.end(),
-                                  [&](const spec::HardwareConfig& c) { return c.name == name_or_file; });
-  if (named != spec::kConfigs.end()) {
-    b.set_from(*named, fmt::format("config '{}'", named->name));
-  } else {
-    read_file(std::string(name_or_file), b);
-  }
+// The sets, then the latencies of the format, the derived values and the rules.
+spec::HardwareConfig finish(Builder& b, const std::vector<std::string>& sets) {
   for (const std::string& s : sets) apply_set(s, b);
 
   spec::HardwareConfig& c = b.config;
@@ -296,6 +296,26 @@ spec::HardwareConfig resolve(std::string_view name_or_file, const std::vector<st
     throw Error(fmt::format("configuration '{}': {} ({})", c.name, rule.message, fmt::join(values, ", ")));
   }
   return c;
+}
+
+}  // namespace
+
+spec::HardwareConfig resolve(std::string_view name_or_file, const std::vector<std::string>& sets) {
+  const auto named = std::find_if(spec::kConfigs.begin(), spec::kConfigs.end(),
+                                  [&](const spec::HardwareConfig& c) { return c.name == name_or_file; });
+  if (named == spec::kConfigs.end()) {
+    const std::string file(name_or_file);
+    return parse(read_file(file), file, sets);
+  }
+  Builder b;
+  b.set_from(*named, fmt::format("config '{}'", named->name));
+  return finish(b, sets);
+}
+
+spec::HardwareConfig parse(std::string_view toml_text, const std::string& source, const std::vector<std::string>& sets) {
+  Builder b;
+  read_text(toml_text, source, b);
+  return finish(b, sets);
 }
 
 std::vector<Entry> entries(const spec::HardwareConfig& c) {

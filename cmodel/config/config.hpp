@@ -21,6 +21,10 @@ namespace rpu::config {
 // out of range or not a power of two where one is needed, and a broken rule.
 spec::HardwareConfig resolve(std::string_view name_or_file, const std::vector<std::string>& sets = {});
 
+// The same for the text of a configuration file; `source` names it in messages.
+spec::HardwareConfig parse(std::string_view toml_text, const std::string& source,
+                           const std::vector<std::string>& sets = {});
+
 // Every value of a resolved configuration by dotted name, in the order of
 // spec/config_keys.toml: the choices, the derived values, the latencies and the
 // latencies.toml entries they came from.
