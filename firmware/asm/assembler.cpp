@@ -15,6 +15,7 @@
 
 #include "asm/expression.hpp"
 #include "asm/lexer.hpp"
+#include "common/did_you_mean.hpp"
 #include "common/error.hpp"
 #include "isa/instruction.hpp"
 #include "rpu/spec.hpp"
@@ -76,36 +77,6 @@ std::string signature(const InsnSpec& spec) {
     s += operand_name(spec.operands[static_cast<std::size_t>(k)]);
   }
   return s;
-}
-
-std::size_t edit_distance(std::string_view a, std::string_view b) {
-  std::vector<std::size_t> row(b.size() + 1);
-  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
-  for (std::size_t i = 1; i <= a.size(); ++i) {
-    std::size_t diagonal = row[0];
-    row[0] = i;
-    for (std::size_t j = 1; j <= b.size(); ++j) {
-      const std::size_t up = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
-      diagonal = up;
-    }
-  }
-  return row[b.size()];
-}
-
-// " (did you mean 'x'?)" for the closest candidate within two edits, else "".
-std::string suggestion(std::string_view wrong, const std::vector<std::string_view>& candidates) {
-  if (wrong.size() > 64) return "";
-  std::string_view best;
-  std::size_t best_distance = 3;
-  for (const std::string_view c : candidates) {
-    const std::size_t d = edit_distance(wrong, c);
-    if (d < best_distance && d < std::max(wrong.size(), c.size())) {
-      best = c;
-      best_distance = d;
-    }
-  }
-  return best.empty() ? "" : fmt::format(" (did you mean '{}'?)", best);
 }
 
 constexpr std::string_view kDirectives[] = {".text", ".data", ".equ",  ".include", ".word",
@@ -211,7 +182,7 @@ class Assembler final : public assembler::SymbolValues {
       for (const auto& [n, def] : symbols_) names.push_back(n);
       for (const auto& [n, v] : predefined_symbols()) names.push_back(n);
       error(where, fmt::format("undefined symbol '{}', expected a label, .equ constant or memory-map symbol{}",
-                               printable(name), suggestion(name, names)));
+                               printable(name), did_you_mean(name, names)));
       return std::nullopt;
     }
     SymbolDef& def = it->second;
@@ -478,7 +449,7 @@ class Assembler final : public assembler::SymbolValues {
       error(at(line, head.column),
             fmt::format("unknown directive '{}', expected one of .text .data .equ .include .word .byte .float "
                         ".space .align .insn{}",
-                        printable(name), suggestion(name, names)));
+                        printable(name), did_you_mean(name, names)));
     }
   }
 
@@ -558,7 +529,7 @@ class Assembler final : public assembler::SymbolValues {
       std::vector<std::string_view> names;
       for (const InsnSpec& s : si::kInsns) names.push_back(s.mnemonic);
       error(at(line, head.column), fmt::format("unknown mnemonic '{}', expected an instruction of docs/isa.md{}",
-                                               printable(head.text), suggestion(head.text, names)));
+                                               printable(head.text), did_you_mean(head.text, names)));
       return;
     }
     if (!require_section(Section::kText, head, line)) return;
