@@ -181,7 +181,7 @@ def gen_cpp(spec: dict, fp_op_bits: int, banner: str) -> str:
     unpack() from words in the SV bit order, and fields() naming each field's words."""
     lay = layout(spec, fp_op_bits)
     out = [f"// {banner}", "#pragma once", "", "#include <array>", "#include <cstddef>", "#include <cstdint>",
-           "#include <string_view>", "", "// The streams between units and between C++ and RTL (spec/streams.toml,",
+           "#include <string_view>", "#include <tuple>", "", "// The streams between units and between C++ and RTL (spec/streams.toml,",
            "// docs/streams.md). A stream packs into 32-bit words as the SV packed struct",
            "// does: the first field is the most significant, bit k in bit k % 32 of word k / 32.",
            "namespace rpu::streams {", ""]
@@ -245,7 +245,9 @@ def gen_cpp(spec: dict, fp_op_bits: int, banner: str) -> str:
             ptr = f"&{f['name']}" if f["count"] is None else f"{f['name']}.data()"
             out.append(f"        {{{_cpp_string(f['name'])}, {f['width']}, {f['count'] or 1}, {ptr}}},")
         out += ["    }};", "  }", "", f"  bool operator==(const {cls}&) const = default;", "};", ""]
-    out += ["}  // namespace rpu::streams", ""]
+    names = ", ".join(camel(s["name"]) for s in lay["streams"])
+    out += ["// Every stream, for code that walks them all (tests, reports).", f"using All = std::tuple<{names}>;", "",
+            "}  // namespace rpu::streams", ""]
     return "\n".join(out)
 
 
