@@ -79,6 +79,7 @@ module rpu_tu_netlist_tb #(
   reg [IuReqWords*32-1:0] want_iu, care_iu;
   reg [IuRspWords*32-1:0] answer;
   reg [CfgWords*32-1:0]   cfg_flat;
+  reg [MemRspBits-1:0]    line;
 
   // Memory requests in flight (at most 3: a record's lines) and when each may answer.
   reg [MemReqBits-1:0] mem_addr [0:7];
@@ -170,7 +171,10 @@ module rpu_tu_netlist_tb #(
                       && ({$random(seed)} % 100) >= StallPercent;
       if (mem_rsp_valid) begin
         k = mem_addr[mem_head % 8] / 4;
-        for (w = 0; w < LineWords; w = w + 1) mem_rsp[w*32 +: 32] = mem[k + w];
+        // Whole-value writes of the DUT's inputs: Verilator 5.006 did not pass a
+        // part-select write of mem_rsp to the port.
+        for (w = 0; w < LineWords; w = w + 1) line[w*32 +: 32] = mem[k + w];
+        mem_rsp = line;
       end
       iu_req_ready = !iu_pending && ({$random(seed)} % 100) >= StallPercent;
       iu_rsp_valid = iu_pending && iu_due <= cycle && ({$random(seed)} % 100) >= StallPercent;
