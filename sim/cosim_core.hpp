@@ -114,7 +114,7 @@ class PendingByTag {
 
   void add(std::uint32_t tag, T value) {
     if (!table_.emplace(tag, Entry{std::move(value), serial_++}).second) {
-      throw CosimFailure("a " + request_ + " with tag " + hex(tag, tag_bits_) + " while that tag is in flight");
+      throw CosimFailure(request_ + " with tag " + hex(tag, tag_bits_) + " sent while that tag is in flight");
     }
   }
 
@@ -126,8 +126,8 @@ class PendingByTag {
   T take(std::uint32_t tag) {
     const auto it = table_.find(tag);
     if (it == table_.end()) {
-      throw CosimFailure("a " + response_ + " with tag " + hex(tag, tag_bits_) + ", which no " + request_ +
-                         " in flight has (" + std::to_string(table_.size()) + " in flight)");
+      throw CosimFailure(response_ + " with tag " + hex(tag, tag_bits_) + " answers no " + request_ + " in flight (" +
+                         std::to_string(table_.size()) + " in flight)");
     }
     T value = std::move(it->second.value);
     table_.erase(it);
