@@ -44,9 +44,10 @@ def spec() -> tuple[dict, list[dict]]:
     return formats, tables["fp_units"]["unit"]
 
 
-def port_widths() -> tuple[int, int]:
+def stream_bits() -> dict[str, int]:
+    """Each stream's width (spec/streams.toml), for the netlist testbenches' ports."""
     tables = gen.load(ROOT / "spec")
-    return gen.fp_op_bits(tables), tables["fp_units"]["port"]["tag_bits"]
+    return {s["name"]: s["bits"] for s in gen.streams.layout(tables, gen.fp_op_bits(tables))["streams"]}
 
 
 def rtl_sources() -> list[pathlib.Path]:
@@ -187,7 +188,7 @@ def synth(args) -> int:
         if r.returncode != 0 or "netlist ok" not in text:
             print(f"synth FAIL: netlist of {args.unit} in {args.format}, op {op}:\n{text}")
             return 1
-        n = int(re.search(r"netlist ok: op \d+: (\d+) vectors", text).group(1))
+        n = int(re.search(r"netlist ok: (\d+) vectors", text).group(1))
         total += n
         print(f"ok   netlist {args.unit} {args.format} {op}: {n} vectors")
         vectors.unlink()
@@ -202,14 +203,18 @@ def synth(args) -> int:
 # The intersection and traversal units' syntheses: the sim top Yosys reads, the netlist
 # testbench, the harness' arguments that write its vectors (iu_cosim: IU tests captured
 # from Cornell box rays; tu_cosim: a third each camera, random and shadow rays with the
-# memory image and the Tracer's IU tests in walk order) and the testbench's last line.
+# memory image and the Tracer's IU tests in walk order), the testbench's last line and
+# its stream-width parameters.
 RAY_UNIT_SYNTH = {
     "iu": {"top": "rpu_iu_cosim_top", "top_file": IU_TOP, "tb": IU_NETLIST_TB, "tb_top": "rpu_iu_netlist_tb",
            "vector_args": lambda n: ["--rays", 100000, "--vectors", n],
-           "done": r"netlist ok: (\d+) IU tests"},
+           "done": r"netlist ok: (\d+) IU tests",
+           "streams": {"ReqBits": "iu_req", "RspBits": "iu_rsp"}},
     "tu": {"top": "rpu_tu_cosim_top", "top_file": TU_SIM_TOP, "tb": TU_NETLIST_TB, "tb_top": "rpu_tu_netlist_tb",
            "vector_args": lambda n: ["--rays", -(-n // 3)],
-           "done": r"netlist ok: (\d+) rays \(\d+ IU tests\)"},
+           "done": r"netlist ok: (\d+) rays \(\d+ IU tests\)",
+           "streams": {"CfgBits": "tu_cfg", "ReqBits": "tu_req", "RspBits": "tu_rsp", "MemReqBits": "mem_req",
+                       "MemRspBits": "mem_rsp", "IuReqBits": "iu_req", "IuRspBits": "iu_rsp"}},
 }
 
 
@@ -232,7 +237,9 @@ def synth_ray_unit(args, formats: dict) -> int:
         return 1
     stats.update(unit=unit, format=args.format, exponent_bits=f["exponent_bits"], fraction_bits=f["fraction_bits"])
     start = time.monotonic()
-    simulate = build_netlist_sim(args, out, stem, netlist, kind["tb"], kind["tb_top"], {})
+    bits = stream_bits()
+    simulate = build_netlist_sim(args, out, stem, netlist, kind["tb"], kind["tb_top"],
+                                 {param: bits[stream] for param, stream in kind["streams"].items()})
     if simulate is None:
         return 1
     stats.update(netlist_build_seconds=round(time.monotonic() - start, 1))
@@ -281,8 +288,8 @@ def build_netlist_sim(args, out: pathlib.Path, stem: str, netlist: pathlib.Path,
     splitnets (docs/style.md "What Yosys 0.23 reads"); a mis-simulation shows up as a mismatch here.
     """
     if params is None:
-        op_bits, tag_bits = port_widths()
-        params = {"OpBits": op_bits, "TagBits": tag_bits}
+        bits = stream_bits()
+        params = {"ReqBits": bits["fp_req"], "RspBits": bits["fp_rsp"]}
     start = time.monotonic()
     if args.sim == "icarus":
         vvp = out / f"{stem}.vvp"

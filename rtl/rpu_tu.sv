@@ -60,6 +60,13 @@ module rpu_tu #(
   localparam int unsigned IndexBits = rpu_pkg::KdNodeIndexBits;
   localparam int unsigned EntryBits = IndexBits + 2 * W;
   localparam int unsigned SpBits = $clog2(StackDepth + 1);
+  // The image's record layouts (spec/memory_map.toml): an intersection record of this
+  // mode arrives as whole memory lines, counted in SentBits.
+  localparam int unsigned RecordBytes = Watertight ? rpu_pkg::TriangleRecordWatertightBytes
+                                                   : rpu_pkg::TriangleRecordWoopBytes;
+  localparam int unsigned RecordLines = RecordBytes / rpu_pkg::MemLineBytes;
+  localparam int unsigned LineBits = 8 * rpu_pkg::MemLineBytes;
+  localparam int unsigned SentBits = $clog2(RecordLines + 1);
 
   // Value registers (format values). The first 14 are loaded in this order from the
   // request and the box (StLoad's step = register index).
@@ -131,7 +138,7 @@ module rpu_tu #(
   logic [31:0]             hit_prim_d, hit_prim_q;
   logic                    hit_d, hit_q, fault_d, fault_q;
   logic [1:0]              half_d, half_q;     // word of the line a node or ref sits at
-  logic [1:0]              sent_d, sent_q, got_d, got_q;
+  logic [SentBits-1:0]     sent_d, sent_q, got_d, got_q;
   logic [rpu_pkg::IsectRecordWords*32-1:0] record_d, record_q;
   logic [StackDepth*EntryBits-1:0] stack_d, stack_q;
   logic [SpBits-1:0]       sp_d, sp_q;
@@ -253,12 +260,12 @@ module rpu_tu #(
   assign div_req  = fp_op(div_op, DstReg, div_dst, operand(div_a, regs_q, raw, split_q),
                           operand(div_b, regs_q, raw, split_q));
 
-  // Addresses: a node is 8 bytes, a ref 4, a record 48 (three 16-byte lines).
+  // Addresses: records of the spec's sizes (a node, a ref, this mode's intersection
+  // record, the latter fetched line by line), modulo 2^32.
   logic [31:0] node_addr, ref_addr, record_addr;
-  assign node_addr   = cfg_i.kd_nodes + {node_q[IndexBits-2:0], 3'b000};
-  assign ref_addr    = cfg_i.prim_refs + {first_q[29:0] + k_q, 2'b00};
-  assign record_addr = cfg_i.isect_records + {prim_q[26:0], 5'b0} + {prim_q[27:0], 4'b0}
-                       + {26'b0, sent_q, 4'b0};
+  assign node_addr   = cfg_i.kd_nodes + 32'(node_q) * rpu_pkg::KdNodeBytes;
+  assign ref_addr    = cfg_i.prim_refs + (first_q + 32'(k_q)) * rpu_pkg::PrimRefBytes;
+  assign record_addr = cfg_i.isect_records + prim_q * RecordBytes + 32'(sent_q) * rpu_pkg::MemLineBytes;
 
   logic [31:0] line_word, next_word;  // the word half_q selects in the line, and the next
   assign line_word = mem_rsp_i.data[{half_q, 5'b0} +: 32];
@@ -700,14 +707,14 @@ module rpu_tu #(
 
       // The record's three lines, requested back to back, answered in order.
       StRecord: begin
-        mem_req_valid_o = sent_q != 2'd3;
+        mem_req_valid_o = sent_q != SentBits'(RecordLines);
         mem_req_o.addr  = record_addr;
-        if (mem_req_valid_o && mem_req_ready_i) sent_d = sent_q + 2'd1;
+        if (mem_req_valid_o && mem_req_ready_i) sent_d = sent_q + SentBits'(1);
         mem_rsp_ready_o = 1'b1;
         if (mem_rsp_valid_i) begin
           record_we = 1'b1;
-          got_d     = got_q + 2'd1;
-          if (got_q == 2'd2) state_d = StIuReq;
+          got_d     = got_q + SentBits'(1);
+          if (got_q == SentBits'(RecordLines - 1)) state_d = StIuReq;
         end
       end
 
@@ -873,8 +880,9 @@ module rpu_tu #(
                                                ? {second_child, rd(regs_q, RTSplit), rd(regs_q, RTFar)}
                                                : stack_q[i*EntryBits +: EntryBits];
   end
-  for (genvar i = 0; i < rpu_pkg::IsectRecordWords / 4; i++) begin : gen_record
-    assign record_d[i*128 +: 128] = record_we && got_q == 2'(i) ? mem_rsp_i.data : record_q[i*128 +: 128];
+  for (genvar i = 0; i < RecordLines; i++) begin : gen_record
+    assign record_d[i*LineBits +: LineBits] = record_we && got_q == SentBits'(i) ? mem_rsp_i.data
+                                                                                : record_q[i*LineBits +: LineBits];
   end
 
   always_ff @(posedge clk_i or negedge rst_ni) begin
@@ -970,7 +978,7 @@ module rpu_tu #(
   // test is in flight) and the high bits of its format values.
   logic unused;
   assign unused = ^{fma_ready_unused, misc_ready_unused, fma_rsp.tag[7:5], div_rsp.tag[7:5],
-                    misc_rsp.tag[5], iu_rsp_i.tag, first_q[31:30], node_addr[2:0],
+                    misc_rsp.tag[5], iu_rsp_i.tag, node_addr[2:0],
                     ref_addr[1:0]};
   if (W < 32) begin : gen_unused_high
     logic unused_high;

@@ -14,7 +14,6 @@
 #include <cinttypes>
 #include <cstdint>
 #include <cstdio>
-#include <deque>
 #include <ostream>
 #include <functional>
 #include <random>
@@ -22,6 +21,7 @@
 #include <string_view>
 #include <vector>
 
+#include "cosim_core.hpp"
 #include "fp/format.hpp"
 #include "fp_unit_model.hpp"
 #include "harness_outputs.hpp"
@@ -130,6 +130,7 @@ struct Pending {
   std::uint64_t accepted;  // cycle of the request transfer
   Operands operands;
   std::uint32_t expected;
+  std::uint32_t tag;
 };
 
 struct Options {
@@ -148,8 +149,9 @@ std::uint64_t default_seed(const Options& o) {
   return std::hash<std::string>{}(key);
 }
 
-// The netlist testbench's input: a header "op_code count", then one vector a line as
-// hex "a b c expected" (the model's result), read by sim/rpu_fp_netlist_tb.sv. With an
+// The netlist testbench's input (sim/rpu_fp_netlist_tb.sv): a header "count", then one
+// vector a line: the fp_req words (word 0 first, tag = the vector's index) and the
+// fp_rsp words the model expects, in hex, so the testbench knows no field. With an
 // edge limit, an even sample of the edge and constructed vectors is kept (a gate-level
 // simulation is some thousand times slower than the Verilated RTL).
 int write_vectors(const Options& o, const OpChoice& op, Format f) {
@@ -161,14 +163,24 @@ int write_vectors(const Options& o, const OpChoice& op, Format f) {
   for (std::int64_t i = edges; i < source.size(); ++i) picked.push_back(i);
   rpu::OutputFile file(o.write_vectors);
   std::ostream& out = file.stream();
-  char line[64];
-  std::snprintf(line, sizeof line, "%x %zu\n", static_cast<unsigned>(op.spec->op), picked.size());
-  out << line;
+  out << picked.size() << "\n";
+  const std::uint32_t tag_mask = (std::uint64_t{1} << spec::kFpTagBits) - 1;
+  char word[16];
+  std::uint32_t tag = 0;
   for (const std::int64_t i : picked) {
     const Operands v = source.at(i);
-    std::snprintf(line, sizeof line, "%08" PRIx32 " %08" PRIx32 " %08" PRIx32 " %08" PRIx32 "\n", v.a, v.b, v.c,
-                  fp::soft_result(op.info->op, f, v));
-    out << line;
+    const streams::FpReq req{static_cast<std::uint32_t>(op.spec->op), tag, v.a, v.b, v.c};
+    const streams::FpRsp rsp{tag, fp::soft_result(op.info->op, f, v)};
+    for (const std::uint32_t w : req.pack()) {
+      std::snprintf(word, sizeof word, "%08" PRIx32 " ", w);
+      out << word;
+    }
+    for (const std::uint32_t w : rsp.pack()) {
+      std::snprintf(word, sizeof word, " %08" PRIx32, w);
+      out << word;
+    }
+    out << "\n";
+    tag = (tag + 1) & tag_mask;
   }
   file.commit();
   std::printf("fp_cosim: wrote %zu vectors for %s %s to %s\n", picked.size(), o.op.c_str(),
@@ -212,98 +224,99 @@ int run(const Options& o, const OpChoice& op, Format f) {
   }
 
   VectorSource source(*op.info, f, o.count, o.seed);
-  std::mt19937_64 rng(o.seed ^ 0x5bd1e995u);  // stalls and the junk in ignored bits
-  const auto percent = [&rng] { return static_cast<unsigned>(rng() % 100); };
+  Stalls stalled(o.seed ^ 0x5bd1e995u, o.stall_percent / 100.0);
+  std::mt19937_64& rng = stalled.rng();  // also the junk in ignored bits
   const std::uint32_t tag_mask = (std::uint64_t{1} << spec::kFpTagBits) - 1;
   const std::uint32_t high_bits = ~f.all_bits();
   const auto op_code = static_cast<std::uint32_t>(op.spec->op);
-  constexpr std::uint64_t kTimeout = 1000;  // cycles without a response while one is owed
 
+  Clock clock(*model);
   FpUnitInputs in;
-  for (int i = 0; i < 4; ++i) {  // reset
-    model->settle(in);
-    model->clock();
-  }
-  in.rst_n = true;
+  clock.reset(in);
 
-  std::deque<Pending> pending;
+  PendingByTag<Pending> pending("fp_req", "fp_rsp", spec::kFpTagBits);
+  Watchdog watchdog(1000);  // cycles without a response while one is owed
   std::int64_t next = 0, checked = 0;
-  std::uint64_t cycle = 0, last_progress = 0;
+  std::uint64_t cycles = 0;
   std::uint64_t min_latency = ~std::uint64_t{0}, max_latency = 0;
   Operands current{};
   std::uint32_t current_expected = 0;
   bool have_current = false;
   const auto start = std::chrono::steady_clock::now();
+  const auto vector_name = [&](const Pending& p) {
+    return "vector " + std::to_string(p.index) + (p.index < source.edge_count() ? " (edge/constructed)" : " (random)");
+  };
 
-  while (checked < source.size()) {
-    if (!have_current && next < source.size()) {
-      current = source.at(next);
-      current_expected = fp::soft_result(op.info->op, f, current);
-      have_current = true;
-      // Bits the unit must ignore get random values: the operands beyond the arity and,
-      // for format operands, everything above the format's width.
-      const std::uint32_t junk = full_width_input(op.info->op) ? 0 : high_bits;
-      in.req_a = current.a | (static_cast<std::uint32_t>(rng()) & junk);
-      in.req_b = op.info->arity >= 2 ? current.b | (static_cast<std::uint32_t>(rng()) & junk) : static_cast<std::uint32_t>(rng());
-      in.req_c = op.info->arity >= 3 ? current.c | (static_cast<std::uint32_t>(rng()) & junk) : static_cast<std::uint32_t>(rng());
-      in.req_op = op_code;
-      in.req_tag = static_cast<std::uint32_t>(next) & tag_mask;
-    }
-    in.req_valid = have_current && percent() >= o.stall_percent;
-    in.rsp_ready = percent() >= o.stall_percent;
-    const FpUnitOutputs out = model->settle(in);
-
-    if (out.rsp_valid && in.rsp_ready) {
-      if (pending.empty()) {
-        std::fprintf(stderr, "cosim FAIL: %s %s: cycle %" PRIu64 ": a response (tag 0x%" PRIx32 ") with no request\n",
-                     o.op.c_str(), o.format.c_str(), cycle, out.rsp_tag);
-        return 1;
+  try {
+    while (checked < source.size()) {
+      const std::uint64_t cycle = clock.cycle();
+      if (!have_current && next < source.size()) {
+        current = source.at(next);
+        current_expected = fp::soft_result(op.info->op, f, current);
+        have_current = true;
+        // Bits the unit must ignore get random values: the operands beyond the arity and,
+        // for format operands, everything above the format's width.
+        const std::uint32_t junk = full_width_input(op.info->op) ? 0 : high_bits;
+        in.req.a = current.a | (static_cast<std::uint32_t>(rng()) & junk);
+        in.req.b = op.info->arity >= 2 ? current.b | (static_cast<std::uint32_t>(rng()) & junk) : static_cast<std::uint32_t>(rng());
+        in.req.c = op.info->arity >= 3 ? current.c | (static_cast<std::uint32_t>(rng()) & junk) : static_cast<std::uint32_t>(rng());
+        in.req.op = op_code;
+        in.req.tag = static_cast<std::uint32_t>(next) & tag_mask;
       }
-      const Pending p = pending.front();
-      pending.pop_front();
-      const std::uint32_t want_tag = static_cast<std::uint32_t>(p.index) & tag_mask;
-      if (out.rsp_result != p.expected || out.rsp_tag != want_tag) {
-        std::fprintf(stderr, "cosim FAIL: unit %s, op %s, format %s (%s), cycle %" PRIu64 ", vector %" PRId64 " (%s)\n",
-                     o.unit.c_str(), o.op.c_str(), o.format.c_str(), f.name().c_str(), cycle, p.index,
-                     p.index < source.edge_count() ? "edge/constructed" : "random");
-        const std::uint32_t operands[] = {p.operands.a, p.operands.b, p.operands.c};
-        for (int i = 0; i < op.info->arity; ++i) {
-          std::fprintf(stderr, "  %c = %s\n", 'a' + i, describe_operand(op.info->op, f, operands[i]).c_str());
+      in.req_valid = have_current && !stalled();
+      in.rsp_ready = !stalled();
+      const FpUnitOutputs out = clock.settle(in);
+
+      if (out.rsp_valid && in.rsp_ready) {
+        const Pending p = pending.take(out.rsp.tag);
+        const std::string mismatch = field_mismatch(streams::FpRsp{p.tag, p.expected}, out.rsp);
+        if (!mismatch.empty()) {
+          std::fprintf(stderr, "cosim FAIL: unit %s, op %s, format %s (%s), cycle %" PRIu64 ", %s\n", o.unit.c_str(),
+                       o.op.c_str(), o.format.c_str(), f.name().c_str(), cycle, vector_name(p).c_str());
+          const std::uint32_t operands[] = {p.operands.a, p.operands.b, p.operands.c};
+          for (int i = 0; i < op.info->arity; ++i) {
+            std::fprintf(stderr, "  %c = %s\n", 'a' + i, describe_operand(op.info->op, f, operands[i]).c_str());
+          }
+          std::fprintf(stderr, "  expected (soft) %s tag 0x%02" PRIx32 "\n  actual   (rtl)  %s tag 0x%02" PRIx32 "\n  %s\n",
+                       describe_result(*op.info, f, p.expected).c_str(), p.tag,
+                       describe_result(*op.info, f, out.rsp.result).c_str(), out.rsp.tag, mismatch.c_str());
+          return 1;
         }
-        std::fprintf(stderr, "  expected (soft) %s tag 0x%02" PRIx32 "\n  actual   (rtl)  %s tag 0x%02" PRIx32 "\n",
-                     describe_result(*op.info, f, p.expected).c_str(), want_tag,
-                     describe_result(*op.info, f, out.rsp_result).c_str(), out.rsp_tag);
-        return 1;
+        const std::uint64_t latency = cycle - p.accepted;
+        min_latency = std::min(min_latency, latency);
+        max_latency = std::max(max_latency, latency);
+        ++checked;
+        watchdog.progress(cycle);
       }
-      const std::uint64_t latency = cycle - p.accepted;
-      min_latency = std::min(min_latency, latency);
-      max_latency = std::max(max_latency, latency);
-      ++checked;
-      last_progress = cycle;
+      if (in.req_valid && out.req_ready) {
+        pending.add(in.req.tag, {next, cycle, current, current_expected, in.req.tag});
+        have_current = false;
+        ++next;
+      }
+      watchdog.check(cycle, !pending.empty(), [&] {
+        return std::to_string(pending.size()) + " requests outstanding (oldest: " + vector_name(pending.oldest()) + ")";
+      });
+      clock.tick();
     }
-    if (in.req_valid && out.req_ready) {
-      pending.push_back({next, cycle, current, current_expected});
-      have_current = false;
-      ++next;
-    }
-    if (!pending.empty() && cycle - last_progress > kTimeout) {
-      std::fprintf(stderr, "cosim FAIL: %s %s: cycle %" PRIu64 ": no response for %" PRIu64
-                   " cycles, %zu requests outstanding (oldest: vector %" PRId64 ")\n",
-                   o.op.c_str(), o.format.c_str(), cycle, kTimeout, pending.size(), pending.front().index);
-      return 1;
-    }
-    if (pending.empty()) last_progress = cycle;
-    model->clock();
-    ++cycle;
+    FpUnitInputs idle = in;
+    idle.req_valid = false;
+    idle.rsp_ready = true;
+    cycles = clock.cycle();  // the run's, without the quiet cycles below
+    expect_quiet(clock, idle, 64, [](const FpUnitOutputs& out) {
+      return out.rsp_valid ? "an fp_rsp (tag " + hex(out.rsp.tag, spec::kFpTagBits) + ")" : std::string();
+    });
+  } catch (const CosimFailure& e) {
+    std::fprintf(stderr, "cosim FAIL: %s %s: %s\n", o.op.c_str(), o.format.c_str(), e.what());
+    return 1;
   }
 
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::printf("cosim ok: unit %s, op %s, format %s (%s): %" PRId64 " vectors (%" PRId64
               " edge/constructed) match soft in %" PRIu64 " cycles, %.2f s (%.0f vectors/s, %.0f cycles/s); "
               "latency %" PRIu64 "..%" PRIu64 " cycles with %u%% stalls\n",
-              o.unit.c_str(), o.op.c_str(), o.format.c_str(), f.name().c_str(), checked, source.edge_count(), cycle,
-              seconds, static_cast<double>(checked) / seconds, static_cast<double>(cycle) / seconds, min_latency,
-              max_latency, o.stall_percent);
+              o.unit.c_str(), o.op.c_str(), o.format.c_str(), f.name().c_str(), checked, source.edge_count(),
+              cycles, seconds, static_cast<double>(checked) / seconds,
+              static_cast<double>(cycles) / seconds, min_latency, max_latency, o.stall_percent);
   return o.check_config ? check_config(o, op, min_latency) : 0;
 }
 

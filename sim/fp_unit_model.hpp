@@ -6,6 +6,8 @@
 #include <string_view>
 #include <vector>
 
+#include "rpu/streams.hpp"
+
 // One Verilated floating-point unit (rpu_fp_cosim_top.sv) behind a plain interface,
 // so the harness needs no Verilator header: the models are built in their own
 // library, compiled with Verilator's flags rather than the project's warnings.
@@ -14,18 +16,20 @@ namespace rpu::sim {
 struct FpUnitInputs {
   bool rst_n = false;
   bool req_valid = false;
-  std::uint32_t req_op = 0, req_tag = 0, req_a = 0, req_b = 0, req_c = 0;
+  streams::FpReq req;
   bool rsp_ready = false;
 };
 
 struct FpUnitOutputs {
   bool req_ready = false;
   bool rsp_valid = false;
-  std::uint32_t rsp_tag = 0, rsp_result = 0;
+  streams::FpRsp rsp;
 };
 
 class FpUnitModel {
  public:
+  using Inputs = FpUnitInputs;
+  using Outputs = FpUnitOutputs;
   virtual ~FpUnitModel() = default;
   // Applies the inputs with the clock low and returns the outputs they give.
   virtual FpUnitOutputs settle(const FpUnitInputs& in) = 0;

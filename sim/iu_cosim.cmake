@@ -13,7 +13,7 @@ target_include_directories(rpu_iu_rtl_models PUBLIC ${CMAKE_CURRENT_SOURCE_DIR})
 # fst_output.hpp's OutputFile, in iu_models.cpp alone: the Verilated sources keep their
 # flags (no project warnings); iu_cosim links the library.
 set_source_files_properties(${CMAKE_CURRENT_BINARY_DIR}/iu_models.cpp PROPERTIES INCLUDE_DIRECTORIES ${PROJECT_SOURCE_DIR}/cmodel)
-add_dependencies(rpu_iu_rtl_models rpu_spec_generate)
+target_link_libraries(rpu_iu_rtl_models PUBLIC rpu_spec)
 foreach(format IN LISTS rpu_ray_unit_formats)
   foreach(isect woop watertight)
     set(prefix Viu_${format}_${isect})

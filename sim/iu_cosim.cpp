@@ -24,6 +24,7 @@
 #include <string>
 #include <vector>
 
+#include "cosim_core.hpp"
 #include "fp/format.hpp"
 #include "fp/soft.hpp"
 #include "functional/scene_image.hpp"
@@ -157,21 +158,27 @@ class TransactionSource {
   std::int64_t rays_traced_ = 0;
 };
 
-IuInputs request_of(const IuTest& t, std::uint32_t tag) {
-  IuInputs in;
-  in.tag = tag;
+streams::IuReq request_of(const IuTest& t, std::uint32_t tag) {
+  streams::IuReq q;
+  q.tag = tag;
   for (int i = 0; i < 3; ++i) {
-    in.origin[i] = t.ray.origin[i];
-    in.direction[i] = t.ray.direction[i];
+    q.origin[i] = t.ray.origin[i];
+    q.direction[i] = t.ray.direction[i];
   }
-  in.t_min = t.ray.t_min;
-  in.t_best = t.t_best;
-  in.kx = static_cast<std::uint32_t>(t.ray.kx);
-  in.ky = static_cast<std::uint32_t>(t.ray.ky);
-  in.kz = static_cast<std::uint32_t>(t.ray.kz);
-  in.shear = {t.ray.shear_x, t.ray.shear_y};
-  in.record = t.record;
-  return in;
+  q.t_min = t.ray.t_min;
+  q.t_best = t.t_best;
+  q.kx = static_cast<std::uint32_t>(t.ray.kx);
+  q.ky = static_cast<std::uint32_t>(t.ray.ky);
+  q.kz = static_cast<std::uint32_t>(t.ray.kz);
+  q.shear_x = t.ray.shear_x;
+  q.shear_y = t.ray.shear_y;
+  q.record = t.record;
+  return q;
+}
+
+// What the unit must answer: the model's hit and, on a hit, t, u, v; zeros on a miss.
+streams::IuRsp expected_of(const IuTest& t, std::uint32_t tag) {
+  return {tag, std::uint32_t{t.hit}, t.hit ? t.result.t : 0, t.hit ? t.result.u : 0, t.hit ? t.result.v : 0};
 }
 
 std::string value(fp::Format f, std::uint32_t bits) {
@@ -181,11 +188,12 @@ std::string value(fp::Format f, std::uint32_t bits) {
   return text;
 }
 
-void print_failure(const char* what, fp::Format f, std::uint64_t cycle, const Transaction& x, std::uint32_t tag,
-                   const IuOutputs& got) {
+// The failure (`what`: the field report or a harness-core message), the test's inputs
+// with their values in the format, and where the test came from.
+void print_failure(const std::string& what, fp::Format f, std::uint64_t cycle, const Transaction& x) {
   const IuTest& t = x.test;
-  std::fprintf(stderr, "iu cosim FAIL: %s at cycle %" PRIu64 ", %s, format %s\n", what, cycle, x.where.c_str(),
-               f.name().c_str());
+  std::fprintf(stderr, "iu cosim FAIL: at cycle %" PRIu64 ", %s, format %s: %s\n", cycle, x.where.c_str(),
+               f.name().c_str(), what.c_str());
   for (int i = 0; i < 3; ++i) {
     std::fprintf(stderr, "  origin[%d] = %s  direction[%d] = %s\n", i, value(f, t.ray.origin[i]).c_str(), i,
                  value(f, t.ray.direction[i]).c_str());
@@ -193,41 +201,36 @@ void print_failure(const char* what, fp::Format f, std::uint64_t cycle, const Tr
   std::fprintf(stderr, "  t_min = %s  t_best = %s\n", value(f, t.ray.t_min).c_str(), value(f, t.t_best).c_str());
   std::fprintf(stderr, "  kx ky kz = %d %d %d  shear = %s %s\n", t.ray.kx, t.ray.ky, t.ray.kz,
                value(f, t.ray.shear_x).c_str(), value(f, t.ray.shear_y).c_str());
-  for (int i = 0; i < 12; i += 4) {
-    std::fprintf(stderr, "  record[%2d..%2d] = %08" PRIx32 " %08" PRIx32 " %08" PRIx32 " %08" PRIx32 "\n", i, i + 3,
+  for (std::size_t i = 0; i < t.record.size(); i += 4) {
+    std::fprintf(stderr, "  record[%2zu..%2zu] = %08" PRIx32 " %08" PRIx32 " %08" PRIx32 " %08" PRIx32 "\n", i, i + 3,
                  t.record[i], t.record[i + 1], t.record[i + 2], t.record[i + 3]);
   }
-  std::fprintf(stderr, "  expected (functional) tag 0x%02" PRIx32 " hit %d t %s u %s v %s\n", tag, t.hit ? 1 : 0,
-               value(f, t.result.t).c_str(), value(f, t.result.u).c_str(), value(f, t.result.v).c_str());
-  std::fprintf(stderr, "  actual   (rtl)        tag 0x%02" PRIx32 " hit %d t %s u %s v %s\n", got.tag,
-               got.hit ? 1 : 0, value(f, got.t).c_str(), value(f, got.u).c_str(), value(f, got.v).c_str());
+  std::fprintf(stderr, "  expected (functional) hit %d t %s u %s v %s\n", t.hit ? 1 : 0, value(f, t.result.t).c_str(),
+               value(f, t.result.u).c_str(), value(f, t.result.v).c_str());
 }
 
 // The netlist testbench's input (sim/rpu_iu_netlist_tb.sv): a header with the count,
-// then per test 29 hex words: origin, direction, t_min, t_best, kx, ky, kz, shear x and y,
-// record, then the expected hit, t, u, v.
+// then per test the iu_req words (word 0 first; tag = the test's index) and the iu_rsp
+// words the model expects, in hex, so the testbench knows no field.
 int write_vectors(const Options& o, TransactionSource& source) {
   std::deque<Transaction> queue;
   std::vector<std::string> lines;
+  const std::uint32_t tag_mask = (1u << streams::kRayTagBits) - 1;
   while (static_cast<std::int64_t>(lines.size()) < o.vectors) {
     if (queue.empty() && !source.next(queue)) break;
     while (!queue.empty() && static_cast<std::int64_t>(lines.size()) < o.vectors) {
-      const IuInputs in = request_of(queue.front().test, 0);
-      const IuTest& t = queue.front().test;
+      const std::uint32_t tag = static_cast<std::uint32_t>(lines.size()) & tag_mask;
       std::string line;
       char word[16];
-      const auto put = [&](std::uint32_t w) {
+      for (const std::uint32_t w : request_of(queue.front().test, tag).pack()) {
         std::snprintf(word, sizeof word, "%08" PRIx32 " ", w);
         line += word;
-      };
-      for (std::uint32_t w : in.origin) put(w);
-      for (std::uint32_t w : in.direction) put(w);
-      for (std::uint32_t w : {in.t_min, in.t_best, in.kx, in.ky, in.kz}) put(w);
-      for (std::uint32_t w : in.shear) put(w);
-      for (std::uint32_t w : in.record) put(w);
-      for (std::uint32_t w : {std::uint32_t{t.hit}, t.result.t, t.result.u, t.result.v}) put(w);
-      line.back() = '\n';
-      lines.push_back(line);
+      }
+      for (const std::uint32_t w : expected_of(queue.front().test, tag).pack()) {
+        std::snprintf(word, sizeof word, " %08" PRIx32, w);
+        line += word;
+      }
+      lines.push_back(line + "\n");
       queue.pop_front();
     }
   }
@@ -242,7 +245,7 @@ int write_vectors(const Options& o, TransactionSource& source) {
 struct Pending {
   Transaction x;
   std::uint32_t tag;
-  std::uint64_t accepted;  // cycle of the request transfer
+  std::uint64_t accepted;  // cycle of the request transfer; ~0 once its response showed
 };
 
 // Latency (request transfer to the first cycle of rsp_valid) and interval (cycles between
@@ -252,21 +255,19 @@ struct Timing {
 };
 
 Timing measure_timing(IuModel& model, const std::vector<Transaction>& burst) {
+  Clock clock(model);
   IuInputs in;
-  in.rst_n = true;
+  clock.reset(in);
   in.rsp_ready = true;
   Timing timing;
   std::uint64_t last_accept = 0;
   std::size_t next = 0, done = 0;
   std::deque<std::uint64_t> accepted;
-  for (std::uint64_t cycle = 0; done < burst.size() && cycle < 100000; ++cycle) {
-    if (next < burst.size()) {
-      in = request_of(burst[next].test, static_cast<std::uint32_t>(next));
-      in.rst_n = true;
-      in.rsp_ready = true;
-    }
+  for (; done < burst.size() && clock.cycle() < 100000; clock.tick()) {
+    const std::uint64_t cycle = clock.cycle();
+    if (next < burst.size()) in.req = request_of(burst[next].test, static_cast<std::uint32_t>(next));
     in.req_valid = next < burst.size();
-    const IuOutputs out = model.settle(in);
+    const IuOutputs out = clock.settle(in);
     if (out.rsp_valid) {
       timing.latency = std::max(timing.latency, cycle - accepted.front());
       accepted.pop_front();
@@ -278,7 +279,6 @@ Timing measure_timing(IuModel& model, const std::vector<Transaction>& burst) {
       accepted.push_back(cycle);
       ++next;
     }
-    model.clock();
   }
   return timing;
 }
@@ -286,100 +286,95 @@ Timing measure_timing(IuModel& model, const std::vector<Transaction>& burst) {
 // `model` outlives the run, so that its waveforms are kept whether the run passed or
 // failed.
 int run(const Options& o, fp::Format f, TransactionSource& source, std::unique_ptr<IuModel>& model) {
-  model = make_iu_model(o.format, o.isect, o.seed);
+  model = make_iu_model(o.format, o.isect, o.seed, o.trace);
   if (!model) {
     std::fprintf(stderr, "iu_cosim: no model for format %s, isect %s; built:", o.format.c_str(), o.isect.c_str());
     for (const IuModelName& n : iu_models()) std::fprintf(stderr, " %s/%s", n.format.c_str(), n.isect.c_str());
     std::fprintf(stderr, "\n");
     return 2;
   }
-  if (!o.trace.empty()) model->trace(o.trace);
 
-  std::mt19937_64 rng(o.seed ^ 0x5bd1e995u);
-  const auto percent = [&rng] { return static_cast<unsigned>(rng() % 100); };
-  const std::uint32_t tag_mask = (1u << spec::kFpTagBits) - 1;
-  constexpr std::uint64_t kTimeout = 1000;
-
+  Stalls stalled(o.seed ^ 0x5bd1e995u, o.stall_percent / 100.0);
+  const std::uint32_t tag_mask = (1u << streams::kRayTagBits) - 1;
+  Clock clock(*model);
   IuInputs in;
-  for (int i = 0; i < 4; ++i) {  // reset
-    model->settle(in);
-    model->clock();
-  }
+  clock.reset(in);
 
   std::deque<Transaction> queue;
-  std::deque<Pending> pending;
+  PendingByTag<Pending> pending("iu_req", "iu_rsp", streams::kRayTagBits);
+  Watchdog watchdog(1000);
   std::vector<Transaction> burst;  // the first tests again, for the timing burst
   std::int64_t sent = 0, checked = 0, hits = 0;
-  std::uint64_t cycle = 0, last_progress = 0;
+  std::uint64_t cycles = 0;
   std::uint64_t min_latency = ~std::uint64_t{0}, max_latency = 0;
   bool have_current = false;
   Transaction current;
   std::uint32_t current_tag = 0;
   const auto start = std::chrono::steady_clock::now();
 
-  while (true) {
-    if (!have_current) {
-      while (queue.empty() && source.next(queue)) {
+  try {
+    while (true) {
+      const std::uint64_t cycle = clock.cycle();
+      if (!have_current) {
+        while (queue.empty() && source.next(queue)) {
+        }
+        if (!queue.empty()) {
+          current = std::move(queue.front());
+          queue.pop_front();
+          current_tag = static_cast<std::uint32_t>(sent) & tag_mask;
+          have_current = true;
+          if (burst.size() < 16) burst.push_back(current);
+        }
       }
-      if (!queue.empty()) {
-        current = std::move(queue.front());
-        queue.pop_front();
-        current_tag = static_cast<std::uint32_t>(sent) & tag_mask;
-        have_current = true;
-        if (burst.size() < 16) burst.push_back(current);
-      }
-    }
-    if (!have_current && pending.empty()) break;
-    if (have_current) in = request_of(current.test, current_tag);
-    in.rst_n = true;
-    in.req_valid = have_current && percent() >= o.stall_percent;
-    in.rsp_ready = percent() >= o.stall_percent;
-    const IuOutputs out = model->settle(in);
+      if (!have_current && pending.empty()) break;
+      if (have_current) in.req = request_of(current.test, current_tag);
+      in.req_valid = have_current && !stalled();
+      in.rsp_ready = !stalled();
+      const IuOutputs out = clock.settle(in);
 
-    if (out.rsp_valid && !pending.empty()) {
-      // Fixed latency: the response is first valid exactly `latency` cycles after the
-      // request (a stall of rsp_ready only holds it).
-      Pending& p = pending.front();
-      if (p.accepted != ~std::uint64_t{0}) {
-        const std::uint64_t latency = cycle - p.accepted;
+      if (Pending* p = out.rsp_valid ? pending.find(out.rsp.tag) : nullptr; p && p->accepted != ~std::uint64_t{0}) {
+        // Fixed latency: the response is first valid exactly `latency` cycles after the
+        // request (a stall of rsp_ready only holds it).
+        const std::uint64_t latency = cycle - p->accepted;
         min_latency = std::min(min_latency, latency);
         max_latency = std::max(max_latency, latency);
-        p.accepted = ~std::uint64_t{0};
+        p->accepted = ~std::uint64_t{0};
       }
-    }
-    if (out.rsp_valid && in.rsp_ready) {
-      if (pending.empty()) {
-        std::fprintf(stderr, "iu cosim FAIL: cycle %" PRIu64 ": a response (tag 0x%" PRIx32 ") with no request\n",
-                     cycle, out.tag);
-        return 1;
+      if (out.rsp_valid && in.rsp_ready) {
+        const Pending p = pending.take(out.rsp.tag);
+        const std::string mismatch = field_mismatch(expected_of(p.x.test, p.tag), out.rsp);
+        if (!mismatch.empty()) {
+          print_failure(mismatch, f, cycle, p.x);
+          return 1;
+        }
+        hits += p.x.test.hit ? 1 : 0;
+        ++checked;
+        watchdog.progress(cycle);
       }
-      const Pending p = std::move(pending.front());
-      pending.pop_front();
-      const IuTest& t = p.x.test;
-      const bool same = out.tag == p.tag && out.hit == t.hit &&
-                        (!t.hit || (out.t == t.result.t && out.u == t.result.u && out.v == t.result.v)) &&
-                        (t.hit || (out.t == 0 && out.u == 0 && out.v == 0));
-      if (!same) {
-        print_failure("mismatch", f, cycle, p.x, p.tag, out);
-        return 1;
+      if (in.req_valid && out.req_ready) {
+        pending.add(current_tag, {std::move(current), current_tag, cycle});
+        have_current = false;
+        ++sent;
       }
-      hits += t.hit ? 1 : 0;
-      ++checked;
-      last_progress = cycle;
+      if (!pending.empty()) {
+        watchdog.check(cycle, true, [&] { return pending.oldest().x.where; });
+      } else {
+        watchdog.progress(cycle);
+      }
+      clock.tick();
     }
-    if (in.req_valid && out.req_ready) {
-      pending.push_back({std::move(current), current_tag, cycle});
-      have_current = false;
-      ++sent;
-    }
-    if (!pending.empty() && cycle - last_progress > kTimeout) {
-      print_failure("no response for 1000 cycles", f, cycle, pending.front().x, pending.front().tag, out);
-      return 1;
-    }
-    if (pending.empty()) last_progress = cycle;
-    model->clock();
-    ++cycle;
+    IuInputs idle = in;
+    idle.req_valid = false;
+    idle.rsp_ready = true;
+    cycles = clock.cycle();  // the run's, without the quiet cycles below
+    expect_quiet(clock, idle, 64, [](const IuOutputs& out) {
+      return out.rsp_valid ? "an iu_rsp (tag " + hex(out.rsp.tag, streams::kRayTagBits) + ")" : std::string();
+    });
+  } catch (const CosimFailure& e) {
+    std::fprintf(stderr, "iu cosim FAIL: format %s, isect %s: %s\n", o.format.c_str(), o.isect.c_str(), e.what());
+    return 1;
   }
+  const std::uint64_t cycle = cycles;
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (checked == 0) {
     std::fprintf(stderr, "iu cosim FAIL: the rays made no IU test\n");
@@ -392,12 +387,7 @@ int run(const Options& o, fp::Format f, TransactionSource& source, std::unique_p
   }
 
   // Latency and interval at full rate, on a fresh model.
-  std::unique_ptr<IuModel> fresh = make_iu_model(o.format, o.isect, o.seed);
-  IuInputs reset;
-  for (int i = 0; i < 4; ++i) {
-    fresh->settle(reset);
-    fresh->clock();
-  }
+  std::unique_ptr<IuModel> fresh = make_iu_model(o.format, o.isect, o.seed, "");
   const Timing timing = measure_timing(*fresh, burst);
   std::printf("iu cosim ok: format %s (%s), isect %s: %" PRId64 " rays, %" PRId64
               " IU tests (%" PRId64 " hits) match the functional model in %" PRIu64

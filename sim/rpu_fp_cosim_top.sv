@@ -1,27 +1,23 @@
 // The top that the Verilator harness and the netlist simulation drive: the unit chosen by
-// Unit (rpu_pkg::FpUnit*) with its request and response structs flattened into plain
-// ports, so the C++ harness and the Icarus testbench set fields by name, not by bit
-// offset. Only wiring: a synthesis of this top has the unit's cells.
+// Unit (rpu_pkg::FpUnit*) with each stream one flat port of its rpu_pkg width
+// (spec/streams.toml), filled from rpu::streams words by the C++ harness and from the
+// vector file by the netlist testbench. Only wiring: a synthesis of this top has the
+// unit's cells.
 module rpu_fp_cosim_top #(
   parameter int unsigned Unit     = rpu_pkg::FpUnitFma,
   parameter int unsigned ExpBits  = rpu_pkg::FormatFp32ExponentBits,
   parameter int unsigned FracBits = rpu_pkg::FormatFp32FractionBits
 ) (
-  input  logic                              clk_i,
-  input  logic                              rst_ni,
+  input  logic                           clk_i,
+  input  logic                           rst_ni,
 
-  input  logic                              req_valid_i,
-  output logic                              req_ready_o,
-  input  logic [rpu_pkg::FpOpBits-1:0]      req_op_i,
-  input  logic [rpu_pkg::FpTagBits-1:0]     req_tag_i,
-  input  logic [rpu_pkg::FpOperandBits-1:0] req_a_i,
-  input  logic [rpu_pkg::FpOperandBits-1:0] req_b_i,
-  input  logic [rpu_pkg::FpOperandBits-1:0] req_c_i,
+  input  logic                           req_valid_i,
+  output logic                           req_ready_o,
+  input  logic [rpu_pkg::FpReqBits-1:0]  req_i,
 
-  output logic                              rsp_valid_o,
-  input  logic                              rsp_ready_i,
-  output logic [rpu_pkg::FpTagBits-1:0]     rsp_tag_o,
-  output logic [rpu_pkg::FpOperandBits-1:0] rsp_result_o
+  output logic                           rsp_valid_o,
+  input  logic                           rsp_ready_i,
+  output logic [rpu_pkg::FpRspBits-1:0]  rsp_o
 );
 
   rpu_pkg::fp_req_t req;
@@ -29,9 +25,8 @@ module rpu_fp_cosim_top #(
 
   // The op field is an enum; a packed-vector assignment sets it without a type cast
   // (which Yosys 0.23 does not read).
-  assign req = {req_op_i, req_tag_i, req_a_i, req_b_i, req_c_i};
-  assign rsp_tag_o    = rsp.tag;
-  assign rsp_result_o = rsp.result;
+  assign req   = req_i;
+  assign rsp_o = rsp;
 
   if (Unit == rpu_pkg::FpUnitFma) begin : gen_fma
     rpu_fp_fma #(.ExpBits(ExpBits), .FracBits(FracBits)) u_unit (

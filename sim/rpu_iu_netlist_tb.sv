@@ -1,45 +1,42 @@
 // Testbench for a Yosys netlist of rpu_iu_cosim_top (rtl/flow.py synth --unit iu): reads
-// the IU tests and functional-model results that iu_cosim --write-vectors wrote, drives
-// them through the valid/ready port with random stalls, and compares every response
-// (tag, hit, t, u, v) with the model's. Stops at the first mismatch with the test's
-// index, its inputs, both outputs and the cycle.
+// the iu_req and expected iu_rsp words that iu_cosim --write-vectors wrote, drives the
+// requests through the valid/ready port with random stalls, and compares every
+// response with the model's, whole. It knows no field of either stream
+// (spec/streams.toml): a mismatch prints both in hex, most significant word first, as
+// docs/streams.md lays them out. Stops at the first mismatch with the test's index,
+// its request and the cycle. flow.py passes the stream widths from the spec.
 //   Vrpu_iu_netlist_tb +vectors=FILE [+seed=N]
 `timescale 1ns / 1ps
-module rpu_iu_netlist_tb;
+module rpu_iu_netlist_tb #(
+  parameter integer ReqBits = 1,
+  parameter integer RspBits = 1
+);
 
   localparam integer MaxVectors = 1 << 16;
-  localparam integer Fields = 29;  // 25 input words, then hit, t, u, v
   localparam integer StallPercent = 6;
   localparam integer Timeout = 1000;
+  localparam integer ReqWords = (ReqBits + 31) / 32;
+  localparam integer RspWords = (RspBits + 31) / 32;
 
-  reg          clk = 1'b0;
-  reg          rst_n = 1'b0;
-  reg          req_valid = 1'b0;
-  wire         req_ready;
-  reg  [7:0]   req_tag = '0;
-  reg  [95:0]  req_origin = '0, req_direction = '0;
-  reg  [31:0]  req_t_min = '0, req_t_best = '0;
-  reg  [1:0]   req_kx = '0, req_ky = '0, req_kz = '0;
-  reg  [31:0]  req_shear_x = '0, req_shear_y = '0;
-  reg  [383:0] req_record = '0;
-  wire         rsp_valid;
-  reg          rsp_ready = 1'b0;
-  wire [7:0]   rsp_tag;
-  wire         rsp_hit;
-  wire [31:0]  rsp_t, rsp_u, rsp_v;
+  reg                clk = 1'b0;
+  reg                rst_n = 1'b0;
+  reg                req_valid = 1'b0;
+  wire               req_ready;
+  reg  [ReqBits-1:0] req = '0;
+  wire               rsp_valid;
+  reg                rsp_ready = 1'b0;
+  wire [RspBits-1:0] rsp;
 
   rpu_iu_cosim_top dut (
     .clk_i(clk), .rst_ni(rst_n),
-    .req_valid_i(req_valid), .req_ready_o(req_ready), .req_tag_i(req_tag),
-    .req_origin_i(req_origin), .req_direction_i(req_direction), .req_t_min_i(req_t_min),
-    .req_t_best_i(req_t_best), .req_kx_i(req_kx), .req_ky_i(req_ky), .req_kz_i(req_kz),
-    .req_shear_x_i(req_shear_x), .req_shear_y_i(req_shear_y),
-    .req_record_i(req_record),
-    .rsp_valid_o(rsp_valid), .rsp_ready_i(rsp_ready), .rsp_tag_o(rsp_tag), .rsp_hit_o(rsp_hit),
-    .rsp_t_o(rsp_t), .rsp_u_o(rsp_u), .rsp_v_o(rsp_v)
+    .req_valid_i(req_valid), .req_ready_o(req_ready), .req_i(req),
+    .rsp_valid_o(rsp_valid), .rsp_ready_i(rsp_ready), .rsp_o(rsp)
   );
 
-  reg [31:0] vec [0:MaxVectors*Fields-1];
+  reg [31:0] req_words [0:MaxVectors*ReqWords-1];
+  reg [31:0] rsp_words [0:MaxVectors*RspWords-1];
+  reg [ReqWords*32-1:0] req_flat;
+  reg [RspWords*32-1:0] want_flat;
 
   reg [1023:0] path;
   integer fd, n, i, k, sent, got, cycle, last, seed, ok;
@@ -53,10 +50,12 @@ module rpu_iu_netlist_tb;
       $display("netlist FAIL: bad header in %0s (or more than %0d vectors)", path, MaxVectors);
       $fatal(2);
     end
-    for (i = 0; i < n * Fields; i = i + 1) begin
-      ok = $fscanf(fd, "%h", vec[i]);
-      if (ok != 1) begin
-        $display("netlist FAIL: %0s: word %0d unreadable", path, i);
+    for (i = 0; i < n; i = i + 1) begin
+      ok = 0;
+      for (k = 0; k < ReqWords; k = k + 1) ok = ok + $fscanf(fd, "%h", req_words[i * ReqWords + k]);
+      for (k = 0; k < RspWords; k = k + 1) ok = ok + $fscanf(fd, "%h", rsp_words[i * RspWords + k]);
+      if (ok != ReqWords + RspWords) begin
+        $display("netlist FAIL: %0s: IU test %0d unreadable", path, i);
         $fatal(2);
       end
     end
@@ -71,31 +70,16 @@ module rpu_iu_netlist_tb;
       req_valid = sent < n && ({$random(seed)} % 100) >= StallPercent;
       rsp_ready = ({$random(seed)} % 100) >= StallPercent;
       if (sent < n) begin
-        k = sent * Fields;
-        req_origin    = {vec[k + 2], vec[k + 1], vec[k]};
-        req_direction = {vec[k + 5], vec[k + 4], vec[k + 3]};
-        req_t_min     = vec[k + 6];
-        req_t_best    = vec[k + 7];
-        req_kx        = vec[k + 8][1:0];
-        req_ky        = vec[k + 9][1:0];
-        req_kz        = vec[k + 10][1:0];
-        req_shear_x   = vec[k + 11];
-        req_shear_y   = vec[k + 12];
-        req_record    = {vec[k + 24], vec[k + 23], vec[k + 22], vec[k + 21], vec[k + 20], vec[k + 19],
-                         vec[k + 18], vec[k + 17], vec[k + 16], vec[k + 15], vec[k + 14], vec[k + 13]};
-        req_tag       = sent[7:0];
+        for (k = 0; k < ReqWords; k = k + 1) req_flat[k*32 +: 32] = req_words[sent * ReqWords + k];
+        req = req_flat[ReqBits-1:0];
       end
       #1;
       if (rsp_valid && rsp_ready) begin
-        k = got * Fields;
-        if (rsp_tag !== got[7:0] || rsp_hit !== vec[k + 25][0] || rsp_t !== vec[k + 26]
-            || rsp_u !== vec[k + 27] || rsp_v !== vec[k + 28]) begin
-          $display("netlist FAIL: cycle %0d, IU test %0d: origin %h %h %h direction %h %h %h t_min %h t_best %h",
-                   cycle, got, vec[k], vec[k + 1], vec[k + 2], vec[k + 3], vec[k + 4], vec[k + 5],
-                   vec[k + 6], vec[k + 7]);
-          $display("  expected tag %h hit %h t %h u %h v %h; actual tag %h hit %h t %h u %h v %h",
-                   got[7:0], vec[k + 25][0], vec[k + 26], vec[k + 27], vec[k + 28],
-                   rsp_tag, rsp_hit, rsp_t, rsp_u, rsp_v);
+        for (k = 0; k < RspWords; k = k + 1) want_flat[k*32 +: 32] = rsp_words[got * RspWords + k];
+        if (rsp !== want_flat[RspBits-1:0]) begin
+          for (k = 0; k < ReqWords; k = k + 1) req_flat[k*32 +: 32] = req_words[got * ReqWords + k];
+          $display("netlist FAIL: cycle %0d, IU test %0d: iu_req %h", cycle, got, req_flat[ReqBits-1:0]);
+          $display("  expected iu_rsp %h; actual %h", want_flat[RspBits-1:0], rsp);
           $fatal(1);
         end
         got = got + 1;

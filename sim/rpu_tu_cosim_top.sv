@@ -1,5 +1,6 @@
-// The traversal unit as the Verilator harness drives it (sim/tu_cosim.cpp), its structs
-// flattened into named ports. WithIu = 0: rpu_tu with its IU port open, so the harness
+// The traversal unit as the Verilator harness drives it (sim/tu_cosim.cpp), each stream
+// one flat port of its rpu_pkg width (spec/streams.toml), which the harness fills from
+// rpu::streams words. WithIu = 0: rpu_tu with its IU port open, so the harness
 // answers the IU's tests with the C++ intersection unit; WithIu = 1 (tu_cosim --with-iu):
 // the ray unit (rpu_tu + rpu_iu), the IU port's pins tied off. Only wiring: a synthesis
 // of this top has the unit's cells.
@@ -10,62 +11,32 @@ module rpu_tu_cosim_top #(
   parameter int unsigned StackDepth = rpu_pkg::ConfigDefaultStackDepth,
   parameter int unsigned WithIu     = 0
 ) (
-  input  logic          clk_i,
-  input  logic          rst_ni,
+  input  logic                            clk_i,
+  input  logic                            rst_ni,
 
-  input  logic [31:0]   cfg_kd_nodes_i,
-  input  logic [31:0]   cfg_prim_refs_i,
-  input  logic [31:0]   cfg_isect_records_i,
-  input  logic [95:0]   cfg_bounds_lo_i,
-  input  logic [95:0]   cfg_bounds_hi_i,
-  input  logic [7:0]    cfg_kd_scale_exponent_i,
+  input  logic [rpu_pkg::TuCfgBits-1:0]   cfg_i,
 
-  input  logic          req_valid_i,
-  output logic          req_ready_o,
-  input  logic [7:0]    req_tag_i,
-  input  logic [95:0]   req_origin_i,
-  input  logic [95:0]   req_direction_i,
-  input  logic [31:0]   req_t_min_i,
-  input  logic [31:0]   req_t_max_i,
-  input  logic          req_any_hit_i,
+  input  logic                            req_valid_i,
+  output logic                            req_ready_o,
+  input  logic [rpu_pkg::TuReqBits-1:0]   req_i,
 
-  output logic          rsp_valid_o,
-  input  logic          rsp_ready_i,
-  output logic [7:0]    rsp_tag_o,
-  output logic          rsp_hit_o,
-  output logic [31:0]   rsp_t_o,
-  output logic [31:0]   rsp_u_o,
-  output logic [31:0]   rsp_v_o,
-  output logic [31:0]   rsp_prim_o,
-  output logic [31:0]   rsp_nodes_o,
-  output logic [31:0]   rsp_leaves_o,
-  output logic [31:0]   rsp_tests_o,
-  output logic          rsp_fault_o,
+  output logic                            rsp_valid_o,
+  input  logic                            rsp_ready_i,
+  output logic [rpu_pkg::TuRspBits-1:0]   rsp_o,
 
-  output logic          mem_req_valid_o,
-  input  logic          mem_req_ready_i,
-  output logic [31:0]   mem_req_addr_o,
-  input  logic          mem_rsp_valid_i,
-  output logic          mem_rsp_ready_o,
-  input  logic [127:0]  mem_rsp_data_i,
+  output logic                            mem_req_valid_o,
+  input  logic                            mem_req_ready_i,
+  output logic [rpu_pkg::MemReqBits-1:0]  mem_req_o,
+  input  logic                            mem_rsp_valid_i,
+  output logic                            mem_rsp_ready_o,
+  input  logic [rpu_pkg::MemRspBits-1:0]  mem_rsp_i,
 
-  output logic          iu_req_valid_o,
-  input  logic          iu_req_ready_i,
-  output logic [7:0]    iu_req_tag_o,
-  output logic [95:0]   iu_req_origin_o,
-  output logic [95:0]   iu_req_direction_o,
-  output logic [31:0]   iu_req_t_min_o,
-  output logic [31:0]   iu_req_t_best_o,
-  output logic [5:0]    iu_req_axes_o,      // {kz, ky, kx}
-  output logic [63:0]   iu_req_shear_o,     // {y, x}
-  output logic [383:0]  iu_req_record_o,
-  input  logic          iu_rsp_valid_i,
-  output logic          iu_rsp_ready_o,
-  input  logic [7:0]    iu_rsp_tag_i,
-  input  logic          iu_rsp_hit_i,
-  input  logic [31:0]   iu_rsp_t_i,
-  input  logic [31:0]   iu_rsp_u_i,
-  input  logic [31:0]   iu_rsp_v_i
+  output logic                            iu_req_valid_o,
+  input  logic                            iu_req_ready_i,
+  output logic [rpu_pkg::IuReqBits-1:0]   iu_req_o,
+  input  logic                            iu_rsp_valid_i,
+  output logic                            iu_rsp_ready_o,
+  input  logic [rpu_pkg::IuRspBits-1:0]   iu_rsp_i
 );
 
   rpu_pkg::tu_cfg_t  cfg;
@@ -76,17 +47,13 @@ module rpu_tu_cosim_top #(
   rpu_pkg::iu_req_t  iu_req;
   rpu_pkg::iu_rsp_t  iu_rsp;
 
-  assign cfg = {cfg_kd_nodes_i, cfg_prim_refs_i, cfg_isect_records_i, cfg_bounds_lo_i, cfg_bounds_hi_i,
-                cfg_kd_scale_exponent_i};
-  assign req = {req_tag_i, req_origin_i, req_direction_i, req_t_min_i, req_t_max_i, req_any_hit_i};
-  assign {rsp_tag_o, rsp_hit_o, rsp_t_o, rsp_u_o, rsp_v_o, rsp_prim_o, rsp_nodes_o, rsp_leaves_o,
-          rsp_tests_o, rsp_fault_o} = rsp;
-  assign mem_req_addr_o = mem_req.addr;
-  assign mem_rsp.data = mem_rsp_data_i;
-  assign {iu_req_tag_o, iu_req_origin_o, iu_req_direction_o, iu_req_t_min_o, iu_req_t_best_o,
-          iu_req_axes_o[1:0], iu_req_axes_o[3:2], iu_req_axes_o[5:4], iu_req_shear_o[31:0],
-          iu_req_shear_o[63:32], iu_req_record_o} = iu_req;
-  assign iu_rsp = {iu_rsp_tag_i, iu_rsp_hit_i, iu_rsp_t_i, iu_rsp_u_i, iu_rsp_v_i};
+  assign cfg       = cfg_i;
+  assign req       = req_i;
+  assign rsp_o     = rsp;
+  assign mem_req_o = mem_req;
+  assign mem_rsp   = mem_rsp_i;
+  assign iu_req_o  = iu_req;
+  assign iu_rsp    = iu_rsp_i;
 
   if (WithIu != 0) begin : g_ray_unit
     rpu_ray_unit #(.ExpBits(ExpBits), .FracBits(FracBits), .IsectMode(IsectMode), .StackDepth(StackDepth))

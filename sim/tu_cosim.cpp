@@ -40,6 +40,7 @@
 #include <vector>
 
 #include "common/error.hpp"
+#include "cosim_core.hpp"
 #include "fp/format.hpp"
 #include "functional/arith.hpp"
 #include "functional/intersection_unit.hpp"
@@ -107,15 +108,34 @@ std::string describe_ray(const Case& c) {
   return text;
 }
 
-std::string describe_result(bool fault, bool hit, std::uint32_t t, std::uint32_t u, std::uint32_t v,
-                            std::uint32_t prim, std::uint32_t nodes, std::uint32_t leaves, std::uint32_t tests) {
-  char text[256];
-  if (fault) return "stack overflow fault";
-  std::snprintf(text, sizeof text,
-                "hit %d t %08x (%.9g) u %08x (%.9g) v %08x (%.9g) prim %u; nodes %u leaves %u tests %u", hit, t,
-                std::bit_cast<float>(t), u, std::bit_cast<float>(u), v, std::bit_cast<float>(v), prim, nodes,
-                leaves, tests);
-  return text;
+// What the unit must answer for a ray, and the bits compared (`care`): the tag and the
+// fault always; without a fault hit and the counters; on a hit t, u, v and prim too.
+struct Expected {
+  streams::TuRsp rsp, care;
+};
+
+Expected expected_of(const Case& c, std::uint32_t tag) {
+  constexpr std::uint32_t kAll = ~std::uint32_t{0};
+  Expected x;
+  x.rsp.tag = tag;
+  x.care.tag = kAll;
+  x.rsp.fault = c.fault;
+  x.care.fault = kAll;
+  if (c.fault) return x;
+  const TraceHit& e = c.expect;
+  x.rsp.hit = e.hit;
+  x.rsp.nodes = e.counters.nodes;
+  x.rsp.leaves = e.counters.leaves;
+  x.rsp.tests = e.counters.tests;
+  x.care.hit = x.care.nodes = x.care.leaves = x.care.tests = kAll;
+  if (e.hit) {
+    x.rsp.t = bits(e.t);
+    x.rsp.u = bits(e.u);
+    x.rsp.v = bits(e.v);
+    x.rsp.prim = e.prim;
+    x.care.t = x.care.u = x.care.v = x.care.prim = kAll;
+  }
+  return x;
 }
 
 // Shadow rays: from the camera rays' hit points toward the lights (a point light's
@@ -151,7 +171,8 @@ std::vector<TraceRay> shadow_rays(const Scene& scene, const std::vector<TraceRay
 }
 
 // The C++ intersection unit on the fields of the TU's request.
-TuIuResponse iu_answer(const functional::SoftArith& ar, bool watertight, const TuIuRequest& q, std::mt19937_64& rng) {
+streams::IuRsp iu_answer(const functional::SoftArith& ar, bool watertight, const streams::IuReq& q,
+                         std::mt19937_64& rng) {
   functional::RayRegisters<functional::SoftArith> ray;
   for (int i = 0; i < 3; ++i) {
     ray.origin[i] = q.origin[i];
@@ -161,12 +182,12 @@ TuIuResponse iu_answer(const functional::SoftArith& ar, bool watertight, const T
   ray.kx = q.kx;
   ray.ky = q.ky;
   ray.kz = q.kz;
-  ray.shear_x = q.shear[0];
-  ray.shear_y = q.shear[1];
+  ray.shear_x = q.shear_x;
+  ray.shear_y = q.shear_y;
   functional::UnitHit<functional::SoftArith> hit;
   const bool found = watertight ? functional::intersect_watertight(ar, ray, q.record, q.t_best, hit)
                                 : functional::intersect_woop(ar, ray, q.record, q.t_best, hit);
-  TuIuResponse r;
+  streams::IuRsp r;
   r.tag = q.tag;
   r.hit = found;
   // A miss carries random t, u, v: the unit must ignore them.
@@ -214,57 +235,97 @@ std::optional<std::array<std::int64_t, 3>> fit_timing(const std::vector<TimingSa
   return k;
 }
 
-// The netlist testbench's input, hex words: a header (image words, rays, IU tests), the
-// configuration (kd_nodes, prim_refs, isect_records, bounds lo, bounds hi), the image
-// (little-endian words), 18 words per ray (origin, direction, t_min, t_max, any_hit, its
-// IU tests; expected hit, t, u, v, prim, nodes, leaves, tests) and 17 per IU test in
-// walk order (t_best, the record's 12 words, then the Tracer's hit, t, u, v). Rays the
-// Tracer ends with a stack overflow are left out (the counters are all that is defined).
+// Where the unit finds the scene (the image's layout).
+streams::TuCfg config_of(const functional::SceneImage& si) {
+  streams::TuCfg cfg;
+  cfg.kd_nodes = si.layout.kd_nodes.offset;
+  cfg.prim_refs = si.layout.prim_refs.offset;
+  cfg.isect_records = si.layout.isect_records.offset;
+  for (int i = 0; i < 3; ++i) {
+    cfg.bounds_lo[i] = bits(si.layout.bounds_lo[i]);
+    cfg.bounds_hi[i] = bits(si.layout.bounds_hi[i]);
+  }
+  cfg.kd_scale_exponent = static_cast<std::uint32_t>(si.layout.kd_scale_exponent);  // two's complement
+  return cfg;
+}
+
+// The netlist testbench's input (sim/rpu_tu_netlist_tb.sv), hex words, each stream as
+// its words (word 0 first) so that the testbench knows no field but the memory port's:
+// a header (image words, rays, IU tests), the tu_cfg, the image (little-endian words);
+// per ray the tu_req (tag = the ray's index), its number of IU tests, the tu_rsp
+// expected and the bits of it compared (expected_of); per IU test in walk order the
+// iu_req expected, the bits of it compared (tag, t_best, record) and the iu_rsp to
+// answer with (the Tracer's; random t, u, v on a miss). Rays the Tracer ends with a
+// stack overflow are left out (the counters are all that is defined).
 int write_vectors(const Options& o, const functional::SceneImage& si, const functional::Tracer& tracer,
                   const std::vector<Case>& cases) {
   const std::vector<std::uint8_t>& image = si.image.bytes;
-  std::vector<std::uint32_t> words((image.size() + 15) / 16 * 4, 0);
+  constexpr std::size_t kLineWords = streams::kMemLineBytes / 4;
+  std::vector<std::uint32_t> words((image.size() + streams::kMemLineBytes - 1) / streams::kMemLineBytes * kLineWords, 0);
   std::memcpy(words.data(), image.data(), image.size());
   std::vector<std::uint32_t> rays, tests;
+  const auto append = [](std::vector<std::uint32_t>& v, const auto& stream_words) {
+    v.insert(v.end(), stream_words.begin(), stream_words.end());
+  };
+  const std::uint32_t tag_mask = (1u << streams::kRayTagBits) - 1;
+  std::mt19937_64 rng(o.seed);
   std::vector<functional::IuTest> walk;
-  std::size_t count = 0;
+  std::size_t count = 0, test_count = 0;
   for (const Case& c : cases) {
     if (c.fault) continue;
     walk.clear();
-    const TraceHit e = tracer.trace(c.ray, c.mode, walk);
-    for (int i = 0; i < 3; ++i) rays.push_back(bits(c.ray.origin[i]));
-    for (int i = 0; i < 3; ++i) rays.push_back(bits(c.ray.direction[i]));
-    rays.insert(rays.end(), {bits(c.ray.t_min), bits(c.ray.t_max), std::uint32_t{c.mode == TraceMode::kAny},
-                             static_cast<std::uint32_t>(walk.size()), std::uint32_t{e.hit}, bits(e.t), bits(e.u),
-                             bits(e.v), e.prim, e.counters.nodes, e.counters.leaves, e.counters.tests});
+    tracer.trace(c.ray, c.mode, walk);
+    const std::uint32_t tag = static_cast<std::uint32_t>(count) & tag_mask;
+    streams::TuReq req;
+    req.tag = tag;
+    for (int i = 0; i < 3; ++i) {
+      req.origin[i] = bits(c.ray.origin[i]);
+      req.direction[i] = bits(c.ray.direction[i]);
+    }
+    req.t_min = bits(c.ray.t_min);
+    req.t_max = bits(c.ray.t_max);
+    req.any_hit = c.mode == TraceMode::kAny;
+    append(rays, req.pack());
+    rays.push_back(static_cast<std::uint32_t>(walk.size()));
+    const Expected want = expected_of(c, tag);
+    append(rays, want.rsp.pack());
+    append(rays, want.care.pack());
     for (const functional::IuTest& t : walk) {
-      tests.push_back(t.t_best);
-      tests.insert(tests.end(), t.record.begin(), t.record.end());
-      tests.insert(tests.end(), {std::uint32_t{t.hit}, t.result.t, t.result.u, t.result.v});
+      streams::IuReq q, care;
+      q.tag = tag;
+      q.t_best = t.t_best;
+      q.record = t.record;
+      care.tag = care.t_best = ~std::uint32_t{0};
+      care.record.fill(~std::uint32_t{0});
+      streams::IuRsp r{tag, std::uint32_t{t.hit}, t.result.t, t.result.u, t.result.v};
+      if (!t.hit) {  // a miss carries random t, u, v: the unit must ignore them
+        r.t = static_cast<std::uint32_t>(rng());
+        r.u = static_cast<std::uint32_t>(rng());
+        r.v = static_cast<std::uint32_t>(rng());
+      }
+      append(tests, q.pack());
+      append(tests, care.pack());
+      append(tests, r.pack());
+      ++test_count;
     }
     ++count;
   }
   OutputFile file(o.write_vectors);
   std::ostream& out = file.stream();
-  out << words.size() << " " << count << " " << tests.size() / 17 << "\n";
+  out << words.size() << " " << count << " " << test_count << "\n";
   char word[16];
-  const auto put = [&](const std::vector<std::uint32_t>& v, std::size_t per_line) {
+  const auto put = [&](const auto& v, std::size_t per_line) {
     for (std::size_t i = 0; i < v.size(); ++i) {
       std::snprintf(word, sizeof word, "%08" PRIx32 "%c", v[i], (i + 1) % per_line == 0 ? '\n' : ' ');
       out << word;
     }
   };
-  std::vector<std::uint32_t> cfg{si.layout.kd_nodes.offset, si.layout.prim_refs.offset,
-                                 si.layout.isect_records.offset};
-  for (int i = 0; i < 3; ++i) cfg.push_back(bits(si.layout.bounds_lo[i]));
-  for (int i = 0; i < 3; ++i) cfg.push_back(bits(si.layout.bounds_hi[i]));
-  cfg.push_back(static_cast<std::uint32_t>(si.layout.kd_scale_exponent));
-  put(cfg, 10);
-  put(words, 4);
-  put(rays, 18);
-  put(tests, 17);
+  put(config_of(si).pack(), streams::TuCfg::kWords);
+  put(words, kLineWords);
+  put(rays, streams::TuReq::kWords + 1 + 2 * streams::TuRsp::kWords);
+  put(tests, 2 * streams::IuReq::kWords + streams::IuRsp::kWords);
   file.commit();
-  std::printf("tu_cosim: wrote %zu rays (%zu IU tests) and a %zu-byte image to %s\n", count, tests.size() / 17,
+  std::printf("tu_cosim: wrote %zu rays (%zu IU tests) and a %zu-byte image to %s\n", count, test_count,
               image.size(), o.write_vectors.c_str());
   return 0;
 }
@@ -341,142 +402,147 @@ int run(const Options& o, std::unique_ptr<TuModel>& model) {
     return 2;
   }
 
-  std::mt19937_64 rng(o.seed);
-  std::bernoulli_distribution stalled(o.stall);
+  Stalls stalled(o.seed, o.stall);
+  std::mt19937_64& rng = stalled.rng();  // also the agents' delays and the IU's junk on a miss
   const functional::SoftArith ar{format};
-  struct Pending {
+  // The agents: the memory answers lines in order, the C++ IU tests in order, each after
+  // its latency plus a random delay.
+  struct Owed {
     std::uint64_t ready;
     std::uint32_t addr;
-    TuIuResponse iu;
+    streams::IuRsp iu;
   };
-  std::deque<Pending> mem_q, iu_q;
+  std::deque<Owed> mem_q, iu_q;
   std::uint64_t mem_last = 0, iu_last = 0;
+  const std::uint32_t tag_mask = (1u << streams::kRayTagBits) - 1;
 
   TuInputs in;
-  in.kd_nodes = si.layout.kd_nodes.offset;
-  in.prim_refs = si.layout.prim_refs.offset;
-  in.isect_records = si.layout.isect_records.offset;
-  for (int i = 0; i < 3; ++i) {
-    in.bounds_lo[i] = bits(si.layout.bounds_lo[i]);
-    in.bounds_hi[i] = bits(si.layout.bounds_hi[i]);
-  }
-  in.kd_scale_exponent = si.layout.kd_scale_exponent;
-  for (int i = 0; i < 4; ++i) {
-    model->settle(in);
-    model->clock();
-  }
-  in.rst_n = true;
+  in.cfg = config_of(si);
+  Clock clock(*model);
+  clock.reset(in);
 
   std::vector<TimingSample> samples;
   std::map<std::uint64_t, std::uint64_t> miss_busy;  // busy cycles of rays that fetch nothing
+  PendingByTag<std::size_t> pending("tu_req", "tu_rsp", streams::kRayTagBits);  // the case of each ray in flight
+  Watchdog watchdog(1000000);
   std::size_t next = 0, done = 0;
-  bool in_flight = false, responded = false;
-  std::uint64_t cycle = 0, started = 0, busy = 0;
+  bool responded = false;
+  std::uint64_t busy = 0, cycles = 0;
   const auto begin = std::chrono::steady_clock::now();
   auto fail = [&](const std::string& what) {
     std::printf("tu_cosim FAIL: %s, format %s, %s test, cycle %" PRIu64 "\n  %s\n", o.scene.c_str(),
-                o.format.c_str(), o.isect.c_str(), cycle, what.c_str());
+                o.format.c_str(), o.isect.c_str(), clock.cycle(), what.c_str());
     return 1;
   };
 
-  while (done < cases.size()) {
-    const Case* current = in_flight || next < cases.size() ? &cases[in_flight ? next - 1 : next] : nullptr;
-    in.req_valid = !in_flight && next < cases.size() && !stalled(rng);
-    if (in.req_valid) {
-      const TraceRay& r = current->ray;
-      in.req_tag = static_cast<std::uint32_t>(next & 0xff);
-      for (int i = 0; i < 3; ++i) {
-        in.origin[i] = bits(r.origin[i]);
-        in.direction[i] = bits(r.direction[i]);
+  try {
+    while (done < cases.size()) {
+      const std::uint64_t cycle = clock.cycle();
+      // One ray at a time, so that the busy cycles below are the ray's.
+      const bool in_flight = !pending.empty();
+      const Case* current = in_flight || next < cases.size() ? &cases[in_flight ? next - 1 : next] : nullptr;
+      in.req_valid = !in_flight && next < cases.size() && !stalled();
+      if (in.req_valid) {
+        const TraceRay& r = current->ray;
+        in.req.tag = static_cast<std::uint32_t>(next) & tag_mask;
+        for (int i = 0; i < 3; ++i) {
+          in.req.origin[i] = bits(r.origin[i]);
+          in.req.direction[i] = bits(r.direction[i]);
+        }
+        in.req.t_min = bits(r.t_min);
+        in.req.t_max = bits(r.t_max);
+        in.req.any_hit = current->mode == TraceMode::kAny;
       }
-      in.t_min = bits(r.t_min);
-      in.t_max = bits(r.t_max);
-      in.any_hit = current->mode == TraceMode::kAny;
-    }
-    in.rsp_ready = !stalled(rng);
-    in.mem_req_ready = !stalled(rng);
-    in.mem_rsp_valid = !mem_q.empty() && mem_q.front().ready <= cycle && !stalled(rng);
-    if (in.mem_rsp_valid) {
-      std::memcpy(in.mem_rsp_data.data(), image.data() + mem_q.front().addr, 16);
-    }
-    in.iu_req_ready = !stalled(rng);
-    in.iu_rsp_valid = !iu_q.empty() && iu_q.front().ready <= cycle && !stalled(rng);
-    if (in.iu_rsp_valid) in.iu_rsp = iu_q.front().iu;
+      in.rsp_ready = !stalled();
+      in.mem_req_ready = !stalled();
+      in.mem_rsp_valid = !mem_q.empty() && mem_q.front().ready <= cycle && !stalled();
+      if (in.mem_rsp_valid) {
+        std::memcpy(in.mem_rsp.data.data(), image.data() + mem_q.front().addr, streams::kMemLineBytes);
+      }
+      in.iu_req_ready = !stalled();
+      in.iu_rsp_valid = !iu_q.empty() && iu_q.front().ready <= cycle && !stalled();
+      if (in.iu_rsp_valid) in.iu_rsp = iu_q.front().iu;
 
-    const TuOutputs out = model->settle(in);
+      const TuOutputs out = clock.settle(in);
 
-    // Cycles the unit spends waiting: a request presented or a response owed.
-    const bool waiting = out.mem_req_valid || !mem_q.empty() || out.iu_req_valid || !iu_q.empty();
-    if (in_flight && !responded) {
-      if (out.rsp_valid) {
-        responded = true;
-      } else if (!waiting) {
-        ++busy;
-      }
-    }
-
-    if (in.req_valid && out.req_ready) {
-      in_flight = true;
-      responded = false;
-      started = cycle;
-      busy = 0;
-      ++next;
-    }
-    if (out.rsp_valid && !in_flight) return fail("a response without a ray");
-    if (out.rsp_valid && in.rsp_ready) {
-      const Case& c = cases[next - 1];
-      const std::uint32_t tag = static_cast<std::uint32_t>((next - 1) & 0xff);
-      const TraceHit& e = c.expect;
-      bool same = out.tag == tag && out.fault == c.fault;
-      if (same && !c.fault) {
-        same = out.hit == e.hit && out.nodes == e.counters.nodes && out.leaves == e.counters.leaves &&
-               out.tests == e.counters.tests &&
-               (!e.hit || (out.t == bits(e.t) && out.u == bits(e.u) && out.v == bits(e.v) && out.prim == e.prim));
-      }
-      if (!same) {
-        char head[96];
-        std::snprintf(head, sizeof head, "ray %zu (tag 0x%02x, response tag 0x%02x)", next - 1, tag, out.tag);
-        return fail(std::string(head) + ": " + describe_ray(c) + "\n  expected (Tracer) " +
-                    describe_result(c.fault, e.hit, bits(e.t), bits(e.u), bits(e.v), e.prim, e.counters.nodes,
-                                    e.counters.leaves, e.counters.tests) +
-                    "\n  actual   (rtl)    " +
-                    describe_result(out.fault, out.hit, out.t, out.u, out.v, out.prim, out.nodes, out.leaves,
-                                    out.tests));
-      }
-      if (!c.fault) {
-        if (e.counters.nodes == 0) {
-          ++miss_busy[busy];
-        } else {
-          samples.push_back({busy, e.counters.nodes - e.counters.leaves, e.counters.leaves, c.pops});
+      // Cycles the unit spends waiting: a request presented or a response owed.
+      const bool waiting = out.mem_req_valid || !mem_q.empty() || out.iu_req_valid || !iu_q.empty();
+      if (in_flight && !responded) {
+        if (out.rsp_valid) {
+          responded = true;
+        } else if (!waiting) {
+          ++busy;
         }
       }
-      in_flight = false;
-      ++done;
-    }
-    if (out.mem_req_valid && in.mem_req_ready) {
-      if ((out.mem_req_addr & 15u) != 0 || std::uint64_t{out.mem_req_addr} + 16 > image.size()) {
-        char what[96];
-        std::snprintf(what, sizeof what, "memory request at 0x%08x: unaligned or outside the %zu-byte image",
-                      out.mem_req_addr, image.size());
-        return fail(std::string(what) + "; ray " + describe_ray(*current));
+
+      if (in.req_valid && out.req_ready) {
+        pending.add(in.req.tag, next);
+        responded = false;
+        busy = 0;
+        ++next;
+        watchdog.progress(cycle);
       }
-      mem_last = std::max(mem_last, cycle + static_cast<std::uint64_t>(o.mem_latency) +
-                                        std::uniform_int_distribution<int>(0, o.mem_jitter)(rng));
-      mem_q.push_back({mem_last, out.mem_req_addr, {}});
-    }
-    if (in.mem_rsp_valid && out.mem_rsp_ready) mem_q.pop_front();
-    if (model->has_iu_port()) {
-      if (out.iu_req_valid && in.iu_req_ready) {
-        iu_last = std::max(iu_last, cycle + static_cast<std::uint64_t>(o.iu_latency) +
-                                        std::uniform_int_distribution<int>(0, o.iu_jitter)(rng));
-        iu_q.push_back({iu_last, 0, iu_answer(ar, watertight, out.iu_req, rng)});
+      if (out.rsp_valid && in.rsp_ready) {
+        const std::size_t i = pending.take(out.rsp.tag);
+        const Case& c = cases[i];
+        const Expected want = expected_of(c, static_cast<std::uint32_t>(i) & tag_mask);
+        const std::string mismatch = field_mismatch(want.rsp, out.rsp, want.care);
+        if (!mismatch.empty()) return fail("ray " + std::to_string(i) + ": " + describe_ray(c) + "\n  " + mismatch);
+        if (!c.fault) {
+          if (c.expect.counters.nodes == 0) {
+            ++miss_busy[busy];
+          } else {
+            const auto& n = c.expect.counters;
+            samples.push_back({busy, n.nodes - n.leaves, n.leaves, c.pops});
+          }
+        }
+        ++done;
+        watchdog.progress(cycle);
       }
-      if (in.iu_rsp_valid && out.iu_rsp_ready) iu_q.pop_front();
+      if (out.mem_req_valid && in.mem_req_ready) {
+        const std::uint32_t addr = out.mem_req.addr;
+        if (addr % streams::kMemLineBytes != 0 || std::uint64_t{addr} + streams::kMemLineBytes > image.size()) {
+          char what[96];
+          std::snprintf(what, sizeof what, "memory request at 0x%08x: unaligned or outside the %zu-byte image", addr,
+                        image.size());
+          return fail(std::string(what) + "; ray " + describe_ray(*current));
+        }
+        mem_last = std::max(mem_last, cycle + static_cast<std::uint64_t>(o.mem_latency) +
+                                          std::uniform_int_distribution<int>(0, o.mem_jitter)(rng));
+        mem_q.push_back({mem_last, addr, {}});
+      }
+      if (in.mem_rsp_valid && out.mem_rsp_ready) mem_q.pop_front();
+      if (model->has_iu_port()) {
+        if (out.iu_req_valid && in.iu_req_ready) {
+          iu_last = std::max(iu_last, cycle + static_cast<std::uint64_t>(o.iu_latency) +
+                                          std::uniform_int_distribution<int>(0, o.iu_jitter)(rng));
+          iu_q.push_back({iu_last, 0, iu_answer(ar, watertight, out.iu_req, rng)});
+        }
+        if (in.iu_rsp_valid && out.iu_rsp_ready) iu_q.pop_front();
+      }
+      watchdog.check(cycle, !pending.empty(), [&] { return describe_ray(cases[pending.oldest()]); });
+      clock.tick();
     }
-    if (in_flight && cycle - started > 1000000) return fail("no response for 10^6 cycles: " + describe_ray(*current));
-    model->clock();
-    ++cycle;
+    // Every line and IU answer owed was taken, and nothing moves afterwards.
+    if (!mem_q.empty() || !iu_q.empty()) {
+      return fail(std::to_string(mem_q.size()) + " memory and " + std::to_string(iu_q.size()) +
+                  " IU responses never taken after the last ray");
+    }
+    TuInputs idle = in;
+    idle.req_valid = idle.mem_rsp_valid = idle.iu_rsp_valid = false;
+    idle.rsp_ready = idle.mem_req_ready = idle.iu_req_ready = true;
+    const bool iu_port = model->has_iu_port();
+    cycles = clock.cycle();  // the run's, without the quiet cycles below
+    expect_quiet(clock, idle, 64, [iu_port](const TuOutputs& out) {
+      return out.rsp_valid       ? "a tu_rsp (tag " + hex(out.rsp.tag, streams::kRayTagBits) + ")"
+             : out.mem_req_valid ? "a mem_req (addr " + hex(out.mem_req.addr, 32) + ")"
+             : iu_port && out.iu_req_valid ? "an iu_req (tag " + hex(out.iu_req.tag, streams::kRayTagBits) + ")"
+                                           : std::string();
+    });
+  } catch (const CosimFailure& e) {
+    return fail(e.what());
   }
+  const std::uint64_t cycle = cycles;
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
 
   std::size_t hits = 0;

@@ -1,68 +1,48 @@
 #pragma once
 
-#include <array>
 #include <cstdint>
 #include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "rpu/streams.hpp"
+
 // One Verilated traversal unit (sim/rpu_tu_cosim_top.sv: the TU alone, its IU port
 // open; or a top with the RTL IU inside) behind a plain interface, so the harness needs
 // no Verilator header: the models are built in their own library.
 namespace rpu::sim {
 
-struct TuIuRequest {
-  std::uint32_t tag = 0;
-  std::array<std::uint32_t, 3> origin{}, direction{};
-  std::uint32_t t_min = 0, t_best = 0;
-  int kx = 0, ky = 1, kz = 2;
-  std::array<std::uint32_t, 2> shear{};
-  std::array<std::uint32_t, 12> record{};
-};
-
-struct TuIuResponse {
-  std::uint32_t tag = 0;
-  bool hit = false;
-  std::uint32_t t = 0, u = 0, v = 0;
-};
-
 struct TuInputs {
   bool rst_n = false;
-  std::uint32_t kd_nodes = 0, prim_refs = 0, isect_records = 0;
-  std::array<std::uint32_t, 3> bounds_lo{}, bounds_hi{};
-  std::int32_t kd_scale_exponent = 0;
+  streams::TuCfg cfg;
   bool req_valid = false;
-  std::uint32_t req_tag = 0;
-  std::array<std::uint32_t, 3> origin{}, direction{};
-  std::uint32_t t_min = 0, t_max = 0;
-  bool any_hit = false;
+  streams::TuReq req;
   bool rsp_ready = false;
   bool mem_req_ready = false;
   bool mem_rsp_valid = false;
-  std::array<std::uint32_t, 4> mem_rsp_data{};
+  streams::MemRsp mem_rsp;
   bool iu_req_ready = false;  // the IU port exists only without the RTL IU
   bool iu_rsp_valid = false;
-  TuIuResponse iu_rsp;
+  streams::IuRsp iu_rsp;
 };
 
 struct TuOutputs {
   bool req_ready = false;
   bool rsp_valid = false;
-  std::uint32_t tag = 0;
-  bool hit = false;
-  std::uint32_t t = 0, u = 0, v = 0, prim = 0, nodes = 0, leaves = 0, tests = 0;
-  bool fault = false;
+  streams::TuRsp rsp;
   bool mem_req_valid = false;
-  std::uint32_t mem_req_addr = 0;
+  streams::MemReq mem_req;
   bool mem_rsp_ready = false;
   bool iu_req_valid = false;
-  TuIuRequest iu_req;
+  streams::IuReq iu_req;
   bool iu_rsp_ready = false;
 };
 
 class TuModel {
  public:
+  using Inputs = TuInputs;
+  using Outputs = TuOutputs;
   virtual ~TuModel() = default;
   // Applies the inputs with the clock low and returns the outputs they give.
   virtual TuOutputs settle(const TuInputs& in) = 0;

@@ -1,11 +1,9 @@
 #pragma once
 
-#include <verilated.h>
-
 #include <cstdint>
-#include <memory>
 
 #include "fp_unit_model.hpp"
+#include "verilated_dut.hpp"
 
 namespace rpu::sim {
 
@@ -13,40 +11,22 @@ namespace rpu::sim {
 template <class Top>
 class VerilatedFpUnit final : public FpUnitModel {
  public:
-  explicit VerilatedFpUnit(std::uint64_t seed) : context_(std::make_unique<VerilatedContext>()) {
-    // Random initial values and X assignments, reproducible from the seed.
-    context_->randReset(2);
-    context_->randSeed(static_cast<int>(seed & 0x7fffffff));
-    top_ = std::make_unique<Top>(context_.get());
-    top_->clk_i = 0;
-  }
-  ~VerilatedFpUnit() override { top_->final(); }
-  VerilatedFpUnit(const VerilatedFpUnit&) = delete;
-  VerilatedFpUnit& operator=(const VerilatedFpUnit&) = delete;
+  explicit VerilatedFpUnit(std::uint64_t seed) : dut_(seed, "") {}
 
   FpUnitOutputs settle(const FpUnitInputs& in) override {
-    top_->rst_ni = in.rst_n;
-    top_->req_valid_i = in.req_valid;
-    top_->req_op_i = in.req_op;
-    top_->req_tag_i = in.req_tag;
-    top_->req_a_i = in.req_a;
-    top_->req_b_i = in.req_b;
-    top_->req_c_i = in.req_c;
-    top_->rsp_ready_i = in.rsp_ready;
-    top_->eval();
-    return {top_->req_ready_o != 0, top_->rsp_valid_o != 0, top_->rsp_tag_o, top_->rsp_result_o};
+    Top& t = dut_.top();
+    t.rst_ni = in.rst_n;
+    t.req_valid_i = in.req_valid;
+    to_port(t.req_i, in.req.pack());
+    t.rsp_ready_i = in.rsp_ready;
+    dut_.eval();
+    return {t.req_ready_o != 0, t.rsp_valid_o != 0, from_port<streams::FpRsp>(t.rsp_o)};
   }
 
-  void clock() override {
-    top_->clk_i = 1;
-    top_->eval();
-    top_->clk_i = 0;
-    top_->eval();
-  }
+  void clock() override { dut_.clock(); }
 
  private:
-  std::unique_ptr<VerilatedContext> context_;
-  std::unique_ptr<Top> top_;
+  VerilatedDut<Top> dut_;
 };
 
 }  // namespace rpu::sim

@@ -423,7 +423,7 @@ void CycleDevice::tu_event(std::uint32_t u, Cycle now) {
     case TraceEvent::Kind::kInner:
     case TraceEvent::Kind::kLeaf: {
       const bool leaf = e.kind == TraceEvent::Kind::kLeaf;
-      const Cycle fetched = node_cache_->read(now, e.address, 8);
+      const Cycle fetched = node_cache_->read(now, e.address, spec::memory::kKdNodeBytes);
       const auto work = static_cast<Cycle>(leaf ? tc.leaf : tc.inner);
       tu.time.wait_memory += fetched - now;
       tu.time.busy += work;
@@ -433,14 +433,14 @@ void CycleDevice::tu_event(std::uint32_t u, Cycle now) {
       break;
     }
     case TraceEvent::Kind::kRef: {
-      next = triangle_cache_->read(now, e.address, 4);
+      next = triangle_cache_->read(now, e.address, spec::memory::kPrimRefBytes);
       tu.time.wait_memory += next - now;
       ++tu.time.refs;
       what = "prim ref";
       break;
     }
     case TraceEvent::Kind::kTest: {
-      const Cycle fetched = triangle_cache_->read(now, e.address, spec::memory::kTriangleRecordWoopBytes);
+      const Cycle fetched = triangle_cache_->read(now, e.address, isect_record_bytes(layout_.isect_mode));
       tu.time.wait_memory += fetched - now;
       // The IU that can take the test first; the TU waits for its answer.
       auto iu = std::min_element(ius_.begin(), ius_.end(),

@@ -7,8 +7,22 @@
 
 #include "fp/format.hpp"
 #include "functional/trace_types.hpp"
+#include "rpu/spec.hpp"
+#include "rpu/streams.hpp"
 
 namespace rpu::functional {
+
+// A triangle's intersection record as the IU reads it from the image: three float4 rows
+// (Woop) or vertices (watertight) at the [triangle_record] offsets of
+// spec/memory_map.toml, IsectRecordWords words (spec/streams.toml) in either variant.
+using IsectRecord = std::array<std::uint32_t, streams::kIsectRecordWords>;
+// The word where row k (Woop) or vertex k (watertight) starts; its w is 3 words on.
+inline constexpr std::array<int, 3> kRecordRow{static_cast<int>(spec::memory::kTriangleRecordRow0At / 4),
+                                               static_cast<int>(spec::memory::kTriangleRecordRow1At / 4),
+                                               static_cast<int>(spec::memory::kTriangleRecordRow2At / 4)};
+static_assert(kRecordRow[0] + 4 <= int{streams::kIsectRecordWords} &&
+              kRecordRow[1] + 4 <= int{streams::kIsectRecordWords} &&
+              kRecordRow[2] + 4 <= int{streams::kIsectRecordWords});
 
 // The intersection unit's two tests, on records read from the memory image and a ray in
 // the unit's format (docs/traversal.md §4 and §5 give every operation in order; the RTL
@@ -79,24 +93,26 @@ V dot3(const Arith& ar, V a0, V a1, V a2, const std::array<V, 3>& b) {
 // A rather than adding a stored translation -L A keeps t accurate relative to t: the
 // translation, rounded, would misplace the plane by an ulp of the scene's coordinates.
 template <class Arith>
-[[gnu::always_inline]] inline bool intersect_woop(const Arith& ar, const RayRegisters<Arith>& ray, const std::array<std::uint32_t, 12>& record,
+[[gnu::always_inline]] inline bool intersect_woop(const Arith& ar, const RayRegisters<Arith>& ray, const IsectRecord& record,
                     typename Arith::Value t_best, UnitHit<Arith>& out) {
   using V = typename Arith::Value;
+  constexpr int r0 = kRecordRow[0], r1 = kRecordRow[1], r2 = kRecordRow[2];
   // Rows are loaded as the test needs them: most tests end after row 2.
-  std::array<V, 12> m;
-  for (const int i : {3, 7, 11, 8, 9, 10}) m[i] = ar.load(record[i]);
-  const std::array<V, 3> p{ar.sub(ray.origin[0], m[3]), ar.sub(ray.origin[1], m[7]), ar.sub(ray.origin[2], m[11])};
-  const V oz = dot3(ar, m[8], m[9], m[10], p);
-  const V dz = dot3(ar, m[8], m[9], m[10], ray.direction);
+  std::array<V, streams::kIsectRecordWords> m;
+  for (const int i : {r0 + 3, r1 + 3, r2 + 3, r2, r2 + 1, r2 + 2}) m[i] = ar.load(record[i]);
+  const std::array<V, 3> p{ar.sub(ray.origin[0], m[r0 + 3]), ar.sub(ray.origin[1], m[r1 + 3]),
+                           ar.sub(ray.origin[2], m[r2 + 3])};
+  const V oz = dot3(ar, m[r2], m[r2 + 1], m[r2 + 2], p);
+  const V dz = dot3(ar, m[r2], m[r2 + 1], m[r2 + 2], ray.direction);
   const V t = ar.neg(ar.div(oz, dz));
   if (!(ar.gt(t, ray.t_min) && ar.lt(t, t_best))) return false;
-  for (const int i : {0, 1, 2, 4, 5, 6}) m[i] = ar.load(record[i]);
-  const V ox = dot3(ar, m[0], m[1], m[2], p);
-  const V dx = dot3(ar, m[0], m[1], m[2], ray.direction);
+  for (const int i : {r0, r0 + 1, r0 + 2, r1, r1 + 1, r1 + 2}) m[i] = ar.load(record[i]);
+  const V ox = dot3(ar, m[r0], m[r0 + 1], m[r0 + 2], p);
+  const V dx = dot3(ar, m[r0], m[r0 + 1], m[r0 + 2], ray.direction);
   const V u = ar.add(ox, ar.mul(t, dx));
   if (!(ar.le(ar.zero(), u) && ar.le(u, ar.one()))) return false;
-  const V oy = dot3(ar, m[4], m[5], m[6], p);
-  const V dy = dot3(ar, m[4], m[5], m[6], ray.direction);
+  const V oy = dot3(ar, m[r1], m[r1 + 1], m[r1 + 2], p);
+  const V dy = dot3(ar, m[r1], m[r1 + 1], m[r1 + 2], ray.direction);
   const V v = ar.add(oy, ar.mul(t, dy));
   if (!(ar.le(ar.zero(), v) && ar.le(ar.add(u, v), ar.one()))) return false;
   out = {t, u, v};
@@ -114,12 +130,12 @@ template <class Arith>
 // coordinates (docs/traversal.md §5).
 template <class Arith>
 [[gnu::always_inline]] inline bool intersect_watertight(const Arith& ar, const RayRegisters<Arith>& ray,
-                          const std::array<std::uint32_t, 12>& record, typename Arith::Value t_best,
+                          const IsectRecord& record, typename Arith::Value t_best,
                           UnitHit<Arith>& out) {
   using V = typename Arith::Value;
   std::array<std::array<V, 3>, 3> p;  // A, B, C relative to the origin
   for (int k = 0; k < 3; ++k) {
-    for (int i = 0; i < 3; ++i) p[k][i] = ar.sub(ar.load(record[4 * k + i]), ray.origin[i]);
+    for (int i = 0; i < 3; ++i) p[k][i] = ar.sub(ar.load(record[kRecordRow[k] + i]), ray.origin[i]);
   }
   std::array<V, 3> x, y;
   for (int k = 0; k < 3; ++k) {
@@ -136,7 +152,8 @@ template <class Arith>
   if (any_negative && any_positive) return false;
   const V det = ar.add(ar.add(eu, ev), ew);
   if (!(ar.lt(det, zero) || ar.gt(det, zero))) return false;  // zero or NaN
-  const V n0 = ar.load(record[3]), n1 = ar.load(record[7]), n2 = ar.load(record[11]);
+  const V n0 = ar.load(record[kRecordRow[0] + 3]), n1 = ar.load(record[kRecordRow[1] + 3]),
+          n2 = ar.load(record[kRecordRow[2] + 3]);
   const V t = ar.div(dot3(ar, n0, n1, n2, p[0]), dot3(ar, n0, n1, n2, ray.direction));
   if (!(ar.gt(t, ray.t_min) && ar.lt(t, t_best))) return false;
   out = {t, ar.div(ev, det), ar.div(ew, det)};

@@ -18,8 +18,6 @@ namespace rpu::functional {
 namespace {
 static_assert(std::endian::native == std::endian::little, "the memory image is read in place as little-endian");
 
-constexpr std::uint32_t kRecordWords = spec::memory::kTriangleRecordWoopBytes / 4;
-static_assert(spec::memory::kTriangleRecordWoopBytes == spec::memory::kTriangleRecordWatertightBytes);
 
 std::uint32_t read_u32(std::span<const std::uint8_t> image, std::uint32_t offset) {
   std::uint32_t v;
@@ -41,7 +39,7 @@ constexpr int kMaxStackDepth = 64;
 struct NoRecorder {
   void operator()(TraceEvent::Kind, std::uint32_t) const {}
   template <class Arith, class V>
-  void test(const RayRegisters<Arith>&, const std::array<std::uint32_t, kRecordWords>&, V, bool,
+  void test(const RayRegisters<Arith>&, const IsectRecord&, V, bool,
             const UnitHit<Arith>&) const {}
 };
 struct LogRecorder : NoRecorder {
@@ -52,7 +50,7 @@ struct LogRecorder : NoRecorder {
 struct IuRecorder : NoRecorder {
   std::vector<IuTest>& tests;
   explicit IuRecorder(std::vector<IuTest>& t) : tests(t) {}
-  void test(const RayRegisters<SoftArith>& ray, const std::array<std::uint32_t, kRecordWords>& record,
+  void test(const RayRegisters<SoftArith>& ray, const IsectRecord& record,
             std::uint32_t t_best, bool found, const UnitHit<SoftArith>& hit) const {
     tests.push_back({ray, record, t_best, found, found ? hit : UnitHit<SoftArith>{0, 0, 0}});
   }
@@ -65,6 +63,7 @@ Tracer::Tracer(std::span<const std::uint8_t> image, const ImageLayout& layout, f
       layout_(layout),
       format_(format),
       stack_depth_(stack_depth),
+      record_bytes_(isect_record_bytes(layout.isect_mode)),
       fast_(fast_path && format == fp::kFp32) {
   if (stack_depth < 1 || stack_depth > kMaxStackDepth) {
     throw Error(fmt::format("traversal stack depth {} is outside 1..{}", stack_depth, kMaxStackDepth));
@@ -144,9 +143,11 @@ TraceHit Tracer::trace_with(const Arith& ar, const TraceRay& in, TraceMode mode,
   std::uint32_t node_index = 0;
   const std::uint32_t nodes_base = layout_.kd_nodes.offset;
   while (true) {
-    const KdNode node{read_u32(image_, nodes_base + 8 * node_index), read_u32(image_, nodes_base + 8 * node_index + 4)};
+    const std::uint32_t node_address = nodes_base + spec::memory::kKdNodeBytes * node_index;
+    const KdNode node{read_u32(image_, node_address + spec::memory::kKdNodeWord0At),
+                      read_u32(image_, node_address + spec::memory::kKdNodeWord1At)};
     ++result.counters.nodes;
-    record(node.is_leaf() ? TraceEvent::Kind::kLeaf : TraceEvent::Kind::kInner, nodes_base + 8 * node_index);
+    record(node.is_leaf() ? TraceEvent::Kind::kLeaf : TraceEvent::Kind::kInner, node_address);
     if (!node.is_leaf()) {
       const int axis = node.split_axis();
       const V split = ar.load(node.split_bits());
@@ -176,13 +177,13 @@ TraceHit Tracer::trace_with(const Arith& ar, const TraceRay& in, TraceMode mode,
     ++result.counters.leaves;
     const std::uint32_t first_ref = node.first_prim_ref();
     for (std::uint32_t k = 0; k < node.prim_count(); ++k) {
-      const std::uint32_t ref_address = layout_.prim_refs.offset + 4 * (first_ref + k);
+      const std::uint32_t ref_address = layout_.prim_refs.offset + spec::memory::kPrimRefBytes * (first_ref + k);
       const std::uint32_t prim = read_u32(image_, ref_address);
-      const std::uint32_t record_address = layout_.isect_records.offset + kRecordWords * 4 * prim;
+      const std::uint32_t record_address = layout_.isect_records.offset + record_bytes_ * prim;
       record(TraceEvent::Kind::kRef, ref_address);
       record(TraceEvent::Kind::kTest, record_address);
-      std::array<std::uint32_t, kRecordWords> words;
-      std::memcpy(words.data(), image_.data() + record_address, sizeof words);
+      IsectRecord words{};
+      std::memcpy(words.data(), image_.data() + record_address, record_bytes_);
       ++result.counters.tests;
       UnitHit<Arith> hit;
       const bool found = watertight ? intersect_watertight(ar, ray, words, t_best, hit)

@@ -34,7 +34,7 @@ struct TraceEvent {
 // (t, u, v zero on a miss). What the RTL intersection unit is compared with.
 struct IuTest {
   RayRegisters<SoftArith> ray;
-  std::array<std::uint32_t, 12> record;
+  IsectRecord record;
   std::uint32_t t_best;
   bool hit;
   UnitHit<SoftArith> result;
@@ -75,6 +75,7 @@ class Tracer {
   ImageLayout layout_;
   fp::Format format_;
   int stack_depth_;
+  std::uint32_t record_bytes_;  // of an intersection record in the image's mode
   bool fast_;
 };
 

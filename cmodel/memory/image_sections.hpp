@@ -11,11 +11,6 @@ namespace rpu::image_detail {
 
 namespace mm = spec::memory;
 
-// The record size of intersection records depends on the intersection mode.
-inline std::uint32_t isect_record_bytes(IsectMode mode) {
-  return mode == IsectMode::kWoop ? mm::kTriangleRecordWoopBytes : mm::kTriangleRecordWatertightBytes;
-}
-
 // Every section the spec defines, in the order the writer lays them out: its id, its
 // name in messages, its record size (0: depends on the intersection mode) and where
 // ImageLayout keeps it. All of them are required, exactly once.

@@ -9,6 +9,7 @@
 #include <glm/glm.hpp>
 
 #include "kdtree/kdtree.hpp"
+#include "rpu/spec.hpp"
 #include "scene/scene.hpp"
 
 namespace rpu {
@@ -18,6 +19,12 @@ enum class IsectMode : std::uint32_t {
   kWoop = 0,        // Woop's unit-triangle transform: 3 float4 rows (RPU 2005)
   kWatertight = 1,  // Woop, Benthin, Wald 2013: the three vertices as float4
 };
+
+// The size of an intersection record in this mode (spec/memory_map.toml [triangle_record]).
+inline std::uint32_t isect_record_bytes(IsectMode mode) {
+  return mode == IsectMode::kWoop ? spec::memory::kTriangleRecordWoopBytes
+                                  : spec::memory::kTriangleRecordWatertightBytes;
+}
 
 // Everything the chip reads, as one little-endian byte image (docs/memory-map.md).
 struct MemoryImage {

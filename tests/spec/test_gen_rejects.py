@@ -34,6 +34,15 @@ cases = {
                                         'expr = "shader_cores ** threads_per_core"'),
     "fp op not in the soft model": ("fp_units.toml", '"fract"]', '"fract", "cbrt"]'),
     "fp op in two units": ("fp_units.toml", '"div", "rcp"', '"div", "add"'),
+    "stream width of an unknown constant": ("streams.toml", 'width = "RayTagBits", doc = "the ray\'s tag"',
+                                            'width = "RayTagBitz", doc = "the ray\'s tag"'),
+    "stream vector of 8-bit words": ("streams.toml", 'width = 32, count = 3, doc = "x, y, z (fp32)"',
+                                     'width = 8, count = 3, doc = "x, y, z (fp32)"'),
+    "stream scalar wider than a word": ("streams.toml", '{ name = "t_min", width = 32,', '{ name = "t_min", width = 33,'),
+    "stream width not exact": ("streams.toml", 'count = "MemLineBytes / 4"', 'count = "MemLineBytes / 3"'),
+    "duplicate stream field": ("streams.toml", '{ name = "prim", width = 32, doc = "the hit triangle\'s index" },\n  { name = "nodes"',
+                               '{ name = "prim", width = 32, doc = "the hit triangle\'s index" },\n  { name = "prim"'),
+    "more threads than a thread field names": ("streams.toml", "thread_bits = { value = 8,", "thread_bits = { value = 4,"),
 }
 failures = 0
 for what, (table, old, new) in cases.items():

@@ -1,0 +1,111 @@
+#pragma once
+
+#include <verilated.h>
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <type_traits>
+#include <variant>
+
+#include "common/error.hpp"
+#include "fst_output.hpp"
+
+// The Verilator side of the harness core (sim/cosim_core.hpp): a Verilated top with its
+// registers and X values random but reproducible from a seed (Verilator --x-assign
+// unique --x-initial unique, STYLE.md 7), the clock, FST waveforms of every evaluation
+// on request, and the copy of a stream between its flat port and its words.
+namespace rpu::sim {
+
+// A stream's words into a flat port of its width: Verilator keeps a port of up to 32
+// bits in one integer, up to 64 in a 64-bit one and wider ones as 32-bit words, bit k
+// in bit k % 32 of word k / 32 as rpu::streams packs it.
+template <class Port, std::size_t N>
+void to_port(Port& port, const std::array<std::uint32_t, N>& words) {
+  if constexpr (std::is_integral_v<Port>) {
+    static_assert(N <= 2 && sizeof(Port) * 8 >= 32 * N - 31, "port narrower than the stream");
+    std::uint64_t v = words[0];
+    if constexpr (N == 2) v |= std::uint64_t{words[1]} << 32;
+    port = static_cast<Port>(v);
+  } else {
+    static_assert(sizeof(port.m_storage) / sizeof(port.m_storage[0]) == N, "port and stream differ in width");
+    for (std::size_t i = 0; i < N; ++i) port[i] = words[i];
+  }
+}
+
+template <class Stream, class Port>
+Stream from_port(const Port& port) {
+  typename Stream::Words words{};
+  if constexpr (std::is_integral_v<Port>) {
+    static_assert(Stream::kWords <= 2 && sizeof(Port) * 8 >= Stream::kBits, "port narrower than the stream");
+    const auto v = static_cast<std::uint64_t>(port);
+    words[0] = static_cast<std::uint32_t>(v);
+    if constexpr (Stream::kWords == 2) words[1] = static_cast<std::uint32_t>(v >> 32);
+  } else {
+    static_assert(sizeof(port.m_storage) / sizeof(port.m_storage[0]) == Stream::kWords,
+                  "port and stream differ in width");
+    for (std::size_t i = 0; i < words.size(); ++i) words[i] = port[i];
+  }
+  return Stream::unpack(words);
+}
+
+// A Verilated top built with TRACE_FST has trace(); the others cannot write waveforms.
+template <class Top>
+inline constexpr bool kHasFst = requires(Top& t, VerilatedFstC* f) { t.trace(f, 0); };
+
+template <class Top>
+class VerilatedDut {
+ public:
+  // Waveforms to `fst` unless it is empty; rpu::Error if the top was built without them.
+  VerilatedDut(std::uint64_t seed, const std::string& fst) : context_(std::make_unique<VerilatedContext>()) {
+    context_->randReset(2);
+    context_->randSeed(static_cast<int>(seed & 0x7fffffff));
+    if (!fst.empty()) context_->traceEverOn(true);
+    top_ = std::make_unique<Top>(context_.get());
+    top_->clk_i = 0;
+    if (!fst.empty()) {
+      if constexpr (kHasFst<Top>) {
+        fst_ = std::make_unique<FstOutput>(*top_, fst);
+      } else {
+        throw Error(fst + ": this model was built without FST waveforms");
+      }
+    }
+  }
+  ~VerilatedDut() { top_->final(); }
+  VerilatedDut(const VerilatedDut&) = delete;
+  VerilatedDut& operator=(const VerilatedDut&) = delete;
+
+  Top& top() { return *top_; }
+
+  void eval() {
+    top_->eval();
+    if constexpr (kHasFst<Top>) {
+      if (fst_) fst_->dump(time_);
+    }
+    ++time_;
+  }
+
+  void clock() {
+    top_->clk_i = 1;
+    eval();
+    top_->clk_i = 0;
+    eval();
+  }
+
+  // Closes the waveforms and renames them over their path (FstOutput::close).
+  void close_trace() {
+    if constexpr (kHasFst<Top>) {
+      if (fst_) fst_->close();
+    }
+  }
+
+ private:
+  std::unique_ptr<VerilatedContext> context_;
+  std::unique_ptr<Top> top_;
+  // Only traced tops hold a writer: the others are linked without the FST library.
+  std::conditional_t<kHasFst<Top>, std::unique_ptr<FstOutput>, std::monostate> fst_;
+  std::uint64_t time_ = 0;
+};
+
+}  // namespace rpu::sim
