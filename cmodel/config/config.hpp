@@ -32,6 +32,7 @@ struct Entry {
   std::string name;
   std::variant<std::int64_t, std::string> value;
   enum class Kind { kChoice, kDerived, kMeasured } kind;
+  friend bool operator==(const Entry&, const Entry&) = default;
 };
 std::vector<Entry> entries(const spec::HardwareConfig& config);
 
