@@ -108,6 +108,20 @@ std::string describe_ray(const Case& c) {
   return text;
 }
 
+// The ray as the unit's request: fp32 bits.
+streams::TuReq request_of(const Case& c, std::uint32_t tag) {
+  streams::TuReq req;
+  req.tag = tag;
+  for (int i = 0; i < 3; ++i) {
+    req.origin[i] = bits(c.ray.origin[i]);
+    req.direction[i] = bits(c.ray.direction[i]);
+  }
+  req.t_min = bits(c.ray.t_min);
+  req.t_max = bits(c.ray.t_max);
+  req.any_hit = c.mode == TraceMode::kAny;
+  return req;
+}
+
 // What the unit must answer for a ray, and the bits compared (`care`): the tag and the
 // fault always; without a fault hit and the counters; on a hit t, u, v and prim too.
 struct Expected {
@@ -276,16 +290,7 @@ int write_vectors(const Options& o, const functional::SceneImage& si, const func
     walk.clear();
     tracer.trace(c.ray, c.mode, walk);
     const std::uint32_t tag = static_cast<std::uint32_t>(count) & tag_mask;
-    streams::TuReq req;
-    req.tag = tag;
-    for (int i = 0; i < 3; ++i) {
-      req.origin[i] = bits(c.ray.origin[i]);
-      req.direction[i] = bits(c.ray.direction[i]);
-    }
-    req.t_min = bits(c.ray.t_min);
-    req.t_max = bits(c.ray.t_max);
-    req.any_hit = c.mode == TraceMode::kAny;
-    append(rays, req.pack());
+    append(rays, request_of(c, tag).pack());
     rays.push_back(static_cast<std::uint32_t>(walk.size()));
     const Expected want = expected_of(c, tag);
     append(rays, want.rsp.pack());
@@ -442,17 +447,7 @@ int run(const Options& o, std::unique_ptr<TuModel>& model) {
       const bool in_flight = !pending.empty();
       const Case* current = in_flight || next < cases.size() ? &cases[in_flight ? next - 1 : next] : nullptr;
       in.req_valid = !in_flight && next < cases.size() && !stalled();
-      if (in.req_valid) {
-        const TraceRay& r = current->ray;
-        in.req.tag = static_cast<std::uint32_t>(next) & tag_mask;
-        for (int i = 0; i < 3; ++i) {
-          in.req.origin[i] = bits(r.origin[i]);
-          in.req.direction[i] = bits(r.direction[i]);
-        }
-        in.req.t_min = bits(r.t_min);
-        in.req.t_max = bits(r.t_max);
-        in.req.any_hit = current->mode == TraceMode::kAny;
-      }
+      if (in.req_valid) in.req = request_of(*current, static_cast<std::uint32_t>(next) & tag_mask);
       in.rsp_ready = !stalled();
       in.mem_req_ready = !stalled();
       in.mem_rsp_valid = !mem_q.empty() && mem_q.front().ready <= cycle && !stalled();
