@@ -19,6 +19,8 @@ LATENCY_GROUPS = {
     "tu": ("TraversalUnitConfig", ("setup_woop", "setup_watertight", "inner", "leaf", "pop")),
     "iu": ("IntersectionUnitConfig", ("woop", "watertight", "interval_woop", "interval_watertight")),
 }
+# The widest fraction a format may have (spec/formats.toml's limit, rpu::fp::soft's).
+MAX_FRACTION_BITS = 23
 # The C++ table of each latency group's measured entries.
 LATENCY_TABLES = {"latency": "kShaderLatencies", "tu": "kTuLatencies", "iu": "kIuLatencies"}
 KINDS = ("int", "format")
@@ -327,7 +329,7 @@ def _cpp_value(schema: Schema, name: str) -> str:
     return f"std::int64_t{{c.{name}}}"
 
 
-def gen_cpp(schema: Schema, resolved: list[dict], latencies: dict) -> list[str]:
+def gen_cpp(schema: Schema, resolved: list[dict], latencies: dict, formats: dict[str, int]) -> list[str]:
     """The configuration part of rpu/spec.hpp (namespace rpu::spec)."""
     out = ["// Hardware configurations (spec/config_keys.toml, configs.toml, latencies.toml).",
            "namespace detail {",
@@ -383,6 +385,13 @@ def gen_cpp(schema: Schema, resolved: list[dict], latencies: dict) -> list[str]:
         for fmt, values in entries.items():
             out.append(f"    {{{cpp_string(fmt)}, {{" + ", ".join(str(values[f]) for f in fields) + "}},")
         out += ["}};"]
+    # measured_entry's rule, once: the entry a format of f fraction bits (1..23) takes.
+    out.append("// The index into each table above that a format of f fraction bits takes (latencies.toml's rule).")
+    for group in LATENCY_GROUPS:
+        names = list(latencies[group])
+        picks = [0] + [names.index(measured_entry(latencies[group], f, formats)) for f in range(1, MAX_FRACTION_BITS + 1)]
+        out.append(f"inline constexpr std::array<std::uint8_t, {len(picks)}> {LATENCY_TABLES[group]}ByFractionBits{{{{"
+                   + ", ".join(map(str, picks)) + "}};")
     out.append("")
 
     out += ["enum class KeyKind : std::uint8_t { kInt, kFormat };", "",

@@ -283,7 +283,8 @@ def gen_cpp(spec: dict) -> str:
             for op, unit in ops]
     out += ["}};", ""]
 
-    out += configs.gen_cpp(spec["schema"], spec["resolved"], spec["latencies"])
+    out += configs.gen_cpp(spec["schema"], spec["resolved"], spec["latencies"],
+                           configs.format_fraction_bits(spec["formats"]["format"]))
     out += gen_cpp_isa(spec)
     out += ["}  // namespace rpu::spec", ""]
     return "\n".join(out)

@@ -205,19 +205,6 @@ void apply_set(const std::string& assignment, Builder& b) {
   b.set(*key, value, where);
 }
 
-// The latencies.toml entry a format takes: the fewest fraction bits at least its own,
-// else the widest (spec/latencies.toml says why).
-template <class T, std::size_t N>
-const spec::MeasuredLatency<T>& measured_for(const std::array<spec::MeasuredLatency<T>, N>& table, int fraction_bits) {
-  const spec::MeasuredLatency<T>* best = nullptr;
-  const spec::MeasuredLatency<T>* widest = &table[0];
-  for (const spec::MeasuredLatency<T>& m : table) {
-    const int bits = fp::format_by_name(m.format).fraction_bits;
-    if (bits > fp::format_by_name(widest->format).fraction_bits) widest = &m;
-    if (bits >= fraction_bits && (best == nullptr || bits < fp::format_by_name(best->format).fraction_bits)) best = &m;
-  }
-  return best != nullptr ? *best : *widest;
-}
 
 // A TOML basic string: quotes and backslashes escaped, control characters as \uXXXX.
 std::string toml_string(std::string_view s) {
@@ -246,9 +233,10 @@ spec::HardwareConfig finish(Builder& b, const std::vector<std::string>& sets) {
 
   spec::HardwareConfig& c = b.config;
   const int fraction_bits = fp::format_by_name(c.format).fraction_bits;
-  const auto& latency = measured_for(spec::kShaderLatencies, fraction_bits);
-  const auto& tu = measured_for(spec::kTuLatencies, fraction_bits);
-  const auto& iu = measured_for(spec::kIuLatencies, fraction_bits);
+  const auto f = static_cast<std::size_t>(fraction_bits);
+  const auto& latency = spec::kShaderLatencies[spec::kShaderLatenciesByFractionBits.at(f)];
+  const auto& tu = spec::kTuLatencies[spec::kTuLatenciesByFractionBits.at(f)];
+  const auto& iu = spec::kIuLatencies[spec::kIuLatenciesByFractionBits.at(f)];
   c.latency = latency.value;
   c.tu = tu.value;
   c.iu = iu.value;
