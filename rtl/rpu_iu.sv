@@ -55,6 +55,11 @@ module rpu_iu #(
   localparam int unsigned SOne = 11;
   localparam int unsigned SW = 12;          // record word 0..Words-1
   localparam int unsigned ST = SW + Words;  // register T0
+  // Row r of the record (spec/memory_map.toml [triangle_record]): its x, y, z, w words
+  // are sources SRr + 0..3.
+  localparam int unsigned SR0 = SW + rpu_pkg::TriangleRecordRow0At / 4;
+  localparam int unsigned SR1 = SW + rpu_pkg::TriangleRecordRow1At / 4;
+  localparam int unsigned SR2 = SW + rpu_pkg::TriangleRecordRow2At / 4;
   localparam int unsigned NumTemps = Watertight ? 60 : 51;
   localparam int unsigned NumFlags = Watertight ? 10 : 6;
   localparam int unsigned NumSrc = ST + NumTemps;
@@ -163,18 +168,18 @@ module rpu_iu #(
         default: ;
       endcase
       unique case (m_pc_q)
-        6'd0:  m_uop = uop(rpu_pkg::FpOpFromFp32, SW + 3, SZero, 3);
-        6'd1:  m_uop = uop(rpu_pkg::FpOpFromFp32, SW + 7, SZero, 7);
-        6'd2:  m_uop = uop(rpu_pkg::FpOpFromFp32, SW + 11, SZero, 11);
-        6'd3:  m_uop = uop(rpu_pkg::FpOpFromFp32, SW + 8, SZero, 8);
-        6'd4:  m_uop = uop(rpu_pkg::FpOpFromFp32, SW + 9, SZero, 9);
-        6'd5:  m_uop = uop(rpu_pkg::FpOpFromFp32, SW + 10, SZero, 10);
-        6'd6:  m_uop = uop(rpu_pkg::FpOpFromFp32, SW + 0, SZero, 0);
-        6'd7:  m_uop = uop(rpu_pkg::FpOpFromFp32, SW + 1, SZero, 1);
-        6'd8:  m_uop = uop(rpu_pkg::FpOpFromFp32, SW + 2, SZero, 2);
-        6'd9:  m_uop = uop(rpu_pkg::FpOpFromFp32, SW + 4, SZero, 4);
-        6'd10: m_uop = uop(rpu_pkg::FpOpFromFp32, SW + 5, SZero, 5);
-        6'd11: m_uop = uop(rpu_pkg::FpOpFromFp32, SW + 6, SZero, 6);
+        6'd0:  m_uop = uop(rpu_pkg::FpOpFromFp32, SR0 + 3, SZero, 3);
+        6'd1:  m_uop = uop(rpu_pkg::FpOpFromFp32, SR1 + 3, SZero, 7);
+        6'd2:  m_uop = uop(rpu_pkg::FpOpFromFp32, SR2 + 3, SZero, 11);
+        6'd3:  m_uop = uop(rpu_pkg::FpOpFromFp32, SR2 + 0, SZero, 8);
+        6'd4:  m_uop = uop(rpu_pkg::FpOpFromFp32, SR2 + 1, SZero, 9);
+        6'd5:  m_uop = uop(rpu_pkg::FpOpFromFp32, SR2 + 2, SZero, 10);
+        6'd6:  m_uop = uop(rpu_pkg::FpOpFromFp32, SR0 + 0, SZero, 0);
+        6'd7:  m_uop = uop(rpu_pkg::FpOpFromFp32, SR0 + 1, SZero, 1);
+        6'd8:  m_uop = uop(rpu_pkg::FpOpFromFp32, SR0 + 2, SZero, 2);
+        6'd9:  m_uop = uop(rpu_pkg::FpOpFromFp32, SR1 + 0, SZero, 4);
+        6'd10: m_uop = uop(rpu_pkg::FpOpFromFp32, SR1 + 1, SZero, 5);
+        6'd11: m_uop = uop(rpu_pkg::FpOpFromFp32, SR1 + 2, SZero, 6);
         6'd12: m_uop = uop_flag(rpu_pkg::FpOpGt, ST + 23, STMin, 0);   // t > t_min
         6'd13: m_uop = uop_flag(rpu_pkg::FpOpLt, ST + 23, STBest, 1);  // t < t_best
         6'd14: m_uop = uop_flag(rpu_pkg::FpOpLe, SZero, ST + 48, 2);   // 0 <= u
@@ -240,18 +245,18 @@ module rpu_iu #(
         default: ;
       endcase
       unique case (m_pc_q)
-        6'd0:  m_uop = uop(rpu_pkg::FpOpFromFp32, SW + 0, SZero, 0);
-        6'd1:  m_uop = uop(rpu_pkg::FpOpFromFp32, SW + 1, SZero, 1);
-        6'd2:  m_uop = uop(rpu_pkg::FpOpFromFp32, SW + 2, SZero, 2);
-        6'd3:  m_uop = uop(rpu_pkg::FpOpFromFp32, SW + 4, SZero, 3);
-        6'd4:  m_uop = uop(rpu_pkg::FpOpFromFp32, SW + 5, SZero, 4);
-        6'd5:  m_uop = uop(rpu_pkg::FpOpFromFp32, SW + 6, SZero, 5);
-        6'd6:  m_uop = uop(rpu_pkg::FpOpFromFp32, SW + 8, SZero, 6);
-        6'd7:  m_uop = uop(rpu_pkg::FpOpFromFp32, SW + 9, SZero, 7);
-        6'd8:  m_uop = uop(rpu_pkg::FpOpFromFp32, SW + 10, SZero, 8);
-        6'd9:  m_uop = uop(rpu_pkg::FpOpFromFp32, SW + 3, SZero, 41);   // n.x
-        6'd10: m_uop = uop(rpu_pkg::FpOpFromFp32, SW + 7, SZero, 42);   // n.y
-        6'd11: m_uop = uop(rpu_pkg::FpOpFromFp32, SW + 11, SZero, 43);  // n.z
+        6'd0:  m_uop = uop(rpu_pkg::FpOpFromFp32, SR0 + 0, SZero, 0);
+        6'd1:  m_uop = uop(rpu_pkg::FpOpFromFp32, SR0 + 1, SZero, 1);
+        6'd2:  m_uop = uop(rpu_pkg::FpOpFromFp32, SR0 + 2, SZero, 2);
+        6'd3:  m_uop = uop(rpu_pkg::FpOpFromFp32, SR1 + 0, SZero, 3);
+        6'd4:  m_uop = uop(rpu_pkg::FpOpFromFp32, SR1 + 1, SZero, 4);
+        6'd5:  m_uop = uop(rpu_pkg::FpOpFromFp32, SR1 + 2, SZero, 5);
+        6'd6:  m_uop = uop(rpu_pkg::FpOpFromFp32, SR2 + 0, SZero, 6);
+        6'd7:  m_uop = uop(rpu_pkg::FpOpFromFp32, SR2 + 1, SZero, 7);
+        6'd8:  m_uop = uop(rpu_pkg::FpOpFromFp32, SR2 + 2, SZero, 8);
+        6'd9:  m_uop = uop(rpu_pkg::FpOpFromFp32, SR0 + 3, SZero, 41);   // n.x
+        6'd10: m_uop = uop(rpu_pkg::FpOpFromFp32, SR1 + 3, SZero, 42);   // n.y
+        6'd11: m_uop = uop(rpu_pkg::FpOpFromFp32, SR2 + 3, SZero, 43);  // n.z
         6'd12: m_uop = uop_flag(rpu_pkg::FpOpLt, ST + 36, SZero, 0);  // U < 0
         6'd13: m_uop = uop_flag(rpu_pkg::FpOpLt, ST + 37, SZero, 1);  // V < 0
         6'd14: m_uop = uop_flag(rpu_pkg::FpOpLt, ST + 38, SZero, 2);  // W < 0

@@ -66,6 +66,10 @@ module rpu_tu #(
                                                    : rpu_pkg::TriangleRecordWoopBytes;
   localparam int unsigned RecordLines = RecordBytes / rpu_pkg::MemLineBytes;
   localparam int unsigned LineBits = 8 * rpu_pkg::MemLineBytes;
+  // A line's byte offset and the word it selects; a node (two words) and a ref (one)
+  // lie inside one line, since their sizes divide MemLineBytes.
+  localparam int unsigned OffsetBits = $clog2(rpu_pkg::MemLineBytes);
+  localparam int unsigned WordSelBits = OffsetBits - 2;
   localparam int unsigned SentBits = $clog2(RecordLines + 1);
 
   // Value registers (format values). The first 14 are loaded in this order from the
@@ -137,7 +141,7 @@ module rpu_tu #(
   logic [31:0]             split_d, split_q, first_d, first_q, prim_d, prim_q;
   logic [31:0]             hit_prim_d, hit_prim_q;
   logic                    hit_d, hit_q, fault_d, fault_q;
-  logic [1:0]              half_d, half_q;     // word of the line a node or ref sits at
+  logic [WordSelBits-1:0]  half_d, half_q;     // word of the line a node or ref sits at
   logic [SentBits-1:0]     sent_d, sent_q, got_d, got_q;
   logic [rpu_pkg::IsectRecordWords*32-1:0] record_d, record_q;
   logic [StackDepth*EntryBits-1:0] stack_d, stack_q;
@@ -268,8 +272,10 @@ module rpu_tu #(
   assign record_addr = cfg_i.isect_records + prim_q * RecordBytes + 32'(sent_q) * rpu_pkg::MemLineBytes;
 
   logic [31:0] line_word, next_word;  // the word half_q selects in the line, and the next
-  assign line_word = mem_rsp_i.data[{half_q, 5'b0} +: 32];
-  assign next_word = mem_rsp_i.data[{half_q + 2'd1, 5'b0} +: 32];
+  logic [WordSelBits-1:0] next_half;
+  assign next_half = half_q + WordSelBits'(1);
+  assign line_word = mem_rsp_i.data[32*half_q +: 32];
+  assign next_word = mem_rsp_i.data[32*next_half +: 32];
 
   // The stack's top entry.
   logic [EntryBits-1:0] top;
@@ -331,7 +337,7 @@ module rpu_tu #(
     div_a           = SrcZero;
     div_b           = SrcZero;
     mem_req_valid_o = 1'b0;
-    mem_req_o.addr  = {node_addr[31:4], 4'b0};
+    mem_req_o.addr  = {node_addr[31:OffsetBits], OffsetBits'(0)};
     mem_rsp_ready_o = 1'b0;
     iu_req_valid_o  = 1'b0;
     iu_rsp_ready_o  = 1'b0;
@@ -553,9 +559,9 @@ module rpu_tu #(
 
       StNodeReq: begin
         mem_req_valid_o = 1'b1;
-        mem_req_o.addr  = {node_addr[31:4], 4'b0};
+        mem_req_o.addr  = {node_addr[31:OffsetBits], OffsetBits'(0)};
         if (mem_req_ready_i) begin
-          half_d  = {node_addr[3], 1'b0};
+          half_d  = node_addr[OffsetBits-1:2];
           nodes_d = nodes_q + 32'd1;
           state_d = StNodeWait;
         end
@@ -687,9 +693,9 @@ module rpu_tu #(
           state_d = StLeafEnd;
         end else begin
           mem_req_valid_o = 1'b1;
-          mem_req_o.addr  = {ref_addr[31:4], 4'b0};
+          mem_req_o.addr  = {ref_addr[31:OffsetBits], OffsetBits'(0)};
           if (mem_req_ready_i) begin
-            half_d  = ref_addr[3:2];
+            half_d  = ref_addr[OffsetBits-1:2];
             state_d = StRefWait;
           end
         end
