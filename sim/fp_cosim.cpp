@@ -134,7 +134,7 @@ struct Pending {
 };
 
 struct Options {
-  std::string unit, format, op, write_vectors;
+  std::string unit, format, op, write_vectors, trace;
   std::int64_t count = 1'000'000;
   std::int64_t edge_limit = 0;
   std::uint64_t seed = 0;
@@ -209,13 +209,14 @@ int check_config(const Options& o, const OpChoice& op, std::uint64_t latency) {
   return 1;
 }
 
-int run(const Options& o, const OpChoice& op, Format f) {
+// `model` outlives the run, so that its waveforms are closed also after a failure.
+int run(const Options& o, const OpChoice& op, Format f, std::unique_ptr<FpUnitModel>& model) {
   if (op.spec->unit != o.unit) {
     std::fprintf(stderr, "fp_cosim: op %s runs on the %.*s unit, not %s (spec/fp_units.toml)\n", o.op.c_str(),
                  static_cast<int>(op.spec->unit.size()), op.spec->unit.data(), o.unit.c_str());
     return 2;
   }
-  std::unique_ptr<FpUnitModel> model = make_fp_unit_model(o.unit, o.format, o.seed);
+  model = make_fp_unit_model(o.unit, o.format, o.seed, o.trace);
   if (!model) {
     std::fprintf(stderr, "fp_cosim: no model for unit %s in format %s; built:", o.unit.c_str(), o.format.c_str());
     for (const FpUnitModelName& n : fp_unit_models()) std::fprintf(stderr, " %s/%s", n.unit.c_str(), n.format.c_str());
@@ -337,11 +338,12 @@ int main(int argc, char** argv) {
   app.add_option("--write-vectors", o.write_vectors, "write vectors and the model's results for the netlist testbench");
   app.add_option("--edge-limit", o.edge_limit, "with --write-vectors: at most this many edge vectors (0: all)")
       ->check(CLI::NonNegativeNumber);
+  app.add_option("--trace", o.trace, "write an FST waveform to this file");
   app.add_flag("--check-config", o.check_config,
                "fail unless spec/latencies.toml's [latency.FORMAT] equals the measured latency");
   CLI11_PARSE(app, argc, argv);
   try {
-    check_output_paths("", o.write_vectors);
+    check_output_paths(o.trace, o.write_vectors);
     const OpChoice op = find_op(o.op);
     const rpu::fp::Format f = rpu::fp::format_by_name(o.format);
     if (o.seed == 0) o.seed = default_seed(o);
@@ -350,7 +352,10 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "fp_cosim: --unit is required to co-simulate\n");
       return 2;
     }
-    return run(o, op, f);
+    std::unique_ptr<FpUnitModel> model;
+    const int status = run(o, op, f, model);
+    if (model) model->close_trace();
+    return status;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "fp_cosim: %s\n", e.what());
     return 2;

@@ -35,6 +35,9 @@ class FpUnitModel {
   virtual FpUnitOutputs settle(const FpUnitInputs& in) = 0;
   // One rising and one falling clock edge.
   virtual void clock() = 0;
+  // Closes the waveforms and renames them over their path; rpu::Error naming it if
+  // they could not be written. Without waveforms, nothing.
+  virtual void close_trace() = 0;
 };
 
 struct FpUnitModelName {
@@ -45,8 +48,9 @@ struct FpUnitModelName {
 std::vector<FpUnitModelName> fp_unit_models();
 
 // A fresh model with every register and X initialised from `seed` (Verilator
-// --x-assign unique --x-initial unique); nullptr if the pair was not built.
+// --x-assign unique --x-initial unique); waveforms to `fst` unless it is empty;
+// nullptr if the pair was not built.
 std::unique_ptr<FpUnitModel> make_fp_unit_model(std::string_view unit, std::string_view format,
-                                                std::uint64_t seed);
+                                                std::uint64_t seed, const std::string& fst = "");
 
 }  // namespace rpu::sim

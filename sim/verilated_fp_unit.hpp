@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 
 #include "fp_unit_model.hpp"
 #include "verilated_dut.hpp"
@@ -11,7 +12,7 @@ namespace rpu::sim {
 template <class Top>
 class VerilatedFpUnit final : public FpUnitModel {
  public:
-  explicit VerilatedFpUnit(std::uint64_t seed) : dut_(seed, "") {}
+  VerilatedFpUnit(std::uint64_t seed, const std::string& fst) : dut_(seed, fst) {}
 
   FpUnitOutputs settle(const FpUnitInputs& in) override {
     Top& t = dut_.top();
@@ -24,6 +25,7 @@ class VerilatedFpUnit final : public FpUnitModel {
   }
 
   void clock() override { dut_.clock(); }
+  void close_trace() override { dut_.close_trace(); }
 
  private:
   VerilatedDut<Top> dut_;
