@@ -40,6 +40,11 @@ def load(spec_dir: pathlib.Path) -> dict:
             raise SpecError(f"{path}: {e}") from e
     validate(spec)
     resolve_configs(spec)
+    # After the configurations: the streams' rules name configuration values.
+    try:
+        streams.validate(spec, fp_op_bits(spec))
+    except streams.StreamError as e:
+        raise SpecError(str(e)) from e
     return spec
 
 
@@ -128,10 +133,6 @@ def validate(spec: dict) -> None:
 
     validate_isa(spec["isa"])
     validate_fp_units(spec)
-    try:
-        streams.validate(spec, fp_op_bits(spec))
-    except streams.StreamError as e:
-        raise SpecError(str(e)) from e
 
 
 def validate_isa(isa: dict) -> None:
@@ -173,6 +174,13 @@ def validate_isa(isa: dict) -> None:
                 if field not in FORMAT_FIELDS[insn["format"]] and not field.endswith(("_neg", "_abs")):
                     raise SpecError(f"{here}: operand '{op}' needs field {field}, which format "
                                     f"{insn['format']} does not have")
+    names = set()
+    for fault in isa.get("fault", []):
+        if not IDENT.match(fault.get("name", "")) or fault["name"] in names or set(fault) != {"name", "doc"}:
+            raise SpecError(f"{where}: fault '{fault.get('name', '?')}': needs a new lower_snake name and a doc")
+        names.add(fault["name"])
+    if not names:
+        raise SpecError(f"{where}: no [[fault]] entries")
     names, indices = set(), set()
     for sr in isa["special"]:
         if not IDENT.match(sr["name"]) or sr["name"] in names or sr["index"] in indices:
@@ -205,6 +213,12 @@ def validate_fp_units(spec: dict) -> None:
 FP_OPS = {"add": 2, "sub": 2, "mul": 2, "fma": 3, "div": 2, "rcp": 1, "sqrt": 1, "rsqrt": 1,
           "min": 2, "max": 2, "floor": 1, "fract": 1, "eq": 2, "ne": 2, "lt": 2, "le": 2,
           "gt": 2, "ge": 2, "from_fp32": 1, "to_fp32": 1, "from_int32": 1, "to_int32": 1}
+
+
+def dst_is_data(insn: dict) -> bool:
+    """A `d` operand after the first names a register the instruction reads (st, st1 store
+    it), not one it writes."""
+    return "d" in insn["operands"] and insn["operands"].index("d") > 0
 
 
 def fp_ops(spec: dict) -> list[tuple[str, str]]:
@@ -325,6 +339,7 @@ def gen_cpp_isa(spec: dict) -> list[str]:
     out += [f"  k{camel(i['mnemonic'])} = {i['opcode']:#04x}," for i in isa["insn"]]
     out += ["};", "", "struct InsnSpec {", "  std::string_view mnemonic;", "  Opcode opcode;",
             "  Format format;", "  Class cls;", "  bool float_modifiers;  // neg/abs allowed on sources",
+            "  bool dst_is_data;  // the dst field names a register read (a store's data), not written",
             "  int operand_count;", "  std::array<Operand, 4> operands;",
             "  // The bits an encoding of it may set; any other set bit is an illegal instruction.",
             "  std::uint64_t used_bits;", "  std::string_view doc;", "};", "", f"inline constexpr std::array<InsnSpec, {len(isa['insn'])}> kInsns{{{{"]
@@ -332,7 +347,8 @@ def gen_cpp_isa(spec: dict) -> list[str]:
         ops = ", ".join(f"Operand::k{camel(o)}" for o in i["operands"]) or ""
         out.append(f"    {{{cpp_string(i['mnemonic'])}, Opcode::k{camel(i['mnemonic'])}, "
                    f"Format::k{i['format']}, Class::k{camel(i['class'])}, "
-                   f"{'true' if i['mods'] == 'float' else 'false'}, {len(i['operands'])}, "
+                   f"{'true' if i['mods'] == 'float' else 'false'}, {'true' if dst_is_data(i) else 'false'}, "
+                   f"{len(i['operands'])}, "
                    f"{{{ops}}}, {used_bits(isa, i):#018x}u, {cpp_string(i['doc'])}}},")
     out += ["}};", "", "struct SpecialSpec {", "  std::string_view name;", "  int index;",
             "  std::string_view doc;", "};",
@@ -341,6 +357,13 @@ def gen_cpp_isa(spec: dict) -> list[str]:
         out.append(f"    {{{cpp_string(sr['name'])}, {sr['index']}, {cpp_string(sr['doc'])}}},")
     out += ["}};"]
     out += [f"inline constexpr std::uint32_t kSpecial{camel(sr['name'])} = {sr['index']};" for sr in isa["special"]]
+    out += ["", "// What stops a thread, in the order one instruction is checked; the value is the",
+            "// fault stream's kind.", "enum class FaultKind : std::uint8_t {"]
+    out += [f"  k{camel(f['name'])}," for f in isa["fault"]]
+    out += ["};", "struct FaultSpec {", "  std::string_view name;", "  std::string_view doc;", "};",
+            f"inline constexpr std::array<FaultSpec, {len(isa['fault'])}> kFaults{{{{"]
+    out += [f"    {{{cpp_string(f['name'])}, {cpp_string(f['doc'])}}}," for f in isa["fault"]]
+    out += ["}};"]
     out += [ "", "// Symbols every assembly program may use: the memory-map constants.",
             "struct AsmSymbol {", "  std::string_view name;", "  std::uint32_t value;", "};"]
     syms = asm_symbols(spec)
@@ -378,6 +401,7 @@ def gen_sv(spec: dict) -> str:
     out.append("  } opcode_e;")
     for sr in isa["special"]:
         out.append(f"  localparam int unsigned Special{camel(sr['name'])} = {sr['index']};")
+    out += gen_sv_decode(isa)
     port = spec["fp_units"]["port"]
     ops = fp_ops(spec)
     op_bits = fp_op_bits(spec)
@@ -394,6 +418,64 @@ def gen_sv(spec: dict) -> str:
     out += streams.gen_sv(spec, op_bits)
     out += ["", "endpackage", ""]
     return "\n".join(out)
+
+
+# The RTL's build-time parameters and the configuration keys they come from: one table,
+# so that a Verilated model is configured as the C++ model is (STYLE.md, Vortex's
+# VX_config.toml).
+RTL_PARAMETERS = {"Cores": "shader_cores", "Threads": "threads_per_core", "ChunkSize": "chunk_size",
+                  "Registers": "registers", "CallDepth": "call_depth", "StackBytes": "stack_bytes",
+                  "SfuUnits": "sfu_units", "StackDepth": "stack_depth"}
+
+
+def rtl_parameters(spec: dict, values: dict) -> dict[str, int]:
+    """-G values of a resolved configuration for the RTL tops, the format's widths too."""
+    out = {p: values[k] for p, k in RTL_PARAMETERS.items()}
+    fmt = next(f for f in spec["formats"]["format"] if f["name"] == values["format"])
+    out.update(ExpBits=fmt["exponent_bits"], FracBits=fmt["fraction_bits"])
+    return out
+
+
+def gen_sv_decode(isa: dict) -> list[str]:
+    """The shader core's decode tables: per opcode its class, the bits an encoding may
+    set (0: unknown opcode), and which register fields it reads and writes, as functions
+    of the opcode (Yosys 0.23 reads functions that assign their name in a case)."""
+    classes = list(isa["classes"])
+    cls_bits = max(1, (len(classes) - 1).bit_length())
+    width = isa["encoding"]["opcode"][1]
+    out = ["", "  // Instruction classes (spec/isa.toml [classes]) and faults ([[fault]], the fault",
+           "  // stream's kind, in the order one instruction is checked)."]
+    out += [f"  localparam int unsigned IsaClass{camel(c)} = {i};" for i, c in enumerate(classes)]
+    out.append(f"  localparam int unsigned IsaClassBits = {cls_bits};")
+    out += [f"  localparam int unsigned Fault{camel(f['name'])} = {i};" for i, f in enumerate(isa["fault"])]
+
+    def table(name: str, bits: int, doc: str, value, default: int = 0) -> list[str]:
+        lines = [f"  // {doc}", f"  function automatic logic [{bits - 1}:0] {name}(input logic [{width - 1}:0] op);",
+                 "    unique case (op)"]
+        for i in isa["insn"]:
+            lines.append(f"      {width}'h{i['opcode']:02x}: {name} = {bits}'h{value(i):x};  // {i['mnemonic']}")
+        lines += [f"      default: {name} = {bits}'h{default:x};", "    endcase", "  endfunction"]
+        return lines
+
+    def reads(i: dict, operand: str) -> int:
+        return int(operand in i["operands"] or (operand == "a" and "mem" in i["operands"]))
+
+    word = isa["encoding"]["word_bits"]
+    out += table("isa_used_bits", word, "The bits an encoding of the opcode may set; 0 for an unknown opcode.",
+                 lambda i: used_bits(isa, i))
+    out += table("isa_class", cls_bits, "The opcode's class (IsaClass*).", lambda i: classes.index(i["class"]))
+    out += table("isa_writes_dst", 1, "The dst field names a register the instruction writes.",
+                 lambda i: int("d" in i["operands"] and not dst_is_data(i)))
+    out += table("isa_reads_dst", 1, "The dst field names a register the instruction reads (a store's data).",
+                 lambda i: int(dst_is_data(i)))
+    out += table("isa_reads_a", 1, "Source a (or a memory operand's base) is read.", lambda i: reads(i, "a"))
+    out += table("isa_reads_b", 1, "Source b is read.", lambda i: reads(i, "b"))
+    out += table("isa_reads_c", 1, "Source c is read.", lambda i: reads(i, "c"))
+    out += table("isa_float_mods", 1, "Sources take neg and abs (float modifiers).",
+                 lambda i: int(i["mods"] == "float"))
+    out += table("isa_format_i", 1, "Format I: an immediate in place of sources b and c and the modifiers.",
+                 lambda i: int(i["format"] == "I"))
+    return out
 
 
 def gen_isa_doc(spec: dict) -> str:
@@ -428,6 +510,11 @@ def gen_isa_doc(spec: dict) -> str:
                    f"{i['class']} | {mods} | {i['doc'].replace('|', '&#124;')} |")
     out += ["", "## Special registers", "", "| index | name | lanes |", "|--:|---|---|"]
     out += [f"| {sr['index']} | `{sr['name']}` | {sr['doc']} |" for sr in isa["special"]]
+    out += ["", "## Faults", "", "What stops a thread. One instruction is checked in this order and the first "
+            "that applies is reported (`st1`'s mask and `rdsr`'s register are checked after "
+            "`register`); the kind is the index on the fault stream "
+            "([streams.md](streams.md#fault)).", "", "| kind | name | when |", "|--:|---|---|"]
+    out += [f"| {k} | `{f['name']}` | {f['doc']} |" for k, f in enumerate(isa["fault"])]
     out += ["", "## Predefined assembler symbols", "",
             "Every memory-map constant of [`spec/memory_map.toml`](../spec/memory_map.toml) is "
             "a symbol `SECTION_KEY` (for example `[launch] width_at` is `LAUNCH_WIDTH_AT` = "
@@ -446,10 +533,11 @@ def main() -> int:
     ap.add_argument("--spec-dir", type=pathlib.Path, required=True)
     ap.add_argument("--cpp", type=pathlib.Path)
     ap.add_argument("--sv", type=pathlib.Path)
-    ap.add_argument("--list", choices=("formats", "fp-ops", "tu-timing"),
+    ap.add_argument("--list", choices=("formats", "fp-ops", "tu-timing", "rtl-configs"),
                     help="print 'name exponent_bits fraction_bits' per format, 'op unit' "
                          "per FP op, or 'format setup_woop setup_watertight inner leaf pop' per "
-                         "measured traversal unit (spec/latencies.toml), one a line (CMake reads "
+                         "measured traversal unit (spec/latencies.toml), or 'name -GParam=value ...' per "
+                         "named configuration (the RTL's build-time parameters), one a line (CMake reads "
                          "these at configure time)")
     ap.add_argument("--isa-doc", type=pathlib.Path, help="write docs/isa.md here")
     ap.add_argument("--config-doc", type=pathlib.Path,
@@ -473,6 +561,10 @@ def main() -> int:
     if args.list == "tu-timing":
         for fmt, values in spec["latencies"]["tu"].items():
             print(fmt, *(values[k] for k in configs.LATENCY_GROUPS["tu"][1]))
+        return 0
+    if args.list == "rtl-configs":
+        for r in spec["resolved"]:
+            print(r["name"], *(f"-G{k}={v}" for k, v in rtl_parameters(spec, r["values"]).items()))
         return 0
     if args.cpp is None or args.sv is None:
         ap.error("--cpp and --sv are required unless --list is given")

@@ -104,6 +104,18 @@ def layout(spec: dict, fp_op_bits: int) -> dict:
             if bits in env and c[field] > 1 << env[bits]:
                 raise StreamError(f"{WHERE}: config '{c['name']}' has {field} = {c[field]}, more than "
                                   f"{bits} = {env[bits]} can name")
+        if "ChunkLanes" in env and c["chunk_size"] > env["ChunkLanes"]:
+            raise StreamError(f"{WHERE}: config '{c['name']}' has chunk_size = {c['chunk_size']}, more than "
+                              f"ChunkLanes = {env['ChunkLanes']}")
+        for cache in ("node_cache", "triangle_cache", "data_cache"):
+            if "DramLineBytes" in env and c[cache]["line_bytes"] != env["DramLineBytes"]:
+                raise StreamError(f"{WHERE}: config '{c['name']}' has {cache}.line_bytes = "
+                                  f"{c[cache]['line_bytes']}; the memory port moves DramLineBytes = "
+                                  f"{env['DramLineBytes']}")
+    faults = len(spec["isa"].get("fault", []))
+    if "FaultKindBits" in env and faults > 1 << env["FaultKindBits"]:
+        raise StreamError(f"{WHERE}: FaultKindBits = {env['FaultKindBits']} cannot name the {faults} faults of "
+                          "spec/isa.toml")
     streams = []
     for name, s in table.get("stream", {}).items():
         where = f"{WHERE}: [stream.{name}]"

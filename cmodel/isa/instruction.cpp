@@ -80,7 +80,7 @@ const InsnSpec* find_insn(std::string_view mnemonic) {
 
 RegisterUse register_use(const Instruction& insn) {
   RegisterUse use;
-  const bool store = insn.opcode() == Opcode::kSt || insn.opcode() == Opcode::kSt1;
+  const bool store = insn.spec->dst_is_data;
   for (int k = 0; k < insn.spec->operand_count; ++k) {
     switch (insn.spec->operands[static_cast<std::size_t>(k)]) {
       case Operand::kD: (store ? use.data : use.dst) = insn.dst; break;

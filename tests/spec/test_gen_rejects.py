@@ -43,6 +43,10 @@ cases = {
     "duplicate stream field": ("streams.toml", '{ name = "prim", width = 32, doc = "the hit triangle\'s index" },\n  { name = "nodes"',
                                '{ name = "prim", width = 32, doc = "the hit triangle\'s index" },\n  { name = "prim"'),
     "more threads than a thread field names": ("streams.toml", "thread_bits = { value = 8,", "thread_bits = { value = 4,"),
+    "a chunk wider than the issue record's lanes": ("streams.toml", "chunk_lanes = { value = 8,", "chunk_lanes = { value = 2,"),
+    "more faults than the fault kind names": ("streams.toml", "fault_kind_bits = { value = 4,", "fault_kind_bits = { value = 3,"),
+    "a fault without a doc": ("isa.toml", 'name = "watchdog"\ndoc =', 'name = "watchdog"\ndocs ='),
+    "a cache line other than the memory port's": ("streams.toml", "dram_line_bytes = { value = 64,", "dram_line_bytes = { value = 32,"),
 }
 failures = 0
 for what, (table, old, new) in cases.items():
