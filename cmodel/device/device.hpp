@@ -2,6 +2,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -65,6 +66,10 @@ struct FunctionalOptions {
 
 std::unique_ptr<Device> make_functional_device(const spec::HardwareConfig& config, fp::Format format,
                                                const FunctionalOptions& options = {});
+
+// The shader table of a scene: entry i is the code address of the firmware's label
+// "hit_<shader_names[i]>"; rpu::Error naming a missing label.
+std::vector<std::uint32_t> shader_table(const isa::Firmware& firmware, std::span<const std::string> shader_names);
 
 // The launch block and shader table the firmware reads at spec::memory::kDeviceLaunchBase
 // (spec/memory_map.toml [launch]). Exposed for the tests that check it field by field.

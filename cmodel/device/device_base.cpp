@@ -29,10 +29,7 @@ void DeviceBase::load_image(std::vector<std::uint8_t> image, const std::string& 
   image_ = std::move(image);
 }
 
-void DeviceBase::load_firmware(isa::Firmware firmware, std::vector<std::string> shader_names) {
-  idle();
-  // Here rather than when the frame's threads make their shader cores.
-  functional::raygen_entry(firmware);
+std::vector<std::uint32_t> shader_table(const isa::Firmware& firmware, std::span<const std::string> shader_names) {
   std::vector<std::uint32_t> table;
   for (const std::string& name : shader_names) {
     const std::string label = "hit_" + name;
@@ -42,6 +39,14 @@ void DeviceBase::load_firmware(isa::Firmware firmware, std::vector<std::string> 
     }
     table.push_back(s->second.value);
   }
+  return table;
+}
+
+void DeviceBase::load_firmware(isa::Firmware firmware, std::vector<std::string> shader_names) {
+  idle();
+  // Here rather than when the frame's threads make their shader cores.
+  functional::raygen_entry(firmware);
+  std::vector<std::uint32_t> table = shader_table(firmware, shader_names);
   firmware_ = std::move(firmware);
   shader_table_ = std::move(table);
   has_firmware_ = true;

@@ -86,7 +86,8 @@ ShaderCore::ShaderCore(const isa::Firmware& firmware, DeviceMemory& memory, cons
   }
 }
 
-void ShaderCore::fault(const Thread& t, const std::string& what) const {
+void ShaderCore::fault(const Thread& t, spec::isa::FaultKind kind, const std::string& what,
+                       std::uint32_t address) const {
   const std::string insn =
       t.pc < firmware_.code.size() ? isa::disassemble(firmware_.code[t.pc]) : std::string("past the end of the code");
   const std::uint32_t width = memory_.launch_block().size() >= 8
@@ -97,7 +98,7 @@ void ShaderCore::fault(const Thread& t, const std::string& what) const {
                                 "({}): {}",
                                 t.lane.thread, t.lane.core, t.lane.chunk, t.lane.lane, p % width, p / width, t.pc,
                                 insn, what),
-                    p);
+                    p, kind, t.pc, address);
 }
 
 void ShaderCore::Chunk::update_next_pc() {
@@ -189,18 +190,18 @@ void ShaderCore::run_chunk(std::span<const Lane> lanes, ShaderStats& stats,
 
 template <class Arith>
 void ShaderCore::execute(const Arith& ar, Thread& t, ShaderStats& stats, StepRecord* record) {
-  if (t.pc >= code_.size()) fault(t, fmt::format("pc {} is past the end of the code ({} instructions)", t.pc, code_.size()));
+  if (t.pc >= code_.size()) fault(t, si::FaultKind::kPc, fmt::format("pc {} is past the end of the code ({} instructions)", t.pc, code_.size()));
   const Instruction& in = code_[t.pc];
-  if (!in.spec) fault(t, "illegal instruction: " + illegal_why_[t.pc]);
+  if (!in.spec) fault(t, si::FaultKind::kIllegal, "illegal instruction: " + illegal_why_[t.pc]);
   if (++t.retired > config_.watchdog) {
-    fault(t, fmt::format("watchdog: the thread retired {} instructions for one pixel; a runaway shader?",
+    fault(t, si::FaultKind::kWatchdog, fmt::format("watchdog: the thread retired {} instructions for one pixel; a runaway shader?",
                          config_.watchdog));
   }
   ++stats.retired[static_cast<std::size_t>(in.spec->cls)];
   const int nregs = config_.registers;
   const auto check_reg = [&](int r, std::string_view role) {
     if (r >= nregs) {
-      fault(t, fmt::format("illegal instruction: {} register r{} does not exist (the configuration has {})", role, r,
+      fault(t, si::FaultKind::kRegister, fmt::format("illegal instruction: {} register r{} does not exist (the configuration has {})", role, r,
                            nregs));
     }
   };
@@ -266,12 +267,12 @@ void ShaderCore::execute(const Arith& ar, Thread& t, ShaderStats& stats, StepRec
   };
   const auto address = [&](std::uint32_t bytes, bool store) {
     const std::uint32_t addr = raw(0)[0] + in.imm;
-    if (record) record->accesses.push_back({addr, bytes, store});
+    if (record) record->accesses.push_back({addr, bytes, store, t.lane.lane});
     return addr;
   };
   const auto mem_check = [&](std::uint32_t addr, std::uint32_t bytes, bool store) {
     const DeviceMemory::Access a = memory_.check(addr, bytes, store, t.lane.pixel);
-    if (!a.ok) fault(t, a.problem);
+    if (!a.ok) fault(t, si::FaultKind::kMemory, a.problem, addr);
   };
   const auto load_vec = [&](bool to_format) {
     const std::uint32_t addr = address(16, false);
@@ -292,7 +293,7 @@ void ShaderCore::execute(const Arith& ar, Thread& t, ShaderStats& stats, StepRec
   };
   const auto push_return = [&](std::uint32_t pc) {
     if (t.returns.size() >= static_cast<std::size_t>(config_.call_depth)) {
-      fault(t, fmt::format("call-depth overflow: the return stack holds {} entries (call_depth of the configuration)",
+      fault(t, si::FaultKind::kCallOverflow, fmt::format("call-depth overflow: the return stack holds {} entries (call_depth of the configuration)",
                            config_.call_depth));
     }
     t.returns.push_back(pc);
@@ -434,7 +435,7 @@ void ShaderCore::execute(const Arith& ar, Thread& t, ShaderStats& stats, StepRec
       break;
     }
     case Opcode::kSt1: {
-      if (in.wmask != 1) fault(t, "illegal instruction: st1 stores lane x only (write mask .x)");
+      if (in.wmask != 1) fault(t, si::FaultKind::kIllegal, "illegal instruction: st1 stores lane x only (write mask .x)");
       const std::uint32_t addr = address(4, true);
       mem_check(addr, 4, true);
       memory_.store32(addr, t.regs[in.dst][0]);
@@ -442,15 +443,15 @@ void ShaderCore::execute(const Arith& ar, Thread& t, ShaderStats& stats, StepRec
     }
     case Opcode::kPush:
       if (t.stack.size() >= stack_slots) {
-        fault(t, fmt::format("stack overflow: push below the thread's stack ({} bytes at {:#010x}; sp {:#010x})",
+        fault(t, si::FaultKind::kStackOverflow, fmt::format("stack overflow: push below the thread's stack ({} bytes at {:#010x}; sp {:#010x})",
                              config_.stack_bytes, mm::kDeviceStackBase + t.lane.thread * config_.stack_bytes, sp()));
       }
       t.stack.push_back(raw(0));
-      if (record) record->accesses.push_back({sp(), 16, true});
+      if (record) record->accesses.push_back({sp(), 16, true, t.lane.lane});
       break;
     case Opcode::kPop:
-      if (t.stack.empty()) fault(t, fmt::format("stack underflow: pop with nothing pushed (sp {:#010x})", sp()));
-      if (record) record->accesses.push_back({sp(), 16, false});
+      if (t.stack.empty()) fault(t, si::FaultKind::kStackUnderflow, fmt::format("stack underflow: pop with nothing pushed (sp {:#010x})", sp()));
+      if (record) record->accesses.push_back({sp(), 16, false, t.lane.lane});
       write(t.stack.back());
       t.stack.pop_back();
       break;
@@ -468,21 +469,21 @@ void ShaderCore::execute(const Arith& ar, Thread& t, ShaderStats& stats, StepRec
     case Opcode::kCalli: {
       const std::uint32_t id = raw(0)[0];
       const std::uint32_t count = memory_.load32(mm::kDeviceLaunchBase + mm::kLaunchShaderCountAt);
-      if (id >= count) fault(t, fmt::format("calli: shader id {} is outside the shader table ({} shaders)", id, count));
+      if (id >= count) fault(t, si::FaultKind::kShaderId, fmt::format("calli: shader id {} is outside the shader table ({} shaders)", id, count), id);
       const std::uint32_t entry = memory_.load32(mm::kDeviceLaunchBase + mm::kLaunchShaderTableAt) + 4 * id;
       mem_check(entry, 4, false);
-      if (record) record->accesses.push_back({entry, 4, false});
+      if (record) record->accesses.push_back({entry, 4, false, t.lane.lane});
       call(memory_.load32(entry));
       next = t.pc;
       break;
     }
     case Opcode::kRet:
-      if (t.returns.empty()) fault(t, "ret with an empty return stack (raygen ends with halt)");
+      if (t.returns.empty()) fault(t, si::FaultKind::kCallUnderflow, "ret with an empty return stack (raygen ends with halt)");
       next = t.returns.back();
       t.returns.pop_back();
       break;
     case Opcode::kMfra: {
-      if (t.returns.empty()) fault(t, "mfra with an empty return stack");
+      if (t.returns.empty()) fault(t, si::FaultKind::kCallUnderflow, "mfra with an empty return stack");
       const std::uint32_t ra = t.returns.back();
       t.returns.pop_back();
       write({ra, ra, ra, ra});
@@ -511,7 +512,7 @@ void ShaderCore::execute(const Arith& ar, Thread& t, ShaderStats& stats, StepRec
           hit = tracer_.trace(ray, mode);
         }
       } catch (const Error& e) {
-        fault(t, e.what());
+        fault(t, si::FaultKind::kTraversal, e.what());
       }
       ++(any ? stats.any_rays : stats.closest_rays);
       stats.nodes += hit.counters.nodes;
@@ -534,7 +535,7 @@ void ShaderCore::execute(const Arith& ar, Thread& t, ShaderStats& stats, StepRec
         case si::kSpecialLaunch: write({width, launch(mm::kLaunchHeightAt), launch(mm::kLaunchSppAt), launch(mm::kLaunchMaxDepthAt)}); break;
         case si::kSpecialThread: write({l.thread, l.core, l.chunk, l.lane}); break;
         case si::kSpecialParams: write({mm::kDeviceLaunchBase, static_cast<std::uint32_t>(memory_.launch_block().size()), 0, 0}); break;
-        default: fault(t, fmt::format("illegal instruction: no special register {}", in.imm));
+        default: fault(t, si::FaultKind::kIllegal, fmt::format("illegal instruction: no special register {}", in.imm));
       }
       break;
     }

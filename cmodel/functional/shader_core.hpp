@@ -19,13 +19,22 @@ namespace rpu::functional {
 
 // A shader fault: the run stops and the message names the thread, its pixel, the pc,
 // the instruction and (for memory faults) the address (docs/shader-core.md "Faults").
+// The kind, pc and address are what the RTL's fault stream carries (spec/isa.toml
+// [[fault]]): the address of a memory fault, the shader id of calli's, else 0.
 class ShaderFault : public Error {
  public:
-  ShaderFault(const std::string& message, std::uint32_t pixel) : Error(message), pixel_(pixel) {}
+  ShaderFault(const std::string& message, std::uint32_t pixel, spec::isa::FaultKind kind, std::uint32_t pc,
+              std::uint32_t address)
+      : Error(message), pixel_(pixel), kind_(kind), pc_(pc), address_(address) {}
   std::uint32_t pixel() const { return pixel_; }
+  spec::isa::FaultKind kind() const { return kind_; }
+  std::uint32_t pc() const { return pc_; }
+  std::uint32_t address() const { return address_; }
 
  private:
   std::uint32_t pixel_;
+  spec::isa::FaultKind kind_;
+  std::uint32_t pc_, address_;
 };
 
 // What the shader cores did: instructions retired by class (per thread), issue slots
@@ -63,6 +72,7 @@ struct MemoryAccess {
   std::uint32_t address = 0;  // byte address
   std::uint32_t bytes = 0;    // 4 or 16
   bool store = false;
+  std::uint32_t lane = 0;     // the chunk lane that made it
 };
 
 struct StepRecord {
@@ -152,7 +162,8 @@ class ShaderCore {
   void step_with(const Arith& ar, Chunk& chunk, ShaderStats& stats, StepRecord* record);
   template <class Arith>
   void execute(const Arith& ar, Thread& t, ShaderStats& stats, StepRecord* record);
-  [[noreturn]] void fault(const Thread& t, const std::string& what) const;
+  [[noreturn]] void fault(const Thread& t, spec::isa::FaultKind kind, const std::string& what,
+                          std::uint32_t address = 0) const;
 
   const isa::Firmware& firmware_;
   DeviceMemory& memory_;
