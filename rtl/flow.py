@@ -29,6 +29,7 @@ TU_SIM_TOP = ROOT / "sim" / "rpu_tu_cosim_top.sv"
 NETLIST_TB = ROOT / "sim" / "rpu_fp_netlist_tb.sv"
 IU_TOP = ROOT / "sim" / "rpu_iu_cosim_top.sv"
 IU_NETLIST_TB = ROOT / "sim" / "rpu_iu_netlist_tb.sv"
+SPU_SIM_TOP = ROOT / "sim" / "rpu_spu_cosim_top.sv"
 TU_NETLIST_TB = ROOT / "sim" / "rpu_tu_netlist_tb.sv"
 # The intersection modes (spec/memory_map.toml [isect_mode]: the IsectMode parameter).
 ISECT_MODES = ("woop", "watertight")
@@ -98,6 +99,15 @@ def lint(args) -> int:
                      [TU_SIM_TOP]))
     for top in ("rpu_fifo", "rpu_skid_buf"):
         jobs.append((top, [top], ["-GWidth=8"], []))
+    # The shader core as each named configuration builds it (its build-time parameters
+    # from spec/configs.toml), a core of 1-thread chunks, and its co-simulation top.
+    tables = gen.load(ROOT / "spec")
+    for r in tables["resolved"]:
+        params = gen.rtl_parameters(tables, r["values"])
+        spu = {k: v for k, v in params.items() if k not in ("StackDepth",)}
+        jobs.append((f"rpu_spu {r['name']}", ["rpu_spu"], [f"-G{k}={v}" for k, v in spu.items()], []))
+    jobs.append(("rpu_spu chunks of 1", ["rpu_spu"], ["-GThreads=4", "-GChunkSize=1", "-GSfuUnits=4"], []))
+    jobs.append(("rpu_spu_cosim_top", ["rpu_spu_cosim_top"], [], [SPU_SIM_TOP]))
     for what, (top,), params, extra in jobs:
         r = run([args.verilator, "--lint-only", "-Wall", RTL / "lint.vlt", args.pkg, *rtl_sources(), *extra,
                  "--top-module", top, *params])

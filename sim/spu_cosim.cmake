@@ -1,0 +1,91 @@
+# The shader core (docs/rtl.md "Shader core"): one Verilated rpu_spu per named
+# configuration of spec/configs.toml, its build-time parameters from the same table
+# (gen.py --list rtl-configs); spu_cosim runs firmware on it in lockstep with the
+# functional model (sim/spu_checker.hpp).
+execute_process(COMMAND ${Python3_EXECUTABLE} ${PROJECT_SOURCE_DIR}/spec/gen.py
+                        --spec-dir ${PROJECT_SOURCE_DIR}/spec --list rtl-configs
+                OUTPUT_VARIABLE rpu_rtl_config_lines COMMAND_ERROR_IS_FATAL ANY)
+string(REPLACE "\n" ";" rpu_rtl_config_lines "${rpu_rtl_config_lines}")
+# The parameters rpu_spu_cosim_top has (a core of its own: one core, no ray units).
+set(rpu_spu_top_params Threads ChunkSize Registers CallDepth StackBytes SfuUnits ExpBits FracBits)
+set(rpu_spu_code_words 4096)
+
+set(rpu_spu_model_includes "")
+set(rpu_spu_model_entries "")
+set(rpu_spu_configs)
+add_library(rpu_spu_rtl_models STATIC ${CMAKE_CURRENT_BINARY_DIR}/spu_models.cpp)
+target_include_directories(rpu_spu_rtl_models PUBLIC ${CMAKE_CURRENT_SOURCE_DIR})
+set_source_files_properties(${CMAKE_CURRENT_BINARY_DIR}/spu_models.cpp PROPERTIES INCLUDE_DIRECTORIES ${PROJECT_SOURCE_DIR}/cmodel)
+target_link_libraries(rpu_spu_rtl_models PUBLIC rpu_spec)
+foreach(line IN LISTS rpu_rtl_config_lines)
+  if(NOT line)
+    continue()
+  endif()
+  string(REPLACE " " ";" fields "${line}")
+  list(POP_FRONT fields config)
+  set(params -GCodeWords=${rpu_spu_code_words})
+  foreach(p IN LISTS fields)
+    string(REGEX MATCH "^-G([A-Za-z]+)=" name "${p}")
+    if(CMAKE_MATCH_1 IN_LIST rpu_spu_top_params)
+      list(APPEND params ${p})
+    endif()
+  endforeach()
+  set(prefix Vspu_${config})
+  rpu_verilate(rpu_spu_rtl_models ${prefix} rpu_spu_cosim_top TRACE ASSERT PARAMS ${params})
+  string(APPEND rpu_spu_model_includes "#include \"${prefix}.h\"\n")
+  string(APPEND rpu_spu_model_entries "    {\"${config}\", &make<${prefix}, ${rpu_spu_code_words}>},\n")
+  list(APPEND rpu_spu_configs ${config})
+endforeach()
+configure_file(spu_models.cpp.in ${CMAKE_CURRENT_BINARY_DIR}/spu_models.cpp @ONLY)
+
+add_library(rpu_spu_check STATIC spu_checker.cpp spu_agents.cpp)
+target_include_directories(rpu_spu_check PUBLIC ${CMAKE_CURRENT_SOURCE_DIR})
+target_link_libraries(rpu_spu_check PUBLIC rpu_functional rpu_isa fmt::fmt PRIVATE rpu_flags)
+
+add_executable(spu_cosim spu_cosim.cpp)
+target_link_libraries(spu_cosim PRIVATE rpu_spu_rtl_models rpu_spu_check rpu_device rpu_asm rpu_builtin_firmware
+                      rpu_scene rpu_kdtree rpu_output_file CLI11::CLI11 rpu_flags)
+
+add_test(NAME cosim.spu.trace_outputs
+         COMMAND Python3::Interpreter ${CMAKE_CURRENT_SOURCE_DIR}/trace_outputs.py
+                 ${CMAKE_CURRENT_BINARY_DIR}/spu_trace_outputs --
+                 $<TARGET_FILE:spu_cosim> --config tiny --scene cornell --width 2 --height 2 --max-depth 0)
+set_tests_properties(cosim.spu.trace_outputs PROPERTIES LABELS unit TIMEOUT 600)
+
+# Frames of the built-in firmware on every configuration's core.
+foreach(config IN LISTS rpu_spu_configs)
+  foreach(scene cornell balls:1)
+    string(REPLACE ":" "" scene_name "${scene}")
+    add_test(NAME cosim.spu.${config}.${scene_name}
+             COMMAND spu_cosim --config ${config} --scene ${scene} --width 8 --height 6 --max-depth 2)
+    set_tests_properties(cosim.spu.${config}.${scene_name} PROPERTIES LABELS cosim TIMEOUT 900)
+  endforeach()
+endforeach()
+
+# Every instruction and fault program of tests/isa on the core its .exp names (the
+# programs in a format other than their configuration's are the functional tests' alone).
+file(GLOB rpu_isa_programs ${PROJECT_SOURCE_DIR}/tests/isa/programs/*.s)
+foreach(program IN LISTS rpu_isa_programs)
+  get_filename_component(name ${program} NAME_WE)
+  string(REGEX REPLACE "\\.s$" ".exp" exp ${program})
+  file(STRINGS ${exp} exp_lines REGEX "^(config|scene|format) ")
+  set(config tiny)
+  set(scene tetra:1)
+  set(other_format FALSE)
+  foreach(l IN LISTS exp_lines)
+    if(l MATCHES "^config ([^ ]+)")
+      set(config ${CMAKE_MATCH_1})
+    elseif(l MATCHES "^scene ([^ ]+)")
+      set(scene ${PROJECT_SOURCE_DIR}/${CMAKE_MATCH_1})
+    elseif(l MATCHES "^format ")
+      set(other_format TRUE)
+    endif()
+  endforeach()
+  if(other_format OR NOT config IN_LIST rpu_spu_configs)
+    continue()
+  endif()
+  add_test(NAME cosim.spu.isa.${name}
+           COMMAND spu_cosim --config ${config} --scene ${scene} --firmware ${program} --empty-shader-table
+                   --width 3 --height 2 --max-depth 0 --watchdog 100000)
+  set_tests_properties(cosim.spu.isa.${name} PROPERTIES LABELS cosim TIMEOUT 300)
+endforeach()
