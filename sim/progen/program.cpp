@@ -38,12 +38,12 @@ class Writer {
   // An instruction, its mnemonic padded so that operands line up.
   void line(std::string_view code, std::string_view note = {}) {
     std::string text(code);
-    if (const auto space = text.find(' '); space != std::string::npos && space < 8) text.insert(space, 8 - space, ' ');
+    if (const auto space = text.find(' '); space != std::string::npos && space < 7) text.insert(space, 7 - space, ' ');
     code = text;
     if (note.empty()) {
       out_ += fmt::format("        {}\n", code);
     } else {
-      out_ += fmt::format("        {:<32}; {}\n", code, note);
+      out_ += fmt::format("        {:<32} ; {}\n", code, note);
     }
   }
   void insn(const isa::Instruction& i, std::string_view note = {}) { line(isa::disassemble(i), note); }
