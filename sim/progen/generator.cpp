@@ -47,14 +47,6 @@ constexpr std::array<RecordPointer, 6> kRecordPointers{{
     {mm::kLaunchNormalsAt, mm::kVertexNormalBytes, "first vertex normal (or the header)"},
 }};
 
-// A launch-block field's assembler symbol, for the comment of a load from it.
-std::string launch_field(std::uint32_t offset) {
-  for (const si::AsmSymbol& s : si::kAsmSymbols) {
-    if (s.value == offset && s.name.starts_with("LAUNCH_") && s.name.ends_with("_AT")) return std::string(s.name);
-  }
-  return fmt::format("launch block + {}", offset);
-}
-
 // fp32 bit patterns at the corners of every number format: zeros, subnormals (flushed),
 // infinities, NaNs with payloads, the largest and smallest normals, exact small values.
 std::uint32_t interesting_float(Random& rng) {
@@ -337,7 +329,7 @@ class Generator {
       case kBaseLaunch:
         // The launch block's fixed part: the shader table after it shrinks with the shaders.
         offset = aligned_below(mm::kLaunchBytes);
-        note = launch_field(offset);
+        note = "launch block";
         break;
       case kBaseData:
         offset = aligned_below(static_cast<std::uint32_t>(4 * p_.data.size()));
@@ -421,9 +413,8 @@ class Generator {
     };
     const auto add = [&](const Instruction& i, std::string note = {}) { g.body.push_back(single(i, std::move(note))); };
     add(make_instruction(Opcode::kLdf, origin, isa::kAllLanes, base(kBaseLaunch), {}, {}, mm::kLaunchOriginAt),
-        "origin; w = 0: t_min 0");
-    add(make_instruction(Opcode::kLdf, direction, isa::kAllLanes, base(kBaseLaunch), {}, {}, mm::kLaunchForwardAt),
-        "forward");
+        "w = 0: t_min 0");
+    add(make_instruction(Opcode::kLdf, direction, isa::kAllLanes, base(kBaseLaunch), {}, {}, mm::kLaunchForwardAt));
     std::string where;
     for (const auto& [axis, at] : {std::pair{"x", mm::kLaunchRightAt}, std::pair{"y", mm::kLaunchUpAt}}) {
       if (rng_.chance(50)) {
@@ -443,8 +434,7 @@ class Generator {
         add(lif(coordinate, lane_bit(0), value));
         where += fmt::format(" {} = {}", axis, value);
       }
-      add(make_instruction(Opcode::kLdf, scratch, isa::kAllLanes, base(kBaseLaunch), {}, {}, at),
-          axis[0] == 'x' ? "right" : "up");
+      add(make_instruction(Opcode::kLdf, scratch, isa::kAllLanes, base(kBaseLaunch), {}, {}, at));
       add(make_instruction(Opcode::kMad, direction, 0x7, reg(scratch), reg(coordinate, broadcast(0)), reg(direction)));
     }
     if (rng_.chance(15)) {

@@ -1,6 +1,7 @@
 #include "progen/program.hpp"
 
 #include <algorithm>
+#include <span>
 
 #include <fmt/format.h>
 
@@ -46,7 +47,23 @@ class Writer {
       out_ += fmt::format("        {:<32} ; {}\n", code, note);
     }
   }
-  void insn(const isa::Instruction& i, std::string_view note = {}) { line(isa::disassemble(i), note); }
+  void insn(const isa::Instruction& i, std::string_view note = {}) { line(with_launch_field(i), note); }
+
+  // The disassembly, with the offset of a load from the launch block through the bases
+  // register written as the field's symbol: [r30.y + LAUNCH_ORIGIN_AT].
+  std::string with_launch_field(const isa::Instruction& i) const {
+    std::string text = isa::disassemble(i);
+    const bool launch_base = i.src[0].reg == p_.regs.bases && (i.src[0].swizzle & 3) == kBaseLaunch;
+    const auto operands = std::span(i.spec->operands).first(static_cast<std::size_t>(i.spec->operand_count));
+    if (!launch_base || std::find(operands.begin(), operands.end(), isa::Operand::kMem) == operands.end()) return text;
+    for (const spec::isa::AsmSymbol& s : spec::isa::kAsmSymbols) {
+      if (s.value != i.imm || !s.name.starts_with("LAUNCH_") || !s.name.ends_with("_AT")) continue;
+      const std::size_t open = text.find('['), close = text.find(']');
+      const std::size_t base_end = std::min(text.find(' ', open), close);
+      return text.substr(0, base_end) + " + " + std::string(s.name) + text.substr(close);
+    }
+    return text;
+  }
   // A branch or call to a label: the disassembly with its target (printed last, as a
   // number) replaced by the label.
   void jump(isa::Instruction i, std::string_view target, std::string_view note = {}) {
