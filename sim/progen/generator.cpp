@@ -134,6 +134,11 @@ class Generator {
                               "{} and {}",
                               m.call_depth, m.stack_bytes));
     }
+    if (o_.max_statements < 1 || o_.max_routines < 0 || o_.max_nesting < 0) {
+      throw Error(fmt::format("random programs need max_statements >= 1, max_routines >= 0 and max_nesting >= 0, "
+                              "not {}, {} and {}",
+                              o_.max_statements, o_.max_routines, o_.max_nesting));
+    }
     if (o_.fault == FaultClass::kIllegalRegister && m.registers == 64) {
       throw Error("no register past the count exists with 64 registers (the encoding's 6-bit fields name r0..r63): "
                   "ask for another fault class");

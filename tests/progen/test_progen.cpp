@@ -59,13 +59,21 @@ TEST(Progen, AssemblyCommentsNameTheStatements) {
   }
 }
 
-TEST(Progen, AFaultTheMachineCannotHaveIsAnError) {
-  Options options = Options::for_config(hardware_config("tiny"));
-  options.machine.registers = 64;
+TEST(Progen, OptionsTheGeneratorCannotMeetAreErrors) {
+  const Options tiny = Options::for_config(hardware_config("tiny"));
+  Options options = tiny;
+  options.machine.registers = 64;  // no register past the count
   options.fault = FaultClass::kIllegalRegister;
   EXPECT_THROW(generate(1, options), Error);
-  options.fault = FaultClass::kNone;
-  options.machine.registers = 4;
+  options = tiny;
+  options.machine.registers = 4;  // the plan's three registers leave too few free
+  EXPECT_THROW(generate(1, options), Error);
+  options = tiny;
+  options.max_statements = 0;
+  EXPECT_THROW(generate(1, options), Error);
+  options = tiny;
+  options.fault = FaultClass::kWatchdog;
+  options.watchdog = 10;
   EXPECT_THROW(generate(1, options), Error);
 }
 
