@@ -392,9 +392,10 @@ class Generator {
                                    static_cast<std::uint32_t>(sr.index)));
   }
 
-  // A ray from the launch block's camera through a (possibly lane-dependent) point of
-  // the image plane, so that some rays hit and some miss; or a ray of whatever two
-  // registers hold (NaN, inf, zero directions: the units must take anything).
+  // A ray from the launch block's camera towards a point of the scene's box or through a
+  // point of the image plane (either possibly lane-dependent), so that some rays hit and
+  // some miss; or a ray of whatever two registers hold (NaN, inf, zero directions: the
+  // units must take anything).
   Statement ray() {
     const Opcode op = rng_.chance(50) ? Opcode::kTrace : Opcode::kTracea;
     const std::string_view mnemonic = isa::find_insn(op)->mnemonic;
@@ -406,7 +407,7 @@ class Generator {
                                                reg(source_reg(), swizzle()))));
       return g;
     }
-    std::array<int, 4> r{};  // origin, direction, scratch, image-plane coordinate
+    std::array<int, 4> r{};  // origin, direction, scratch, coordinates
     for (std::size_t i = 0; i < r.size(); ++i) {
       do {
         r[i] = free_reg();
@@ -417,44 +418,82 @@ class Generator {
       return make_instruction(Opcode::kLif, d, mask, {}, {}, {}, std::bit_cast<std::uint32_t>(value));
     };
     const auto add = [&](const Instruction& i, std::string note = {}) { g.body.push_back(single(i, std::move(note))); };
-    add(make_instruction(Opcode::kLdf, origin, isa::kAllLanes, base(kBaseLaunch), {}, {}, mm::kLaunchOriginAt),
-        "w = 0: t_min 0");
-    add(make_instruction(Opcode::kLdf, direction, isa::kAllLanes, base(kBaseLaunch), {}, {}, mm::kLaunchForwardAt));
+    isa::Source minus_origin = reg(origin);
+    minus_origin.neg = true;
     std::string where;
-    for (const auto& [axis, at] : {std::pair{"x", mm::kLaunchRightAt}, std::pair{"y", mm::kLaunchUpAt}}) {
+    float t_max = std::numeric_limits<float>::infinity(), t_min = 0.0f;
+    if (rng_.chance(55)) {
+      // Towards bounds_lo + f (bounds_hi - bounds_lo), reached at t = 1. The scene
+      // record's box is in kd space, which is the camera's space in the image of a scene
+      // in chip space (functional::chip_space_scene, what the Runner builds).
+      add(make_instruction(Opcode::kLd1, coordinate, lane_bit(0), base(kBaseLaunch), {}, {}, mm::kLaunchSceneAt));
+      add(make_instruction(Opcode::kLdf, scratch, isa::kAllLanes, reg(coordinate, broadcast(0)), {}, {},
+                           mm::kSceneRecordBoundsLoAt), "bounds_lo");
+      add(make_instruction(Opcode::kLdf, direction, isa::kAllLanes, reg(coordinate, broadcast(0)), {}, {},
+                           mm::kSceneRecordBoundsHiAt), "bounds_hi");
+      isa::Source minus_lo = reg(scratch);
+      minus_lo.neg = true;
+      add(make_instruction(Opcode::kAdd, direction, isa::kAllLanes, reg(direction), minus_lo), "the box's extent");
+      std::array<float, 3> f{};
+      for (float& v : f) v = static_cast<float>(rng_.range(2, 8)) / 10.0f;
       if (rng_.chance(50)) {
-        // Across the launch: coordinate = pixel x (or y) * scale + offset.
-        static constexpr std::array<float, 3> kScale{0.25f, 0.5f, 1.0f};
-        static constexpr std::array<float, 4> kOffset{-1.0f, -0.75f, -0.5f, 0.0f};
-        const float scale = rng_.pick(std::span<const float>(kScale));
-        const float offset = rng_.pick(std::span<const float>(kOffset));
-        add(make_instruction(Opcode::kI2f, coordinate, lane_bit(0), pixel_lane(axis[0] == 'x' ? 0 : 1)));
-        add(lif(coordinate, lane_bit(1), scale));
-        add(lif(coordinate, lane_bit(2), offset));
-        add(make_instruction(Opcode::kMad, coordinate, lane_bit(0), reg(coordinate, broadcast(0)),
-                             reg(coordinate, broadcast(1)), reg(coordinate, broadcast(2))));
-        where += fmt::format(" {} = pixel {} * {} + {}", axis, axis, scale, offset);
+        // f.x = pixel index / 16: the lanes aim at different points.
+        add(make_instruction(Opcode::kI2f, coordinate, lane_bit(0), pixel_lane(2)));
+        add(lif(coordinate, lane_bit(3), 0.0625f));
+        add(make_instruction(Opcode::kMul, coordinate, lane_bit(0), reg(coordinate, broadcast(0)),
+                             reg(coordinate, broadcast(3))));
+        add(lif(coordinate, lane_bit(1), f[1]));
+        add(lif(coordinate, lane_bit(2), f[2]));
+        where = fmt::format("the scene box's point (pixel index / 16, {}, {})", f[1], f[2]);
       } else {
-        const float value = static_cast<float>(rng_.range(-12, 12)) / 10.0f;
-        add(lif(coordinate, lane_bit(0), value));
-        where += fmt::format(" {} = {}", axis, value);
+        for (int k = 0; k < 3; ++k) add(lif(coordinate, lane_bit(k), f[static_cast<std::size_t>(k)]));
+        where = fmt::format("the scene box's point ({}, {}, {})", f[0], f[1], f[2]);
       }
-      add(make_instruction(Opcode::kLdf, scratch, isa::kAllLanes, base(kBaseLaunch), {}, {}, at));
-      add(make_instruction(Opcode::kMad, direction, 0x7, reg(scratch), reg(coordinate, broadcast(0)), reg(direction)));
+      add(make_instruction(Opcode::kMad, direction, 0x7, reg(direction), reg(coordinate), reg(scratch)));
+      add(make_instruction(Opcode::kLdf, origin, isa::kAllLanes, base(kBaseLaunch), {}, {}, mm::kLaunchOriginAt),
+          "w = 0: t_min 0");
+      add(make_instruction(Opcode::kAdd, direction, 0x7, reg(direction), minus_origin));
+      // Short of the point, just past it, or from it on.
+      static constexpr std::array<float, 3> kTMax{0.5f, 1.0f, 2.0f};
+      if (rng_.chance(35)) t_max = rng_.pick(std::span<const float>(kTMax));
+      if (rng_.chance(15)) t_min = 1.0f;
+    } else {
+      add(make_instruction(Opcode::kLdf, origin, isa::kAllLanes, base(kBaseLaunch), {}, {}, mm::kLaunchOriginAt),
+          "w = 0: t_min 0");
+      add(make_instruction(Opcode::kLdf, direction, isa::kAllLanes, base(kBaseLaunch), {}, {}, mm::kLaunchForwardAt));
+      where = "the image plane at";
+      for (const auto& [axis, at] : {std::pair{"x", mm::kLaunchRightAt}, std::pair{"y", mm::kLaunchUpAt}}) {
+        if (rng_.chance(50)) {
+          // Across the launch: coordinate = pixel x (or y) * scale + offset.
+          static constexpr std::array<float, 3> kScale{0.25f, 0.5f, 1.0f};
+          static constexpr std::array<float, 4> kOffset{-1.0f, -0.75f, -0.5f, 0.0f};
+          const float scale = rng_.pick(std::span<const float>(kScale));
+          const float offset = rng_.pick(std::span<const float>(kOffset));
+          add(make_instruction(Opcode::kI2f, coordinate, lane_bit(0), pixel_lane(axis[0] == 'x' ? 0 : 1)));
+          add(lif(coordinate, lane_bit(1), scale));
+          add(lif(coordinate, lane_bit(2), offset));
+          add(make_instruction(Opcode::kMad, coordinate, lane_bit(0), reg(coordinate, broadcast(0)),
+                               reg(coordinate, broadcast(1)), reg(coordinate, broadcast(2))));
+          where += fmt::format(" {} = pixel {} * {} + {}", axis, axis, scale, offset);
+        } else {
+          const float value = static_cast<float>(rng_.range(-12, 12)) / 10.0f;
+          add(lif(coordinate, lane_bit(0), value));
+          where += fmt::format(" {} = {}", axis, value);
+        }
+        add(make_instruction(Opcode::kLdf, scratch, isa::kAllLanes, base(kBaseLaunch), {}, {}, at));
+        add(make_instruction(Opcode::kMad, direction, 0x7, reg(scratch), reg(coordinate, broadcast(0)), reg(direction)));
+      }
+      if (rng_.chance(10)) t_max = 1e-3f;
     }
-    if (rng_.chance(15)) {
+    if (rng_.chance(10)) {
       isa::Source away = reg(direction);
       away.neg = true;
       add(make_instruction(Opcode::kMov, direction, 0x7, away), "away from the scene");
     }
-    static constexpr std::array<float, 5> kTMax{std::numeric_limits<float>::infinity(), 0.5f, 3.0f, 5.0f, 100.0f};
-    add(lif(direction, lane_bit(3), rng_.chance(60) ? kTMax[0] : rng_.pick(std::span<const float>(kTMax))), "t_max");
-    if (rng_.chance(25)) {
-      static constexpr std::array<float, 3> kTMin{1e-4f, 1.0f, 4.0f};
-      add(lif(origin, lane_bit(3), rng_.pick(std::span<const float>(kTMin))), "t_min");
-    }
+    add(lif(direction, lane_bit(3), t_max), "t_max");
+    if (t_min != 0.0f) add(lif(origin, lane_bit(3), t_min), "t_min");
     add(make_instruction(op, free_reg(), write_mask(), reg(origin), reg(direction)));
-    g.note = fmt::format("{} of a camera ray through the image plane at{}", mnemonic, where);
+    g.note = fmt::format("{} of a camera ray towards {}", mnemonic, where);
     return g;
   }
 
