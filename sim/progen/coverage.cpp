@@ -90,8 +90,9 @@ Coverage::Coverage() {
   }
   for (int m = 0; m < 16; ++m) mask_[static_cast<std::size_t>(m)] = add("write mask", mask_name(m));
   for (const si::SpecialSpec& s : si::kSpecials) {
-    if (static_cast<std::size_t>(s.index) >= special_.size()) special_.resize(static_cast<std::size_t>(s.index) + 1, -1);
-    special_[static_cast<std::size_t>(s.index)] = add("special register", std::string(s.name));
+    const auto index = static_cast<std::size_t>(s.index);
+    if (index >= special_.size()) special_.resize(index + 1, -1);
+    special_[index] = add("special register", std::string(s.name));
   }
   constexpr std::array<Opcode, 4> kLoads{Opcode::kLd, Opcode::kLdf, Opcode::kLd1, Opcode::kLd1f};
   for (std::size_t op = 0; op < 4; ++op) {
@@ -113,7 +114,9 @@ Coverage::Coverage() {
   ray_[2] = add("ray", "tracea hit");
   ray_[3] = add("ray", "tracea miss");
   fault_.fill(-1);
-  for (const FaultClassInfo& f : kFaultClasses) fault_[static_cast<std::size_t>(f.fault)] = add("fault", std::string(f.name));
+  for (const FaultClassInfo& f : kFaultClasses) {
+    fault_[static_cast<std::size_t>(f.fault)] = add("fault", std::string(f.name));
+  }
 }
 
 void Coverage::start_chunk(const functional::ShaderCore::Chunk&) { diverged_ = false; }

@@ -95,7 +95,9 @@ class Generator {
   Program run() {
     check_options();
     const int words = std::max(o_.data_words, 16);
-    for (int i = 0; i < words; ++i) p_.data.push_back(rng_.chance(70) ? interesting_float(rng_) : interesting_int(rng_));
+    for (int i = 0; i < words; ++i) {
+      p_.data.push_back(rng_.chance(70) ? interesting_float(rng_) : interesting_int(rng_));
+    }
     make_routines();
 
     std::uint64_t budget = o_.max_instructions;
@@ -168,7 +170,7 @@ class Generator {
       case 6:
       case 7: {
         std::array<int, 4> lanes{0, 1, 2, 3};
-        for (int i = 3; i > 0; --i) std::swap(lanes[static_cast<std::size_t>(i)], lanes[rng_.below(static_cast<std::uint32_t>(i + 1))]);
+        for (std::uint32_t i = 3; i > 0; --i) std::swap(lanes[i], lanes[rng_.below(i + 1)]);
         return static_cast<std::uint8_t>(lanes[0] | lanes[1] << 2 | lanes[2] << 4 | lanes[3] << 6);
       }
       default: return static_cast<std::uint8_t>(rng_.below(256));
@@ -240,8 +242,8 @@ class Generator {
     for (int i = n - 1; i >= 0; --i) {
       Routine& r = p_.routines[static_cast<std::size_t>(i)];
       const std::uint32_t keeps = r.keeps_return_address ? 1 : 0;
-      const Scope scope{i, !r.keeps_return_address, 0,
-                        {o_.max_instructions / 6, slots - keeps, static_cast<std::uint32_t>(o_.machine.call_depth - 1)}};
+      const auto returns = static_cast<std::uint32_t>(o_.machine.call_depth - 1);
+      const Scope scope{i, !r.keeps_return_address, 0, {o_.max_instructions / 6, slots - keeps, returns}};
       r.body = block(scope, rng_.range(1, o_.max_statements));
       costs_->update(p_, i);
     }
@@ -407,11 +409,11 @@ class Generator {
                                                reg(source_reg(), swizzle()))));
       return g;
     }
-    std::array<int, 4> r{};  // origin, direction, scratch, coordinates
-    for (std::size_t i = 0; i < r.size(); ++i) {
+    std::array<int, 4> r{};  // origin, direction, scratch, coordinates: four distinct free registers
+    for (auto at = r.begin(); at != r.end(); ++at) {
       do {
-        r[i] = free_reg();
-      } while (std::find(r.begin(), r.begin() + static_cast<std::ptrdiff_t>(i), r[i]) != r.begin() + static_cast<std::ptrdiff_t>(i));
+        *at = free_reg();
+      } while (std::find(r.begin(), at, *at) != at);
     }
     const auto [origin, direction, scratch, coordinate] = r;
     const auto lif = [&](int d, int mask, float value) {
@@ -481,7 +483,8 @@ class Generator {
           where += fmt::format(" {} = {}", axis, value);
         }
         add(make_instruction(Opcode::kLdf, scratch, isa::kAllLanes, base(kBaseLaunch), {}, {}, at));
-        add(make_instruction(Opcode::kMad, direction, 0x7, reg(scratch), reg(coordinate, broadcast(0)), reg(direction)));
+        add(make_instruction(Opcode::kMad, direction, 0x7, reg(scratch), reg(coordinate, broadcast(0)),
+                             reg(direction)));
       }
       if (rng_.chance(10)) t_max = 1e-3f;
     }
@@ -634,7 +637,9 @@ class Generator {
     }
     Statement s;
     s.kind = StatementKind::kPushPop;
-    for (int i = 0; i < pushes; ++i) s.insns.push_back(make_instruction(Opcode::kPush, 0, 0, reg(source_reg(), swizzle())));
+    for (int i = 0; i < pushes; ++i) {
+      s.insns.push_back(make_instruction(Opcode::kPush, 0, 0, reg(source_reg(), swizzle())));
+    }
     for (int i = 0; i < pushes; ++i) s.insns.push_back(make_instruction(Opcode::kPop, free_reg(), write_mask()));
     s.body = block(inner(scope, scope.room.instructions - 2u * pushes, static_cast<std::uint32_t>(pushes)),
                    rng_.range(0, o_.max_statements));
@@ -648,7 +653,8 @@ class Generator {
     const int r = free_reg();
     const int lane = static_cast<int>(rng_.below(4));
     const int mask = lane_bit(lane) | (rng_.chance(50) ? write_mask() : 0);
-    s.insns = {make_instruction(Opcode::kMfra, r, mask), make_instruction(Opcode::kMtra, 0, 0, reg(r, swizzle_reading(lane)))};
+    s.insns = {make_instruction(Opcode::kMfra, r, mask),
+               make_instruction(Opcode::kMtra, 0, 0, reg(r, swizzle_reading(lane)))};
     s.note = "the return address out of the return stack and back";
     return s;
   }
@@ -806,7 +812,8 @@ class Generator {
         switch (rng_.below(3)) {
           case 0:
             c.before = {word(make_instruction(Opcode::kRdsr, t, isa::kAllLanes, {}, {}, {}, si::kSpecialParams)),
-                        word(make_instruction(Opcode::kIadd, t, lane_bit(0), reg(t, broadcast(0)), reg(t, broadcast(1)))),
+                        word(make_instruction(Opcode::kIadd, t, lane_bit(0), reg(t, broadcast(0)),
+                                              reg(t, broadcast(1)))),
                         word(make_instruction(load16, x, write_mask(), reg(t, broadcast(0)), {}, {}, 0xfffffff8u))};
             c.text = "16 bytes from 8 before the end of the launch block (rdsr params)";
             break;
@@ -855,7 +862,8 @@ class Generator {
         c.before = {word(make_instruction(Opcode::kLi, t, lane_bit(0), {}, {}, {}, 0))};
         c.repeat = static_cast<std::uint32_t>(o_.machine.call_depth);
         c.repeated = {word(make_instruction(Opcode::kMtra, 0, 0, reg(t, swizzle_reading(0))))};
-        const bool has_shader = std::any_of(p_.routines.begin(), p_.routines.end(), [](const Routine& r) { return r.shader; });
+        const bool has_shader =
+            std::any_of(p_.routines.begin(), p_.routines.end(), [](const Routine& r) { return r.shader; });
         switch (rng_.below(has_shader ? 3 : 2)) {
           case 0:
             c.after = {word(make_instruction(Opcode::kMtra, 0, 0, reg(t, swizzle_reading(0))))};

@@ -129,8 +129,8 @@ std::string unexpected(const Program& program, const Outcome& outcome) {
     if (outcome.fault) return fmt::format("expected every thread to halt, but: {}", *outcome.fault);
     const std::uint64_t bound = program.cost().instructions;
     if (outcome.most_instructions > bound) {
-      return fmt::format("a thread retired {} instructions, more than the program's bound {}", outcome.most_instructions,
-                         bound);
+      return fmt::format("a thread retired {} instructions, more than the program's bound {}",
+                         outcome.most_instructions, bound);
     }
     return {};
   }

@@ -186,7 +186,8 @@ TEST(Progen, ShrinkKeepsAFaultAndItsFirstFaultingPixel) {
   const spec::HardwareConfig& config = hardware_config("default");
   const Runner runner(config);
   Options options = Options::for_config(config);
-  for (const FaultClass fault : {FaultClass::kStackOverflow, FaultClass::kShaderId, FaultClass::kOutOfRangeOtherPixel}) {
+  for (const FaultClass fault :
+       {FaultClass::kStackOverflow, FaultClass::kShaderId, FaultClass::kOutOfRangeOtherPixel}) {
     options.fault = fault;
     const Program original = generate(3, options);
     const Program shrunk = shrink(original, [&](const Program& p) { return unexpected(p, runner.run(p)).empty(); });
