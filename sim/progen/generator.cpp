@@ -428,11 +428,17 @@ class Generator {
       // Towards bounds_lo + f (bounds_hi - bounds_lo), reached at t = 1. The scene
       // record's box is in kd space, which is the camera's space in the image of a scene
       // in chip space (functional::chip_space_scene, what the Runner builds).
-      add(make_instruction(Opcode::kLd1, coordinate, lane_bit(0), base(kBaseLaunch), {}, {}, mm::kLaunchSceneAt));
-      add(make_instruction(Opcode::kLdf, scratch, isa::kAllLanes, reg(coordinate, broadcast(0)), {}, {},
-                           mm::kSceneRecordBoundsLoAt), "bounds_lo");
-      add(make_instruction(Opcode::kLdf, direction, isa::kAllLanes, reg(coordinate, broadcast(0)), {}, {},
-                           mm::kSceneRecordBoundsHiAt), "bounds_hi");
+      // One statement: the loads through the pointer are legal only after it.
+      Statement box;
+      box.kind = StatementKind::kIndexedLoad;
+      box.insns = {make_instruction(Opcode::kLd1, coordinate, lane_bit(0), base(kBaseLaunch), {}, {},
+                                    mm::kLaunchSceneAt),
+                   make_instruction(Opcode::kLdf, scratch, isa::kAllLanes, reg(coordinate, broadcast(0)), {}, {},
+                                    mm::kSceneRecordBoundsLoAt),
+                   make_instruction(Opcode::kLdf, direction, isa::kAllLanes, reg(coordinate, broadcast(0)), {}, {},
+                                    mm::kSceneRecordBoundsHiAt)};
+      box.note = "the scene record's bounds_lo and bounds_hi";
+      g.body.push_back(std::move(box));
       isa::Source minus_lo = reg(scratch);
       minus_lo.neg = true;
       add(make_instruction(Opcode::kAdd, direction, isa::kAllLanes, reg(direction), minus_lo), "the box's extent");

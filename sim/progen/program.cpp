@@ -40,12 +40,7 @@ class Writer {
   void line(std::string_view code, std::string_view note = {}) {
     std::string text(code);
     if (const auto space = text.find(' '); space != std::string::npos && space < 7) text.insert(space, 7 - space, ' ');
-    code = text;
-    if (note.empty()) {
-      out_ += fmt::format("        {}\n", code);
-    } else {
-      out_ += fmt::format("        {:<32} ; {}\n", code, note);
-    }
+    out_ += note.empty() ? fmt::format("        {}\n", text) : fmt::format("        {:<32} ; {}\n", text, note);
   }
   void insn(const isa::Instruction& i, std::string_view note = {}) { line(with_launch_field(i), note); }
 

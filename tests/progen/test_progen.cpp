@@ -14,6 +14,7 @@
 
 #include "common/error.hpp"
 #include "common/hardware_config.hpp"
+#include "progen/coverage.hpp"
 #include "progen/progen.hpp"
 #include "progen/random.hpp"
 #include "progen/runner.hpp"
@@ -196,6 +197,47 @@ TEST(Progen, ShrinkKeepsAFaultAndItsFirstFaultingPixel) {
     // The fault's code, and the condition it stands in where pixel 0 must not run it.
     EXPECT_LE(shrunk.statement_count(), 2u) << fault_name(fault);
   }
+}
+
+
+// The shrinker edits only in ways the generator's rules allow: every candidate it makes,
+// not only the one it returns, halts within its bound or ends in its program's fault.
+TEST(Progen, EveryCandidateOfTheShrinkerIsLegal) {
+  int shrinks = 0, all_candidates = 0;
+  for (const char* name : {"tiny", "rpu2005"}) {
+    const spec::HardwareConfig& config = hardware_config(name);
+    const Runner runner(config);
+    Options options = Options::for_config(config);
+    for (const FaultClass fault : {FaultClass::kNone, FaultClass::kCallDepthOverflow, FaultClass::kShaderId,
+                                   FaultClass::kOutOfRangeOtherPixel, FaultClass::kWatchdog}) {
+      options.fault = fault;
+      for (std::uint64_t seed = 1; seed <= 8; ++seed) {
+        int candidates = 0;
+        // A property that needs calls and rays: a nested call, and a ray that hits.
+        const auto nested_call_and_hit = [&](const Program& p) {
+          ++candidates;
+          Coverage seen;
+          const Outcome outcome = runner.run(p, &seen);
+          const std::string problem = unexpected(p, outcome);
+          // A fault program that lost its fault code halts: legal too, within its bound.
+          const bool legal =
+              problem.empty() || (!outcome.fault && outcome.most_instructions <= p.cost().instructions);
+          EXPECT_TRUE(legal) << name << " seed " << seed << " candidate " << candidates << ": " << problem << "\n"
+                             << p.assembly();
+          return seen.count("control", "call or calli at return-stack depth >= 2") > 0 &&
+                 seen.count("ray", "trace hit") + seen.count("ray", "tracea hit") > 0;
+        };
+        const Program original = generate(seed, options);
+        if (!nested_call_and_hit(original)) continue;
+        shrink(original, nested_call_and_hit);
+        if (HasFailure()) return;
+        ++shrinks;
+        all_candidates += candidates;
+      }
+    }
+  }
+  EXPECT_GE(shrinks, 20);
+  EXPECT_GE(all_candidates, 2000);
 }
 
 }  // namespace
