@@ -1,0 +1,148 @@
+#include "progen/runner.hpp"
+
+#include <algorithm>
+
+#include <fmt/format.h>
+
+#include "common/error.hpp"
+#include "fp/fast32.hpp"
+#include "kdtree/kdtree.hpp"
+#include "scene/resolve.hpp"
+
+namespace rpu::progen {
+
+namespace {
+
+functional::SceneImage scene_image(const spec::HardwareConfig& config, fp::Format format, const std::string& name) {
+  const KdBuildConfig build = kd_build_config_for(config);
+  return functional::make_scene_image(functional::chip_space_scene(resolve_scene(name), format), build,
+                                      IsectMode::kWoop);
+}
+
+}  // namespace
+
+Runner::Runner(const spec::HardwareConfig& config, const RunnerOptions& options)
+    : config_(config),
+      format_(fp::format_by_name(config.format)),
+      scene_(scene_image(config, format_, options.scene)) {
+  launch_.width = options.width > 0 ? options.width : config.chunk_size;
+  launch_.height = options.height > 0 ? options.height : 2;
+  launch_.spp = 1;
+  launch_.max_depth = 0;
+  tracer_ = std::make_unique<functional::Tracer>(scene_.image.bytes, scene_.layout, format_, config.stack_depth);
+}
+
+std::vector<std::uint32_t> Runner::shader_table(const Program& program, const isa::Firmware& firmware) const {
+  std::vector<std::uint32_t> table;
+  for (const std::string& name : program.shader_names()) {
+    const auto s = firmware.symbols.find("hit_" + name);
+    if (s == firmware.symbols.end() || s->second.kind != isa::Symbol::Kind::kCode) {
+      throw Error(fmt::format("progen seed {}: the firmware has no code label 'hit_{}'", program.seed, name));
+    }
+    table.push_back(s->second.value);
+  }
+  return table;
+}
+
+functional::DeviceMemory Runner::memory(const Program& program, const isa::Firmware& firmware) const {
+  return functional::DeviceMemory(
+      scene_.image.bytes,
+      device::make_launch_block(scene_.image.bytes, scene_.layout, launch_, shader_table(program, firmware)),
+      firmware.data, static_cast<std::uint32_t>(launch_.width * launch_.height));
+}
+
+functional::ShaderCoreConfig Runner::core_config(const Program& program) const {
+  functional::ShaderCoreConfig c;
+  c.registers = config_.registers;
+  c.chunk_size = config_.chunk_size;
+  c.call_depth = config_.call_depth;
+  c.stack_bytes = static_cast<std::uint32_t>(config_.stack_bytes);
+  c.watchdog = program.watchdog();
+  return c;
+}
+
+std::uint64_t Runner::chunks() const {
+  const auto pixels = static_cast<std::uint64_t>(launch_.width) * static_cast<std::uint64_t>(launch_.height);
+  const auto size = static_cast<std::uint64_t>(config_.chunk_size);
+  return (pixels + size - 1) / size;
+}
+
+// As the device assigns them (DeviceBase::lanes_of): pixel p runs on device thread
+// p mod T in round p / T; chunk k of the launch is chunk k mod (T / chunk_size) of
+// round k / (T / chunk_size).
+std::vector<functional::ShaderCore::Lane> Runner::lanes(std::uint64_t chunk) const {
+  const auto size = static_cast<std::uint64_t>(config_.chunk_size);
+  const auto per_core = static_cast<std::uint64_t>(config_.threads_per_core);
+  const std::uint64_t threads = static_cast<std::uint64_t>(config_.shader_cores) * per_core;
+  const std::uint64_t round = chunk / (threads / size), in_round = chunk % (threads / size);
+  const auto pixels = static_cast<std::uint64_t>(launch_.width) * static_cast<std::uint64_t>(launch_.height);
+  std::vector<functional::ShaderCore::Lane> out;
+  for (std::uint64_t l = 0; l < size; ++l) {
+    const std::uint64_t g = in_round * size + l;
+    const std::uint64_t p = round * threads + g;
+    if (p >= pixels) break;
+    out.push_back({static_cast<std::uint32_t>(g), static_cast<std::uint32_t>(g / per_core),
+                   static_cast<std::uint32_t>((g % per_core) / size), static_cast<std::uint32_t>(l),
+                   static_cast<std::uint32_t>(p)});
+  }
+  return out;
+}
+
+Outcome Runner::run(const Program& program, StepObserver* observer) const {
+  const isa::Firmware firmware = program.firmware();
+  functional::DeviceMemory memory = this->memory(program, firmware);
+  functional::ShaderCore core(firmware, memory, *tracer_, format_, core_config(program));
+  functional::ShaderStats stats;
+  functional::StepRecord record;
+  Outcome out;
+  // One flush scope for the whole run: the core's fp32 fast path needs it, and setting
+  // it per step costs more than the step (ShaderCore::step).
+  const fp::fast32::FlushScope flush;
+  for (std::uint64_t k = 0; k < chunks(); ++k) {
+    const std::vector<functional::ShaderCore::Lane> lanes = this->lanes(k);
+    functional::ShaderCore::Chunk chunk;
+    core.start(chunk, lanes, stats);
+    if (observer) observer->start_chunk(chunk);
+    while (!chunk.done()) {
+      if (observer) observer->before_step(chunk);
+      core.step(chunk, stats, observer ? &record : nullptr);
+      if (observer) observer->after_step(record, chunk);
+    }
+    for (const functional::ShaderCore::Thread& t : chunk.threads()) {
+      out.most_instructions = std::max(out.most_instructions, t.retired);
+    }
+    // Chunks run in pixel order, so the first chunk with a fault has the first faulting
+    // pixel, and no later pixel could be reported.
+    if (const functional::ShaderFault* f = chunk.fault()) {
+      out.fault = f->what();
+      out.fault_pixel = f->pixel();
+      break;
+    }
+  }
+  out.steps = stats.chunk_issues;
+  out.instructions = stats.instructions();
+  return out;
+}
+
+std::string unexpected(const Program& program, const Outcome& outcome) {
+  if (program.fault == FaultClass::kNone) {
+    if (outcome.fault) return fmt::format("expected every thread to halt, but: {}", *outcome.fault);
+    const std::uint64_t bound = program.cost().instructions;
+    if (outcome.most_instructions > bound) {
+      return fmt::format("a thread retired {} instructions, more than the program's bound {}",
+                         outcome.most_instructions, bound);
+    }
+    return {};
+  }
+  if (!outcome.fault) return fmt::format("expected the fault {}, but every thread halted", fault_name(program.fault));
+  const auto got = classify_fault_message(*outcome.fault);
+  if (got != program.fault) {
+    return fmt::format("expected the fault {}, but: {}", fault_name(program.fault), *outcome.fault);
+  }
+  if (const auto pixel = program.fault_pixel(); pixel && outcome.fault_pixel != pixel) {
+    return fmt::format("expected the first faulting pixel to be {}, but: {}", *pixel, *outcome.fault);
+  }
+  return {};
+}
+
+}  // namespace rpu::progen
