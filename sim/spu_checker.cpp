@@ -69,6 +69,7 @@ void SpuChecker::start_round(std::uint32_t c, std::uint64_t cycle) {
   core_.start(ch.chunk, lanes_, stats_);
   ch.round = round;
   ch.started = true;
+  if (setup_.observer) setup_.observer->start_chunk(ch.chunk);
 }
 
 void SpuChecker::on_issue(const streams::Issue& r, std::uint64_t cycle) {
@@ -98,7 +99,9 @@ void SpuChecker::on_issue(const streams::Issue& r, std::uint64_t cycle) {
   }
   const functional::ShaderFault* before = ch.chunk.fault();
   const std::uint32_t fault_pixel_before = before ? before->pixel() : 0xffffffffu;
+  if (setup_.observer) setup_.observer->before_step(ch.chunk);
   core_.step(ch.chunk, stats_, &record_);
+  if (setup_.observer) setup_.observer->after_step(record_, ch.chunk);
   ++steps_;
   // A lane that faulted this step is the chunk's new first fault; it does not retire.
   const functional::ShaderFault* after = ch.chunk.fault();

@@ -12,6 +12,7 @@
 #include "functional/shader_core.hpp"
 #include "functional/tracer.hpp"
 #include "isa/firmware.hpp"
+#include "progen/runner.hpp"
 #include "rpu/streams.hpp"
 
 // The lockstep checker of a shader core (ARCHITECTURE.md "Verification", level 2; in
@@ -41,6 +42,7 @@ struct SpuCheckerSetup {
   std::uint32_t total_threads = 0;    // on the chip: pixel p runs on global thread p mod total
   std::uint32_t pixels = 0;
   std::uint32_t width = 1;
+  progen::StepObserver* observer = nullptr;  // sees every functional step (coverage)
 };
 
 class SpuChecker {

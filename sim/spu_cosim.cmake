@@ -40,7 +40,7 @@ configure_file(spu_models.cpp.in ${CMAKE_CURRENT_BINARY_DIR}/spu_models.cpp @ONL
 
 add_library(rpu_spu_check STATIC spu_checker.cpp spu_agents.cpp)
 target_include_directories(rpu_spu_check PUBLIC ${CMAKE_CURRENT_SOURCE_DIR})
-target_link_libraries(rpu_spu_check PUBLIC rpu_functional rpu_isa fmt::fmt PRIVATE rpu_flags)
+target_link_libraries(rpu_spu_check PUBLIC rpu_functional rpu_isa rpu_progen fmt::fmt PRIVATE rpu_flags)
 
 add_executable(spu_cosim spu_cosim.cpp)
 target_link_libraries(spu_cosim PRIVATE rpu_spu_rtl_models rpu_spu_check rpu_device rpu_asm rpu_builtin_firmware
@@ -88,4 +88,30 @@ foreach(program IN LISTS rpu_isa_programs)
            COMMAND spu_cosim --config ${config} --scene ${scene} --firmware ${program} --empty-shader-table
                    --width 3 --height 2 --max-depth 0 --watchdog 100000)
   set_tests_properties(cosim.spu.isa.${name} PROPERTIES LABELS cosim TIMEOUT 300)
+endforeach()
+
+# Random programs (sim/progen, docs/random-programs.md) in lockstep, every fifth ending
+# in a fault class in turn, each chunk of a thousand required to cover every
+# instruction, event and fault class. CI: 10^4 programs of at most 5 statements a block
+# (4,000 on tiny, 3,000 on default and on rpu2005); `slow`: 10^6 of progen's full size.
+foreach(config IN LISTS rpu_spu_configs)
+  set(chunks 3)
+  if(config STREQUAL "tiny")
+    set(chunks 4)
+  endif()
+  math(EXPR last "${chunks} - 1")
+  foreach(k RANGE ${last})
+    math(EXPR seed "1 + ${k} * 1000")
+    add_test(NAME cosim.spu.random.${config}.${k}
+             COMMAND spu_cosim --config ${config} --scene tetra:1 --width 3 --height 2 --random 1000 --seed ${seed}
+                     --statements 5 --require-coverage)
+    set_tests_properties(cosim.spu.random.${config}.${k} PROPERTIES LABELS cosim TIMEOUT 900)
+  endforeach()
+  foreach(k RANGE 9)
+    math(EXPR seed "1000000 + ${k} * 33334")
+    add_test(NAME slow.cosim.spu.random.${config}.${k}
+             COMMAND spu_cosim --config ${config} --scene tetra:1 --width 3 --height 2 --random 33334 --seed ${seed}
+                     --require-coverage)
+    set_tests_properties(slow.cosim.spu.random.${config}.${k} PROPERTIES LABELS slow TIMEOUT 14400)
+  endforeach()
 endforeach()

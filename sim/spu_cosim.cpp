@@ -30,6 +30,8 @@
 #include "spu_agents.hpp"
 #include "spu_checker.hpp"
 #include "spu_model.hpp"
+#include "progen/coverage.hpp"
+#include "progen/progen.hpp"
 
 namespace {
 
@@ -51,54 +53,85 @@ struct Options {
   std::uint64_t max_cycles = 200'000'000;
   std::string trace;
   bool empty_shader_table = false;
+  // Random programs (sim/progen): how many, and every how many a fault program.
+  std::uint64_t random = 0;
+  std::uint64_t fault_every = 5;
+  int statements = 0;  // progen's max_statements per block; 0: its default
+  bool coverage = false;
+  bool require_coverage = false;
 };
 
-// `model` outlives the run, so that its waveforms are closed also after a failure.
-int run(const Options& o, std::unique_ptr<SpuModel>& model) {
-  const spec::HardwareConfig& config = hardware_config(o.config);
-  const fp::Format format = fp::format_by_name(std::string(config.format));
-  model = make_spu_model(o.config, o.seed, o.trace);
+// The chip's side a frame needs besides the firmware: the configuration and the scene.
+struct Bench {
+  const spec::HardwareConfig& config;
+  fp::Format format;
+  functional::SceneImage scene;
+  std::vector<std::string> shader_names;
+  std::unique_ptr<functional::Tracer> tracer;
+
+  Bench(const spec::HardwareConfig& c, const std::string& scene_arg)
+      : config(c), format(fp::format_by_name(std::string(c.format))) {
+    KdBuildConfig build = kd_build_config_for(c);
+    build.format = format;
+    const Scene s = functional::chip_space_scene(resolve_scene(scene_arg), format);
+    scene = functional::make_scene_image(s, build, IsectMode::kWoop);
+    shader_names = rpu::shader_names(s);
+    tracer = std::make_unique<functional::Tracer>(scene.image.bytes, scene.layout, format, c.stack_depth);
+  }
+};
+
+struct Frame {
+  const isa::Firmware* firmware = nullptr;
+  std::vector<std::uint32_t> shader_table;
+  device::Launch launch;
+  std::uint64_t watchdog = 0;
+};
+
+struct FrameResult {
+  std::uint64_t cycles = 0, steps = 0, retired = 0, rays = 0;
+  std::optional<std::string> fault;  // the first fault in pixel order, the same on both
+  std::optional<std::uint32_t> fault_pixel;
+};
+
+// One frame on a fresh model in lockstep; CosimFailure at the first difference.
+// `observer` sees the functional model's steps (coverage).
+FrameResult run_frame(const Options& o, const Bench& bench, const Frame& frame, std::uint64_t seed,
+                      const std::string& fst, std::unique_ptr<SpuModel>& model,
+                      progen::StepObserver* observer = nullptr) {
+  const spec::HardwareConfig& config = bench.config;
+  const isa::Firmware& firmware = *frame.firmware;
+  model = make_spu_model(std::string(config.name), seed, fst);
   if (!model) {
     std::string built;
     for (const std::string& n : spu_models()) built += " " + n;
-    throw Error(fmt::format("no shader-core model for configuration '{}' in this build (built:{})", o.config, built));
+    throw Error(fmt::format("no shader-core model for configuration '{}' in this build (built:{})", config.name,
+                            built));
   }
-
-  // The host's side, as `rpu render` does it.
-  const KdBuildConfig build = [&] {
-    KdBuildConfig b = kd_build_config_for(config);
-    b.format = format;
-    return b;
-  }();
-  const Scene scene = functional::chip_space_scene(resolve_scene(o.scene), format);
-  const functional::SceneImage si = functional::make_scene_image(scene, build, IsectMode::kWoop);
-  const isa::Firmware firmware =
-      o.firmware.empty() ? isa::builtin_firmware("whitted.s") : isa::load_firmware_or_assemble(o.firmware);
   if (firmware.code.size() > model->code_words()) {
     throw Error(fmt::format("the firmware has {} instructions; the core's code memory holds {}", firmware.code.size(),
                             model->code_words()));
   }
-  const std::vector<std::uint32_t> table =
-      o.empty_shader_table ? std::vector<std::uint32_t>{} : device::shader_table(firmware, shader_names(scene));
-  const device::Launch launch{o.width, o.height, o.spp, o.max_depth, o.frame_seed};
-  const std::vector<std::uint8_t> launch_block = device::make_launch_block(si.image.bytes, si.layout, launch, table);
-  const auto pixels = static_cast<std::uint32_t>(o.width * o.height);
+  const functional::SceneImage& si = bench.scene;
+  const device::Launch& launch = frame.launch;
+  const std::vector<std::uint8_t> launch_block =
+      device::make_launch_block(si.image.bytes, si.layout, launch, frame.shader_table);
+  const auto pixels = static_cast<std::uint32_t>(launch.width * launch.height);
   const auto threads = static_cast<std::uint32_t>(config.threads_per_core);
 
   streams::Launch lf;
   lf.pixels = pixels;
-  lf.width = static_cast<std::uint32_t>(o.width);
-  lf.height = static_cast<std::uint32_t>(o.height);
-  lf.spp = static_cast<std::uint32_t>(o.spp);
-  lf.max_depth = static_cast<std::uint32_t>(o.max_depth);
+  lf.width = static_cast<std::uint32_t>(launch.width);
+  lf.height = static_cast<std::uint32_t>(launch.height);
+  lf.spp = static_cast<std::uint32_t>(launch.spp);
+  lf.max_depth = static_cast<std::uint32_t>(launch.max_depth);
   lf.raygen = functional::raygen_entry(firmware);
   lf.code_words = static_cast<std::uint32_t>(firmware.code.size());
   lf.image_bytes = static_cast<std::uint32_t>(si.image.bytes.size());
   lf.launch_bytes = static_cast<std::uint32_t>(launch_block.size());
   lf.data_bytes = static_cast<std::uint32_t>(firmware.data.size());
-  lf.shader_count = static_cast<std::uint32_t>(table.size());
+  lf.shader_count = static_cast<std::uint32_t>(frame.shader_table.size());
   std::memcpy(&lf.shader_table, launch_block.data() + mm::kLaunchShaderTableAt, 4);
-  lf.watchdog = static_cast<std::uint32_t>(o.watchdog);
+  lf.watchdog = static_cast<std::uint32_t>(frame.watchdog);
   const PixelDivisor div = pixel_divisor(lf.width);
   lf.div_magic = div.magic;
   lf.div_shift1 = div.shift1;
@@ -108,26 +141,26 @@ int run(const Options& o, std::unique_ptr<SpuModel>& model) {
   SparseMemory memory(si.image.bytes, launch_block, firmware.data, pixels,
                       threads * static_cast<std::uint32_t>(config.stack_bytes));
   functional::DeviceMemory golden_memory(si.image.bytes, launch_block, firmware.data, pixels);
-  const functional::Tracer tracer(si.image.bytes, si.layout, format, config.stack_depth);
 
   SpuCheckerSetup cs;
   cs.firmware = &firmware;
-  cs.tracer = &tracer;
-  cs.format = format;
+  cs.tracer = bench.tracer.get();
+  cs.format = bench.format;
   cs.core.registers = config.registers;
   cs.core.chunk_size = config.chunk_size;
   cs.core.call_depth = config.call_depth;
   cs.core.stack_bytes = static_cast<std::uint32_t>(config.stack_bytes);
-  cs.core.watchdog = o.watchdog;
+  cs.core.watchdog = frame.watchdog;
   cs.threads_per_core = threads;
   cs.total_threads = threads;
   cs.pixels = pixels;
   cs.width = lf.width;
+  cs.observer = observer;
   SpuChecker checker(cs, golden_memory);
 
-  Stalls stalls(o.seed, o.stall);
+  Stalls stalls(seed, o.stall);
   CachePortServer mem_server(memory, o.memory, stalls.rng());
-  RayServer ray_server(tracer, o.rays, stalls.rng());
+  RayServer ray_server(*bench.tracer, o.rays, stalls.rng());
 
   Clock<SpuModel> clock(*model);
   SpuInputs in;
@@ -145,12 +178,11 @@ int run(const Options& o, std::unique_ptr<SpuModel>& model) {
   clock.settle(in);
   clock.tick();
   in.start = false;
+  const std::uint64_t first_cycle = clock.cycle();
 
-  const auto start = std::chrono::steady_clock::now();
   std::optional<std::uint32_t> stop_pixel;
   Watchdog watchdog(100'000);
-  std::uint64_t cycle = 0;
-  for (;; ++cycle) {
+  for (;;) {
     const std::uint64_t now = clock.cycle();
     in.cache_req_ready = !stalls();
     const streams::CacheRsp* mem_rsp = stalls() ? nullptr : mem_server.offer(now);
@@ -165,7 +197,9 @@ int run(const Options& o, std::unique_ptr<SpuModel>& model) {
 
     const SpuOutputs out = clock.settle(in);
     if (out.done && mem_server.idle() && ray_server.idle()) break;
-    if (now > o.max_cycles) throw CosimFailure(fmt::format("the frame did not end in {} cycles", o.max_cycles));
+    if (now - first_cycle > o.max_cycles) {
+      throw CosimFailure(fmt::format("the frame did not end in {} cycles", o.max_cycles));
+    }
 
     // Trace ports first: a writeback before the issue of the same cycle (docs/rtl.md).
     if (out.wb_valid) checker.on_writeback(out.wb, now);
@@ -203,16 +237,117 @@ int run(const Options& o, std::unique_ptr<SpuModel>& model) {
                                      p, p % lf.width, p / lf.width, i / 4 % 4, want, got));
     }
   }
+  FrameResult r;
+  r.cycles = clock.cycle() - first_cycle;
+  r.steps = checker.steps();
+  r.retired = checker.retired();
+  r.rays = ray_server.rays();
+  if (const functional::ShaderFault* f = checker.first_fault()) {
+    r.fault = f->what();
+    r.fault_pixel = f->pixel();
+  }
+  return r;
+}
+
+// One frame of firmware over a scene (the default mode).
+int run_firmware(const Options& o, std::unique_ptr<SpuModel>& model) {
+  const Bench bench(hardware_config(o.config), o.scene);
+  const isa::Firmware firmware =
+      o.firmware.empty() ? isa::builtin_firmware("whitted.s") : isa::load_firmware_or_assemble(o.firmware);
+  Frame frame;
+  frame.firmware = &firmware;
+  frame.shader_table =
+      o.empty_shader_table ? std::vector<std::uint32_t>{} : device::shader_table(firmware, bench.shader_names);
+  frame.launch = {o.width, o.height, o.spp, o.max_depth, o.frame_seed};
+  frame.watchdog = o.watchdog;
+  const auto start = std::chrono::steady_clock::now();
+  const FrameResult r = run_frame(o, bench, frame, o.seed, o.trace, model);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  const std::uint64_t cycles = clock.cycle();
   fmt::print("spu_cosim ok: config {}, {} ({}), {}x{} pixels, {} cycles, {} chunk steps, {} instructions, {} rays, "
              "{:.2f} s, {:.0f} cycles/s\n",
-             o.config, scene.source, format.name(), o.width, o.height, cycles, checker.steps(), checker.retired(),
-             ray_server.rays(), seconds, static_cast<double>(cycles) / std::max(seconds, 1e-9));
-  if (const functional::ShaderFault* f = checker.first_fault()) {
-    fmt::print("the frame faulted, the same on both: {}\n", f->what());
+             o.config, o.scene, bench.format.name(), o.width, o.height, r.cycles, r.steps, r.retired, r.rays, seconds,
+             static_cast<double>(r.cycles) / std::max(seconds, 1e-9));
+  if (r.fault) fmt::print("the frame faulted, the same on both: {}\n", *r.fault);
+  return 0;
+}
+
+// Random programs (docs/random-programs.md), each a frame in lockstep on a fresh model;
+// every fault_every-th one ends in a fault class, the classes in turn. A failing
+// program is shrunk to a small one that still fails, and printed.
+int run_random(const Options& o, std::unique_ptr<SpuModel>& model) {
+  const spec::HardwareConfig& config = hardware_config(o.config);
+  const Bench bench(config, o.scene);
+  progen::Options po = progen::Options::for_config(config);
+  if (o.statements > 0) po.max_statements = o.statements;
+  progen::Coverage coverage;
+  const auto start = std::chrono::steady_clock::now();
+  std::uint64_t cycles = 0, retired = 0, faults = 0;
+  std::size_t next_fault = 0;
+  for (std::uint64_t i = 0; i < o.random; ++i) {
+    const std::uint64_t seed = o.seed + i;
+    po.fault = progen::FaultClass::kNone;
+    if (o.fault_every && i % o.fault_every == o.fault_every - 1) {
+      po.fault = progen::kFaultClasses[next_fault++ % progen::kFaultClasses.size()].fault;
+    }
+    const progen::Program program = progen::generate(seed, po);
+    const auto frame_of = [&](const progen::Program& p, const isa::Firmware& fw) {
+      Frame f;
+      f.firmware = &fw;
+      f.shader_table = device::shader_table(fw, p.shader_names());
+      f.launch = {o.width, o.height, 1, 0, 1};
+      f.watchdog = p.watchdog();
+      return f;
+    };
+    const isa::Firmware firmware = program.firmware();
+    progen::Coverage mine;
+    try {
+      const FrameResult r = run_frame(o, bench, frame_of(program, firmware), seed, "", model, &mine);
+      progen::Outcome outcome;
+      outcome.fault = r.fault;
+      outcome.fault_pixel = r.fault_pixel;
+      outcome.steps = r.steps;
+      outcome.instructions = r.retired;
+      mine.add_outcome(outcome);
+      coverage += mine;
+      cycles += r.cycles;
+      retired += r.retired;
+      faults += r.fault.has_value();
+    } catch (const CosimFailure& first) {
+      fmt::print(stderr, "spu_cosim: random program {} (seed {}, {}) fails: {}\nshrinking...\n", i, seed,
+                 progen::fault_name(po.fault), first.what());
+      std::string last = first.what();
+      const progen::Program small = progen::shrink(program, [&](const progen::Program& p) {
+        const isa::Firmware fw = p.firmware();
+        std::unique_ptr<SpuModel> m;
+        try {
+          run_frame(o, bench, frame_of(p, fw), seed, "", m);
+          return false;
+        } catch (const CosimFailure& e) {
+          last = e.what();
+          return true;
+        }
+      });
+      throw CosimFailure(fmt::format("random program seed {} ({}), shrunk to:\n{}\nwhich fails with: {}", seed,
+                                     progen::fault_name(po.fault), small.assembly(), last));
+    }
+  }
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  fmt::print("spu_cosim ok: config {}, {} random programs from seed {} in lockstep ({} ended in a fault), {} cycles, "
+             "{} instructions, {:.1f} s, {:.0f} cycles/s\n",
+             o.config, o.random, o.seed, faults, cycles, retired, seconds,
+             static_cast<double>(cycles) / std::max(seconds, 1e-9));
+  if (o.coverage) fmt::print("{}", coverage.report());
+  if (o.require_coverage && !coverage.complete()) {
+    std::string missing;
+    for (const std::string& m : coverage.missing()) missing += "\n  " + m;
+    throw CosimFailure("the random programs left uncovered:" + missing);
   }
   return 0;
+}
+
+// `model` outlives the run, so that its waveforms are closed also after a failure.
+int run(const Options& o, std::unique_ptr<SpuModel>& model) {
+  return o.random ? run_random(o, model) : run_firmware(o, model);
 }
 
 }  // namespace
@@ -235,6 +370,13 @@ int main(int argc, char** argv) {
   app.add_option("--trace", o.trace, "write FST waveforms here");
   app.add_flag("--empty-shader-table", o.empty_shader_table,
                "launch with no shaders (as tests/isa runs its programs), not the scene's");
+  app.add_option("--random", o.random, "run this many random programs (sim/progen) from --seed instead of firmware");
+  app.add_option("--fault-every", o.fault_every, "every how many random programs one ends in a fault (0: none)");
+  app.add_option("--statements", o.statements, "statements per block of a random program (default: progen's)")
+      ->check(CLI::Range(1, 100));
+  app.add_flag("--coverage", o.coverage, "print the random programs' coverage");
+  app.add_flag("--require-coverage", o.require_coverage,
+               "fail unless the random programs covered every instruction, event and fault class");
   CLI11_PARSE(app, argc, argv);
   report_sigbus_as_write_failure("spu_cosim");
   std::unique_ptr<SpuModel> model;

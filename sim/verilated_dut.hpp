@@ -72,13 +72,21 @@ class VerilatedDut {
       }
     }
   }
-  ~VerilatedDut() { top_->final(); }
+  ~VerilatedDut() {
+    // Verilator tears a model's scopes down through the thread's current context, which
+    // is the last one made: another model's, maybe gone by now (the shrinker makes and
+    // drops many), so this one's first.
+    Verilated::threadContextp(context_.get());
+    top_->final();
+    top_.reset();
+  }
   VerilatedDut(const VerilatedDut&) = delete;
   VerilatedDut& operator=(const VerilatedDut&) = delete;
 
   Top& top() { return *top_; }
 
   void eval() {
+    Verilated::threadContextp(context_.get());  // as in the destructor: several models may be alive
     top_->eval();
     if constexpr (kHasFst<Top>) {
       if (fst_) fst_->dump(time_);
