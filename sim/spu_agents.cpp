@@ -14,21 +14,6 @@ namespace rpu::sim {
 
 namespace mm = spec::memory;
 
-std::uint32_t PixelDivisor::quotient(std::uint32_t p) const {
-  const auto t1 = static_cast<std::uint32_t>((std::uint64_t{magic} * p) >> 32);
-  return (t1 + ((p - t1) >> shift1)) >> shift2;
-}
-
-PixelDivisor pixel_divisor(std::uint32_t width) {
-  if (width == 0) throw Error("pixel_divisor: width 0");
-  const int l = width == 1 ? 0 : std::bit_width(width - 1);  // ceil(log2 width)
-  PixelDivisor d;
-  d.magic = static_cast<std::uint32_t>(((std::uint64_t{1} << 32) * ((std::uint64_t{1} << l) - width)) / width + 1);
-  d.shift1 = std::min(l, 1);
-  d.shift2 = static_cast<std::uint32_t>(std::max(l - 1, 0));
-  return d;
-}
-
 SparseMemory::SparseMemory(std::span<const std::uint8_t> image, std::span<const std::uint8_t> launch_block,
                            std::span<const std::uint8_t> data, std::uint32_t pixels, std::uint32_t stack_bytes_total)
     : framebuffer_end_(mm::kDeviceFramebufferBase + pixels * mm::kFramebufferBytesPerPixel),

@@ -18,16 +18,6 @@
 // tags are exercised; the random stream is the harness's (reproducible from its seed).
 namespace rpu::sim {
 
-// x and y of a pixel index p by multiplication, as the core computes them for `rdsr
-// pixel` (Granlund and Montgomery 1994, "Division by invariant integers using
-// multiplication", fig. 4.1): q = (t1 + ((p - t1) >> shift1)) >> shift2 with
-// t1 = (magic * p) >> 32, for every 32-bit p.
-struct PixelDivisor {
-  std::uint32_t magic = 0, shift1 = 0, shift2 = 0;
-  std::uint32_t quotient(std::uint32_t p) const;
-};
-PixelDivisor pixel_divisor(std::uint32_t width);
-
 // The device's address space as the RTL sees it: the image, the launch block, the
 // firmware's data, the framebuffer and the thread stacks; bytes nobody wrote read as
 // zero. Writes are allowed only to the framebuffer and the stacks (the core checks

@@ -40,7 +40,7 @@ configure_file(spu_models.cpp.in ${CMAKE_CURRENT_BINARY_DIR}/spu_models.cpp @ONL
 
 add_library(rpu_spu_check STATIC spu_checker.cpp spu_agents.cpp)
 target_include_directories(rpu_spu_check PUBLIC ${CMAKE_CURRENT_SOURCE_DIR})
-target_link_libraries(rpu_spu_check PUBLIC rpu_functional rpu_isa rpu_progen fmt::fmt PRIVATE rpu_flags)
+target_link_libraries(rpu_spu_check PUBLIC rpu_sim_host rpu_functional rpu_isa rpu_progen fmt::fmt PRIVATE rpu_flags)
 
 add_executable(spu_cosim spu_cosim.cpp)
 target_link_libraries(spu_cosim PRIVATE rpu_spu_rtl_models rpu_spu_check rpu_device rpu_asm rpu_builtin_firmware

@@ -27,6 +27,7 @@
 #include "scene/resolve.hpp"
 #include "common/output_file.hpp"
 #include "harness_outputs.hpp"
+#include "host_setup.hpp"
 #include "spu_agents.hpp"
 #include "spu_checker.hpp"
 #include "spu_model.hpp"
@@ -118,24 +119,18 @@ FrameResult run_frame(const Options& o, const Bench& bench, const Frame& frame, 
   const auto pixels = static_cast<std::uint32_t>(launch.width * launch.height);
   const auto threads = static_cast<std::uint32_t>(config.threads_per_core);
 
-  streams::Launch lf;
-  lf.pixels = pixels;
-  lf.width = static_cast<std::uint32_t>(launch.width);
-  lf.height = static_cast<std::uint32_t>(launch.height);
-  lf.spp = static_cast<std::uint32_t>(launch.spp);
-  lf.max_depth = static_cast<std::uint32_t>(launch.max_depth);
-  lf.raygen = functional::raygen_entry(firmware);
-  lf.code_words = static_cast<std::uint32_t>(firmware.code.size());
-  lf.image_bytes = static_cast<std::uint32_t>(si.image.bytes.size());
-  lf.launch_bytes = static_cast<std::uint32_t>(launch_block.size());
-  lf.data_bytes = static_cast<std::uint32_t>(firmware.data.size());
-  lf.shader_count = static_cast<std::uint32_t>(frame.shader_table.size());
-  std::memcpy(&lf.shader_table, launch_block.data() + mm::kLaunchShaderTableAt, 4);
-  lf.watchdog = static_cast<std::uint32_t>(frame.watchdog);
-  const PixelDivisor div = pixel_divisor(lf.width);
-  lf.div_magic = div.magic;
-  lf.div_shift1 = div.shift1;
-  lf.div_shift2 = div.shift2;
+  LaunchFacts facts;
+  facts.width = static_cast<std::uint32_t>(launch.width);
+  facts.height = static_cast<std::uint32_t>(launch.height);
+  facts.spp = static_cast<std::uint32_t>(launch.spp);
+  facts.max_depth = static_cast<std::uint32_t>(launch.max_depth);
+  facts.raygen = functional::raygen_entry(firmware);
+  facts.code_words = static_cast<std::uint32_t>(firmware.code.size());
+  facts.image_bytes = static_cast<std::uint32_t>(si.image.bytes.size());
+  facts.launch_block = launch_block;
+  facts.data_bytes = static_cast<std::uint32_t>(firmware.data.size());
+  facts.watchdog = frame.watchdog;
+  const streams::Launch lf = launch_stream(facts);
 
   // The RTL's memory, and the functional model's own.
   SparseMemory memory(si.image.bytes, launch_block, firmware.data, pixels,

@@ -47,6 +47,7 @@
 #include "functional/scene_image.hpp"
 #include "functional/tracer.hpp"
 #include "harness_outputs.hpp"
+#include "host_setup.hpp"
 #include "kdtree/kdtree.hpp"
 #include "scene/geometry.hpp"
 #include "scene/resolve.hpp"
@@ -249,20 +250,6 @@ std::optional<std::array<std::int64_t, 3>> fit_timing(const std::vector<TimingSa
   return k;
 }
 
-// Where the unit finds the scene (the image's layout).
-streams::TuCfg config_of(const functional::SceneImage& si) {
-  streams::TuCfg cfg;
-  cfg.kd_nodes = si.layout.kd_nodes.offset;
-  cfg.prim_refs = si.layout.prim_refs.offset;
-  cfg.isect_records = si.layout.isect_records.offset;
-  for (int i = 0; i < 3; ++i) {
-    cfg.bounds_lo[i] = bits(si.layout.bounds_lo[i]);
-    cfg.bounds_hi[i] = bits(si.layout.bounds_hi[i]);
-  }
-  cfg.kd_scale_exponent = static_cast<std::uint32_t>(si.layout.kd_scale_exponent);  // two's complement
-  return cfg;
-}
-
 // The netlist testbench's input (sim/rpu_tu_netlist_tb.sv), hex words, each stream as
 // its words (word 0 first) so that the testbench knows no field but the memory port's:
 // a header (image words, rays, IU tests), the tu_cfg, the image (little-endian words);
@@ -325,7 +312,7 @@ int write_vectors(const Options& o, const functional::SceneImage& si, const func
       out << word;
     }
   };
-  put(config_of(si).pack(), streams::TuCfg::kWords);
+  put(tu_config(si.layout).pack(), streams::TuCfg::kWords);
   put(words, kLineWords);
   put(rays, streams::TuReq::kWords + 1 + 2 * streams::TuRsp::kWords);
   put(tests, 2 * streams::IuReq::kWords + streams::IuRsp::kWords);
@@ -422,7 +409,7 @@ int run(const Options& o, std::unique_ptr<TuModel>& model) {
   const std::uint32_t tag_mask = (1u << streams::kRayTagBits) - 1;
 
   TuInputs in;
-  in.cfg = config_of(si);
+  in.cfg = tu_config(si.layout);
   Clock clock(*model);
   clock.reset(in);
 
