@@ -1,0 +1,187 @@
+// The rays of the shader cores onto the ray units (docs/chip.md "Top"): a ray
+// (trace_req_t) from any core goes to an idle ray unit, which walks one ray at a time
+// (rpu_ray_unit); the unit's answer goes back to the core the ray's tag names, as a
+// trace_rsp_t with the request's tag and pc. Cores are served round robin, and so are
+// the units' answers to one core. A ray unit's tag is its slot here (one ray per unit
+// today; the multi-ray units of issue 17 take more behind the same streams).
+module rpu_ray_dispatch #(
+  parameter int unsigned Cores = 1,
+  parameter int unsigned Units = 1,
+  localparam int unsigned CoreIdx = Cores > 1 ? $clog2(Cores) : 1,
+  localparam int unsigned UnitIdx = Units > 1 ? $clog2(Units) : 1
+) (
+  input  logic                                  clk_i,
+  input  logic                                  rst_ni,
+
+  // From the cores, one port each.
+  input  logic [Cores-1:0]                      core_req_valid_i,
+  output logic [Cores-1:0]                      core_req_ready_o,
+  input  logic [Cores*rpu_pkg::TraceReqBits-1:0] core_req_i,
+  output logic [Cores-1:0]                      core_rsp_valid_o,
+  input  logic [Cores-1:0]                      core_rsp_ready_i,
+  output logic [Cores*rpu_pkg::TraceRspBits-1:0] core_rsp_o,
+
+  // To the ray units, one port each.
+  output logic [Units-1:0]                      unit_req_valid_o,
+  input  logic [Units-1:0]                      unit_req_ready_i,
+  output logic [Units*rpu_pkg::TuReqBits-1:0]   unit_req_o,
+  input  logic [Units-1:0]                      unit_rsp_valid_i,
+  output logic [Units-1:0]                      unit_rsp_ready_o,
+  input  logic [Units*rpu_pkg::TuRspBits-1:0]   unit_rsp_i,
+
+  output logic                                  idle_o  // no ray in a unit
+);
+
+  localparam int unsigned TagBits = rpu_pkg::TraceTagBits;
+  // A ray's tag names its core in the high bits (spec/streams.toml trace_tag_bits).
+  localparam int unsigned CoreLsb = TagBits - rpu_pkg::CoreBits;
+
+  // What each unit's ray must carry back: the request's tag and pc.
+  logic [Units-1:0]         busy_d, busy_q;
+  logic [Units*TagBits-1:0] tag_d, tag_q;
+  logic [Units*32-1:0]      pc_d, pc_q;
+
+  // ---------------------------------------------------------------------------------
+  // Requests: the next core after the last one served, to the lowest idle unit.
+  // ---------------------------------------------------------------------------------
+  logic [CoreIdx-1:0] last_core_d, last_core_q;
+  logic               have_core, have_unit;
+  logic [CoreIdx-1:0] core;
+  logic [UnitIdx-1:0] unit;
+  always_comb begin
+    have_core = 1'b0;
+    core      = '0;
+    for (int k = Cores; k >= 1; k--) begin
+      if (core_req_valid_i[(32'(last_core_q) + k) % Cores]) begin
+        have_core = 1'b1;
+        core      = CoreIdx'((32'(last_core_q) + k) % Cores);
+      end
+    end
+    have_unit = 1'b0;
+    unit      = '0;
+    for (int u = Units - 1; u >= 0; u--) begin
+      if (!busy_q[u] && unit_req_ready_i[u]) begin
+        have_unit = 1'b1;
+        unit      = UnitIdx'(u);
+      end
+    end
+  end
+
+  rpu_pkg::trace_req_t req;
+  rpu_pkg::tu_req_t    unit_req;
+  logic                send;
+  assign req  = core_req_i[rpu_pkg::TraceReqBits*core +: rpu_pkg::TraceReqBits];
+  assign send = have_core && have_unit;
+  always_comb begin
+    unit_req           = '0;
+    unit_req.origin    = req.origin;
+    unit_req.direction = req.direction;
+    unit_req.t_min     = req.t_min;
+    unit_req.t_max     = req.t_max;
+    unit_req.any_hit   = req.any_hit;
+  end
+  always_comb begin
+    core_req_ready_o = '0;
+    unit_req_valid_o = '0;
+    unit_req_o       = '0;
+    if (send) begin
+      core_req_ready_o[core] = 1'b1;
+      unit_req_valid_o[unit] = 1'b1;
+    end
+    for (int u = 0; u < Units; u++) unit_req_o[rpu_pkg::TuReqBits*u +: rpu_pkg::TuReqBits] = unit_req;
+  end
+
+  // ---------------------------------------------------------------------------------
+  // Answers: each unit's as the core's stream {tag, pc, hit, t, u, v, prim, fault};
+  // per core, the next unit after the last one that answered it.
+  // ---------------------------------------------------------------------------------
+  logic [Units*rpu_pkg::TraceRspBits-1:0] answer;
+  rpu_pkg::tu_rsp_t                       a_rsp;
+  rpu_pkg::trace_rsp_t                    a_out;
+  always_comb begin
+    answer = '0;
+    a_rsp  = '0;
+    a_out  = '0;
+    for (int u = 0; u < Units; u++) begin
+      a_rsp       = unit_rsp_i[rpu_pkg::TuRspBits*u +: rpu_pkg::TuRspBits];
+      a_out       = '0;
+      a_out.tag   = tag_q[TagBits*u +: TagBits];
+      a_out.pc    = pc_q[32*u +: 32];
+      a_out.hit   = a_rsp.hit;
+      a_out.t     = a_rsp.t;
+      a_out.u     = a_rsp.u;
+      a_out.v     = a_rsp.v;
+      a_out.prim  = a_rsp.prim;
+      a_out.fault = a_rsp.fault;
+      answer[rpu_pkg::TraceRspBits*u +: rpu_pkg::TraceRspBits] = a_out;
+    end
+  end
+
+  logic [Cores*UnitIdx-1:0] last_unit_d, last_unit_q;
+  logic [Cores*UnitIdx-1:0] from;      // per core: the unit it takes an answer from
+  logic [Cores-1:0]         found;
+  logic [Units-1:0]         answered;  // the unit's answer is taken this cycle
+
+  always_comb begin
+    found       = '0;
+    from        = '0;
+    last_unit_d = last_unit_q;
+    answered    = '0;
+    core_rsp_o  = '0;
+    for (int c = 0; c < Cores; c++) begin
+      for (int k = Units; k >= 1; k--) begin
+        if (unit_rsp_valid_i[(32'(last_unit_q[UnitIdx*c +: UnitIdx]) + k) % Units]
+            && 32'(tag_q[TagBits*((32'(last_unit_q[UnitIdx*c +: UnitIdx]) + k) % Units) + CoreLsb +: rpu_pkg::CoreBits])
+               == c) begin
+          found[c]                    = 1'b1;
+          from[UnitIdx*c +: UnitIdx]  = UnitIdx'((32'(last_unit_q[UnitIdx*c +: UnitIdx]) + k) % Units);
+        end
+      end
+      core_rsp_o[rpu_pkg::TraceRspBits*c +: rpu_pkg::TraceRspBits] =
+          answer[rpu_pkg::TraceRspBits*from[UnitIdx*c +: UnitIdx] +: rpu_pkg::TraceRspBits];
+      if (found[c] && core_rsp_ready_i[c]) begin
+        answered[from[UnitIdx*c +: UnitIdx]] = 1'b1;
+        last_unit_d[UnitIdx*c +: UnitIdx]    = from[UnitIdx*c +: UnitIdx];
+      end
+    end
+  end
+  assign core_rsp_valid_o = found;
+  assign unit_rsp_ready_o = answered;
+
+  always_comb begin
+    busy_d      = busy_q & ~answered;
+    tag_d       = tag_q;
+    pc_d        = pc_q;
+    last_core_d = last_core_q;
+    if (send) begin
+      busy_d[unit]                  = 1'b1;
+      tag_d[TagBits*unit +: TagBits] = req.tag;
+      pc_d[32*unit +: 32]           = req.pc;
+      last_core_d                   = core;
+    end
+  end
+
+  always_ff @(posedge clk_i or negedge rst_ni) begin
+    if (!rst_ni) begin
+      busy_q      <= '0;
+      tag_q       <= '0;
+      pc_q        <= '0;
+      last_core_q <= '0;
+      last_unit_q <= '0;
+    end else begin
+      busy_q      <= busy_d;
+      tag_q       <= tag_d;
+      pc_q        <= pc_d;
+      last_core_q <= last_core_d;
+      last_unit_q <= last_unit_d;
+    end
+  end
+
+  assign idle_o = busy_q == '0;
+
+  // A unit's own tag is its slot here, and its work counters are the traversal
+  // statistics' business, not the shader's.
+  logic unused;
+  assign unused = ^{a_rsp.tag, a_rsp.nodes, a_rsp.leaves, a_rsp.tests};
+
+endmodule
