@@ -33,6 +33,13 @@ SPU_SIM_TOP = ROOT / "sim" / "rpu_spu_cosim_top.sv"
 TU_NETLIST_TB = ROOT / "sim" / "rpu_tu_netlist_tb.sv"
 # The intersection modes (spec/memory_map.toml [isect_mode]: the IsectMode parameter).
 ISECT_MODES = ("woop", "watertight")
+# A cache's parameters are <unit><suffix> in gen.RTL_PARAMETERS (NodeBytes, ...).
+CACHE_UNITS = ("Node", "Triangle", "Data")
+CACHE_PARAMETER_SUFFIXES = ("Bytes", "Ways", "HitLatency", "Mshrs")
+
+
+def cache_parameters() -> set[str]:
+    return {u + p for u in CACHE_UNITS for p in CACHE_PARAMETER_SUFFIXES}
 
 
 sys.path.insert(0, str(ROOT / "spec"))
@@ -104,7 +111,7 @@ def lint(args) -> int:
     tables = gen.load(ROOT / "spec")
     for r in tables["resolved"]:
         params = gen.rtl_parameters(tables, r["values"])
-        spu = {k: v for k, v in params.items() if k not in ("StackDepth",)}
+        spu = {k: v for k, v in params.items() if k not in ("StackDepth",) and k not in cache_parameters()}
         jobs.append((f"rpu_spu {r['name']}", ["rpu_spu"], [f"-G{k}={v}" for k, v in spu.items()], []))
     jobs.append(("rpu_spu chunks of 1", ["rpu_spu"], ["-GThreads=4", "-GChunkSize=1", "-GSfuUnits=4"], []))
     jobs.append(("rpu_spu_cosim_top", ["rpu_spu_cosim_top"], [], [SPU_SIM_TOP]))
