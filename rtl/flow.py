@@ -33,17 +33,15 @@ SPU_SIM_TOP = ROOT / "sim" / "rpu_spu_cosim_top.sv"
 TU_NETLIST_TB = ROOT / "sim" / "rpu_tu_netlist_tb.sv"
 # The intersection modes (spec/memory_map.toml [isect_mode]: the IsectMode parameter).
 ISECT_MODES = ("woop", "watertight")
-# A cache's parameters are <unit><suffix> in gen.RTL_PARAMETERS (NodeBytes, ...).
-CACHE_UNITS = ("Node", "Triangle", "Data")
-CACHE_PARAMETER_SUFFIXES = ("Bytes", "Ways", "HitLatency", "Mshrs")
-
-
-def cache_parameters() -> set[str]:
-    return {u + p for u in CACHE_UNITS for p in CACHE_PARAMETER_SUFFIXES}
 
 
 sys.path.insert(0, str(ROOT / "spec"))
 import gen  # noqa: E402  (spec/gen.py: loads and validates the tables)
+
+
+def cache_parameters() -> list[str]:
+    """The caches' build-time parameters in gen.RTL_PARAMETERS (NodeBytes, ...)."""
+    return [u + p for u, _ in gen.RTL_CACHES for p, _ in gen.RTL_CACHE_PARAMETERS]
 
 
 def spec() -> tuple[dict, list[dict]]:
