@@ -31,12 +31,18 @@ IU_TOP = ROOT / "sim" / "rpu_iu_cosim_top.sv"
 IU_NETLIST_TB = ROOT / "sim" / "rpu_iu_netlist_tb.sv"
 SPU_SIM_TOP = ROOT / "sim" / "rpu_spu_cosim_top.sv"
 TU_NETLIST_TB = ROOT / "sim" / "rpu_tu_netlist_tb.sv"
+MEM_SIM_TOP = ROOT / "sim" / "rpu_mem_cosim_top.sv"
 # The intersection modes (spec/memory_map.toml [isect_mode]: the IsectMode parameter).
 ISECT_MODES = ("woop", "watertight")
 
 
 sys.path.insert(0, str(ROOT / "spec"))
 import gen  # noqa: E402  (spec/gen.py: loads and validates the tables)
+
+
+def cache_parameters() -> list[str]:
+    """The caches' build-time parameters in gen.RTL_PARAMETERS (NodeBytes, ...)."""
+    return [u + p for u, _ in gen.RTL_CACHES for p, _ in gen.RTL_CACHE_PARAMETERS]
 
 
 def spec() -> tuple[dict, list[dict]]:
@@ -104,10 +110,27 @@ def lint(args) -> int:
     tables = gen.load(ROOT / "spec")
     for r in tables["resolved"]:
         params = gen.rtl_parameters(tables, r["values"])
-        spu = {k: v for k, v in params.items() if k not in ("StackDepth",)}
+        spu = {k: v for k, v in params.items() if k not in ("StackDepth",) and k not in cache_parameters()}
         jobs.append((f"rpu_spu {r['name']}", ["rpu_spu"], [f"-G{k}={v}" for k, v in spu.items()], []))
     jobs.append(("rpu_spu chunks of 1", ["rpu_spu"], ["-GThreads=4", "-GChunkSize=1", "-GSfuUnits=4"], []))
     jobs.append(("rpu_spu_cosim_top", ["rpu_spu_cosim_top"], [], [SPU_SIM_TOP]))
+    # The memory system: each named configuration's three caches, the co-simulation
+    # top of each configuration's memory system and with its defaults (the corner
+    # cases mem_cosim also runs), the arbiters at 1 to 6 ports and the in-order port
+    # at several tag widths.
+    for r in tables["resolved"]:
+        params = gen.rtl_parameters(tables, r["values"])
+        for unit, _ in gen.RTL_CACHES:
+            cache = [f"-G{p}={params[unit + p]}" for p, _ in gen.RTL_CACHE_PARAMETERS]
+            jobs.append((f"rpu_cache {r['name']} {unit.lower()}", ["rpu_cache"], cache, []))
+        top = [f"-G{k}={v}" for k, v in params.items() if k in cache_parameters()]
+        jobs.append((f"rpu_mem_cosim_top {r['name']}", ["rpu_mem_cosim_top"], top, [MEM_SIM_TOP]))
+    jobs.append(("rpu_mem_cosim_top corners (its defaults)", ["rpu_mem_cosim_top"], [], [MEM_SIM_TOP]))
+    for n in (1, 2, 3, 6):
+        jobs.append((f"rpu_cache_arbiter {n}", ["rpu_cache_arbiter"], [f"-GRequesters={n}"], []))
+        jobs.append((f"rpu_mem_arbiter {n}", ["rpu_mem_arbiter"], [f"-GCaches={n}"], []))
+    for bits in (1, 2, 4):
+        jobs.append((f"rpu_inorder_port TagBits={bits}", ["rpu_inorder_port"], [f"-GTagBits={bits}"], []))
     for what, (top,), params, extra in jobs:
         r = run([args.verilator, "--lint-only", "-Wall", RTL / "lint.vlt", args.pkg, *rtl_sources(), *extra,
                  "--top-module", top, *params])

@@ -122,6 +122,10 @@ class PendingByTag {
     const auto it = table_.find(tag);
     return it == table_.end() ? nullptr : &it->second.value;
   }
+  const T* find(std::uint32_t tag) const {
+    const auto it = table_.find(tag);
+    return it == table_.end() ? nullptr : &it->second.value;
+  }
 
   T take(std::uint32_t tag) {
     const auto it = table_.find(tag);

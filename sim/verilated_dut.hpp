@@ -2,7 +2,9 @@
 
 #include <verilated.h>
 
+#include <algorithm>
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -48,6 +50,66 @@ Stream from_port(const Port& port) {
     for (std::size_t i = 0; i < words.size(); ++i) words[i] = port[i];
   }
   return Stream::unpack(words);
+}
+
+namespace detail {
+
+// Copies n bits from src (from bit src_lsb) into dst (from bit dst_lsb), both arrays of
+// 32-bit words with bit k in bit k % 32 of word k / 32.
+inline void copy_bits(std::uint32_t* dst, std::size_t dst_lsb, const std::uint32_t* src, std::size_t src_lsb,
+                      std::size_t n) {
+  for (std::size_t i = 0; i < n;) {
+    const std::size_t d = dst_lsb + i, s = src_lsb + i;
+    const std::size_t chunk = std::min({32 - d % 32, 32 - s % 32, n - i});
+    const std::uint32_t mask = chunk == 32 ? ~std::uint32_t{0} : (std::uint32_t{1} << chunk) - 1;
+    const std::uint32_t bits = (src[s / 32] >> (s % 32)) & mask;
+    dst[d / 32] = (dst[d / 32] & ~(mask << (d % 32))) | (bits << (d % 32));
+    i += chunk;
+  }
+}
+
+}  // namespace detail
+
+// True when a flat port holds exactly `n` streams S back to back (its width rounded up
+// to whole words, as Verilator stores it).
+template <class S, std::size_t n, class Port>
+constexpr bool holds_streams() {
+  constexpr std::size_t bits = n * static_cast<std::size_t>(S::kBits);
+  if constexpr (std::is_integral_v<Port>) {
+    return bits <= 8 * sizeof(Port) && (sizeof(Port) == 1 || bits > 4 * sizeof(Port));
+  } else {
+    return sizeof(Port) / sizeof(std::uint32_t) == (bits + 31) / 32;
+  }
+}
+
+// Stream `index` of a flat port holding several streams S back to back, stream k at bits
+// [k * S::kBits, (k + 1) * S::kBits): the co-simulation tops' ports of many requesters.
+template <class S, class Port>
+void to_port_at(Port& port, std::size_t index, const S& value) {
+  const typename S::Words words = value.pack();
+  const std::size_t lsb = index * static_cast<std::size_t>(S::kBits);
+  if constexpr (std::is_integral_v<Port>) {
+    const auto v = static_cast<std::uint64_t>(port);
+    std::uint32_t w[2] = {static_cast<std::uint32_t>(v), static_cast<std::uint32_t>(v >> 32)};
+    detail::copy_bits(w, lsb, words.data(), 0, S::kBits);
+    port = static_cast<Port>(std::uint64_t{w[0]} | (std::uint64_t{w[1]} << 32));
+  } else {
+    detail::copy_bits(port.m_storage, lsb, words.data(), 0, S::kBits);
+  }
+}
+
+template <class S, class Port>
+S from_port_at(const Port& port, std::size_t index) {
+  typename S::Words words{};
+  const std::size_t lsb = index * static_cast<std::size_t>(S::kBits);
+  if constexpr (std::is_integral_v<Port>) {
+    const auto v = static_cast<std::uint64_t>(port);
+    const std::uint32_t w[2] = {static_cast<std::uint32_t>(v), static_cast<std::uint32_t>(v >> 32)};
+    detail::copy_bits(words.data(), 0, w, lsb, S::kBits);
+  } else {
+    detail::copy_bits(words.data(), 0, port.m_storage, lsb, S::kBits);
+  }
+  return S::unpack(words);
 }
 
 // A Verilated top built with TRACE_FST has trace(); the others cannot write waveforms.

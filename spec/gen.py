@@ -422,10 +422,15 @@ def gen_sv(spec: dict) -> str:
 
 # The RTL's build-time parameters and the configuration keys they come from: one table,
 # so that a Verilated model is configured as the C++ model is (STYLE.md, Vortex's
-# VX_config.toml).
+# VX_config.toml). Each cache's are {Node,Triangle,Data}{Bytes,Ways,HitLatency,Mshrs}
+# (rtl/rpu_cache.sv; line_bytes is the memory port's DramLineBytes).
+RTL_CACHES = (("Node", "node_cache"), ("Triangle", "triangle_cache"), ("Data", "data_cache"))
+RTL_CACHE_PARAMETERS = (("Bytes", "bytes"), ("Ways", "ways"), ("HitLatency", "hit_latency"), ("Mshrs", "mshrs"))
 RTL_PARAMETERS = {"Cores": "shader_cores", "Threads": "threads_per_core", "ChunkSize": "chunk_size",
                   "Registers": "registers", "CallDepth": "call_depth", "StackBytes": "stack_bytes",
-                  "SfuUnits": "sfu_units", "StackDepth": "stack_depth"}
+                  "SfuUnits": "sfu_units", "StackDepth": "stack_depth",
+                  **{f"{unit}{param}": f"{cache}.{key}" for unit, cache in RTL_CACHES
+                     for param, key in RTL_CACHE_PARAMETERS}}
 
 
 def rtl_parameters(spec: dict, values: dict) -> dict[str, int]:

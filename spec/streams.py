@@ -112,6 +112,17 @@ def layout(spec: dict, fp_op_bits: int) -> dict:
                 raise StreamError(f"{WHERE}: config '{c['name']}' has {cache}.line_bytes = "
                                   f"{c[cache]['line_bytes']}; the memory port moves DramLineBytes = "
                                   f"{env['DramLineBytes']}")
+            # A line read's tag at the memory port: the cache above DramMshrBits, its
+            # miss register below (rtl/rpu_cache.sv, rtl/rpu_mem_arbiter.sv).
+            if "DramMshrBits" in env and c[cache]["mshrs"] > 1 << env["DramMshrBits"]:
+                raise StreamError(f"{WHERE}: config '{c['name']}' has {cache}.mshrs = {c[cache]['mshrs']}, more "
+                                  f"than DramMshrBits = {env['DramMshrBits']} can name")
+        if {"DramMshrBits", "DramTagBits"} <= env.keys():
+            caches = 2 + c["shader_cores"]  # node, triangle, a data cache per core
+            if env["DramMshrBits"] >= env["DramTagBits"] or caches > 1 << (env["DramTagBits"] - env["DramMshrBits"]):
+                raise StreamError(f"{WHERE}: config '{c['name']}' has {caches} caches (node, triangle and "
+                                  f"{c['shader_cores']} data caches); DramTagBits - DramMshrBits = "
+                                  f"{env['DramTagBits'] - env['DramMshrBits']} bits cannot name them")
     faults = len(spec["isa"].get("fault", []))
     if "FaultKindBits" in env and faults > 1 << env["FaultKindBits"]:
         raise StreamError(f"{WHERE}: FaultKindBits = {env['FaultKindBits']} cannot name the {faults} faults of "

@@ -47,6 +47,8 @@ cases = {
     "more faults than the fault kind names": ("streams.toml", "fault_kind_bits = { value = 4,", "fault_kind_bits = { value = 3,"),
     "a fault without a doc": ("isa.toml", 'name = "watchdog"\ndoc =', 'name = "watchdog"\ndocs ='),
     "a cache line other than the memory port's": ("streams.toml", "dram_line_bytes = { value = 64,", "dram_line_bytes = { value = 32,"),
+    "more miss registers than a memory tag names": ("streams.toml", "dram_mshr_bits = { value = 4,", "dram_mshr_bits = { value = 2,"),
+    "more caches than a memory tag names": ("streams.toml", "dram_mshr_bits = { value = 4,", "dram_mshr_bits = { value = 6,"),
 }
 failures = 0
 for what, (table, old, new) in cases.items():
