@@ -14,7 +14,7 @@ module rpu_cache_arbiter #(
 
   input  logic [Requesters-1:0]                        req_valid_i,
   output logic [Requesters-1:0]                        req_ready_o,
-  input  logic [Requesters*rpu_pkg::CacheReqBits-1:0]  req_i,        // requester r's at [r*CacheReqBits +: CacheReqBits]
+  input  logic [Requesters*rpu_pkg::CacheReqBits-1:0]  req_i,  // requester r's at [r*CacheReqBits +: CacheReqBits]
   output logic [Requesters-1:0]                        rsp_valid_o,
   input  logic [Requesters-1:0]                        rsp_ready_i,
   output logic [Requesters*rpu_pkg::CacheRspBits-1:0]  rsp_o,

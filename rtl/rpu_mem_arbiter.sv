@@ -61,7 +61,8 @@ module rpu_mem_arbiter #(
                       dram_req_o.tag[rpu_pkg::DramTagBits-1 -: IdBits]);
       end
       if (dram_rsp_valid_i) begin
-        assert (32'(rsp_id) < Caches) else $error("rpu_mem_arbiter: an answer with tag %0h for no cache", dram_rsp_i.tag);
+        assert (32'(rsp_id) < Caches)
+          else $error("rpu_mem_arbiter: an answer with tag %0h for no cache", dram_rsp_i.tag);
       end
     end
   end
