@@ -8,6 +8,7 @@ gen.py turns into rpu_pkg.sv, so nothing here repeats a width or a unit list.
     flow.py synth --unit fma --format fp16 --pkg ... --cosim build/ci/sim/fp_cosim --out DIR
     flow.py synth --unit iu --isect woop --format fp16 --pkg ... --cosim build/ci/sim/iu_cosim --out DIR
     flow.py synth --unit tu --isect woop --format fp16 --pkg ... --cosim build/ci/sim/tu_cosim --out DIR
+    flow.py synth --unit mem --config tiny --pkg ... --cosim build/ci/sim/mem_cosim --out DIR
     flow.py area  --from DIR --commit HASH    # appends to bench/results/area.json
 """
 from __future__ import annotations
@@ -32,6 +33,7 @@ IU_NETLIST_TB = ROOT / "sim" / "rpu_iu_netlist_tb.sv"
 SPU_SIM_TOP = ROOT / "sim" / "rpu_spu_cosim_top.sv"
 TU_NETLIST_TB = ROOT / "sim" / "rpu_tu_netlist_tb.sv"
 MEM_SIM_TOP = ROOT / "sim" / "rpu_mem_cosim_top.sv"
+MEM_NETLIST_TB = ROOT / "sim" / "rpu_mem_netlist_tb.sv"
 # The intersection modes (spec/memory_map.toml [isect_mode]: the IsectMode parameter).
 ISECT_MODES = ("woop", "watertight")
 
@@ -142,15 +144,24 @@ def lint(args) -> int:
     return 1 if failures else 0
 
 
-def yosys(args, top: str, chparams: dict, extra: list, out: pathlib.Path, stem: str) -> dict | None:
-    """Synthesises `top` with the parameters; returns the stat numbers, or None on failure."""
+# synth's fine stage without memory_map: each rpu_ram stays one $mem cell (a RAM macro
+# or block RAM, counted in bits apart from the logic) instead of becoming flops.
+KEEP_RAMS = ["opt -fast -full", "opt -full", "techmap", "opt -fast", "abc -fast", "opt -fast"]
+
+
+def yosys(args, top: str, chparams: dict, extra: list, out: pathlib.Path, stem: str,
+          keep_rams: bool = False) -> dict | None:
+    """Synthesises `top` with the parameters; returns the stat numbers, or None on failure.
+    With keep_rams the RAMs stay memories, and the stats hold their bits (ram_bits)."""
     netlist = out / f"{stem}.v"
     log = out / f"{stem}.yosys.log"
     reads = " ".join(str(p) for p in [args.pkg, *rtl_sources(), *extra])
+    synth_steps = [f"synth -flatten -top {top} -run begin:fine", *KEEP_RAMS] if keep_rams else \
+        [f"synth -flatten -top {top}"]
     script = "; ".join([
         f"read_verilog -sv {reads}",
         f"hierarchy -check -top {top} " + " ".join(f"-chparam {k} {v}" for k, v in chparams.items()),
-        f"synth -flatten -top {top}",
+        *synth_steps,
         "splitnets",
         "stat",
         "stat -tech cmos",
@@ -171,6 +182,10 @@ def yosys(args, top: str, chparams: dict, extra: list, out: pathlib.Path, stem: 
         return None
     stats = parse_stat(r.stdout)
     stats.update(synth_seconds=round(synth_seconds, 1))
+    if keep_rams:
+        # Each memory as write_verilog declares it: reg [W-1:0] name [D-1:0].
+        rams = re.findall(r"^\s*reg \[(\d+):0\] \S+\s+\[(\d+):0\];", netlist.read_text(), re.M)
+        stats.update(rams=len(rams), ram_bits=sum((int(w) + 1) * (int(d) + 1) for w, d in rams))
     print(f"ok   yosys {stem}: {stats['cells']} cells in {synth_seconds:.1f} s")
     return stats
 
@@ -178,6 +193,11 @@ def yosys(args, top: str, chparams: dict, extra: list, out: pathlib.Path, stem: 
 def synth(args) -> int:
     """Yosys synth of one unit and format, then the netlist against the model's vectors."""
     formats, units = spec()
+    if args.unit == "mem":
+        return synth_mem(args)
+    if args.format is None:
+        print("flow.py: --format is required for this unit", file=sys.stderr)
+        return 2
     if args.unit in RAY_UNIT_SYNTH:
         return synth_ray_unit(args, formats)
     names = [u["name"] for u in units]
@@ -310,6 +330,68 @@ def synth_ray_unit(args, formats: dict) -> int:
     return 0
 
 
+def synth_mem(args) -> int:
+    """Yosys synth of a named configuration's data cache alone (cells, flops, RAM bits),
+    then of its whole memory system (rpu_mem_cosim_top: three caches with their arbiters
+    and in-order ports, the memory arbiter), whose netlist replays every cycle of a
+    mem_cosim run on that configuration and must match the RTL's outputs in every bit."""
+    tables = gen.load(ROOT / "spec")
+    resolved = {r["name"]: r for r in tables["resolved"]}
+    if args.config not in resolved:
+        print(f"flow.py: unknown configuration '{args.config}'; spec/configs.toml has {list(resolved)}",
+              file=sys.stderr)
+        return 2
+    params = gen.rtl_parameters(tables, resolved[args.config]["values"])
+    out = pathlib.Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    stem = f"mem_{args.config}"
+    data_cache = {p: params["Data" + p] for p, _ in gen.RTL_CACHE_PARAMETERS}
+    cache = yosys(args, "rpu_cache", {**data_cache, "CacheId": 2}, [], out, f"{stem}_data_cache", keep_rams=True)
+    system = yosys(args, "rpu_mem_cosim_top", {k: params[k] for k in cache_parameters()}, [MEM_SIM_TOP], out, stem,
+                   keep_rams=True)
+    if cache is None or system is None:
+        return 1
+    netlist = out / f"{stem}.v"
+    # The testbench's port widths from the netlist itself (how many ports of each kind
+    # the top has) and the spec (each stream's bits).
+    widths = {m.group(2): int(m.group(1)) + 1 if m.group(1) else 1
+              for m in re.finditer(r"^\s*(?:input|output)\s+(?:\[(\d+):0\]\s+)?(\w+);", netlist.read_text(), re.M)}
+    bits = stream_bits()
+    tb_params = {"Raw": widths["req_valid_i"], "InOrder": widths["mem_req_valid_i"], "Caches": widths["idle_o"],
+                 "ReqBits": bits["cache_req"], "RspBits": bits["cache_rsp"], "MemReqBits": bits["mem_req"],
+                 "MemRspBits": bits["mem_rsp"], "DramReqBits": bits["dram_req"], "DramRspBits": bits["dram_rsp"],
+                 "CounterBits": bits["cache_counters"]}
+    start = time.monotonic()
+    simulate = build_netlist_sim(args, out, stem, netlist, MEM_NETLIST_TB, "rpu_mem_netlist_tb", tb_params)
+    if simulate is None:
+        return 1
+    build_seconds = time.monotonic() - start
+    vectors = out / f"{stem}.vec"
+    r = run([args.cosim, "--model", args.config, "--cache", "all", "--requests", args.vectors, "--coverage",
+             "--write-vectors", vectors])
+    if r.returncode != 0:
+        print(f"synth FAIL: {args.cosim} --write-vectors:\n{r.stdout}{r.stderr}")
+        return 1
+    start = time.monotonic()
+    r = run([*simulate, f"+vectors={vectors}"])
+    text = r.stdout + r.stderr
+    m = re.search(r"netlist ok: (\d+) cycles", text)
+    if r.returncode != 0 or not m:
+        print(f"synth FAIL: netlist of the {args.config} memory system:\n{text[-5000:]}")
+        return 1
+    vectors.unlink()
+    result = {"unit": "mem", "config": args.config, "data_cache": cache, "memory_system": system,
+              "netlist_cycles": int(m.group(1)), "netlist_requests_per_cache": args.vectors,
+              "netlist_simulator": args.sim, "netlist_build_seconds": round(build_seconds, 1),
+              "netlist_seconds": round(time.monotonic() - start, 1)}
+    (out / f"{stem}.json").write_text(json.dumps(result, indent=1) + "\n")
+    print(f"synth ok: {args.config} data cache {cache['cells']} cells ({cache['flops']} flops), {cache['ram_bits']} "
+          f"RAM bits in {cache['rams']} RAMs; memory system {system['cells']} cells ({system['flops']} flops), "
+          f"{system['ram_bits']} RAM bits; the netlist matches the RTL in all {m.group(1)} cycles of "
+          f"{args.vectors} requests per cache")
+    return 0
+
+
 def build_netlist_sim(args, out: pathlib.Path, stem: str, netlist: pathlib.Path, tb: pathlib.Path = NETLIST_TB,
                       tb_top: str = "rpu_fp_netlist_tb", params: dict | None = None) -> list | None:
     """Compiles the testbench with the netlist; returns the command that runs it.
@@ -398,15 +480,17 @@ def main() -> int:
     p.add_argument("--verilator", default=shutil.which("verilator"))
     p.add_argument("--pkg", required=True, help="the generated rpu_pkg.sv")
     p = sub.add_parser("synth")
-    p.add_argument("--unit", required=True, help="an FP unit of spec/fp_units.toml, iu or tu")
+    p.add_argument("--unit", required=True, help="an FP unit of spec/fp_units.toml, iu, tu or mem")
     p.add_argument("--isect", choices=ISECT_MODES, default="woop", help="with --unit iu or tu: the intersection mode")
-    p.add_argument("--format", required=True)
+    p.add_argument("--format", help="the number format (not for --unit mem)")
+    p.add_argument("--config", default="tiny", help="with --unit mem: the named configuration")
     p.add_argument("--pkg", required=True)
     p.add_argument("--cosim", required=True,
-                   help="the fp_cosim (for iu iu_cosim, for tu tu_cosim) binary: writes the vectors")
+                   help="the fp_cosim (for iu iu_cosim, for tu tu_cosim, for mem mem_cosim) binary: writes the vectors")
     p.add_argument("--out", required=True)
     p.add_argument("--vectors", type=int, default=10000,
-                   help="random vectors, shared by the unit's ops (iu: captured IU tests; tu: rays)")
+                   help="random vectors, shared by the unit's ops (iu: captured IU tests; tu: rays; mem: requests "
+                        "per cache)")
     p.add_argument("--sim", choices=("verilator", "icarus"), default="verilator",
                    help="netlist simulator (default verilator; see build_netlist_sim)")
     p.add_argument("--verilator", default=shutil.which("verilator"))

@@ -14,7 +14,7 @@ module rpu_cache_arbiter #(
 
   input  logic [Requesters-1:0]                        req_valid_i,
   output logic [Requesters-1:0]                        req_ready_o,
-  input  logic [Requesters*rpu_pkg::CacheReqBits-1:0]  req_i,        // requester r's at [r*CacheReqBits +: CacheReqBits]
+  input  logic [Requesters*rpu_pkg::CacheReqBits-1:0]  req_i,  // requester r's at [r*CacheReqBits +: CacheReqBits]
   output logic [Requesters-1:0]                        rsp_valid_o,
   input  logic [Requesters-1:0]                        rsp_ready_i,
   output logic [Requesters*rpu_pkg::CacheRspBits-1:0]  rsp_o,
@@ -57,13 +57,10 @@ module rpu_cache_arbiter #(
     logic [RspBits-1:0]   own_rsp;  // the answer with the index bits cleared
     assign rsp_index = cache_rsp_i.tag[TagBits-1 -: IndexBits];
     assign own_rsp   = {IndexBits'(0), cache_rsp_i[RspBits-IndexBits-1:0]};
-    always_comb begin
-      cache_rsp_ready_o = 1'b0;
-      for (int r = 0; r < Requesters; r++) begin
-        rsp_valid_o[r] = cache_rsp_valid_i && 32'(rsp_index) == r;
-        if (32'(rsp_index) == r) cache_rsp_ready_o = rsp_ready_i[r];
-      end
-    end
+    rpu_demux #(.Outputs(Requesters), .IndexBits(IndexBits)) u_rsp (
+      .valid_i(cache_rsp_valid_i), .ready_o(cache_rsp_ready_o), .index_i(rsp_index),
+      .valid_o(rsp_valid_o), .ready_i(rsp_ready_i)
+    );
     for (genvar r = 0; r < Requesters; r++) begin : g_rsp
       assign rsp_o[r*RspBits +: RspBits] = own_rsp;
     end

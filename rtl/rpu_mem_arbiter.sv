@@ -38,13 +38,10 @@ module rpu_mem_arbiter #(
 
   logic [IdBits-1:0] rsp_id;
   assign rsp_id = dram_rsp_i.tag[rpu_pkg::DramTagBits-1 -: IdBits];
-  always_comb begin
-    dram_rsp_ready_o = 1'b0;
-    for (int c = 0; c < Caches; c++) begin
-      rsp_valid_o[c] = dram_rsp_valid_i && 32'(rsp_id) == c;
-      if (32'(rsp_id) == c) dram_rsp_ready_o = rsp_ready_i[c];
-    end
-  end
+  rpu_demux #(.Outputs(Caches), .IndexBits(IdBits)) u_rsp (
+    .valid_i(dram_rsp_valid_i), .ready_o(dram_rsp_ready_o), .index_i(rsp_id),
+    .valid_o(rsp_valid_o), .ready_i(rsp_ready_i)
+  );
   for (genvar c = 0; c < Caches; c++) begin : g_rsp
     assign rsp_o[c*RspBits +: RspBits] = dram_rsp_i;
   end
@@ -61,7 +58,8 @@ module rpu_mem_arbiter #(
                       dram_req_o.tag[rpu_pkg::DramTagBits-1 -: IdBits]);
       end
       if (dram_rsp_valid_i) begin
-        assert (32'(rsp_id) < Caches) else $error("rpu_mem_arbiter: an answer with tag %0h for no cache", dram_rsp_i.tag);
+        assert (32'(rsp_id) < Caches)
+          else $error("rpu_mem_arbiter: an answer with tag %0h for no cache", dram_rsp_i.tag);
       end
     end
   end

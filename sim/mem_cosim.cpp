@@ -114,10 +114,11 @@ struct CacheRun {
   std::optional<LruReference> lru;
 };
 
-std::string describe(const char* kind, std::size_t cache, std::size_t port, std::uint32_t tag,
+// A read for a failure's message (`kind` "cache" or "in-order" port; the tag if known).
+std::string describe(const char* kind, std::size_t cache, std::size_t port, std::optional<std::uint32_t> tag,
                      const ExpectedRead& e) {
-  return fmt::format("{} cache, {} port {}, tag {:#x}: read of {:#010x} taken at cycle {}", kCacheNames[cache], kind,
-                     port, tag, e.addr, e.taken);
+  return fmt::format("{} cache, {} port {}{}: read of {:#010x} taken at cycle {}", kCacheNames[cache], kind, port,
+                     tag ? fmt::format(", tag {:#x}", *tag) : "", e.addr, e.taken);
 }
 
 std::string words(const std::array<std::uint32_t, kPieceWords>& w) {
@@ -305,9 +306,10 @@ bool Harness::traffic_left() const {
 
 void Harness::run(RecordingModel& recorder) {
   clock_.reset(in_);
+  out_ = clock_.settle(in_);  // the idle outputs before the first cycle
+  // From here every settle is a cycle the netlist testbench replays (one clock each).
   recorder.start();
   Watchdog watchdog(100'000);
-  out_ = clock_.settle(in_);
   while (traffic_left()) {
     const std::uint64_t now = clock_.cycle();
     // Inputs: what each agent presents this cycle, from the last cycle's outputs.
@@ -362,7 +364,7 @@ void Harness::run(RecordingModel& recorder) {
         if (out_.mem_rsp[k].data != e.data) {
           throw CosimFailure(fmt::format("{}, answered at cycle {} (in request order): data {} (word 3 first), "
                                          "expected {}",
-                                         describe("in-order", p.cache, p.index, 0, e), now,
+                                         describe("in-order", p.cache, p.index, std::nullopt, e), now,
                                          words(out_.mem_rsp[k].data), words(e.data)));
         }
         progress = true;
@@ -400,7 +402,7 @@ void Harness::run(RecordingModel& recorder) {
     watchdog.check(now, traffic_left(), [&] {
       for (const RawPort& p : raw_) {
         if (!p.reads.empty()) {
-          return describe("cache", p.cache, p.index, 0, p.reads.oldest()) + " is not answered";
+          return describe("cache", p.cache, p.index, std::nullopt, p.reads.oldest()) + " is not answered";
         }
         if (p.presented) {
           return fmt::format("{} cache, cache port {}: a request presented at cycle {} is not taken",
@@ -408,7 +410,9 @@ void Harness::run(RecordingModel& recorder) {
         }
       }
       for (const InOrderPort& p : inorder_) {
-        if (!p.reads.empty()) return describe("in-order", p.cache, p.index, 0, p.reads.front()) + " is not answered";
+        if (!p.reads.empty()) {
+          return describe("in-order", p.cache, p.index, std::nullopt, p.reads.front()) + " is not answered";
+        }
       }
       return std::string("a request or a line read is stuck");
     });
@@ -558,7 +562,8 @@ int main(int argc, char** argv) {
                "cycle model's DRAM (docs/memory-system.md)"};
   Options o;
   app.add_option("--model", o.model, "a named configuration's memory system, or corners");
-  app.add_option("--cache", o.cache, "the cache that gets traffic")->check(CLI::IsMember({"node", "triangle", "data", "all"}));
+  app.add_option("--cache", o.cache, "the cache that gets traffic")
+      ->check(CLI::IsMember({"node", "triangle", "data", "all"}));
   app.add_option("--requests", o.requests, "requests per cache with traffic")->check(CLI::Range(1ull, 1ull << 40));
   app.add_flag("--serial", o.serial,
                "one request at a time on one port: each read's hit or miss against an LRU reference, each hit's "
@@ -567,7 +572,8 @@ int main(int argc, char** argv) {
                "fail unless every cache with traffic saw hits, merges, misses, evictions, writes to a line being "
                "filled and (with fewer miss registers than reads in flight) waits for a miss register");
   app.add_option("--writes", o.writes, "share of a cache port's requests that are writes")->check(CLI::Range(0.0, 1.0));
-  app.add_option("--stall", o.stall, "probability that a valid or a ready stalls in a cycle")->check(CLI::Range(0.0, 0.9));
+  app.add_option("--stall", o.stall, "probability that a valid or a ready stalls in a cycle")
+      ->check(CLI::Range(0.0, 0.9));
   app.add_option("--seed", o.seed, "seed of the RTL's initial values, the traffic and the stalls");
   app.add_option("--trace", o.trace, "write FST waveforms here");
   app.add_option("--write-vectors", o.vectors, "write every cycle's ports here (rtl/flow.py's netlist testbench)");
