@@ -123,11 +123,8 @@ module rpu_ray_dispatch #(
   logic [Units-1:0]         answered;  // the unit's answer is taken this cycle
 
   always_comb begin
-    found       = '0;
-    from        = '0;
-    last_unit_d = last_unit_q;
-    answered    = '0;
-    core_rsp_o  = '0;
+    found = '0;
+    from  = '0;
     for (int c = 0; c < Cores; c++) begin
       for (int k = Units; k >= 1; k--) begin
         if (unit_rsp_valid_i[(32'(last_unit_q[UnitIdx*c +: UnitIdx]) + k) % Units]
@@ -137,6 +134,14 @@ module rpu_ray_dispatch #(
           from[UnitIdx*c +: UnitIdx]  = UnitIdx'((32'(last_unit_q[UnitIdx*c +: UnitIdx]) + k) % Units);
         end
       end
+    end
+  end
+
+  always_comb begin
+    last_unit_d = last_unit_q;
+    answered    = '0;
+    core_rsp_o  = '0;
+    for (int c = 0; c < Cores; c++) begin
       core_rsp_o[rpu_pkg::TraceRspBits*c +: rpu_pkg::TraceRspBits] =
           answer[rpu_pkg::TraceRspBits*from[UnitIdx*c +: UnitIdx] +: rpu_pkg::TraceRspBits];
       if (found[c] && core_rsp_ready_i[c]) begin

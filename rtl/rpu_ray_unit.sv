@@ -45,9 +45,21 @@ module rpu_ray_unit #(
     .iu_rsp_valid_i(iu_rsp_valid), .iu_rsp_ready_o(iu_rsp_ready), .iu_rsp_i(iu_rsp)
   );
 
+  // A skid buffer between the TU's test requests and the IU: the IU's ready follows its
+  // answer's (a test starts as the last one leaves) and rpu_tu decides all its outputs in
+  // one process, so without registers between them the two would form a combinational
+  // loop (as Verilator sees it with --assert), evaluated over and over each cycle.
+  logic             iu_in_valid, iu_in_ready;
+  rpu_pkg::iu_req_t iu_in;
+  rpu_skid_buf #(.Width(rpu_pkg::IuReqBits)) u_iu_req (
+    .clk_i, .rst_ni,
+    .valid_i(iu_req_valid), .ready_o(iu_req_ready), .data_i(iu_req),
+    .valid_o(iu_in_valid), .ready_i(iu_in_ready), .data_o(iu_in)
+  );
+
   rpu_iu #(.ExpBits(ExpBits), .FracBits(FracBits), .IsectMode(IsectMode)) u_iu (
     .clk_i, .rst_ni,
-    .req_valid_i(iu_req_valid), .req_ready_o(iu_req_ready), .req_i(iu_req),
+    .req_valid_i(iu_in_valid), .req_ready_o(iu_in_ready), .req_i(iu_in),
     .rsp_valid_o(iu_rsp_valid), .rsp_ready_i(iu_rsp_ready), .rsp_o(iu_rsp)
   );
 

@@ -305,6 +305,9 @@ module rpu_spu #(
   logic [127:0]          sfu_out_value;
   op_t                   ret_op;
   logic                  ret_valid;
+  // A ray's answer has the first claim on S0, so the core takes one every cycle (and its
+  // ready depends on nothing: no combinational path back into the ray units).
+  assign trace_rsp_ready_o = 1'b1;
   logic                  ret_broadcast;  // ld1: the word in every lane
   logic [rpu_pkg::ThreadBits-TB-1:0] unused_tag_thread;
 
@@ -312,14 +315,12 @@ module rpu_spu #(
     ret_op            = '0;
     ret_op.valid      = 1'b1;
     ret_op.ret        = 1'b1;
-    trace_rsp_ready_o = 1'b0;
     lsu_out_ready     = 1'b0;
     sfu_out_ready     = 1'b0;
     ret_valid         = 1'b1;
     ret_broadcast     = 1'b0;
     unused_tag_thread = trace_rsp_i.tag[RegBits + 4 + TB +: rpu_pkg::ThreadBits - TB];
     if (trace_rsp_valid_i) begin
-      trace_rsp_ready_o = 1'b1;
       {ret_op.thread, ret_op.r_dst, ret_op.r_wmask} =
           trace_rsp_i.tag[TB + RegBits + 4 - 1:0];
       ret_op.pc       = trace_rsp_i.pc;

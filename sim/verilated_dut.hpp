@@ -151,9 +151,16 @@ class VerilatedDut {
     Verilated::threadContextp(context_.get());  // as in the destructor: several models may be alive
     top_->eval();
     if constexpr (kHasFst<Top>) {
-      if (fst_) fst_->dump(time_);
+      if (fst_ && time_ / 2 >= wave_begin_ && time_ / 2 < wave_end_) fst_->dump(time_);
     }
     ++time_;
+  }
+
+  // Waveforms of the clock cycles [begin, end) only (counted from the model's first
+  // evaluation, reset included): FST of every cycle of a frame costs ~25x.
+  void set_wave_window(std::uint64_t begin, std::uint64_t end) {
+    wave_begin_ = begin;
+    wave_end_ = end;
   }
 
   void clock() {
@@ -176,6 +183,7 @@ class VerilatedDut {
   // Only traced tops hold a writer: the others are linked without the FST library.
   std::conditional_t<kHasFst<Top>, std::unique_ptr<FstOutput>, std::monostate> fst_;
   std::uint64_t time_ = 0;
+  std::uint64_t wave_begin_ = 0, wave_end_ = ~std::uint64_t{0};
 };
 
 }  // namespace rpu::sim

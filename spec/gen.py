@@ -428,7 +428,7 @@ RTL_CACHES = (("Node", "node_cache"), ("Triangle", "triangle_cache"), ("Data", "
 RTL_CACHE_PARAMETERS = (("Bytes", "bytes"), ("Ways", "ways"), ("HitLatency", "hit_latency"), ("Mshrs", "mshrs"))
 RTL_PARAMETERS = {"Cores": "shader_cores", "Threads": "threads_per_core", "ChunkSize": "chunk_size",
                   "Registers": "registers", "CallDepth": "call_depth", "StackBytes": "stack_bytes",
-                  "SfuUnits": "sfu_units", "StackDepth": "stack_depth",
+                  "SfuUnits": "sfu_units", "StackDepth": "stack_depth", "RayUnits": "traversal_units",
                   **{f"{unit}{param}": f"{cache}.{key}" for unit, cache in RTL_CACHES
                      for param, key in RTL_CACHE_PARAMETERS}}
 

@@ -104,6 +104,18 @@ def layout(spec: dict, fp_op_bits: int) -> dict:
             if bits in env and c[field] > 1 << env[bits]:
                 raise StreamError(f"{WHERE}: config '{c['name']}' has {field} = {c[field]}, more than "
                                   f"{bits} = {env[bits]} can name")
+        if c["traversal_units"] != c["intersection_units"]:
+            raise StreamError(f"{WHERE}: config '{c['name']}' has {c['traversal_units']} traversal and "
+                              f"{c['intersection_units']} intersection units; the RTL's ray units pair one of each")
+        if "CacheTagBits" in env:
+            # A ray unit's in-order port keeps an intersection record's lines in flight
+            # under the tag bits its cache arbiter leaves (rtl/rpu_top.sv PortTagBits).
+            lines = max(env["TriangleRecordWoopBytes"], env["TriangleRecordWatertightBytes"]) // env["MemLineBytes"]
+            own = env["CacheTagBits"] - (c["traversal_units"] - 1).bit_length()
+            if own < 1 or 1 << own < lines:
+                raise StreamError(f"{WHERE}: config '{c['name']}' has {c['traversal_units']} traversal units; "
+                                  f"CacheTagBits = {env['CacheTagBits']} leaves each {max(own, 0)} tag bits, too few "
+                                  f"for an intersection record's {lines} lines in flight")
         if "ChunkLanes" in env and c["chunk_size"] > env["ChunkLanes"]:
             raise StreamError(f"{WHERE}: config '{c['name']}' has chunk_size = {c['chunk_size']}, more than "
                               f"ChunkLanes = {env['ChunkLanes']}")

@@ -30,9 +30,18 @@
 #include "reference/renderer.hpp"
 #include "rpu/version.hpp"
 #include "scene/resolve.hpp"
+#ifdef RPU_HAVE_RTL
+#include "rtl_device.hpp"
+#endif
 
 namespace rpu::cli {
 namespace {
+
+#ifdef RPU_HAVE_RTL
+const std::vector<std::string> kBackends{"reference", "functional", "cycle", "rtl"};
+#else
+const std::vector<std::string> kBackends{"reference", "functional", "cycle"};
+#endif
 
 struct RenderOptions {
   std::string scene;
@@ -46,6 +55,10 @@ struct RenderOptions {
   std::vector<std::filesystem::path> heatmap;  // .png false colour / .exr linear cycles
   std::filesystem::path trace;                 // Chrome trace JSON
   std::vector<std::uint64_t> trace_window{0, 200'000};
+  // rtl backend outputs
+  std::filesystem::path waves;                 // FST
+  std::vector<std::uint64_t> wave_window{0, ~std::uint64_t{0}};
+  bool lockstep = false;
   RenderSettings settings;
   ChipOptions chip;
 };
@@ -154,6 +167,17 @@ Image render_device(const Scene& world, const RenderOptions& o, std::string& sum
       options.timeline = [&timeline](const cycle::TimelineSlice& s) { timeline->add(s); };
     }
     dev = cycle::make_cycle_device(o.chip.hardware_config(), build.format, options);
+#ifdef RPU_HAVE_RTL
+  } else if (o.backend == "rtl") {
+    sim::RtlOptions options;
+    options.watchdog = o.watchdog;
+    options.isect = o.chip.isect_mode();
+    options.lockstep = o.lockstep;
+    options.waves = o.waves.string();
+    options.wave_begin = o.wave_window[0];
+    options.wave_end = o.wave_window[1];
+    dev = sim::make_rtl_device(o.chip.hardware_config(), build.format, options);
+#endif
   } else {
     device::FunctionalOptions options;
     options.host_threads = o.settings.threads;
@@ -203,6 +227,7 @@ void check_render_outputs(const RenderOptions& o) {
   for (const std::filesystem::path& f : o.stats) outputs.push_back({"--stats", f, {".json", ".csv"}});
   for (const std::filesystem::path& f : o.heatmap) outputs.push_back({"--heatmap", f, {".png", ".exr"}});
   if (!o.trace.empty()) outputs.push_back({"--trace", o.trace, {".json"}});
+  if (!o.waves.empty()) outputs.push_back({"--waves", o.waves, {".fst"}});
   std::vector<PlannedInput> inputs;
   if (std::filesystem::is_regular_file(o.scene)) inputs.push_back({"the scene", o.scene});
   if (!o.firmware.empty()) inputs.push_back({"the firmware", o.firmware});
@@ -239,8 +264,11 @@ int run_render(const RenderOptions& options, const CLI::App& command) {
   if ((!options.heatmap.empty() || !options.trace.empty()) && options.backend != "cycle") {
     throw Error("--heatmap and --trace need --backend cycle");
   }
+  if ((!options.waves.empty() || options.lockstep) && options.backend != "rtl") {
+    throw Error("--waves and --lockstep need --backend rtl");
+  }
   if (!options.stats.empty() && options.backend == "reference") {
-    throw Error("--stats needs --backend functional or cycle: the reference renderer keeps no statistics");
+    throw Error("--stats needs a device backend (functional, cycle or rtl): the reference renderer keeps no statistics");
   }
   if (options.trace_window[0] >= options.trace_window[1]) {
     throw Error(fmt::format("--trace-window {} {}: the window is empty", options.trace_window[0], options.trace_window[1]));
@@ -290,7 +318,7 @@ Command add_render_command(CLI::App& app) {
   render_cmd->add_option("-o,--output", render->outputs, "Output image(s): .png and/or .exr")
       ->capture_default_str();
   render_cmd->add_option("--backend", render->backend, "Which view of the chip renders")
-      ->check(CLI::IsMember({"reference", "functional", "cycle"}))
+      ->check(CLI::IsMember(kBackends))
       ->capture_default_str();
   render_cmd->add_option("--width", render->settings.width, "Image width in pixels")
       ->check(CLI::Range(1, 16384))
@@ -310,9 +338,9 @@ Command add_render_command(CLI::App& app) {
       ->capture_default_str();
 
   render_cmd->add_option("--firmware", render->firmware,
-                         "functional and cycle backends: firmware (.s or .rfw) instead of the built-in whitted.s");
+                         "device backends: firmware (.s or .rfw) instead of the built-in whitted.s");
   render_cmd->add_option("--watchdog", render->watchdog,
-                         "functional and cycle backends: instructions one thread may retire for one pixel before it "
+                         "device backends: instructions one thread may retire for one pixel before it "
                          "faults")
       ->check(CLI::Validator(
           [](const std::string& text) {
@@ -323,7 +351,7 @@ Command add_render_command(CLI::App& app) {
           "INSTRUCTIONS>=1"))
       ->capture_default_str();
   render_cmd->add_option("--stats", render->stats,
-                         "functional and cycle backends: statistics and the facts of the run, .json and/or .csv "
+                         "device backends: statistics and the facts of the run, .json and/or .csv "
                          "(one wide row under a header of metric names)");
   render_cmd->add_option("--heatmap", render->heatmap,
                          "cycle backend: per-pixel cycle cost, .png (false colour) and/or .exr (cycles, linear)");
@@ -332,6 +360,13 @@ Command add_render_command(CLI::App& app) {
   render_cmd->add_option("--trace-window", render->trace_window, "cycle backend: the timeline's cycles [BEGIN, END)")
       ->expected(2)
       ->capture_default_str();
+#ifdef RPU_HAVE_RTL
+  render_cmd->add_option("--waves", render->waves, "rtl backend: FST waveforms of the chip (GTKWave, Surfer)");
+  render_cmd->add_option("--wave-window", render->wave_window, "rtl backend: the waveforms' cycles [BEGIN, END)")
+      ->expected(2);
+  render_cmd->add_flag("--lockstep", render->lockstep,
+                       "rtl backend: compare every core with the functional model, instruction by instruction");
+#endif
   add_chip_options(*render_cmd, render->chip);
 
   return {render_cmd, [render, render_cmd] { return run_render(*render, *render_cmd); }};

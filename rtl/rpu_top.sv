@@ -1,0 +1,319 @@
+// The chip (docs/chip.md): Cores shader cores (rpu_spu), each with its data cache;
+// RayUnits ray units (rpu_ray_unit: a traversal unit and its intersection unit) fed by
+// rpu_ray_dispatch, their memory ports in order (rpu_inorder_port) on a node cache
+// (kd nodes) and a triangle cache (leaf lists and intersection records); every cache
+// on one memory port (rpu_mem_arbiter). Built for a named configuration of
+// spec/configs.toml (its parameters from gen.py --list rtl-configs).
+//
+// The host writes the firmware into every core's code memory, holds the launch and the
+// scene's traversal configuration, and pulses start_i; done_o rises when every core has
+// run its rounds of pixels and nothing is in flight. A fault anywhere stops every round
+// past the first faulting pixel (stop logic below). The trace ports repeat each core's
+// issue, retire, writeback and fault records for the lockstep checker.
+module rpu_top #(
+  parameter int unsigned Cores               = rpu_pkg::ConfigTinyShaderCores,
+  parameter int unsigned Threads             = rpu_pkg::ConfigTinyThreadsPerCore,
+  parameter int unsigned ChunkSize           = rpu_pkg::ConfigTinyChunkSize,
+  parameter int unsigned Registers           = rpu_pkg::ConfigTinyRegisters,
+  parameter int unsigned CallDepth           = rpu_pkg::ConfigTinyCallDepth,
+  parameter int unsigned StackBytes          = rpu_pkg::ConfigTinyStackBytes,
+  parameter int unsigned SfuUnits            = rpu_pkg::ConfigTinySfuUnits,
+  parameter int unsigned StackDepth          = rpu_pkg::ConfigTinyStackDepth,
+  parameter int unsigned RayUnits            = rpu_pkg::ConfigTinyTraversalUnits,
+  parameter int unsigned IsectMode           = rpu_pkg::IsectModeWoop,
+  parameter int unsigned NodeBytes      = rpu_pkg::ConfigTinyNodeCacheBytes,
+  parameter int unsigned NodeWays       = rpu_pkg::ConfigTinyNodeCacheWays,
+  parameter int unsigned NodeHitLatency = rpu_pkg::ConfigTinyNodeCacheHitLatency,
+  parameter int unsigned NodeMshrs      = rpu_pkg::ConfigTinyNodeCacheMshrs,
+  parameter int unsigned TriangleBytes      = rpu_pkg::ConfigTinyTriangleCacheBytes,
+  parameter int unsigned TriangleWays       = rpu_pkg::ConfigTinyTriangleCacheWays,
+  parameter int unsigned TriangleHitLatency = rpu_pkg::ConfigTinyTriangleCacheHitLatency,
+  parameter int unsigned TriangleMshrs      = rpu_pkg::ConfigTinyTriangleCacheMshrs,
+  parameter int unsigned DataBytes      = rpu_pkg::ConfigTinyDataCacheBytes,
+  parameter int unsigned DataWays       = rpu_pkg::ConfigTinyDataCacheWays,
+  parameter int unsigned DataHitLatency = rpu_pkg::ConfigTinyDataCacheHitLatency,
+  parameter int unsigned DataMshrs      = rpu_pkg::ConfigTinyDataCacheMshrs,
+  parameter int unsigned CodeWords           = 4096,
+  parameter int unsigned ExpBits             = rpu_pkg::FormatFp32ExponentBits,
+  parameter int unsigned FracBits            = rpu_pkg::FormatFp32FractionBits,
+  localparam int unsigned CodeAddrBits = $clog2(CodeWords)
+) (
+  input  logic                                    clk_i,
+  input  logic                                    rst_ni,
+
+  input  logic                                    code_we_i,
+  input  logic [CodeAddrBits-1:0]                 code_addr_i,
+  input  logic [63:0]                             code_data_i,
+
+  input  logic                                    start_i,
+  input  rpu_pkg::launch_t                        launch_i,
+  input  rpu_pkg::tu_cfg_t                        tu_cfg_i,
+  output logic                                    done_o,
+
+  output logic                                    dram_req_valid_o,
+  input  logic                                    dram_req_ready_i,
+  output rpu_pkg::dram_req_t                      dram_req_o,
+  input  logic                                    dram_rsp_valid_i,
+  output logic                                    dram_rsp_ready_o,
+  input  rpu_pkg::dram_rsp_t                      dram_rsp_i,
+
+  output logic [Cores-1:0]                        issue_valid_o,
+  output logic [Cores*rpu_pkg::IssueBits-1:0]     issue_o,
+  output logic [Cores-1:0]                        retire_valid_o,
+  output logic [Cores*rpu_pkg::RetireBits-1:0]    retire_o,
+  output logic [Cores-1:0]                        wb_valid_o,
+  output logic [Cores*rpu_pkg::WritebackBits-1:0] wb_o,
+  output logic [Cores-1:0]                        fault_valid_o,
+  output logic [Cores*rpu_pkg::FaultBits-1:0]     fault_o
+);
+
+  // The memory port's caches: the node cache, the triangle cache, a data cache per core.
+  localparam int unsigned NodeCache = 0;
+  localparam int unsigned TriangleCache = 1;
+  localparam int unsigned Caches = 2 + Cores;
+  localparam int unsigned ReqBits = rpu_pkg::CacheReqBits;
+  localparam int unsigned RspBits = rpu_pkg::CacheRspBits;
+  // A ray unit's tags at the node and triangle caches: what their arbiters leave of
+  // the cache tag (rpu_cache_arbiter's OwnTagBits); spec/streams.py checks that a record's
+  // lines fit.
+  localparam int unsigned PortTagBits = rpu_pkg::CacheTagBits - (RayUnits > 1 ? $clog2(RayUnits) : 0);
+
+  logic [Caches-1:0]                      c_dram_req_valid, c_dram_req_ready, c_dram_rsp_valid, c_dram_rsp_ready;
+  logic [Caches*rpu_pkg::DramReqBits-1:0] c_dram_req;
+  logic [Caches*rpu_pkg::DramRspBits-1:0] c_dram_rsp;
+  logic [Caches-1:0]                      cache_idle;
+
+  // ---------------------------------------------------------------------------------
+  // Stop: the first faulting pixel seen so far; no round past it starts.
+  // ---------------------------------------------------------------------------------
+  logic            stop_d, stop_q;
+  logic [31:0]     stop_pixel_d, stop_pixel_q;
+  rpu_pkg::fault_t fault;
+  always_comb begin
+    stop_d       = stop_q && !start_i;
+    stop_pixel_d = stop_pixel_q;
+    fault        = '0;
+    for (int c = 0; c < Cores; c++) begin
+      fault = fault_o[rpu_pkg::FaultBits*c +: rpu_pkg::FaultBits];
+      if (fault_valid_o[c]) begin
+        if (!stop_d || fault.pixel < stop_pixel_d) stop_pixel_d = fault.pixel;
+        stop_d = 1'b1;
+      end
+    end
+  end
+
+  // ---------------------------------------------------------------------------------
+  // Shader cores, each with its data cache.
+  // ---------------------------------------------------------------------------------
+  logic [Cores-1:0]                      core_done;
+  logic [Cores-1:0]                      t_req_valid, t_req_ready, t_rsp_valid, t_rsp_ready;
+  logic [Cores*rpu_pkg::TraceReqBits-1:0] t_req;
+  logic [Cores*rpu_pkg::TraceRspBits-1:0] t_rsp;
+
+  for (genvar c = 0; c < Cores; c++) begin : g_core
+    logic                 req_valid, req_ready, rsp_valid, rsp_ready;
+    logic [ReqBits-1:0]   req;
+    logic [RspBits-1:0]   rsp;
+    logic [rpu_pkg::CacheCountersBits-1:0] counters;
+
+    rpu_spu #(
+      .CoreId(c), .Cores(Cores), .Threads(Threads), .ChunkSize(ChunkSize), .Registers(Registers),
+      .CallDepth(CallDepth), .StackBytes(StackBytes), .SfuUnits(SfuUnits), .CodeWords(CodeWords),
+      .ExpBits(ExpBits), .FracBits(FracBits)
+    ) u_spu (
+      .clk_i, .rst_ni,
+      .code_we_i, .code_addr_i, .code_data_i,
+      .start_i, .launch_i, .stop_i(stop_q), .stop_pixel_i(stop_pixel_q), .done_o(core_done[c]),
+      .cache_req_valid_o(req_valid), .cache_req_ready_i(req_ready), .cache_req_o(req),
+      .cache_rsp_valid_i(rsp_valid), .cache_rsp_ready_o(rsp_ready), .cache_rsp_i(rsp),
+      .trace_req_valid_o(t_req_valid[c]), .trace_req_ready_i(t_req_ready[c]),
+      .trace_req_o(t_req[rpu_pkg::TraceReqBits*c +: rpu_pkg::TraceReqBits]),
+      .trace_rsp_valid_i(t_rsp_valid[c]), .trace_rsp_ready_o(t_rsp_ready[c]),
+      .trace_rsp_i(t_rsp[rpu_pkg::TraceRspBits*c +: rpu_pkg::TraceRspBits]),
+      .issue_valid_o(issue_valid_o[c]), .issue_o(issue_o[rpu_pkg::IssueBits*c +: rpu_pkg::IssueBits]),
+      .retire_valid_o(retire_valid_o[c]), .retire_o(retire_o[rpu_pkg::RetireBits*c +: rpu_pkg::RetireBits]),
+      .wb_valid_o(wb_valid_o[c]), .wb_o(wb_o[rpu_pkg::WritebackBits*c +: rpu_pkg::WritebackBits]),
+      .fault_valid_o(fault_valid_o[c]), .fault_o(fault_o[rpu_pkg::FaultBits*c +: rpu_pkg::FaultBits])
+    );
+
+    rpu_cache #(
+      .Bytes(DataBytes), .Ways(DataWays), .HitLatency(DataHitLatency), .Mshrs(DataMshrs),
+      .CacheId(2 + c)
+    ) u_data_cache (
+      .clk_i, .rst_ni,
+      .req_valid_i(req_valid), .req_ready_o(req_ready), .req_i(req),
+      .rsp_valid_o(rsp_valid), .rsp_ready_i(rsp_ready), .rsp_o(rsp),
+      .dram_req_valid_o(c_dram_req_valid[2 + c]), .dram_req_ready_i(c_dram_req_ready[2 + c]),
+      .dram_req_o(c_dram_req[rpu_pkg::DramReqBits*(2 + c) +: rpu_pkg::DramReqBits]),
+      .dram_rsp_valid_i(c_dram_rsp_valid[2 + c]), .dram_rsp_ready_o(c_dram_rsp_ready[2 + c]),
+      .dram_rsp_i(c_dram_rsp[rpu_pkg::DramRspBits*(2 + c) +: rpu_pkg::DramRspBits]),
+      .counters_o(counters), .idle_o(cache_idle[2 + c])
+    );
+
+    logic unused;
+    assign unused = ^counters;
+  end
+
+  // ---------------------------------------------------------------------------------
+  // Ray units, their rays from the cores.
+  // ---------------------------------------------------------------------------------
+  logic [RayUnits-1:0]                      u_req_valid, u_req_ready, u_rsp_valid, u_rsp_ready;
+  logic [RayUnits*rpu_pkg::TuReqBits-1:0]   u_req;
+  logic [RayUnits*rpu_pkg::TuRspBits-1:0]   u_rsp;
+  logic                                     dispatch_idle;
+
+  rpu_ray_dispatch #(.Cores(Cores), .Units(RayUnits)) u_dispatch (
+    .clk_i, .rst_ni,
+    .core_req_valid_i(t_req_valid), .core_req_ready_o(t_req_ready), .core_req_i(t_req),
+    .core_rsp_valid_o(t_rsp_valid), .core_rsp_ready_i(t_rsp_ready), .core_rsp_o(t_rsp),
+    .unit_req_valid_o(u_req_valid), .unit_req_ready_i(u_req_ready), .unit_req_o(u_req),
+    .unit_rsp_valid_i(u_rsp_valid), .unit_rsp_ready_o(u_rsp_ready), .unit_rsp_i(u_rsp),
+    .idle_o(dispatch_idle)
+  );
+
+  // Each unit's memory port, in order, on the node cache (the kd nodes, which the
+  // image lays out before the leaf lists) or the triangle cache (the rest); which one
+  // decides only where a line is kept, never what is read. A unit waits for each of its
+  // requests' answers before it asks the other cache, so answers from the two never
+  // meet at one port. Requests to cache k (NodeCache, TriangleCache) from unit u sit at
+  // index k * RayUnits + u.
+  logic [2*RayUnits-1:0]         k_req_valid, k_req_ready, k_rsp_valid, k_rsp_ready;
+  logic [2*RayUnits*ReqBits-1:0] k_req;
+  logic [2*RayUnits*RspBits-1:0] k_rsp;
+  logic [RayUnits-1:0]           port_idle;
+
+  for (genvar u = 0; u < RayUnits; u++) begin : g_ray_unit
+    logic                             mem_req_valid, mem_req_ready, mem_rsp_valid, mem_rsp_ready;
+    logic [rpu_pkg::MemReqBits-1:0]   mem_req;
+    logic [rpu_pkg::MemRspBits-1:0]   mem_rsp;
+    logic                             p_req_valid, p_req_ready, p_rsp_valid, p_rsp_ready;
+    logic [ReqBits-1:0]               p_req;
+    logic [RspBits-1:0]               p_rsp;
+    logic                             to_node;
+
+    // rpu_tu decides every output in one process, from every input: skid buffers on its
+    // answers and its memory requests keep the readies it sees registered, so no
+    // combinational path runs from its outputs back into it through the dispatcher or the
+    // caches.
+    logic                             a_valid, a_ready, q_valid, q_ready;
+    logic [rpu_pkg::TuRspBits-1:0]    a;
+    logic [rpu_pkg::MemReqBits-1:0]   q;
+
+    rpu_ray_unit #(.ExpBits(ExpBits), .FracBits(FracBits), .IsectMode(IsectMode), .StackDepth(StackDepth)) u_unit (
+      .clk_i, .rst_ni, .cfg_i(tu_cfg_i),
+      .req_valid_i(u_req_valid[u]), .req_ready_o(u_req_ready[u]),
+      .req_i(u_req[rpu_pkg::TuReqBits*u +: rpu_pkg::TuReqBits]),
+      .rsp_valid_o(a_valid), .rsp_ready_i(a_ready), .rsp_o(a),
+      .mem_req_valid_o(q_valid), .mem_req_ready_i(q_ready), .mem_req_o(q),
+      .mem_rsp_valid_i(mem_rsp_valid), .mem_rsp_ready_o(mem_rsp_ready), .mem_rsp_i(mem_rsp)
+    );
+    rpu_skid_buf #(.Width(rpu_pkg::TuRspBits)) u_answer (
+      .clk_i, .rst_ni,
+      .valid_i(a_valid), .ready_o(a_ready), .data_i(a),
+      .valid_o(u_rsp_valid[u]), .ready_i(u_rsp_ready[u]), .data_o(u_rsp[rpu_pkg::TuRspBits*u +: rpu_pkg::TuRspBits])
+    );
+    rpu_skid_buf #(.Width(rpu_pkg::MemReqBits)) u_request (
+      .clk_i, .rst_ni,
+      .valid_i(q_valid), .ready_o(q_ready), .data_i(q),
+      .valid_o(mem_req_valid), .ready_i(mem_req_ready), .data_o(mem_req)
+    );
+
+    rpu_inorder_port #(.TagBits(PortTagBits)) u_port (
+      .clk_i, .rst_ni,
+      .mem_req_valid_i(mem_req_valid), .mem_req_ready_o(mem_req_ready), .mem_req_i(mem_req),
+      .mem_rsp_valid_o(mem_rsp_valid), .mem_rsp_ready_i(mem_rsp_ready), .mem_rsp_o(mem_rsp),
+      .cache_req_valid_o(p_req_valid), .cache_req_ready_i(p_req_ready), .cache_req_o(p_req),
+      .cache_rsp_valid_i(p_rsp_valid), .cache_rsp_ready_o(p_rsp_ready), .cache_rsp_i(p_rsp),
+      .idle_o(port_idle[u])
+    );
+
+    // The request's address: the field below the tag (cache_req_t {tag, addr, ...}).
+    logic [31:0] addr;
+    localparam int unsigned N = NodeCache * RayUnits + u, T = TriangleCache * RayUnits + u;
+    assign addr    = p_req[ReqBits - rpu_pkg::CacheTagBits - 1 -: 32];
+    assign to_node = addr >= tu_cfg_i.kd_nodes && addr < tu_cfg_i.prim_refs;
+    assign k_req_valid[N] = p_req_valid && to_node;
+    assign k_req_valid[T] = p_req_valid && !to_node;
+    assign p_req_ready    = to_node ? k_req_ready[N] : k_req_ready[T];
+    assign k_req[ReqBits*N +: ReqBits] = p_req;
+    assign k_req[ReqBits*T +: ReqBits] = p_req;
+    assign p_rsp_valid    = k_rsp_valid[N] || k_rsp_valid[T];
+    assign p_rsp          = k_rsp_valid[N] ? k_rsp[RspBits*N +: RspBits] : k_rsp[RspBits*T +: RspBits];
+    assign k_rsp_ready[N] = p_rsp_ready;
+    assign k_rsp_ready[T] = p_rsp_ready && !k_rsp_valid[N];
+
+`ifndef SYNTHESIS
+    always_ff @(posedge clk_i or negedge rst_ni) begin
+      if (rst_ni) begin
+        assert (!(k_rsp_valid[N] && k_rsp_valid[T]))
+          else $error("rpu_top: ray unit %0d has answers from both caches at once", u);
+      end
+    end
+`endif
+  end
+
+  // The node and triangle caches, each shared by the ray units.
+  for (genvar k = 0; k < 2; k++) begin : g_ray_cache
+    logic                 req_valid, req_ready, rsp_valid, rsp_ready;
+    logic [ReqBits-1:0]   req;
+    logic [RspBits-1:0]   rsp;
+    logic [rpu_pkg::CacheCountersBits-1:0] counters;
+
+    rpu_cache_arbiter #(.Requesters(RayUnits)) u_arbiter (
+      .clk_i, .rst_ni,
+      .req_valid_i(k_req_valid[RayUnits*k +: RayUnits]), .req_ready_o(k_req_ready[RayUnits*k +: RayUnits]),
+      .req_i(k_req[ReqBits*RayUnits*k +: ReqBits*RayUnits]),
+      .rsp_valid_o(k_rsp_valid[RayUnits*k +: RayUnits]), .rsp_ready_i(k_rsp_ready[RayUnits*k +: RayUnits]),
+      .rsp_o(k_rsp[RspBits*RayUnits*k +: RspBits*RayUnits]),
+      .cache_req_valid_o(req_valid), .cache_req_ready_i(req_ready), .cache_req_o(req),
+      .cache_rsp_valid_i(rsp_valid), .cache_rsp_ready_o(rsp_ready), .cache_rsp_i(rsp)
+    );
+    rpu_cache #(
+      .Bytes(k == NodeCache ? NodeBytes : TriangleBytes),
+      .Ways(k == NodeCache ? NodeWays : TriangleWays),
+      .HitLatency(k == NodeCache ? NodeHitLatency : TriangleHitLatency),
+      .Mshrs(k == NodeCache ? NodeMshrs : TriangleMshrs),
+      .CacheId(k)
+    ) u_cache (
+      .clk_i, .rst_ni,
+      .req_valid_i(req_valid), .req_ready_o(req_ready), .req_i(req),
+      .rsp_valid_o(rsp_valid), .rsp_ready_i(rsp_ready), .rsp_o(rsp),
+      .dram_req_valid_o(c_dram_req_valid[k]), .dram_req_ready_i(c_dram_req_ready[k]),
+      .dram_req_o(c_dram_req[rpu_pkg::DramReqBits*k +: rpu_pkg::DramReqBits]),
+      .dram_rsp_valid_i(c_dram_rsp_valid[k]), .dram_rsp_ready_o(c_dram_rsp_ready[k]),
+      .dram_rsp_i(c_dram_rsp[rpu_pkg::DramRspBits*k +: rpu_pkg::DramRspBits]),
+      .counters_o(counters), .idle_o(cache_idle[k])
+    );
+
+    logic unused;
+    assign unused = ^counters;
+  end
+
+  // ---------------------------------------------------------------------------------
+  // The memory port.
+  // ---------------------------------------------------------------------------------
+  rpu_mem_arbiter #(.Caches(Caches)) u_mem_arbiter (
+    .clk_i, .rst_ni,
+    .req_valid_i(c_dram_req_valid), .req_ready_o(c_dram_req_ready), .req_i(c_dram_req),
+    .rsp_valid_o(c_dram_rsp_valid), .rsp_ready_i(c_dram_rsp_ready), .rsp_o(c_dram_rsp),
+    .dram_req_valid_o, .dram_req_ready_i, .dram_req_o,
+    .dram_rsp_valid_i, .dram_rsp_ready_o, .dram_rsp_i
+  );
+
+  // Of a fault, the stop needs only the pixel.
+  logic unused_fault;
+  assign unused_fault = ^{fault.kind, fault.core, fault.thread, fault.pc, fault.addr};
+
+  assign done_o = &core_done && dispatch_idle && &port_idle && &cache_idle && !dram_req_valid_o;
+
+  always_ff @(posedge clk_i or negedge rst_ni) begin
+    if (!rst_ni) begin
+      stop_q       <= 1'b0;
+      stop_pixel_q <= '0;
+    end else begin
+      stop_q       <= stop_d;
+      stop_pixel_q <= stop_pixel_d;
+    end
+  end
+
+endmodule

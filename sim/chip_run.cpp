@@ -1,0 +1,171 @@
+#include "chip_run.hpp"
+
+#include <cstring>
+#include <memory>
+
+#include <fmt/format.h>
+
+#include "common/error.hpp"
+#include "cosim_core.hpp"
+#include "device_dram.hpp"
+#include "functional/device_memory.hpp"
+#include "functional/tracer.hpp"
+#include "host_setup.hpp"
+#include "isa/instruction.hpp"
+#include "spu_checker.hpp"
+
+namespace rpu::sim {
+
+namespace mm = spec::memory;
+namespace si = spec::isa;
+
+ChipRunResult run_chip_frame(ChipModel& model, const ChipFrame& frame, const ChipRunOptions& options) {
+  const spec::HardwareConfig& config = *frame.config;
+  const isa::Firmware& firmware = *frame.firmware;
+  if (firmware.code.size() > model.code_words()) {
+    throw Error(fmt::format("the firmware has {} instructions; the chip's code memories hold {}",
+                            firmware.code.size(), model.code_words()));
+  }
+  const auto pixels = static_cast<std::uint32_t>(frame.launch.width) * static_cast<std::uint32_t>(frame.launch.height);
+  const auto threads = static_cast<std::uint32_t>(config.shader_cores * config.threads_per_core);
+
+  LaunchFacts facts;
+  facts.width = static_cast<std::uint32_t>(frame.launch.width);
+  facts.height = static_cast<std::uint32_t>(frame.launch.height);
+  facts.spp = static_cast<std::uint32_t>(frame.launch.spp);
+  facts.max_depth = static_cast<std::uint32_t>(frame.launch.max_depth);
+  facts.raygen = functional::raygen_entry(firmware);
+  facts.code_words = static_cast<std::uint32_t>(firmware.code.size());
+  facts.image_bytes = static_cast<std::uint32_t>(frame.image.size());
+  facts.launch_block = frame.launch_block;
+  facts.data_bytes = static_cast<std::uint32_t>(firmware.data.size());
+  facts.watchdog = frame.watchdog;
+
+  SparseMemory memory(frame.image, frame.launch_block, firmware.data, pixels,
+                      threads * static_cast<std::uint32_t>(config.stack_bytes));
+  DeviceDram dram(memory, config.dram);
+
+  // The lockstep: the functional model with its own memory, a checker per core.
+  std::unique_ptr<functional::DeviceMemory> golden;
+  std::unique_ptr<functional::Tracer> tracer;
+  std::vector<std::unique_ptr<SpuChecker>> checkers;
+  if (options.lockstep) {
+    golden = std::make_unique<functional::DeviceMemory>(
+        frame.image, std::vector<std::uint8_t>(frame.launch_block.begin(), frame.launch_block.end()), firmware.data,
+        pixels);
+    tracer = std::make_unique<functional::Tracer>(frame.image, *frame.layout, frame.format, config.stack_depth);
+    for (int c = 0; c < model.cores(); ++c) {
+      SpuCheckerSetup cs;
+      cs.firmware = &firmware;
+      cs.tracer = tracer.get();
+      cs.format = frame.format;
+      cs.core.registers = config.registers;
+      cs.core.chunk_size = config.chunk_size;
+      cs.core.call_depth = config.call_depth;
+      cs.core.stack_bytes = static_cast<std::uint32_t>(config.stack_bytes);
+      cs.core.watchdog = frame.watchdog;
+      cs.core_id = static_cast<std::uint32_t>(c);
+      cs.threads_per_core = static_cast<std::uint32_t>(config.threads_per_core);
+      cs.total_threads = threads;
+      cs.pixels = pixels;
+      cs.width = facts.width;
+      checkers.push_back(std::make_unique<SpuChecker>(cs, *golden));
+    }
+  }
+
+  Clock<ChipModel> clock(model);
+  ChipInputs in;
+  in.launch = launch_stream(facts);
+  in.tu_cfg = tu_config(*frame.layout);
+  clock.reset(in);
+  for (std::uint32_t pc = 0; pc < firmware.code.size(); ++pc) {
+    in.code_we = true;
+    in.code_addr = pc;
+    in.code_data = firmware.code[pc];
+    clock.settle(in);
+    clock.tick();
+  }
+  in.code_we = false;
+  in.start = true;
+  clock.settle(in);
+  clock.tick();
+  in.start = false;
+  in.dram_req_ready = true;
+  const std::uint64_t first = clock.cycle();
+
+  ChipRunResult result;
+  std::uint64_t halted = 0;
+  Watchdog watchdog(1'000'000);
+  for (;;) {
+    const std::uint64_t now = clock.cycle();
+    const streams::DramRsp* rsp = dram.offer(now);
+    in.dram_rsp_valid = rsp != nullptr;
+    if (rsp) in.dram_rsp = *rsp;
+    const ChipOutputs out = clock.settle(in);
+    if (out.done && dram.idle()) break;
+    if (options.max_cycles && now - first > options.max_cycles) {
+      throw CosimFailure(fmt::format("the frame did not end in {} cycles", options.max_cycles));
+    }
+    bool progress = false;
+    for (int c = 0; c < model.cores(); ++c) {
+      const CoreRecords& r = out.cores[static_cast<std::size_t>(c)];
+      SpuChecker* check = options.lockstep ? checkers[static_cast<std::size_t>(c)].get() : nullptr;
+      // A writeback before the issue of the same cycle (docs/rtl.md "Lockstep").
+      if (r.wb_valid && check) check->on_writeback(r.wb, now);
+      if (r.fault_valid) {
+        if (check) check->on_fault(r.fault, now);
+        if (!result.fault || r.fault.pixel < result.fault->pixel) {
+          result.fault = ChipFault{r.fault.kind, r.fault.core, r.fault.thread, r.fault.pixel, r.fault.pc, r.fault.addr};
+        }
+      }
+      if (r.retire_valid) {
+        if (check) check->on_retire(r.retire, now);
+        const auto opcode = static_cast<si::Opcode>(r.retire.insn[0] & ((1u << si::kOpcodeField.width) - 1));
+        if (const si::InsnSpec* s = isa::find_insn(opcode)) {
+          ++result.retired[static_cast<std::size_t>(s->cls)];
+          if (opcode == si::Opcode::kTrace) ++result.closest_rays;
+          if (opcode == si::Opcode::kTracea) ++result.any_rays;
+          if (opcode == si::Opcode::kHalt && options.progress) options.progress(++halted, pixels);
+        }
+      }
+      if (r.issue_valid) {
+        ++result.chunk_issues;
+        if (check) check->on_issue(r.issue, now);
+      }
+      progress |= r.issue_valid || r.retire_valid || r.wb_valid;
+    }
+    if (out.dram_req_valid) dram.take(out.dram_req, now);
+    if (in.dram_rsp_valid && out.dram_rsp_ready) {
+      dram.taken();
+      progress = true;
+    }
+    if (progress) watchdog.progress(now);
+    watchdog.check(now, true, [] { return std::string("the chip, which has not finished its frame"); });
+    clock.tick();
+  }
+  result.cycles = clock.cycle() - first;
+  result.dram = dram.stats();
+  result.framebuffer = memory.read(mm::kDeviceFramebufferBase, pixels * mm::kFramebufferBytesPerPixel);
+
+  if (options.lockstep) {
+    for (const auto& check : checkers) {
+      check->finish(result.fault ? std::optional<std::uint32_t>(result.fault->pixel) : std::nullopt);
+      result.lockstep_steps += check->steps();
+    }
+    const std::span<const std::uint8_t> want = golden->framebuffer();
+    for (std::uint32_t i = 0; i < result.framebuffer.size(); i += 4) {
+      if (std::memcmp(result.framebuffer.data() + i, want.data() + i, 4) != 0) {
+        std::uint32_t got, expected;
+        std::memcpy(&got, result.framebuffer.data() + i, 4);
+        std::memcpy(&expected, want.data() + i, 4);
+        const std::uint32_t p = i / mm::kFramebufferBytesPerPixel;
+        throw CosimFailure(fmt::format("framebuffer of pixel {} ({}, {}) lane {}: the functional model wrote {:#010x}, "
+                                       "the chip {:#010x}",
+                                       p, p % facts.width, p / facts.width, i / 4 % 4, expected, got));
+      }
+    }
+  }
+  return result;
+}
+
+}  // namespace rpu::sim

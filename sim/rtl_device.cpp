@@ -1,0 +1,180 @@
+// The rtl backend: a frame on the Verilated chip (sim/chip_run.hpp).
+#include "rtl_device.hpp"
+
+#include <chrono>
+#include <cstring>
+
+#include <fmt/format.h>
+
+#include "chip_run.hpp"
+#include "common/error.hpp"
+#include "config/config.hpp"
+#include "device/device_base.hpp"
+#include "functional/tracer.hpp"
+
+namespace rpu::sim {
+
+namespace {
+
+std::string isect_name(IsectMode m) { return m == IsectMode::kWoop ? "woop" : "watertight"; }
+
+class RtlDevice final : public device::DeviceBase {
+ public:
+  RtlDevice(const spec::HardwareConfig& config, fp::Format format, const RtlOptions& options)
+      : DeviceBase(config, format), options_(options) {}
+  ~RtlDevice() override { end_frame(); }
+
+  std::string_view backend() const override { return "rtl"; }
+
+ private:
+  void run(const ProgressCallback& progress) override;
+  // The fault of the RTL's first faulting pixel, with the functional model's message for
+  // that pixel (which must agree on kind, pc and address).
+  [[noreturn]] void throw_fault(const ChipFault& f) const;
+
+  RtlOptions options_;
+};
+
+void RtlDevice::run(const ProgressCallback& progress) {
+  const auto start = std::chrono::steady_clock::now();
+  if (layout_.isect_mode != options_.isect) {
+    throw Error(fmt::format("the image's intersection mode is {}, the rtl backend's chip {}",
+                            isect_name(layout_.isect_mode), isect_name(options_.isect)));
+  }
+  std::unique_ptr<ChipModel> model =
+      make_chip_model({std::string(config_.name), isect_name(options_.isect)}, 1, options_.waves);
+  if (!model) {
+    throw Error(fmt::format("no RTL chip model for configuration '{}' with the {} test in this build (built: {})",
+                            config_.name, isect_name(options_.isect), rtl_models_built()));
+  }
+  model->set_wave_window(options_.wave_begin, options_.wave_end);
+  ChipFrame frame;
+  frame.config = &config_;
+  frame.format = format_;
+  frame.image = image_;
+  frame.layout = &layout_;
+  frame.firmware = &firmware_;
+  frame.launch_block = memory_->launch_block();
+  frame.launch = launch_;
+  frame.watchdog = options_.watchdog;
+  ChipRunOptions run;
+  run.lockstep = options_.lockstep;
+  if (progress) run.progress = [&progress](std::uint64_t done, std::uint64_t total) { progress(done, total); };
+  ChipRunResult r;
+  try {
+    r = run_chip_frame(*model, frame, run);
+  } catch (...) {
+    model->close_trace();
+    throw;
+  }
+  model->close_trace();
+
+  for (std::size_t i = 0; i < r.framebuffer.size(); i += 4) {
+    std::uint32_t v;
+    std::memcpy(&v, r.framebuffer.data() + i, 4);
+    memory_->store32(spec::memory::kDeviceFramebufferBase + static_cast<std::uint32_t>(i), v);
+  }
+
+  functional::ShaderStats& sh = stats_.shader;
+  sh = {};
+  sh.retired = r.retired;
+  sh.chunk_issues = r.chunk_issues;
+  sh.lanes_issued = r.chunk_issues * static_cast<std::uint64_t>(config_.chunk_size);
+  sh.pixels = pixels();
+  sh.closest_rays = r.closest_rays;
+  sh.any_rays = r.any_rays;
+  stats_.host_threads = 1;
+  stats_.host_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+  const auto cycles = static_cast<double>(r.cycles);
+  const double clock = static_cast<double>(config_.clock_mhz) * 1e6;
+  const auto ratio = [](double a, double b) { return b > 0 ? a / b : 0.0; };
+  StatsTree t;
+  t.group("config").set("name", config_.name);
+  t.set("clock_mhz", config_.clock_mhz).set("cycles", r.cycles);
+  t.set("frame_seconds", cycles / clock).set("fps", ratio(clock, cycles));
+  t.set("host_seconds", stats_.host_seconds)
+      .set("simulated_cycles_per_host_second", ratio(cycles, stats_.host_seconds));
+  const std::uint64_t rays = r.closest_rays + r.any_rays;
+  t.group("rays").set("closest", r.closest_rays).set("any", r.any_rays).set("total", rays);
+  t.group("rates")
+      .set("rays_per_cycle", ratio(static_cast<double>(rays), cycles))
+      .set("rays_per_second", ratio(static_cast<double>(rays), cycles) * clock);
+  StatsTree& instructions = t.group("instructions");
+  instructions.set("thread", sh.instructions()).set("chunk_issues", sh.chunk_issues);
+  instructions.set("ipc_per_core",
+                   ratio(static_cast<double>(sh.chunk_issues), cycles * static_cast<double>(config_.shader_cores)));
+  instructions.set("thread_ipc", ratio(static_cast<double>(sh.instructions()), cycles));
+  instructions.set("simd_efficiency", ratio(static_cast<double>(sh.instructions()), static_cast<double>(sh.lanes_issued)));
+  StatsTree& by_class = instructions.group("by_class");
+  for (std::size_t k = 0; k < spec::isa::kClassNames.size(); ++k) by_class.set(spec::isa::kClassNames[k], sh.retired[k]);
+  t.group("dram")
+      .set("reads", r.dram.reads)
+      .set("writes", r.dram.writes)
+      .set("bytes_read", r.dram.bytes_read)
+      .set("bytes_written", r.dram.bytes_written)
+      .set("bytes_per_cycle", ratio(static_cast<double>(r.dram.bytes_read + r.dram.bytes_written), cycles))
+      .set("bus_utilisation", ratio(static_cast<double>(r.dram.bus_cycles), cycles));
+  if (options_.lockstep) t.group("lockstep").set("steps_compared", r.lockstep_steps);
+  stats_.report = std::move(t);
+
+  if (r.fault) throw_fault(*r.fault);
+}
+
+void RtlDevice::throw_fault(const ChipFault& f) const {
+  // The faulting pixel's chunk and round, as DeviceBase::lanes_of assigns them.
+  const std::uint64_t threads = device_threads();
+  const std::uint64_t thread = f.pixel % threads, round = f.pixel / threads;
+  std::vector<functional::ShaderCore::Lane> lanes;
+  lanes_of(round, thread / static_cast<std::uint64_t>(config_.chunk_size), lanes);
+  functional::DeviceMemory memory(image_, std::vector<std::uint8_t>(memory_->launch_block().begin(),
+                                                                    memory_->launch_block().end()),
+                                  firmware_.data, static_cast<std::uint32_t>(pixels()));
+  const functional::Tracer tracer(image_, layout_, format_, config_.stack_depth);
+  functional::ShaderCore core(firmware_, memory, tracer, format_, core_config(options_.watchdog));
+  functional::ShaderStats stats;
+  try {
+    core.run_chunk(lanes, stats);
+  } catch (const functional::ShaderFault& golden) {
+    if (golden.pixel() == f.pixel && static_cast<std::uint32_t>(golden.kind()) == f.kind && golden.pc() == f.pc &&
+        golden.address() == f.address) {
+      throw golden;
+    }
+    throw Error(fmt::format("the RTL reports a fault of kind {} at pc {} address {:#010x} for pixel {}; the "
+                            "functional model: {}",
+                            f.kind, f.pc, f.address, f.pixel, golden.what()));
+  }
+  throw Error(fmt::format("the RTL reports a fault of kind {} at pc {} address {:#010x} for pixel {}; the functional "
+                          "model runs that pixel's chunk without one",
+                          f.kind, f.pc, f.address, f.pixel));
+}
+
+}  // namespace
+
+std::string rtl_models_built() {
+  std::string s;
+  for (const ChipModelName& n : chip_models()) s += (s.empty() ? "" : ", ") + n.config + "/" + n.isect;
+  return s.empty() ? "none" : s;
+}
+
+std::unique_ptr<device::Device> make_rtl_device(const spec::HardwareConfig& config, fp::Format format,
+                                                const RtlOptions& options) {
+  // The RTL is built for the named configurations as spec/configs.toml has them.
+  const spec::HardwareConfig* named = nullptr;
+  for (const spec::HardwareConfig& c : spec::kConfigs) {
+    if (c.name == config.name) named = &c;
+  }
+  if (!named || config::entries(*named) != config::entries(config)) {
+    throw Error(fmt::format("the rtl backend runs the named configurations as spec/configs.toml has them (the RTL's "
+                            "parameters are fixed when it is built: {}); this configuration ('{}') is not one of them "
+                            "or was changed with --set or a file",
+                            rtl_models_built(), config.name));
+  }
+  if (format != fp::format_by_name(std::string(config.format))) {
+    throw Error(fmt::format("the rtl backend's chip of configuration '{}' computes in {}, not {}", config.name,
+                            config.format, format.name()));
+  }
+  return std::make_unique<RtlDevice>(config, format, options);
+}
+
+}  // namespace rpu::sim
