@@ -112,8 +112,11 @@ def lint(args) -> int:
     tables = gen.load(ROOT / "spec")
     for r in tables["resolved"]:
         params = gen.rtl_parameters(tables, r["values"])
-        spu = {k: v for k, v in params.items() if k not in ("StackDepth",) and k not in cache_parameters()}
+        spu = {k: v for k, v in params.items()
+               if k not in ("StackDepth", "RayUnits") and k not in cache_parameters()}
         jobs.append((f"rpu_spu {r['name']}", ["rpu_spu"], [f"-G{k}={v}" for k, v in spu.items()], []))
+        # The chip takes every parameter of the configuration.
+        jobs.append((f"rpu_top {r['name']}", ["rpu_top"], [f"-G{k}={v}" for k, v in params.items()], []))
     jobs.append(("rpu_spu chunks of 1", ["rpu_spu"], ["-GThreads=4", "-GChunkSize=1", "-GSfuUnits=4"], []))
     jobs.append(("rpu_spu_cosim_top", ["rpu_spu_cosim_top"], [], [SPU_SIM_TOP]))
     # The memory system: each named configuration's three caches, the co-simulation

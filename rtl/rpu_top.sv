@@ -84,6 +84,24 @@ module rpu_top #(
   logic [Caches-1:0]                      cache_idle;
 
   // ---------------------------------------------------------------------------------
+  // The chip's inputs, registered: the launch and the scene's traversal configuration
+  // (held for the frame; start_i is delayed with them, so the cores see all three in
+  // the same cycle) and the memory port's answers (a skid buffer). Nothing inside then
+  // depends combinationally on a pin, which is also what lets Verilator evaluate the
+  // logic once a cycle instead of again for every change of an input.
+  // ---------------------------------------------------------------------------------
+  logic               start_q;
+  rpu_pkg::launch_t   launch_q;
+  rpu_pkg::tu_cfg_t   tu_cfg_q;
+  logic               port_rsp_valid, port_rsp_ready;
+  rpu_pkg::dram_rsp_t port_rsp;
+  rpu_skid_buf #(.Width(rpu_pkg::DramRspBits)) u_dram_rsp (
+    .clk_i, .rst_ni,
+    .valid_i(dram_rsp_valid_i), .ready_o(dram_rsp_ready_o), .data_i(dram_rsp_i),
+    .valid_o(port_rsp_valid), .ready_i(port_rsp_ready), .data_o(port_rsp)
+  );
+
+  // ---------------------------------------------------------------------------------
   // Stop: the first faulting pixel seen so far; no round past it starts.
   // ---------------------------------------------------------------------------------
   logic            stop_d, stop_q;
@@ -123,7 +141,7 @@ module rpu_top #(
     ) u_spu (
       .clk_i, .rst_ni,
       .code_we_i, .code_addr_i, .code_data_i,
-      .start_i, .launch_i, .stop_i(stop_q), .stop_pixel_i(stop_pixel_q), .done_o(core_done[c]),
+      .start_i(start_q), .launch_i(launch_q), .stop_i(stop_q), .stop_pixel_i(stop_pixel_q), .done_o(core_done[c]),
       .cache_req_valid_o(req_valid), .cache_req_ready_i(req_ready), .cache_req_o(req),
       .cache_rsp_valid_i(rsp_valid), .cache_rsp_ready_o(rsp_ready), .cache_rsp_i(rsp),
       .trace_req_valid_o(t_req_valid[c]), .trace_req_ready_i(t_req_ready[c]),
@@ -200,7 +218,7 @@ module rpu_top #(
     logic [rpu_pkg::MemReqBits-1:0]   q;
 
     rpu_ray_unit #(.ExpBits(ExpBits), .FracBits(FracBits), .IsectMode(IsectMode), .StackDepth(StackDepth)) u_unit (
-      .clk_i, .rst_ni, .cfg_i(tu_cfg_i),
+      .clk_i, .rst_ni, .cfg_i(tu_cfg_q),
       .req_valid_i(u_req_valid[u]), .req_ready_o(u_req_ready[u]),
       .req_i(u_req[rpu_pkg::TuReqBits*u +: rpu_pkg::TuReqBits]),
       .rsp_valid_o(a_valid), .rsp_ready_i(a_ready), .rsp_o(a),
@@ -231,7 +249,7 @@ module rpu_top #(
     logic [31:0] addr;
     localparam int unsigned N = NodeCache * RayUnits + u, T = TriangleCache * RayUnits + u;
     assign addr    = p_req[ReqBits - rpu_pkg::CacheTagBits - 1 -: 32];
-    assign to_node = addr >= tu_cfg_i.kd_nodes && addr < tu_cfg_i.prim_refs;
+    assign to_node = addr >= tu_cfg_q.kd_nodes && addr < tu_cfg_q.prim_refs;
     assign k_req_valid[N] = p_req_valid && to_node;
     assign k_req_valid[T] = p_req_valid && !to_node;
     assign p_req_ready    = to_node ? k_req_ready[N] : k_req_ready[T];
@@ -297,22 +315,30 @@ module rpu_top #(
     .req_valid_i(c_dram_req_valid), .req_ready_o(c_dram_req_ready), .req_i(c_dram_req),
     .rsp_valid_o(c_dram_rsp_valid), .rsp_ready_i(c_dram_rsp_ready), .rsp_o(c_dram_rsp),
     .dram_req_valid_o, .dram_req_ready_i, .dram_req_o,
-    .dram_rsp_valid_i, .dram_rsp_ready_o, .dram_rsp_i
+    .dram_rsp_valid_i(port_rsp_valid), .dram_rsp_ready_o(port_rsp_ready), .dram_rsp_i(port_rsp)
   );
 
   // Of a fault, the stop needs only the pixel.
   logic unused_fault;
   assign unused_fault = ^{fault.kind, fault.core, fault.thread, fault.pc, fault.addr};
 
-  assign done_o = &core_done && dispatch_idle && &port_idle && &cache_idle && !dram_req_valid_o;
+  // Not in the cycle start_q reaches the cores: they are still idle from the last frame.
+  assign done_o = &core_done && !start_q && dispatch_idle && &port_idle && &cache_idle
+                  && !dram_req_valid_o && !port_rsp_valid;
 
   always_ff @(posedge clk_i or negedge rst_ni) begin
     if (!rst_ni) begin
       stop_q       <= 1'b0;
       stop_pixel_q <= '0;
+      start_q      <= 1'b0;
+      launch_q     <= '0;
+      tu_cfg_q     <= '0;
     end else begin
       stop_q       <= stop_d;
       stop_pixel_q <= stop_pixel_d;
+      start_q      <= start_i;
+      launch_q     <= launch_i;
+      tu_cfg_q     <= tu_cfg_i;
     end
   end
 
