@@ -1,4 +1,4 @@
-// The chip's co-simulation (docs/rtl.md "Chip"): a frame of firmware over a scene on
+// The chip's co-simulation (docs/chip.md): a frame of firmware over a scene on
 // the Verilated chip of a named configuration (rtl/rpu_top.sv), every core in lockstep
 // with the functional model (sim/spu_checker.hpp) and the framebuffer compared with
 // the functional model's at the end; the memory port served by the cycle model's DRAM.
@@ -100,22 +100,5 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   report_sigbus_as_write_failure("chip_cosim");
   std::unique_ptr<ChipModel> model;
-  int status = 0;
-  try {
-    check_output_paths(o.trace, "");
-    status = run(o, model);
-  } catch (const CosimFailure& e) {
-    fmt::print(stderr, "chip_cosim FAIL: {}\n", e.what());
-    status = 1;
-  } catch (const Error& e) {
-    fmt::print(stderr, "chip_cosim: {}\n", e.what());
-    status = 2;
-  }
-  try {
-    if (model) model->close_trace();
-  } catch (const Error& e) {
-    fmt::print(stderr, "chip_cosim: {}\n", e.what());
-    status = 2;
-  }
-  return status;
+  return run_harness("chip_cosim", o.trace, "", model, [&o](std::unique_ptr<ChipModel>& m) { return run(o, m); });
 }

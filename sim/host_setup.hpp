@@ -2,12 +2,13 @@
 
 #include <cstdint>
 #include <span>
+#include <vector>
 
 #include "memory/memory_image.hpp"
 #include "rpu/streams.hpp"
 
 // What the host hands the chip before a frame, from the same facts the functional
-// backend reads (docs/rtl.md "Chip"): the traversal units' view of the scene and the
+// backend reads (docs/chip.md): the traversal units' view of the scene and the
 // shader cores' launch. Shared by the co-simulation harnesses and the rtl backend.
 namespace rpu::sim {
 
@@ -34,5 +35,26 @@ struct LaunchFacts {
   std::uint64_t watchdog = 0;        // rpu::Error past 2^32 - 1, the RTL's counter
 };
 streams::Launch launch_stream(const LaunchFacts& facts);
+
+// After reset: the firmware's words into the code memories, one a cycle, then start for
+// one cycle; the cycle after it, the frame's first, is returned. `Clock` is a harness
+// clock (cosim_core.hpp) over a shader core or the chip, `in` its inputs with the launch
+// already set.
+template <class Clock, class Inputs>
+std::uint64_t write_code_and_start(Clock& clock, Inputs& in, const std::vector<std::uint64_t>& code) {
+  for (std::uint32_t pc = 0; pc < code.size(); ++pc) {
+    in.code_we = true;
+    in.code_addr = pc;
+    in.code_data = code[pc];
+    clock.settle(in);
+    clock.tick();
+  }
+  in.code_we = false;
+  in.start = true;
+  clock.settle(in);
+  clock.tick();
+  in.start = false;
+  return clock.cycle();
+}
 
 }  // namespace rpu::sim

@@ -581,22 +581,11 @@ int main(int argc, char** argv) {
   report_sigbus_as_write_failure("mem_cosim");
   std::unique_ptr<MemModel> model;
   std::unique_ptr<OutputFile> vectors;
-  int status = 0;
-  try {
-    check_output_paths(o.trace, o.vectors);
-    status = run(o, model, vectors);
-  } catch (const CosimFailure& e) {
-    fmt::print(stderr, "mem_cosim FAIL: model {}, seed {}: {}\n", o.model, o.seed, e.what());
-    status = 1;
-  } catch (const Error& e) {
-    fmt::print(stderr, "mem_cosim: {}\n", e.what());
-    status = 2;
-  }
-  try {
-    if (model) model->close_trace();
-  } catch (const Error& e) {
-    fmt::print(stderr, "mem_cosim: {}\n", e.what());
-    status = 2;
-  }
-  return status;
+  return run_harness("mem_cosim", o.trace, o.vectors, model, [&](std::unique_ptr<MemModel>& m) {
+    try {
+      return run(o, m, vectors);
+    } catch (const CosimFailure& e) {
+      throw CosimFailure(fmt::format("model {}, seed {}: {}", o.model, o.seed, e.what()));
+    }
+  });
 }

@@ -1,4 +1,4 @@
-// The shader core's co-simulation (docs/rtl.md "Shader core"): one Verilated rpu_spu of
+// The shader core's co-simulation (docs/chip.md "Shader core"): one Verilated rpu_spu of
 // a named configuration renders a frame of firmware over a scene while the lockstep
 // checker (sim/spu_checker.hpp) steps the functional model and compares every issue,
 // retire, writeback and fault record. The core's memory port is served from the
@@ -161,19 +161,7 @@ FrameResult run_frame(const Options& o, const Bench& bench, const Frame& frame, 
   SpuInputs in;
   in.launch = lf;
   clock.reset(in);
-  for (std::uint32_t pc = 0; pc < firmware.code.size(); ++pc) {
-    in.code_we = true;
-    in.code_addr = pc;
-    in.code_data = firmware.code[pc];
-    clock.settle(in);
-    clock.tick();
-  }
-  in.code_we = false;
-  in.start = true;
-  clock.settle(in);
-  clock.tick();
-  in.start = false;
-  const std::uint64_t first_cycle = clock.cycle();
+  const std::uint64_t first_cycle = write_code_and_start(clock, in, firmware.code);
 
   std::optional<std::uint32_t> stop_pixel;
   Watchdog watchdog(100'000);
@@ -375,22 +363,5 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   report_sigbus_as_write_failure("spu_cosim");
   std::unique_ptr<SpuModel> model;
-  int status = 0;
-  try {
-    check_output_paths(o.trace, "");
-    status = run(o, model);
-  } catch (const CosimFailure& e) {
-    fmt::print(stderr, "spu_cosim FAIL: {}\n", e.what());
-    status = 1;
-  } catch (const Error& e) {
-    fmt::print(stderr, "spu_cosim: {}\n", e.what());
-    status = 2;
-  }
-  try {
-    if (model) model->close_trace();
-  } catch (const Error& e) {
-    fmt::print(stderr, "spu_cosim: {}\n", e.what());
-    status = 2;
-  }
-  return status;
+  return run_harness("spu_cosim", o.trace, "", model, [&o](std::unique_ptr<SpuModel>& m) { return run(o, m); });
 }
