@@ -1,7 +1,8 @@
 // A traversal unit with its intersection unit: what a `trace` instruction hands a ray
 // to. rpu_tu walks the kd tree over the memory port and sends each leaf triangle to
 // rpu_iu; the ray's hit record comes back on the response port (docs/rtl.md, "Ray
-// unit"). Only wiring: both units are the ones co-simulated alone.
+// unit"). Wiring, and the counters of its time and work (docs/chip.md "Statistics"):
+// both units are the ones co-simulated alone.
 module rpu_ray_unit #(
   parameter int unsigned ExpBits    = rpu_pkg::FormatFp32ExponentBits,
   parameter int unsigned FracBits   = rpu_pkg::FormatFp32FractionBits,
@@ -27,7 +28,11 @@ module rpu_ray_unit #(
 
   input  logic              mem_rsp_valid_i,
   output logic              mem_rsp_ready_o,
-  input  rpu_pkg::mem_rsp_t mem_rsp_i
+  input  rpu_pkg::mem_rsp_t mem_rsp_i,
+
+  // The unit's time and work, counted in the cycles count_i is high (the chip's frame).
+  input  logic                         count_i,
+  output rpu_pkg::ray_unit_counters_t  counters_o
 );
 
   logic             iu_req_valid, iu_req_ready;
@@ -62,5 +67,56 @@ module rpu_ray_unit #(
     .req_valid_i(iu_in_valid), .req_ready_o(iu_in_ready), .req_i(iu_in),
     .rsp_valid_o(iu_rsp_valid), .rsp_ready_i(iu_rsp_ready), .rsp_o(iu_rsp)
   );
+
+  // ---------------------------------------------------------------------------------
+  // Counters: a ray is in the unit from its request to its answer; meanwhile the unit
+  // waits for memory while a line read is asked for and unanswered, for the IU while a
+  // test is, and is busy otherwise. The work is the answers' own counts, summed.
+  // ---------------------------------------------------------------------------------
+  logic [2:0] rays_in_d, rays_in_q;      // the request's skid buffer and the TU hold up to 3
+  logic [2:0] lines_out_d, lines_out_q;  // the TU waits for each line
+  logic [2:0] tests_out_d, tests_out_q;  // ... and for each test
+  logic       ray_in, ray_out, line_out, line_back, test_out, test_back;
+  assign ray_in    = req_valid_i && req_ready_o;
+  assign ray_out   = rsp_valid_o && rsp_ready_i;
+  assign line_out  = mem_req_valid_o && mem_req_ready_i;
+  assign line_back = mem_rsp_valid_i && mem_rsp_ready_o;
+  assign test_out  = iu_req_valid && iu_req_ready;
+  assign test_back = iu_rsp_valid && iu_rsp_ready;
+  assign rays_in_d   = rays_in_q + 3'(ray_in) - 3'(ray_out);
+  assign lines_out_d = lines_out_q + 3'(line_out) - 3'(line_back);
+  assign tests_out_d = tests_out_q + 3'(test_out) - 3'(test_back);
+
+  rpu_pkg::ray_unit_counters_t counters_d, counters_q;
+  always_comb begin
+    counters_d = counters_q;
+    if (count_i) begin
+      if (rays_in_q == '0)                           counters_d.idle = counters_q.idle + 32'd1;
+      else if (lines_out_q != '0 || mem_req_valid_o) counters_d.wait_memory = counters_q.wait_memory + 32'd1;
+      else if (tests_out_q != '0 || iu_req_valid)    counters_d.wait_iu = counters_q.wait_iu + 32'd1;
+      else                                           counters_d.busy = counters_q.busy + 32'd1;
+      if (ray_out) begin
+        counters_d.rays   = counters_q.rays + 32'd1;
+        counters_d.nodes  = counters_q.nodes + rsp_o.nodes;
+        counters_d.leaves = counters_q.leaves + rsp_o.leaves;
+        counters_d.tests  = counters_q.tests + rsp_o.tests;
+      end
+    end
+  end
+  assign counters_o = counters_q;
+
+  always_ff @(posedge clk_i or negedge rst_ni) begin
+    if (!rst_ni) begin
+      rays_in_q   <= '0;
+      lines_out_q <= '0;
+      tests_out_q <= '0;
+      counters_q  <= '0;
+    end else begin
+      rays_in_q   <= rays_in_d;
+      lines_out_q <= lines_out_d;
+      tests_out_q <= tests_out_d;
+      counters_q  <= counters_d;
+    end
+  end
 
 endmodule

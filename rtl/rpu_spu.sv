@@ -46,6 +46,9 @@ module rpu_spu #(
   input  logic                      stop_i,
   input  logic [31:0]               stop_pixel_i,
   output logic                      done_o,
+  // The core's time, counted in the cycles count_i is high (the chip's frame).
+  input  logic                      count_i,
+  output rpu_pkg::core_counters_t   counters_o,
 
   output logic                      cache_req_valid_o,
   input  logic                      cache_req_ready_i,
@@ -954,6 +957,62 @@ module rpu_spu #(
   end
 
   assign done_o = state_q == '0 && flight_q == '0 && lsu_idle && trace_count_q == '0;
+
+  // ---------------------------------------------------------------------------------
+  // Counters (docs/chip.md "Statistics"): why no instruction issues. A chunk with rays
+  // out waits for rays, else one with loads out for memory, else any live chunk for the
+  // core itself; the core waits for what its soonest chunk does (the core's own
+  // latencies are the shortest, rays the longest), as the cycle model does.
+  // ---------------------------------------------------------------------------------
+  logic [FlightBits*Chunks-1:0] rays_d, rays_q, loads_d, loads_q;
+  logic [Chunks-1:0]            chunk_dep, chunk_mem, chunk_ray;
+  logic [TB-1:0]                ray_back_thread, load_back_thread;
+  logic                         load_back;
+  assign ray_back_thread  = trace_rsp_i.tag[RegBits + 4 +: TB];
+  assign load_back_thread = lsu_out_tag[LsuTagBits - 1 -: TB];
+  assign load_back        = lsu_out_valid && lsu_out_ready;
+  for (genvar c = 0; c < Chunks; c++) begin : g_wait
+    logic e_here, ray_out, ray_back, load_out, load_back_here, live;
+    assign e_here         = e_q.valid && 32'(e_chunk) == c;
+    assign ray_out        = e_here && to_trace;
+    assign load_out       = e_here && to_lsu && async;
+    assign ray_back       = trace_rsp_valid_i && 32'(ray_back_thread) / ChunkSize == c;
+    assign load_back_here = load_back && 32'(load_back_thread) / ChunkSize == c;
+    assign rays_d[FlightBits*c +: FlightBits] = rays_q[FlightBits*c +: FlightBits]
+        + FlightBits'(ray_out) - FlightBits'(ray_back);
+    assign loads_d[FlightBits*c +: FlightBits] = loads_q[FlightBits*c +: FlightBits]
+        + FlightBits'(load_out) - FlightBits'(load_back_here);
+    assign live         = state_q[3*c +: 3] != CIdle;
+    assign chunk_ray[c] = live && rays_q[FlightBits*c +: FlightBits] != '0;
+    assign chunk_mem[c] = live && !chunk_ray[c] && loads_q[FlightBits*c +: FlightBits] != '0;
+    assign chunk_dep[c] = live && !chunk_ray[c] && !chunk_mem[c];
+  end
+
+  rpu_pkg::core_counters_t counters_d, counters_q;
+  always_comb begin
+    counters_d = counters_q;
+    if (count_i) begin
+      if (selected) counters_d.chunk_issues = counters_q.chunk_issues + 32'd1;
+      if (selected || emit)  counters_d.busy = counters_q.busy + 32'd1;
+      else if (|chunk_dep)   counters_d.wait_dependency = counters_q.wait_dependency + 32'd1;
+      else if (|chunk_mem)   counters_d.wait_memory = counters_q.wait_memory + 32'd1;
+      else if (|chunk_ray)   counters_d.wait_trace = counters_q.wait_trace + 32'd1;
+      else                   counters_d.idle = counters_q.idle + 32'd1;
+    end
+  end
+  assign counters_o = counters_q;
+
+  always_ff @(posedge clk_i or negedge rst_ni) begin
+    if (!rst_ni) begin
+      rays_q     <= '0;
+      loads_q    <= '0;
+      counters_q <= '0;
+    end else begin
+      rays_q     <= rays_d;
+      loads_q    <= loads_d;
+      counters_q <= counters_d;
+    end
+  end
 
   // ---------------------------------------------------------------------------------
   // Registers.

@@ -9,7 +9,8 @@
 // scene's traversal configuration, and pulses start_i; done_o rises when every core has
 // run its rounds of pixels and nothing is in flight. A fault anywhere stops every round
 // past the first faulting pixel (stop logic below). The trace ports repeat each core's
-// issue, retire, writeback and fault records for the lockstep checker.
+// issue, retire, writeback and fault records for the lockstep checker; the counters
+// count the cycles from the one after start_i to the one before done_o.
 module rpu_top #(
   parameter int unsigned Cores               = rpu_pkg::ConfigTinyShaderCores,
   parameter int unsigned Threads             = rpu_pkg::ConfigTinyThreadsPerCore,
@@ -64,7 +65,13 @@ module rpu_top #(
   output logic [Cores-1:0]                        wb_valid_o,
   output logic [Cores*rpu_pkg::WritebackBits-1:0] wb_o,
   output logic [Cores-1:0]                        fault_valid_o,
-  output logic [Cores*rpu_pkg::FaultBits-1:0]     fault_o
+  output logic [Cores*rpu_pkg::FaultBits-1:0]     fault_o,
+
+  // Counters of the frame (docs/chip.md "Statistics"): per core, per ray unit, and per
+  // cache (the node cache, the triangle cache, then core c's data cache at 2 + c).
+  output logic [Cores*rpu_pkg::CoreCountersBits-1:0]        core_counters_o,
+  output logic [RayUnits*rpu_pkg::RayUnitCountersBits-1:0]  ray_counters_o,
+  output logic [(2+Cores)*rpu_pkg::CacheCountersBits-1:0]   cache_counters_o
 );
 
   // The memory port's caches: the node cache, the triangle cache, a data cache per core.
@@ -82,6 +89,11 @@ module rpu_top #(
   logic [Caches*rpu_pkg::DramReqBits-1:0] c_dram_req;
   logic [Caches*rpu_pkg::DramRspBits-1:0] c_dram_rsp;
   logic [Caches-1:0]                      cache_idle;
+
+  // The frame: counters count from the cycle after start_i until done_o.
+  logic frame_d, frame_q, count;
+  assign frame_d = start_i || frame_q;
+  assign count   = frame_q && !done_o;
 
   // ---------------------------------------------------------------------------------
   // The chip's inputs, registered: the launch and the scene's traversal configuration
@@ -132,7 +144,6 @@ module rpu_top #(
     logic                 req_valid, req_ready, rsp_valid, rsp_ready;
     logic [ReqBits-1:0]   req;
     logic [RspBits-1:0]   rsp;
-    logic [rpu_pkg::CacheCountersBits-1:0] counters;
 
     rpu_spu #(
       .CoreId(c), .Cores(Cores), .Threads(Threads), .ChunkSize(ChunkSize), .Registers(Registers),
@@ -142,6 +153,7 @@ module rpu_top #(
       .clk_i, .rst_ni,
       .code_we_i, .code_addr_i, .code_data_i,
       .start_i(start_q), .launch_i(launch_q), .stop_i(stop_q), .stop_pixel_i(stop_pixel_q), .done_o(core_done[c]),
+      .count_i(count), .counters_o(core_counters_o[rpu_pkg::CoreCountersBits*c +: rpu_pkg::CoreCountersBits]),
       .cache_req_valid_o(req_valid), .cache_req_ready_i(req_ready), .cache_req_o(req),
       .cache_rsp_valid_i(rsp_valid), .cache_rsp_ready_o(rsp_ready), .cache_rsp_i(rsp),
       .trace_req_valid_o(t_req_valid[c]), .trace_req_ready_i(t_req_ready[c]),
@@ -165,11 +177,9 @@ module rpu_top #(
       .dram_req_o(c_dram_req[rpu_pkg::DramReqBits*(2 + c) +: rpu_pkg::DramReqBits]),
       .dram_rsp_valid_i(c_dram_rsp_valid[2 + c]), .dram_rsp_ready_o(c_dram_rsp_ready[2 + c]),
       .dram_rsp_i(c_dram_rsp[rpu_pkg::DramRspBits*(2 + c) +: rpu_pkg::DramRspBits]),
-      .counters_o(counters), .idle_o(cache_idle[2 + c])
+      .counters_o(cache_counters_o[rpu_pkg::CacheCountersBits*(2 + c) +: rpu_pkg::CacheCountersBits]),
+      .idle_o(cache_idle[2 + c])
     );
-
-    logic unused;
-    assign unused = ^counters;
   end
 
   // ---------------------------------------------------------------------------------
@@ -223,7 +233,9 @@ module rpu_top #(
       .req_i(u_req[rpu_pkg::TuReqBits*u +: rpu_pkg::TuReqBits]),
       .rsp_valid_o(a_valid), .rsp_ready_i(a_ready), .rsp_o(a),
       .mem_req_valid_o(q_valid), .mem_req_ready_i(q_ready), .mem_req_o(q),
-      .mem_rsp_valid_i(mem_rsp_valid), .mem_rsp_ready_o(mem_rsp_ready), .mem_rsp_i(mem_rsp)
+      .mem_rsp_valid_i(mem_rsp_valid), .mem_rsp_ready_o(mem_rsp_ready), .mem_rsp_i(mem_rsp),
+      .count_i(count),
+      .counters_o(ray_counters_o[rpu_pkg::RayUnitCountersBits*u +: rpu_pkg::RayUnitCountersBits])
     );
     rpu_skid_buf #(.Width(rpu_pkg::TuRspBits)) u_answer (
       .clk_i, .rst_ni,
@@ -275,7 +287,6 @@ module rpu_top #(
     logic                 req_valid, req_ready, rsp_valid, rsp_ready;
     logic [ReqBits-1:0]   req;
     logic [RspBits-1:0]   rsp;
-    logic [rpu_pkg::CacheCountersBits-1:0] counters;
 
     rpu_cache_arbiter #(.Requesters(RayUnits)) u_arbiter (
       .clk_i, .rst_ni,
@@ -300,11 +311,9 @@ module rpu_top #(
       .dram_req_o(c_dram_req[rpu_pkg::DramReqBits*k +: rpu_pkg::DramReqBits]),
       .dram_rsp_valid_i(c_dram_rsp_valid[k]), .dram_rsp_ready_o(c_dram_rsp_ready[k]),
       .dram_rsp_i(c_dram_rsp[rpu_pkg::DramRspBits*k +: rpu_pkg::DramRspBits]),
-      .counters_o(counters), .idle_o(cache_idle[k])
+      .counters_o(cache_counters_o[rpu_pkg::CacheCountersBits*k +: rpu_pkg::CacheCountersBits]),
+      .idle_o(cache_idle[k])
     );
-
-    logic unused;
-    assign unused = ^counters;
   end
 
   // ---------------------------------------------------------------------------------
@@ -331,12 +340,14 @@ module rpu_top #(
       stop_q       <= 1'b0;
       stop_pixel_q <= '0;
       start_q      <= 1'b0;
+      frame_q      <= 1'b0;
       launch_q     <= '0;
       tu_cfg_q     <= '0;
     end else begin
       stop_q       <= stop_d;
       stop_pixel_q <= stop_pixel_d;
       start_q      <= start_i;
+      frame_q      <= frame_d;
       launch_q     <= launch_i;
       tu_cfg_q     <= tu_cfg_i;
     end

@@ -46,6 +46,13 @@ struct ChipOutputs {
   std::array<CoreRecords, kMaxCores> cores;  // the first cores() are the chip's
 };
 
+// The chip's counters (rpu_top's counters ports), read at the end of a frame.
+struct ChipCounters {
+  std::vector<streams::CoreCounters> cores;
+  std::vector<streams::RayUnitCounters> ray_units;
+  std::vector<streams::CacheCounters> caches;  // node, triangle, then core c's data cache
+};
+
 class ChipModel {
  public:
   using Inputs = ChipInputs;
@@ -56,6 +63,9 @@ class ChipModel {
   // One rising and one falling clock edge.
   virtual void clock() = 0;
   virtual int cores() const = 0;
+  virtual int ray_units() const = 0;
+  // The counters as the last settle or clock left them.
+  virtual ChipCounters counters() = 0;
   virtual std::uint32_t code_words() const = 0;
   // Closes the waveforms and renames them over their path; rpu::Error naming it if
   // they could not be written. Without waveforms, nothing.

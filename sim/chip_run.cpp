@@ -2,6 +2,7 @@
 
 #include <cstring>
 #include <memory>
+#include <optional>
 
 #include <fmt/format.h>
 
@@ -18,6 +19,42 @@ namespace rpu::sim {
 
 namespace mm = spec::memory;
 namespace si = spec::isa;
+
+namespace {
+
+// The counters' own arithmetic (docs/chip.md "Statistics"): every unit's time adds up to
+// the frame's counted cycles, and every cache's reads to hits, merges and misses; the
+// counters are 32 bits wide and wrap, so the sums are compared modulo 2^32.
+void check_counters(const ChipCounters& k, std::uint64_t cycles) {
+  const auto wrap = [](std::uint64_t v) { return static_cast<std::uint32_t>(v); };
+  for (std::size_t c = 0; c < k.cores.size(); ++c) {
+    const streams::CoreCounters& t = k.cores[c];
+    const std::uint64_t sum = std::uint64_t{t.busy} + t.wait_dependency + t.wait_memory + t.wait_trace + t.idle;
+    if (wrap(sum) != wrap(cycles)) {
+      throw CosimFailure(fmt::format("core {}'s counters add up to {} cycles (busy {}, waits {} / {} / {}, idle {}), "
+                                     "the frame took {}",
+                                     c, sum, t.busy, t.wait_dependency, t.wait_memory, t.wait_trace, t.idle, cycles));
+    }
+  }
+  for (std::size_t u = 0; u < k.ray_units.size(); ++u) {
+    const streams::RayUnitCounters& t = k.ray_units[u];
+    const std::uint64_t sum = std::uint64_t{t.busy} + t.wait_memory + t.wait_iu + t.idle;
+    if (wrap(sum) != wrap(cycles)) {
+      throw CosimFailure(fmt::format("ray unit {}'s counters add up to {} cycles (busy {}, waits {} / {}, idle {}), "
+                                     "the frame took {}",
+                                     u, sum, t.busy, t.wait_memory, t.wait_iu, t.idle, cycles));
+    }
+  }
+  for (std::size_t c = 0; c < k.caches.size(); ++c) {
+    const streams::CacheCounters& t = k.caches[c];
+    if (wrap(std::uint64_t{t.hits} + t.merged + t.misses) != t.accesses) {
+      throw CosimFailure(fmt::format("cache {}: {} reads, but {} hits + {} merged + {} misses", c, t.accesses, t.hits,
+                                     t.merged, t.misses));
+    }
+  }
+}
+
+}  // namespace
 
 ChipRunResult run_chip_frame(ChipModel& model, const ChipFrame& frame, const ChipRunOptions& options) {
   const spec::HardwareConfig& config = *frame.config;
@@ -78,22 +115,11 @@ ChipRunResult run_chip_frame(ChipModel& model, const ChipFrame& frame, const Chi
   in.launch = launch_stream(facts);
   in.tu_cfg = tu_config(*frame.layout);
   clock.reset(in);
-  for (std::uint32_t pc = 0; pc < firmware.code.size(); ++pc) {
-    in.code_we = true;
-    in.code_addr = pc;
-    in.code_data = firmware.code[pc];
-    clock.settle(in);
-    clock.tick();
-  }
-  in.code_we = false;
-  in.start = true;
-  clock.settle(in);
-  clock.tick();
-  in.start = false;
+  const std::uint64_t first = write_code_and_start(clock, in, firmware.code);
   in.dram_req_ready = true;
-  const std::uint64_t first = clock.cycle();
 
   ChipRunResult result;
+  std::optional<std::uint64_t> done_at;
   std::uint64_t halted = 0;
   Watchdog watchdog(1'000'000);
   for (;;) {
@@ -102,6 +128,7 @@ ChipRunResult run_chip_frame(ChipModel& model, const ChipFrame& frame, const Chi
     in.dram_rsp_valid = rsp != nullptr;
     if (rsp) in.dram_rsp = *rsp;
     const ChipOutputs out = clock.settle(in);
+    if (out.done && !done_at) done_at = now;
     if (out.done && dram.idle()) break;
     if (options.max_cycles && now - first > options.max_cycles) {
       throw CosimFailure(fmt::format("the frame did not end in {} cycles", options.max_cycles));
@@ -110,7 +137,7 @@ ChipRunResult run_chip_frame(ChipModel& model, const ChipFrame& frame, const Chi
     for (int c = 0; c < model.cores(); ++c) {
       const CoreRecords& r = out.cores[static_cast<std::size_t>(c)];
       SpuChecker* check = options.lockstep ? checkers[static_cast<std::size_t>(c)].get() : nullptr;
-      // A writeback before the issue of the same cycle (docs/rtl.md "Lockstep").
+      // A writeback before the issue of the same cycle (docs/chip.md "Lockstep co-simulation").
       if (r.wb_valid && check) check->on_writeback(r.wb, now);
       if (r.fault_valid) {
         if (check) check->on_fault(r.fault, now);
@@ -144,6 +171,9 @@ ChipRunResult run_chip_frame(ChipModel& model, const ChipFrame& frame, const Chi
     clock.tick();
   }
   result.cycles = clock.cycle() - first;
+  result.counted_cycles = *done_at - first;
+  result.counters = model.counters();
+  check_counters(result.counters, result.counted_cycles);
   result.dram = dram.stats();
   result.framebuffer = memory.read(mm::kDeviceFramebufferBase, pixels * mm::kFramebufferBytesPerPixel);
 

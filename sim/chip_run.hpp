@@ -15,7 +15,7 @@
 #include "memory/memory_image.hpp"
 #include "rpu/spec.hpp"
 
-// One frame on a Verilated chip (docs/rtl.md "Chip"): the firmware into every core's
+// One frame on a Verilated chip (docs/chip.md): the firmware into every core's
 // code memory, the launch and the scene's traversal configuration, start; the memory
 // port served by the cycle model's DRAM (sim/device_dram.hpp) until the chip is done.
 // With `lockstep`, a checker per core (sim/spu_checker.hpp) steps the functional model
@@ -48,7 +48,9 @@ struct ChipFault {
 };
 
 struct ChipRunResult {
-  std::uint64_t cycles = 0;
+  std::uint64_t cycles = 0;                 // from start to done and the memory's last write
+  std::uint64_t counted_cycles = 0;         // from start to done: what the counters count
+  ChipCounters counters;                    // at the end (32 bits each, wrapping)
   std::vector<std::uint8_t> framebuffer;    // pixels x 16 bytes, as the chip wrote them
   std::optional<ChipFault> fault;           // the first faulting pixel's, if any
   std::array<std::uint64_t, spec::isa::kClassCount> retired{};  // thread instructions by class
@@ -58,8 +60,9 @@ struct ChipRunResult {
   std::uint64_t lockstep_steps = 0;         // with lockstep: functional steps compared
 };
 
-// CosimFailure at the first difference (with lockstep) or on a model that never ends;
-// rpu::Error for a firmware the model cannot hold.
+// CosimFailure at the first difference (with lockstep), on a model that never ends, or
+// on counters that do not add up to the frame's cycles; rpu::Error for a firmware the
+// model cannot hold.
 ChipRunResult run_chip_frame(ChipModel& model, const ChipFrame& frame, const ChipRunOptions& options);
 
 }  // namespace rpu::sim

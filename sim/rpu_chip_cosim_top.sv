@@ -55,7 +55,11 @@ module rpu_chip_cosim_top #(
   output logic [Cores-1:0]                        wb_valid_o,
   output logic [Cores*rpu_pkg::WritebackBits-1:0] wb_o,
   output logic [Cores-1:0]                        fault_valid_o,
-  output logic [Cores*rpu_pkg::FaultBits-1:0]     fault_o
+  output logic [Cores*rpu_pkg::FaultBits-1:0]     fault_o,
+
+  output logic [Cores*rpu_pkg::CoreCountersBits-1:0]        core_counters_o,
+  output logic [RayUnits*rpu_pkg::RayUnitCountersBits-1:0]  ray_counters_o,
+  output logic [(2+Cores)*rpu_pkg::CacheCountersBits-1:0]   cache_counters_o
 );
 
   rpu_pkg::launch_t   launch;
@@ -85,7 +89,8 @@ module rpu_chip_cosim_top #(
     .start_i, .launch_i(launch), .tu_cfg_i(tu_cfg), .done_o,
     .dram_req_valid_o, .dram_req_ready_i, .dram_req_o(dram_req),
     .dram_rsp_valid_i, .dram_rsp_ready_o, .dram_rsp_i(dram_rsp),
-    .issue_valid_o, .issue_o, .retire_valid_o, .retire_o, .wb_valid_o, .wb_o, .fault_valid_o, .fault_o
+    .issue_valid_o, .issue_o, .retire_valid_o, .retire_o, .wb_valid_o, .wb_o, .fault_valid_o, .fault_o,
+    .core_counters_o, .ray_counters_o, .cache_counters_o
   );
 
 endmodule

@@ -9,6 +9,7 @@
 #include "chip_run.hpp"
 #include "common/error.hpp"
 #include "config/config.hpp"
+#include "cycle/cycle_stats.hpp"
 #include "device/device_base.hpp"
 #include "functional/tracer.hpp"
 
@@ -32,8 +33,64 @@ class RtlDevice final : public device::DeviceBase {
   // that pixel (which must agree on kind, pc and address).
   [[noreturn]] void throw_fault(const ChipFault& f) const;
 
+  // The frame's statistics in the cycle backend's form, from the chip's counters.
+  cycle::CycleStats cycle_stats(const ChipRunResult& r) const;
+
   RtlOptions options_;
 };
+
+cycle::CycleStats RtlDevice::cycle_stats(const ChipRunResult& r) const {
+  cycle::CycleStats s;
+  s.config = std::string(config_.name);
+  s.clock_mhz = config_.clock_mhz;
+  s.cycles = r.cycles;
+  s.host_seconds = stats_.host_seconds;
+  s.closest_rays = r.closest_rays;
+  s.any_rays = r.any_rays;
+  for (const std::uint64_t n : r.retired) s.thread_instructions += n;
+  s.dram = r.dram;
+  s.dram_bytes_per_cycle = config_.dram.bytes_per_cycle;
+  s.counts_pops = false;
+  // The cycles after done_o, while the memory finishes its last writes, every unit idles.
+  const std::uint64_t tail = r.cycles - r.counted_cycles;
+  for (const streams::CoreCounters& k : r.counters.cores) {
+    cycle::ShaderCoreTime& t = s.cores.emplace_back();
+    t.busy = k.busy;
+    t.wait_trace = k.wait_trace;
+    t.wait_memory = k.wait_memory;
+    t.wait_dependency = k.wait_dependency;
+    t.idle = k.idle + tail;
+    t.chunk_issues = k.chunk_issues;
+  }
+  for (const streams::RayUnitCounters& k : r.counters.ray_units) {
+    cycle::TraversalUnitTime& t = s.tus.emplace_back();
+    t.busy = k.busy;
+    t.wait_memory = k.wait_memory;
+    t.wait_iu = k.wait_iu;
+    t.idle = k.idle + tail;
+    t.rays = k.rays;
+    t.inner = k.nodes - k.leaves;
+    t.leaves = k.leaves;
+    t.refs = k.tests;  // the unit tests every reference of a leaf it visits
+    t.tests = k.tests;
+    // The IU works while its TU waits for it.
+    s.ius.push_back({.tests = k.tests, .busy = k.wait_iu});
+  }
+  const auto cache = [](const streams::CacheCounters& k) {
+    cycle::CacheStats c;
+    c.accesses = k.accesses;
+    c.hits = k.hits;
+    c.merged = k.merged;
+    c.misses = k.misses;
+    c.writes = k.writes;
+    c.mshr_wait_cycles = k.mshr_wait;
+    return c;
+  };
+  s.node_cache = cache(r.counters.caches.at(0));
+  s.triangle_cache = cache(r.counters.caches.at(1));
+  for (std::size_t c = 2; c < r.counters.caches.size(); ++c) s.data_cache += cache(r.counters.caches[c]);
+  return s;
+}
 
 void RtlDevice::run(const ProgressCallback& progress) {
   const auto start = std::chrono::steady_clock::now();
@@ -83,40 +140,15 @@ void RtlDevice::run(const ProgressCallback& progress) {
   sh.pixels = pixels();
   sh.closest_rays = r.closest_rays;
   sh.any_rays = r.any_rays;
+  for (const streams::RayUnitCounters& u : r.counters.ray_units) {
+    sh.nodes += u.nodes;
+    sh.leaves += u.leaves;
+    sh.tests += u.tests;
+  }
   stats_.host_threads = 1;
   stats_.host_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-
-  const auto cycles = static_cast<double>(r.cycles);
-  const double clock = static_cast<double>(config_.clock_mhz) * 1e6;
-  const auto ratio = [](double a, double b) { return b > 0 ? a / b : 0.0; };
-  StatsTree t;
-  t.group("config").set("name", config_.name);
-  t.set("clock_mhz", config_.clock_mhz).set("cycles", r.cycles);
-  t.set("frame_seconds", cycles / clock).set("fps", ratio(clock, cycles));
-  t.set("host_seconds", stats_.host_seconds)
-      .set("simulated_cycles_per_host_second", ratio(cycles, stats_.host_seconds));
-  const std::uint64_t rays = r.closest_rays + r.any_rays;
-  t.group("rays").set("closest", r.closest_rays).set("any", r.any_rays).set("total", rays);
-  t.group("rates")
-      .set("rays_per_cycle", ratio(static_cast<double>(rays), cycles))
-      .set("rays_per_second", ratio(static_cast<double>(rays), cycles) * clock);
-  StatsTree& instructions = t.group("instructions");
-  instructions.set("thread", sh.instructions()).set("chunk_issues", sh.chunk_issues);
-  instructions.set("ipc_per_core",
-                   ratio(static_cast<double>(sh.chunk_issues), cycles * static_cast<double>(config_.shader_cores)));
-  instructions.set("thread_ipc", ratio(static_cast<double>(sh.instructions()), cycles));
-  instructions.set("simd_efficiency", ratio(static_cast<double>(sh.instructions()), static_cast<double>(sh.lanes_issued)));
-  StatsTree& by_class = instructions.group("by_class");
-  for (std::size_t k = 0; k < spec::isa::kClassNames.size(); ++k) by_class.set(spec::isa::kClassNames[k], sh.retired[k]);
-  t.group("dram")
-      .set("reads", r.dram.reads)
-      .set("writes", r.dram.writes)
-      .set("bytes_read", r.dram.bytes_read)
-      .set("bytes_written", r.dram.bytes_written)
-      .set("bytes_per_cycle", ratio(static_cast<double>(r.dram.bytes_read + r.dram.bytes_written), cycles))
-      .set("bus_utilisation", ratio(static_cast<double>(r.dram.bus_cycles), cycles));
-  if (options_.lockstep) t.group("lockstep").set("steps_compared", r.lockstep_steps);
-  stats_.report = std::move(t);
+  stats_.report = cycle::report(cycle_stats(r), sh);
+  if (options_.lockstep) stats_.report.group("lockstep").set("steps_compared", r.lockstep_steps);
 
   if (r.fault) throw_fault(*r.fault);
 }

@@ -8,7 +8,7 @@
 #include "device/device.hpp"
 #include "memory/memory_image.hpp"
 
-// The rtl backend of the Device API (docs/rtl.md "Chip"): the frame runs on the
+// The rtl backend of the Device API (docs/chip.md): the frame runs on the
 // Verilated chip (rtl/rpu_top.sv) of a named configuration, its memory port served by
 // the cycle model's DRAM; the host side (scene, tree, image, firmware, launch block)
 // is the other backends' own code. The RTL keeps its build-time parameters, so only a

@@ -12,7 +12,7 @@
 #include "functional/tracer.hpp"
 #include "rpu/streams.hpp"
 
-// The agents a shader core's harness brings (docs/rtl.md "Shader core"): the device's
+// The agents a shader core's harness brings (docs/chip.md "Shader core"): the device's
 // memory behind a cache port, the ray units behind the trace port, and the launch the
 // host hands the core. Each answers after a random delay, in any order, so the core's
 // tags are exercised; the random stream is the harness's (reproducible from its seed).

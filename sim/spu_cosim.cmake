@@ -1,4 +1,4 @@
-# The shader core (docs/rtl.md "Shader core"): one Verilated rpu_spu per named
+# The shader core (docs/chip.md "Shader core"): one Verilated rpu_spu per named
 # configuration of spec/configs.toml, its build-time parameters from the same table
 # (gen.py --list rtl-configs); spu_cosim runs firmware on it in lockstep with the
 # functional model (sim/spu_checker.hpp).

@@ -10,10 +10,10 @@
 
 namespace rpu::sim {
 
-// Stream `S` of core `core` from a flat port holding every core's, core c at bits
-// [c * S::kBits, +S::kBits).
+// Stream `S` number `index` from a flat port holding several, number i at bits
+// [i * S::kBits, +S::kBits) (each core's records, each unit's counters).
 template <class S, class Port>
-S core_slice(const Port& port, int core) {
+S stream_slice(const Port& port, int index) {
   // The port's 32-bit words: Verilator keeps up to 64 bits in one integer.
   const auto word_of = [&port](int w) -> std::uint32_t {
     if constexpr (std::is_integral_v<Port>) {
@@ -23,7 +23,7 @@ S core_slice(const Port& port, int core) {
     }
   };
   typename S::Words words{};
-  const int lsb = core * S::kBits;
+  const int lsb = index * S::kBits;
   for (int b = 0; b < S::kBits; b += 32) {
     const int n = std::min(32, S::kBits - b);
     const int at = lsb + b, word = at / 32, shift = at % 32;
@@ -34,15 +34,27 @@ S core_slice(const Port& port, int core) {
   return S::unpack(words);
 }
 
-// ChipModel over a Verilated rpu_chip_cosim_top of `kCores` cores and `kCodeWords`
-// instructions of code memory.
-template <class Top, int kCores, std::uint32_t kCodeWords>
+// ChipModel over a Verilated rpu_chip_cosim_top of `kCores` cores, `kRayUnits` ray units
+// and `kCodeWords` instructions of code memory.
+template <class Top, int kCores, int kRayUnits, std::uint32_t kCodeWords>
 class VerilatedChip final : public ChipModel {
  public:
   VerilatedChip(std::uint64_t seed, const std::string& fst) : dut_(seed, fst) {}
 
   void clock() override { dut_.clock(); }
   int cores() const override { return kCores; }
+  int ray_units() const override { return kRayUnits; }
+
+  ChipCounters counters() override {
+    Top& t = dut_.top();
+    ChipCounters c;
+    for (int k = 0; k < kCores; ++k) c.cores.push_back(stream_slice<streams::CoreCounters>(t.core_counters_o, k));
+    for (int k = 0; k < kRayUnits; ++k) {
+      c.ray_units.push_back(stream_slice<streams::RayUnitCounters>(t.ray_counters_o, k));
+    }
+    for (int k = 0; k < 2 + kCores; ++k) c.caches.push_back(stream_slice<streams::CacheCounters>(t.cache_counters_o, k));
+    return c;
+  }
   std::uint32_t code_words() const override { return kCodeWords; }
   void close_trace() override { dut_.close_trace(); }
   void set_wave_window(std::uint64_t begin, std::uint64_t end) override { dut_.set_wave_window(begin, end); }
@@ -74,10 +86,10 @@ class VerilatedChip final : public ChipModel {
       r.retire_valid = t.retire_valid_o >> c & 1;
       r.wb_valid = t.wb_valid_o >> c & 1;
       r.fault_valid = t.fault_valid_o >> c & 1;
-      if (r.issue_valid) r.issue = core_slice<streams::Issue>(t.issue_o, c);
-      if (r.retire_valid) r.retire = core_slice<streams::Retire>(t.retire_o, c);
-      if (r.wb_valid) r.wb = core_slice<streams::Writeback>(t.wb_o, c);
-      if (r.fault_valid) r.fault = core_slice<streams::Fault>(t.fault_o, c);
+      if (r.issue_valid) r.issue = stream_slice<streams::Issue>(t.issue_o, c);
+      if (r.retire_valid) r.retire = stream_slice<streams::Retire>(t.retire_o, c);
+      if (r.wb_valid) r.wb = stream_slice<streams::Writeback>(t.wb_o, c);
+      if (r.fault_valid) r.fault = stream_slice<streams::Fault>(t.fault_o, c);
     }
     return out;
   }

@@ -204,6 +204,7 @@ Image render_device(const Scene& world, const RenderOptions& o, std::string& sum
                         o.chip.hardware_config().chunk_size, millions(sh.closest_rays + sh.any_rays),
                         millions(sh.closest_rays), millions(sh.any_rays), millions(sh.nodes), millions(sh.leaves),
                         millions(sh.tests));
+  if (o.backend == "rtl") fmt::print(stderr, "{}", cycle::summarize(st.report));
   if (cycle_stats) {
     fmt::print(stderr, "{}", cycle::summarize(st.report));
     for (const std::filesystem::path& f : o.heatmap) write_cycle_heatmap(*cycle_stats, f);

@@ -61,18 +61,18 @@ StatsTree report(const CycleStats& s, const functional::ShaderStats& shader) {
   StatsTree& tus = r.list("traversal_units");
   for (const TraversalUnitTime& t : s.tus) {
     steps += t.inner + t.leaves;
-    tus.add()
-        .set("busy", t.busy)
-        .set("wait_memory", t.wait_memory)
-        .set("wait_iu", t.wait_iu)
-        .set("idle", t.idle)
-        .set("rays", t.rays)
-        .set("inner_nodes", t.inner)
-        .set("leaves", t.leaves)
-        .set("prim_refs", t.refs)
-        .set("tests", t.tests)
-        .set("pops", t.pops)
-        .set("utilisation", ratio(static_cast<double>(t.busy), cycles));
+    StatsTree& tu = tus.add()
+                        .set("busy", t.busy)
+                        .set("wait_memory", t.wait_memory)
+                        .set("wait_iu", t.wait_iu)
+                        .set("idle", t.idle)
+                        .set("rays", t.rays)
+                        .set("inner_nodes", t.inner)
+                        .set("leaves", t.leaves)
+                        .set("prim_refs", t.refs)
+                        .set("tests", t.tests);
+    if (s.counts_pops) tu.set("pops", t.pops);
+    tu.set("utilisation", ratio(static_cast<double>(t.busy), cycles));
   }
   r.set("tu_steps_per_cycle", ratio(static_cast<double>(steps), cycles));
   StatsTree& ius = r.list("intersection_units");

@@ -65,6 +65,7 @@ struct CycleStats {
   int dram_bytes_per_cycle = 0;
   std::uint64_t closest_rays = 0, any_rays = 0;
   std::uint64_t thread_instructions = 0;
+  bool counts_pops = true;    // the RTL's traversal units count no stack pops
   std::vector<Bound> bounds;  // largest first
   double host_seconds = 0;
   // Per pixel (row 0 first): cycles from its thread's start to its halt.
