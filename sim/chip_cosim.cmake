@@ -1,8 +1,11 @@
-# The chip (docs/rtl.md "Chip"): one Verilated rpu_top per named configuration of
+# The chip (docs/chip.md): one Verilated rpu_top per named configuration of
 # spec/configs.toml (its build-time parameters from gen.py --list rtl-configs) with the
 # Woop test, and tiny's also with the watertight test; chip_cosim renders frames on it
 # with every core in lockstep, and the rtl backend of the Device API (rtl_device.hpp)
-# renders on it for `rpu render --backend rtl`.
+# renders on it for `rpu render --backend rtl`. RPU_CHIP_MODELS narrows the set (CI
+# builds two of them: its time budget, docs/rtl.md "What CI builds").
+set(RPU_CHIP_MODELS "" CACHE STRING
+    "Chips to verilate as config/isect pairs, e.g. tiny/woop;rpu2005/woop (default: all)")
 set(rpu_chip_top_params Cores Threads ChunkSize Registers CallDepth StackBytes SfuUnits StackDepth RayUnits
     NodeBytes NodeWays NodeHitLatency NodeMshrs TriangleBytes TriangleWays TriangleHitLatency TriangleMshrs
     DataBytes DataWays DataHitLatency DataMshrs ExpBits FracBits)
@@ -22,17 +25,22 @@ foreach(line IN LISTS rpu_rtl_config_lines)
   set(params -GCodeWords=${rpu_spu_code_words} ${config_params})
   string(REGEX MATCH "-GCores=([0-9]+)" cores_flag "${line}")
   set(cores ${CMAKE_MATCH_1})
+  string(REGEX MATCH "-GRayUnits=([0-9]+)" ray_units_flag "${line}")
+  set(ray_units ${CMAKE_MATCH_1})
   set(isects woop)
   if(config STREQUAL "tiny")
     list(APPEND isects watertight)
   endif()
   foreach(isect IN LISTS isects)
+    if(RPU_CHIP_MODELS AND NOT "${config}/${isect}" IN_LIST RPU_CHIP_MODELS)
+      continue()
+    endif()
     set(prefix Vchip_${config}_${isect})
     rpu_verilate(rpu_chip_rtl_models ${prefix} rpu_chip_cosim_top TRACE ASSERT
                  PARAMS ${params} -GIsectMode=${rpu_isect_${isect}})
     string(APPEND rpu_chip_model_includes "#include \"${prefix}.h\"\n")
     string(APPEND rpu_chip_model_entries
-           "    {\"${config}\", \"${isect}\", &make<${prefix}, ${cores}, ${rpu_spu_code_words}>},\n")
+           "    {\"${config}\", \"${isect}\", &make<${prefix}, ${cores}, ${ray_units}, ${rpu_spu_code_words}>},\n")
     list(APPEND rpu_chip_cases "${config} ${isect}")
   endforeach()
 endforeach()
@@ -91,4 +99,29 @@ if(RPU_IDIFF)
       set_tests_properties(slow.cosim.${name} PROPERTIES LABELS slow TIMEOUT 14400)
     endforeach()
   endforeach()
+endif()
+
+# The rtl backend's refusals (docs/chip.md "The rtl backend").
+if(rpu_chip_cases)
+  list(GET rpu_chip_cases 0 first_case)
+  string(REPLACE " " ";" first_case "${first_case}")
+  list(GET first_case 0 config)
+  set(cli ${PROJECT_SOURCE_DIR}/tests/cli/expect_cli.py)
+  set(out ${CMAKE_CURRENT_BINARY_DIR})
+  add_test(NAME cli.rtl_backend_refuses_a_changed_configuration
+           COMMAND Python3::Interpreter ${cli} --status 1
+                   --stderr "rpu: error: the rtl backend runs the named configurations as spec/configs.toml has them"
+                   -- $<TARGET_FILE:rpu> render tetra:1 --backend rtl --config ${config} --set shader_cores=2
+                   -o ${out}/never.png)
+  add_test(NAME cli.rtl_backend_refuses_a_chip_not_built
+           COMMAND Python3::Interpreter ${cli} --status 1
+                   --stderr "rpu: error: no RTL chip model for configuration 'rpu2005' with the watertight test in this build \\(built: "
+                   -- $<TARGET_FILE:rpu> render tetra:1 --backend rtl --config rpu2005 --isect watertight
+                   -o ${out}/never.png)
+  add_test(NAME cli.rtl_backend_waves_must_be_fst
+           COMMAND Python3::Interpreter ${cli} --status 1 --stderr "rpu: error: --waves .*never.vcd"
+                   -- $<TARGET_FILE:rpu> render tetra:1 --backend rtl --config ${config} --waves ${out}/never.vcd
+                   -o ${out}/never.png)
+  set_tests_properties(cli.rtl_backend_refuses_a_changed_configuration cli.rtl_backend_refuses_a_chip_not_built
+                       cli.rtl_backend_waves_must_be_fst PROPERTIES LABELS unit)
 endif()
