@@ -101,6 +101,19 @@ if(RPU_IDIFF)
   endforeach()
 endif()
 
+# The cycle model's shader-core timing against the chip's, loop by loop (docs/chip.md
+# "Calibration"), on every configuration's chip.
+foreach(case IN LISTS rpu_chip_cases)
+  string(REPLACE " " ";" case "${case}")
+  list(GET case 0 config)
+  list(GET case 1 isect)
+  if(isect STREQUAL "woop")
+    add_test(NAME cosim.timing.core.${config}
+             COMMAND Python3::Interpreter ${CMAKE_CURRENT_SOURCE_DIR}/core_timing.py $<TARGET_FILE:rpu> --config ${config})
+    set_tests_properties(cosim.timing.core.${config} PROPERTIES LABELS cosim TIMEOUT 900)
+  endif()
+endforeach()
+
 # The rtl backend's refusals (docs/chip.md "The rtl backend").
 if(rpu_chip_cases)
   list(GET rpu_chip_cases 0 first_case)

@@ -15,8 +15,8 @@ import re
 
 # The groups whose values are measured on the RTL (latencies.toml), with their C++ structs.
 LATENCY_GROUPS = {
-    "latency": ("LatencyConfig", ("fpu", "dot", "sfu", "rsq", "integer", "branch", "special")),
-    "tu": ("TraversalUnitConfig", ("setup_woop", "setup_watertight", "inner", "leaf", "pop")),
+    "latency": ("LatencyConfig", ("fpu", "sfu", "rsq", "reissue", "result", "to_unit", "from_unit", "from_rays", "line_wait")),
+    "tu": ("TraversalUnitConfig", ("setup_woop", "setup_watertight", "inner", "leaf", "pop", "memory_wait", "iu_wait", "turnaround")),
     "iu": ("IntersectionUnitConfig", ("woop", "watertight", "interval_woop", "interval_watertight")),
 }
 # The widest fraction a format may have (spec/formats.toml's limit, rpu::fp::soft's).

@@ -6,10 +6,12 @@
 #include "cycle/cycle_device.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <chrono>
 #include <deque>
 #include <limits>
 #include <queue>
+#include <set>
 
 #include <fmt/format.h>
 
@@ -36,42 +38,50 @@ constexpr std::size_t kOpenTimelineSlices = 8;
 // Why a shader core did not issue: where its idle cycles are accounted.
 enum class Wait : std::uint8_t { kIdle, kTrace, kMemory, kDependency };
 
-struct ChunkSlot {
-  ShaderCore::Chunk chunk;
-  std::uint64_t index = 0;  // counted over the chip: names its pixels (DeviceBase::lanes_of)
-  std::uint64_t round = 0;
-  bool live = false;
-  bool halted = false;  // every lane halted, rays still in flight: the next round waits
-  Cycle round_start = 0;
-  Cycle earliest = 0;  // one issue a cycle; a branch holds the chunk until it resolves
-  std::vector<Cycle> reg_ready;
-  std::vector<std::uint8_t> reg_from_load;
-  std::vector<std::uint16_t> reg_rays;  // rays in flight that write the register
-  int rays_in_flight = 0;
-  // ready_time's answer, kept until issue, a ray's return or a new round changes the
-  // slot: the core asks after every issue for each of its chunks.
-  mutable bool ready_known = false;
-  mutable Cycle ready_at = 0;
-  mutable Wait ready_why = Wait::kIdle;
-};
-
-struct Core {
-  std::vector<ChunkSlot> chunks;
-  std::size_t next_chunk = 0;  // round robin
-  Cycle scheduled = kNever;    // its pending event
-  Cycle accounted = 0;         // cycles before this are in `time`
-  Wait wait = Wait::kIdle;     // why it waits since `accounted`
-  std::unique_ptr<Cache> data_cache;
-  ShaderCoreTime time;
-  Cycle slice_end = 0;  // the timeline's last issue slice of this core ends here
-};
-
 struct Ray {
   std::uint32_t core = 0, chunk = 0, dst = 0;
   TraceLog log;
   Cycle arrived = 0;
   std::size_t next = 0;  // the next event of the log
   bool set_up = false;
+};
+
+struct ChunkSlot {
+  ShaderCore::Chunk chunk;
+  std::uint64_t index = 0;  // counted over the chip: names its pixels (DeviceBase::lanes_of)
+  std::uint32_t core = 0;
+  std::uint64_t round = 0;
+  bool live = false;
+  bool halted = false;  // every lane halted, rays still in flight: the next round waits
+  Cycle round_start = 0;
+  Cycle earliest = 0;  // its last issue's lanes in the pipeline, the next pc picked and fetched
+  std::vector<Cycle> reg_ready;
+  std::vector<std::uint16_t> reg_rays;  // rays in flight that write the register
+  int rays_in_flight = 0;
+  Cycle loads_back = 0;  // its loads out are back in S0 by then
+  // ready_time's answer, kept until an issue on its core, a ray's return or a new round
+  // changes it: the core asks after every issue for each of its chunks.
+  mutable bool ready_known = false;
+  mutable Cycle ready_at = 0;
+};
+
+struct Core {
+  std::vector<ChunkSlot> chunks;
+  std::size_t next_chunk = 0;  // round robin
+  // The pipeline's entry (S0) takes one lane a cycle; a value handed back (a load's
+  // data, an sfu result, a ray's answer) takes it first, so those cycles are reserved.
+  Cycle seq_free = 0;              // the next chunk instruction may issue from here
+  std::set<Cycle> return_slots;    // S0 cycles taken by values handed back
+  Cycle lsu_free = 0, sfu_free = 0;  // the next request the load/store unit, the sfu takes
+  std::deque<Cycle> sfu_starts;      // when the sfu starts each thread instruction it holds
+  std::deque<Ray> rays;              // its rays waiting for a traversal unit, in order
+  std::vector<Cycle> lane_slots;   // the issuing instruction's lanes' S0 cycles
+  Cycle scheduled = kNever;    // its pending event
+  Cycle accounted = 0;         // cycles before this are in `time`
+  Wait wait = Wait::kIdle;     // why it waits since `accounted`
+  std::unique_ptr<Cache> data_cache;
+  ShaderCoreTime time;
+  Cycle slice_end = 0;  // the timeline's last issue slice of this core ends here
 };
 
 struct Tu {
@@ -108,20 +118,22 @@ class CycleDevice final : public device::DeviceBase {
   void schedule_core(std::uint32_t c, Cycle at);
   void schedule_tu(std::uint32_t u, Cycle at);
   void account(Core& core, Cycle until);
-  Cycle ready_time(const ChunkSlot& s, Wait& why) const;
-  Cycle compute_ready_time(const ChunkSlot& s, Wait& why) const;
+  Cycle ready_time(const ChunkSlot& s) const;
+  Cycle compute_ready_time(const ChunkSlot& s) const;
   void plan(std::uint32_t c, Cycle from);
   void core_event(std::uint32_t c, Cycle now);
-  void issue(std::uint32_t c, std::uint32_t i, Cycle now);
+  Cycle issue(std::uint32_t c, std::uint32_t i, Cycle now);
   void time_issue(std::uint32_t c, std::uint32_t i, std::uint32_t pc, Cycle now);
+  Cycle take_return_slot(Core& core, Cycle at);
   void start_round(std::uint32_t c, std::uint32_t i, Cycle at);
   void dispatch(Ray&& ray, Cycle at);
   void start_ray(std::uint32_t u, Ray&& ray, Cycle at);
+  bool take_queued_ray(std::uint32_t u, Cycle at);
   void tu_event(std::uint32_t u, Cycle now);
   void finish_ray(std::uint32_t u, Cycle now);
   void slice(std::string track, std::string name, Cycle begin, Cycle end);
   void flush_timeline();
-  void set_result(ChunkSlot& s, int reg, Cycle ready, bool from_load);
+  void set_result(ChunkSlot& s, int reg, Cycle ready);
   void finish(Cycle end);
 
   CycleOptions options_;
@@ -136,11 +148,11 @@ class CycleDevice final : public device::DeviceBase {
   std::vector<Core> cores_;
   std::vector<Tu> tus_;
   std::vector<Iu> ius_;
-  std::deque<Ray> ray_queue_;
+  std::uint32_t ray_core_ = 0;  // the core whose ray a traversal unit took last
   std::vector<TraceLog> spare_logs_;
   std::priority_queue<Event, std::vector<Event>, std::greater<>> events_;
   std::uint64_t seq_ = 0;
-  Cycle setup_cycles_ = 0, iu_latency_ = 0, iu_interval_ = 0;
+  Cycle setup_cycles_ = 0, iu_latency_ = 0, iu_interval_ = 0, memory_wait_ = 0;
   std::uint64_t rounds_done_ = 0, rounds_total_ = 0;
   const ProgressCallback* progress_ = nullptr;
   std::vector<functional::ShaderCore::Lane> lanes_;
@@ -177,30 +189,18 @@ void CycleDevice::account(Core& core, Cycle until) {
 }
 
 // The first cycle the chunk's next instruction can issue (its sources and destination
-// ready: an in-order scoreboard), or kNever while a ray it needs is in flight.
-Cycle CycleDevice::ready_time(const ChunkSlot& s, Wait& why) const {
+// ready: an in-order scoreboard; room in the queue it hands its lanes to), or kNever
+// while a ray it needs is in flight.
+Cycle CycleDevice::ready_time(const ChunkSlot& s) const {
   if (!s.ready_known) {
-    s.ready_at = compute_ready_time(s, s.ready_why);
+    s.ready_at = compute_ready_time(s);
     s.ready_known = true;
   }
-  why = s.ready_why;
   return s.ready_at;
 }
 
-Cycle CycleDevice::compute_ready_time(const ChunkSlot& s, Wait& why) const {
-  if (!s.live) {
-    why = Wait::kIdle;
-    return kNever;
-  }
-  if (s.halted) {
-    why = Wait::kTrace;
-    return kNever;
-  }
-  if (s.chunk.threads().front().lane.pixel > fault_pixel_) {
-    why = Wait::kIdle;
-    return kNever;
-  }
-  why = Wait::kDependency;
+Cycle CycleDevice::compute_ready_time(const ChunkSlot& s) const {
+  if (!s.live || s.halted || s.chunk.threads().front().lane.pixel > fault_pixel_) return kNever;
   Cycle t = s.earliest;
   const std::uint32_t pc = s.chunk.next_pc();
   if (!shader_->instruction(pc)) return t;  // the step will fault
@@ -208,34 +208,49 @@ Cycle CycleDevice::compute_ready_time(const ChunkSlot& s, Wait& why) const {
   const auto need = [&](int r) {
     if (r < 0 || static_cast<std::size_t>(r) >= s.reg_ready.size()) return true;  // the step will fault
     if (s.reg_rays[static_cast<std::size_t>(r)]) return false;
-    if (s.reg_ready[static_cast<std::size_t>(r)] > t) {
-      t = s.reg_ready[static_cast<std::size_t>(r)];
-      why = s.reg_from_load[static_cast<std::size_t>(r)] ? Wait::kMemory : Wait::kDependency;
-    }
+    t = std::max(t, s.reg_ready[static_cast<std::size_t>(r)]);
     return true;
   };
   if (!need(use.dst) || !need(use.data) || !need(use.src[0]) || !need(use.src[1]) || !need(use.src[2])) {
-    why = Wait::kTrace;
     return kNever;
+  }
+  // The queue the instruction hands its lanes to must have room for all of them and a
+  // lane of the instruction before (rpu_spu's QueueNeed): it holds at most a chunk.
+  // (So the answer depends on the core's queues too: every issue on the core asks again.)
+  const Core& core = cores_[s.core];
+  const auto room = static_cast<std::size_t>(config_.chunk_size);
+  const isa::Instruction& in = *shader_->instruction(pc);
+  if (in.spec->cls == si::Class::kTrace && core.rays.size() > room) return kNever;
+  if (in.spec->cls == si::Class::kMem || in.opcode() == Opcode::kCalli) {
+    t = std::max(t, core.lsu_free - std::min<Cycle>(core.lsu_free, room));
+  }
+  if (in.spec->cls == si::Class::kSfu && core.sfu_starts.size() > room) {
+    t = std::max(t, core.sfu_starts[core.sfu_starts.size() - 1 - room]);
   }
   return t;
 }
 
-// Schedules the core's next issue at or after `from`, and notes why it waits until then.
+// Schedules the core's next issue at or after `from`, and notes why it waits until then
+// as the RTL's counters do (docs/chip.md "Statistics"): for its own pipeline while a live
+// chunk has neither rays nor loads out, else for memory while one has loads out, else
+// for rays.
 void CycleDevice::plan(std::uint32_t c, Cycle from) {
   Core& core = cores_[c];
   Cycle best = kNever;
-  Wait best_why = Wait::kIdle;
+  bool own = false, loads = false, rays = false;
   for (const ChunkSlot& s : core.chunks) {
-    Wait why;
-    const Cycle t = ready_time(s, why);
-    if (t < best || (best == kNever && why == Wait::kTrace)) {
-      best = t;
-      best_why = why;
+    best = std::min(best, ready_time(s));
+    if (!s.live) continue;
+    if (s.rays_in_flight) {
+      rays = true;
+    } else if (s.loads_back > from) {
+      loads = true;
+    } else {
+      own = true;
     }
   }
-  core.wait = best_why;
-  if (best != kNever) schedule_core(c, std::max(best, from));
+  core.wait = own ? Wait::kDependency : loads ? Wait::kMemory : rays ? Wait::kTrace : Wait::kIdle;
+  if (best != kNever) schedule_core(c, std::max({best, from, core.seq_free}));
 }
 
 void CycleDevice::core_event(std::uint32_t c, Cycle now) {
@@ -246,29 +261,57 @@ void CycleDevice::core_event(std::uint32_t c, Cycle now) {
   const auto n = static_cast<std::uint32_t>(core.chunks.size());
   for (std::uint32_t k = 0; k < n; ++k) {
     const auto i = static_cast<std::uint32_t>((core.next_chunk + k) % n);
-    Wait why;
-    if (ready_time(core.chunks[i], why) > now) continue;
+    if (ready_time(core.chunks[i]) > now) continue;
     core.next_chunk = i + 1;
-    ++core.time.busy;
-    core.accounted = now + 1;
-    issue(c, i, now);
+    for (ChunkSlot& other : core.chunks) other.ready_known = false;
+    // Busy from the issue to its last lane's S0 (the next issue may share that cycle).
+    const Cycle last = issue(c, i, now);
+    core.time.busy += last + 1 - std::max(now, core.accounted);
+    core.accounted = last + 1;
     break;
   }
   plan(c, now + 1);
 }
 
-void CycleDevice::set_result(ChunkSlot& s, int reg, Cycle ready, bool from_load) {
+// The first S0 cycle from `at` that no other value handed back has taken.
+Cycle CycleDevice::take_return_slot(Core& core, Cycle at) {
+  auto it = core.return_slots.lower_bound(at);
+  while (it != core.return_slots.end() && *it == at) {
+    ++at;
+    ++it;
+  }
+  core.return_slots.insert(it, at);
+  return at;
+}
+
+void CycleDevice::set_result(ChunkSlot& s, int reg, Cycle ready) {
   if (reg < 0) return;
   const auto r = static_cast<std::size_t>(reg);
   s.reg_ready[r] = ready;
-  s.reg_from_load[r] = from_load;
 }
 
-void CycleDevice::issue(std::uint32_t c, std::uint32_t i, Cycle now) {
+// Issues the chunk's next instruction; returns the S0 cycle of its last lane.
+Cycle CycleDevice::issue(std::uint32_t c, std::uint32_t i, Cycle now) {
   Core& core = cores_[c];
   ChunkSlot& s = core.chunks[i];
   s.ready_known = false;
   const std::uint32_t pc = s.chunk.next_pc();
+  // Its lanes: those standing at the pc enter S0 one a cycle, in cycles no value
+  // handed back has taken.
+  std::size_t lanes = 0;
+  for (const ShaderCore::Thread& t : s.chunk.threads()) lanes += !t.done && t.pc == pc;
+  core.return_slots.erase(core.return_slots.begin(), core.return_slots.upper_bound(now));
+  core.lane_slots.clear();
+  auto taken = core.return_slots.begin();
+  for (Cycle at = now + 1; core.lane_slots.size() < std::max<std::size_t>(lanes, 1); ++at) {
+    if (taken != core.return_slots.end() && *taken == at) {
+      ++taken;
+    } else {
+      core.lane_slots.push_back(at);
+    }
+  }
+  const Cycle last = core.lane_slots.back();
+  core.seq_free = last;
   shader_->step(s.chunk, shader_stats_, &record_);
   if (const functional::ShaderFault* f = s.chunk.fault(); f && f->pixel() < fault_pixel_) {
     fault_pixel_ = f->pixel();
@@ -277,19 +320,23 @@ void CycleDevice::issue(std::uint32_t c, std::uint32_t i, Cycle now) {
     }
   }
   ++core.time.chunk_issues;
-  s.earliest = now + 1;
+  s.earliest = last + static_cast<Cycle>(config_.latency.reissue);
   // A step whose every lane faulted at an illegal pc has no instruction to time.
   if (record_.insn) time_issue(c, i, pc, now);
   if (s.chunk.done()) {
     if (s.rays_in_flight) {
       s.halted = true;
     } else {
-      start_round(c, i, now + 1);
+      start_round(c, i, s.earliest);
     }
   }
+  return last;
 }
 
-// When the results of the step just issued are ready, and the memory and rays it sends.
+// When the results of the step just issued are ready, and the memory and rays it sends:
+// lane k entered S0 in core.lane_slots[k]; results pass the datapath (latency.result);
+// loads, sfu operations and rays go to their unit latency.to_unit later, and their
+// values come back through S0.
 void CycleDevice::time_issue(std::uint32_t c, std::uint32_t i, std::uint32_t pc, Cycle now) {
   Core& core = cores_[c];
   ChunkSlot& s = core.chunks[i];
@@ -297,37 +344,66 @@ void CycleDevice::time_issue(std::uint32_t c, std::uint32_t i, std::uint32_t pc,
   const isa::RegisterUse& use = shader_->register_use(pc);
   const spec::LatencyConfig& lat = config_.latency;
   const Opcode op = in.opcode();
+  const auto result = static_cast<Cycle>(lat.result), to_unit = static_cast<Cycle>(lat.to_unit),
+             from_unit = static_cast<Cycle>(lat.from_unit);
+  const std::vector<Cycle>& slots = core.lane_slots;
+  const auto lane_slot = [&](std::size_t k) { return slots[std::min(k, slots.size() - 1)]; };
   switch (in.spec->cls) {
     case si::Class::kFpu:
-      set_result(s, use.dst, now + static_cast<Cycle>(op == Opcode::kDp3 || op == Opcode::kDp4 ? lat.dot : lat.fpu),
-                 false);
-      break;
-    case si::Class::kSfu: set_result(s, use.dst, now + static_cast<Cycle>(op == Opcode::kRsq ? lat.rsq : lat.sfu), false); break;
-    case si::Class::kInt: set_result(s, use.dst, now + static_cast<Cycle>(lat.integer), false); break;
-    case si::Class::kSpecial: set_result(s, use.dst, now + static_cast<Cycle>(lat.special), false); break;
-    case si::Class::kBranch:
-      s.earliest = now + static_cast<Cycle>(lat.branch);
-      // calli reads its target from the shader table, one read per lane.
-      for (std::size_t k = 0; k < record_.accesses.size(); ++k) {
-        const functional::MemoryAccess& a = record_.accesses[k];
-        s.earliest = std::max(s.earliest, core.data_cache->read(now + k, a.address, a.bytes));
+    case si::Class::kInt:
+    case si::Class::kSpecial: set_result(s, use.dst, slots.back() + result); break;
+    case si::Class::kSfu: {
+      // One thread's instruction at a time; each divider takes its share of the written
+      // lanes back to back, one cycle apart.
+      const auto units = static_cast<Cycle>(config_.sfu_units);
+      const auto passes = (static_cast<Cycle>(std::popcount(in.wmask)) + units - 1) / units;
+      const auto each = static_cast<Cycle>(op == Opcode::kRsq ? lat.rsq : lat.sfu) + 1;
+      Cycle done = 0;
+      for (std::size_t k = 0; k < static_cast<std::size_t>(std::popcount(record_.lanes)); ++k) {
+        const Cycle start = std::max(lane_slot(k) + to_unit, core.sfu_free);
+        while (!core.sfu_starts.empty() && core.sfu_starts.front() <= now) core.sfu_starts.pop_front();
+        core.sfu_starts.push_back(start);
+        const Cycle out = start + passes * each - 1 + from_unit;
+        core.sfu_free = out + 1;
+        done = std::max(done, take_return_slot(core, out));
       }
+      set_result(s, use.dst, done + result);
       break;
-    case si::Class::kMem: {
-      // One lane's access a cycle through the core's data cache port.
-      bool load = false;
-      Cycle done = now + 1;
+    }
+    case si::Class::kBranch: {
+      // calli reads its target from the shader table, one read per lane; the chunk
+      // picks its next pc when the last has come back.
+      Cycle back = 0;
       for (std::size_t k = 0; k < record_.accesses.size(); ++k) {
         const functional::MemoryAccess& a = record_.accesses[k];
+        const Cycle at = std::max(lane_slot(k) + to_unit, core.lsu_free);
+        core.lsu_free = at + port_pieces(a.address, a.bytes);
+        back = std::max(back, take_return_slot(core, core.data_cache->read(at, a.address, a.bytes) + from_unit));
+      }
+      s.earliest = std::max(s.earliest, back + static_cast<Cycle>(lat.reissue));
+      s.loads_back = std::max(s.loads_back, back);
+      break;
+    }
+    case si::Class::kMem: {
+      // The load/store unit sends the accesses in program order, one piece a cycle;
+      // loads come back.
+      bool load = false;
+      Cycle done = 0;
+      for (std::size_t k = 0; k < record_.accesses.size(); ++k) {
+        const functional::MemoryAccess& a = record_.accesses[k];
+        const Cycle at = std::max(lane_slot(k) + to_unit, core.lsu_free);
+        core.lsu_free = at + port_pieces(a.address, a.bytes);
         if (a.store) {
-          core.data_cache->write(now + k, a.address, a.bytes);
+          core.data_cache->write(at, a.address, a.bytes);
         } else {
           load = true;
-          done = std::max(done, core.data_cache->read(now + k, a.address, a.bytes));
+          done = std::max(done, take_return_slot(core, core.data_cache->read(at, a.address, a.bytes) + from_unit));
         }
       }
-      s.earliest = now + std::max<Cycle>(1, record_.accesses.size());
-      if (load) set_result(s, use.dst, done, true);
+      if (load) {
+        set_result(s, use.dst, done + result);
+        s.loads_back = std::max(s.loads_back, done);
+      }
       break;
     }
     case si::Class::kTrace:
@@ -343,7 +419,7 @@ void CycleDevice::time_issue(std::uint32_t c, std::uint32_t i, std::uint32_t pc,
         }
         ++s.reg_rays[static_cast<std::size_t>(use.dst)];
         ++s.rays_in_flight;
-        dispatch(std::move(ray), now + k);
+        dispatch(std::move(ray), lane_slot(k) + to_unit);
       }
       break;
   }
@@ -377,18 +453,34 @@ void CycleDevice::start_round(std::uint32_t c, std::uint32_t i, Cycle at) {
   s.round_start = at;
   s.earliest = at;
   std::fill(s.reg_ready.begin(), s.reg_ready.end(), at);
-  std::fill(s.reg_from_load.begin(), s.reg_from_load.end(), 0);
 }
 
+// The ray waits in its core's queue until a traversal unit is free.
 void CycleDevice::dispatch(Ray&& ray, Cycle at) {
   ray.arrived = at;
+  cores_[ray.core].rays.push_back(std::move(ray));
   for (std::uint32_t u = 0; u < tus_.size(); ++u) {
-    if (!tus_[u].busy) {
-      start_ray(u, std::move(ray), at);
-      return;
-    }
+    if (!tus_[u].busy && !take_queued_ray(u, at)) break;
   }
-  ray_queue_.push_back(std::move(ray));
+}
+
+// A free traversal unit takes the first ray of the next core, round robin, that has
+// one (rpu_ray_dispatch); the core's queue has room again.
+bool CycleDevice::take_queued_ray(std::uint32_t u, Cycle at) {
+  const auto n = static_cast<std::uint32_t>(cores_.size());
+  for (std::uint32_t k = 1; k <= n; ++k) {
+    const std::uint32_t c = (ray_core_ + k) % n;
+    Core& core = cores_[c];
+    if (core.rays.empty()) continue;
+    ray_core_ = c;
+    Ray ray = std::move(core.rays.front());
+    core.rays.pop_front();
+    start_ray(u, std::move(ray), at);
+    for (ChunkSlot& s : core.chunks) s.ready_known = false;
+    plan(c, at);
+    return true;
+  }
+  return false;
 }
 
 void CycleDevice::start_ray(std::uint32_t u, Ray&& ray, Cycle at) {
@@ -423,7 +515,7 @@ void CycleDevice::tu_event(std::uint32_t u, Cycle now) {
     case TraceEvent::Kind::kInner:
     case TraceEvent::Kind::kLeaf: {
       const bool leaf = e.kind == TraceEvent::Kind::kLeaf;
-      const Cycle fetched = node_cache_->read(now, e.address, spec::memory::kKdNodeBytes);
+      const Cycle fetched = node_cache_->read(now, e.address, spec::memory::kKdNodeBytes) + memory_wait_;
       const auto work = static_cast<Cycle>(leaf ? tc.leaf : tc.inner);
       tu.time.wait_memory += fetched - now;
       tu.time.busy += work;
@@ -433,14 +525,14 @@ void CycleDevice::tu_event(std::uint32_t u, Cycle now) {
       break;
     }
     case TraceEvent::Kind::kRef: {
-      next = triangle_cache_->read(now, e.address, spec::memory::kPrimRefBytes);
+      next = triangle_cache_->read(now, e.address, spec::memory::kPrimRefBytes) + memory_wait_;
       tu.time.wait_memory += next - now;
       ++tu.time.refs;
       what = "prim ref";
       break;
     }
     case TraceEvent::Kind::kTest: {
-      const Cycle fetched = triangle_cache_->read(now, e.address, isect_record_bytes(layout_.isect_mode));
+      const Cycle fetched = triangle_cache_->read(now, e.address, isect_record_bytes(layout_.isect_mode)) + memory_wait_;
       tu.time.wait_memory += fetched - now;
       // The IU that can take the test first; the TU waits for its answer.
       auto iu = std::min_element(ius_.begin(), ius_.end(),
@@ -449,7 +541,7 @@ void CycleDevice::tu_event(std::uint32_t u, Cycle now) {
       iu->next_accept = accept + iu_interval_;
       ++iu->time.tests;
       iu->time.busy += iu_interval_;
-      next = accept + iu_latency_;
+      next = accept + iu_latency_ + static_cast<Cycle>(tc.iu_wait);
       tu.time.wait_iu += next - fetched;
       ++tu.time.tests;
       if (timeline) slice(fmt::format("IU {}", iu - ius_.begin()), "test", accept, accept + iu_latency_);
@@ -475,21 +567,19 @@ void CycleDevice::finish_ray(std::uint32_t u, Cycle now) {
   ChunkSlot& s = core.chunks[i];
   const auto dst = static_cast<std::size_t>(tu.ray.dst);
   s.ready_known = false;
-  s.reg_ready[dst] = std::max(s.reg_ready[dst], now + 1);
-  s.reg_from_load[dst] = 0;
+  // The answer enters the core's pipeline and is written like any result.
+  const Cycle back = take_return_slot(core, now + static_cast<Cycle>(config_.latency.from_rays)) +
+                     static_cast<Cycle>(config_.latency.result);
+  s.reg_ready[dst] = std::max(s.reg_ready[dst], back);
   --s.reg_rays[dst];
   --s.rays_in_flight;
   account(core, now);  // the wait so far had the old reason
-  if (s.halted && !s.rays_in_flight) start_round(c, i, now + 1);
+  if (s.halted && !s.rays_in_flight) start_round(c, i, back);
   plan(c, now + 1);
 
   tu.busy = false;
   spare_logs_.push_back(std::move(tu.ray.log));
-  if (!ray_queue_.empty()) {
-    Ray next = std::move(ray_queue_.front());
-    ray_queue_.pop_front();
-    start_ray(u, std::move(next), now);
-  }
+  take_queued_ray(u, now + static_cast<Cycle>(config_.tu.turnaround));
 }
 
 void CycleDevice::slice(std::string track, std::string name, Cycle begin, Cycle end) {
@@ -531,11 +621,12 @@ void CycleDevice::run(const ProgressCallback& progress) {
   shader_.emplace(firmware_, *memory_, *tracer_, format_, core_config(options_.watchdog));
   shader_stats_ = {};
   dram_.emplace(config_.dram);
-  node_cache_.emplace(config_.node_cache, *dram_);
-  triangle_cache_.emplace(config_.triangle_cache, *dram_);
+  const auto line_wait = static_cast<Cycle>(config_.latency.line_wait);
+  node_cache_.emplace(config_.node_cache, *dram_, line_wait);
+  triangle_cache_.emplace(config_.triangle_cache, *dram_, line_wait);
   events_ = {};
   seq_ = 0;
-  ray_queue_.clear();
+  ray_core_ = 0;
   fault_pixel_ = kNoFault;
   open_slices_.clear();
   out_ = {};
@@ -549,6 +640,7 @@ void CycleDevice::run(const ProgressCallback& progress) {
   setup_cycles_ = static_cast<Cycle>(watertight ? config_.tu.setup_watertight : config_.tu.setup_woop);
   iu_latency_ = static_cast<Cycle>(watertight ? config_.iu.watertight : config_.iu.woop);
   iu_interval_ = static_cast<Cycle>(watertight ? config_.iu.interval_watertight : config_.iu.interval_woop);
+  memory_wait_ = static_cast<Cycle>(config_.tu.memory_wait);
   progress_ = &progress;
   rounds_done_ = 0;
   rounds_total_ = (pixels() + static_cast<std::uint64_t>(config_.chunk_size) - 1) /
@@ -560,13 +652,13 @@ void CycleDevice::run(const ProgressCallback& progress) {
   cores_.resize(static_cast<std::size_t>(config_.shader_cores));
   for (std::uint32_t c = 0; c < cores_.size(); ++c) {
     Core& core = cores_[c];
-    core.data_cache = std::make_unique<Cache>(config_.data_cache, *dram_);
+    core.data_cache = std::make_unique<Cache>(config_.data_cache, *dram_, line_wait);
     core.chunks.resize(chunks_per_core);
     for (std::uint32_t i = 0; i < chunks_per_core; ++i) {
       ChunkSlot& s = core.chunks[i];
       s.index = std::uint64_t{c} * chunks_per_core + i;
+      s.core = c;
       s.reg_ready.assign(registers, 0);
-      s.reg_from_load.assign(registers, 0);
       s.reg_rays.assign(registers, 0);
       start_round(c, i, 0);
     }
@@ -623,6 +715,8 @@ void CycleDevice::run(const ProgressCallback& progress) {
 
 // The totals, the idle time and the bounds of the frame that ended at `end`.
 void CycleDevice::finish(Cycle end) {
+  // The last lanes to enter a pipeline may do so after the last event.
+  for (const Core& core : cores_) end = std::max(end, core.accounted);
   out_.cycles = end;
   for (Core& core : cores_) {
     core.wait = Wait::kIdle;
@@ -643,10 +737,8 @@ void CycleDevice::finish(Cycle end) {
   out_.thread_instructions = shader_stats_.instructions();
 
   // Speed of light: each resource's work at full rate, every access a hit, no queueing.
-  std::uint64_t issues = 0;
   TraversalUnitTime tu_work;
   std::uint64_t tests = 0;
-  for (const ShaderCoreTime& t : out_.cores) issues += t.chunk_issues;
   for (const TraversalUnitTime& t : out_.tus) {
     tu_work.rays += t.rays;
     tu_work.inner += t.inner;
@@ -657,16 +749,18 @@ void CycleDevice::finish(Cycle end) {
   }
   for (const IntersectionUnitTime& t : out_.ius) tests += t.tests;
   const spec::TraversalUnitConfig& tc = config_.tu;
-  const auto node_hit = static_cast<double>(config_.node_cache.hit_latency);
-  const auto tri_hit = static_cast<double>(config_.triangle_cache.hit_latency);
+  const auto node_hit = static_cast<double>(config_.node_cache.hit_latency + config_.tu.memory_wait);
+  const auto tri_hit = static_cast<double>(config_.triangle_cache.hit_latency + config_.tu.memory_wait);
   const double tu_cycles = static_cast<double>(tu_work.rays) * static_cast<double>(setup_cycles_) +
                            static_cast<double>(tu_work.inner) * (node_hit + tc.inner) +
                            static_cast<double>(tu_work.leaves) * (node_hit + tc.leaf) +
                            static_cast<double>(tu_work.refs) * tri_hit +
-                           static_cast<double>(tu_work.tests) * (tri_hit + static_cast<double>(iu_latency_)) +
+                           static_cast<double>(tu_work.tests) *
+                               (tri_hit + static_cast<double>(iu_latency_ + static_cast<Cycle>(tc.iu_wait))) +
                            static_cast<double>(tu_work.pops) * tc.pop;
   out_.bounds = {
-      {"shader cores (issue)", static_cast<double>(issues) / config_.shader_cores},
+      // One lane a cycle enters a core's pipeline.
+      {"shader cores (issue)", static_cast<double>(out_.thread_instructions) / config_.shader_cores},
       {"traversal units", tu_cycles / config_.traversal_units},
       {"intersection units", static_cast<double>(tests) * static_cast<double>(iu_interval_) / config_.intersection_units},
       {"DRAM bus", static_cast<double>(out_.dram.bus_cycles)},

@@ -35,17 +35,20 @@ CacheStats& CacheStats::operator+=(const CacheStats& o) {
   return *this;
 }
 
-Cache::Cache(const spec::CacheConfig& config, Dram& dram)
+Cache::Cache(const spec::CacheConfig& config, Dram& dram, Cycle line_wait)
     : config_(config),
       dram_(dram),
+      line_wait_(line_wait),
       sets_(static_cast<std::uint32_t>(config.bytes / (config.line_bytes * config.ways))),
       ways_(static_cast<std::size_t>(sets_) * static_cast<std::size_t>(config.ways)) {}
 
 Cycle Cache::read(Cycle at, std::uint32_t address, std::uint32_t bytes) {
   const auto line_bytes = static_cast<std::uint32_t>(config_.line_bytes);
-  const std::uint32_t first = address / line_bytes, last = (address + bytes - 1) / line_bytes;
+  const std::uint32_t first = address / streams::kMemLineBytes;
   Cycle done = 0;
-  for (std::uint32_t line = first; line <= last; ++line) done = std::max(done, read_line(at, line));
+  for (std::uint32_t k = 0; k < port_pieces(address, bytes); ++k) {
+    done = std::max(done, read_line(at + k, (first + k) * streams::kMemLineBytes / line_bytes));
+  }
   return done;
 }
 
@@ -63,8 +66,9 @@ Cycle Cache::read_line(Cycle at, std::uint32_t line) {
         ++stats_.hits;
         return looked_up;
       }
+      // The reads waiting for a fill are answered one a cycle after the line's own.
       ++stats_.merged;
-      return std::max(looked_up, way.filled);
+      return std::max(looked_up, way.filled + ++way.replays);
     }
     // The least recently used way, invalid ones first, the lowest index on a tie.
     if (!way.valid ? victim->valid : (victim->valid && way.last_use < victim->last_use)) victim = &way;
@@ -74,14 +78,14 @@ Cycle Cache::read_line(Cycle at, std::uint32_t line) {
   Cycle request = looked_up;
   if (in_flight_.size() >= static_cast<std::size_t>(config_.mshrs)) {
     const auto earliest = std::min_element(in_flight_.begin(), in_flight_.end());
-    request = *earliest;
+    request = *earliest + 1;
     stats_.mshr_wait_cycles += request - looked_up;
     in_flight_.erase(earliest);
   }
   const auto line_bytes = static_cast<std::uint32_t>(config_.line_bytes);
-  const Cycle filled = dram_.access(request, line * line_bytes, line_bytes, false);
+  const Cycle filled = dram_.access(request, line * line_bytes, line_bytes, false) + line_wait_;
   in_flight_.push_back(filled);
-  *victim = {line, true, at, filled};
+  *victim = {line, true, at, filled, 0};
   return filled;
 }
 

@@ -3,6 +3,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "rpu/streams.hpp"
+
 #include "rpu/spec.hpp"
 
 // The cycle model's memory system (docs/cycle-model.md "Memory"): set-associative LRU
@@ -39,7 +41,7 @@ class Dram {
 };
 
 struct CacheStats {
-  std::uint64_t accesses = 0;  // line lookups (an access spanning two lines counts two)
+  std::uint64_t accesses = 0;  // lookups, one per piece a read moves (port_pieces)
   std::uint64_t hits = 0;
   std::uint64_t merged = 0;    // misses to a line already being filled (no new DRAM read)
   std::uint64_t misses = 0;    // DRAM reads
@@ -50,10 +52,18 @@ struct CacheStats {
   CacheStats& operator+=(const CacheStats& o);
 };
 
+// The pieces a cache port moves for `bytes` at `address`, one a cycle (the RTL's
+// cache_req: an aligned streams::kMemLineBytes each).
+inline std::uint32_t port_pieces(std::uint32_t address, std::uint32_t bytes) {
+  return (address + bytes - 1) / streams::kMemLineBytes - address / streams::kMemLineBytes + 1;
+}
+
 class Cache {
  public:
-  Cache(const spec::CacheConfig& config, Dram& dram);
-  // A read of `bytes` at `address` at cycle `at`: the cycle all its lines are there.
+  // `line_wait`: the cycles a line read takes beyond the DRAM's (the chip's path to it).
+  Cache(const spec::CacheConfig& config, Dram& dram, Cycle line_wait);
+  // A read of `bytes` at `address` from cycle `at`: the port moves one piece
+  // (streams::kMemLineBytes, aligned) a cycle, each a lookup; the cycle all are there.
   Cycle read(Cycle at, std::uint32_t address, std::uint32_t bytes);
   // A store: written through to DRAM, not allocated; a present line stays valid (the
   // model keeps no data, only tags). It never stalls the writer.
@@ -66,11 +76,13 @@ class Cache {
     bool valid = false;
     Cycle last_use = 0;
     Cycle filled = 0;  // the cycle its fill arrives
+    std::uint32_t replays = 0;  // reads merged into that fill, answered one a cycle after it
   };
   Cycle read_line(Cycle at, std::uint32_t line);
 
   spec::CacheConfig config_;
   Dram& dram_;
+  Cycle line_wait_;
   std::uint32_t sets_;
   std::vector<Way> ways_;        // sets_ x config_.ways
   std::vector<Cycle> in_flight_;  // fill cycles of outstanding misses

@@ -146,10 +146,14 @@ TEST(CycleModel, UnitTimeAddsUpToTheFrame) {
   const Cornell c;
   const Frame f = render_cycle(hardware_config("default"), c.scene, c.si.image, c.firmware, settings(16, 12));
   const CycleStats& st = f.cycle;
+  std::uint64_t busy = 0;
   for (const ShaderCoreTime& t : st.cores) {
     EXPECT_EQ(t.busy + t.wait_trace + t.wait_memory + t.wait_dependency + t.idle, st.cycles);
-    EXPECT_EQ(t.busy, t.chunk_issues);
+    EXPECT_GE(t.busy, t.chunk_issues);
+    busy += t.busy;
   }
+  // Every lane of every chunk instruction enters a core's pipeline in a cycle of its own.
+  EXPECT_GE(busy, st.thread_instructions);
   for (const TraversalUnitTime& t : st.tus) EXPECT_EQ(t.busy + t.wait_memory + t.wait_iu + t.idle, st.cycles);
   EXPECT_EQ(st.closest_rays + st.any_rays, f.stats.shader.closest_rays + f.stats.shader.any_rays);
   ASSERT_FALSE(st.bounds.empty());
@@ -259,9 +263,10 @@ raygen:
   std::uint64_t cycles(int traces) const {
     return render_cycle(config, scene, si.image, assemble_text(program(traces)), settings(1, 1)).cycle.cycles;
   }
-  // The cycles of a read that misses: tag check, DRAM latency, one line on the bus.
+  // The cycles of a read that misses: tag check, DRAM latency, one line on the bus, the
+  // chip's path to the DRAM.
   Cycle miss(const spec::CacheConfig& cache) const {
-    return static_cast<Cycle>(cache.hit_latency + config.dram.latency +
+    return static_cast<Cycle>(cache.hit_latency + config.dram.latency + config.latency.line_wait +
                               (cache.line_bytes + config.dram.bytes_per_cycle - 1) / config.dram.bytes_per_cycle);
   }
   std::uint32_t line(std::uint32_t address, const spec::CacheConfig& cache) const {
@@ -280,21 +285,32 @@ TEST(CycleModel, OneRaysCyclesEqualTheHandCount) {
   ASSERT_NE(r.line(ref, c.triangle_cache), r.line(record, c.triangle_cache));
   ASSERT_EQ(r.line(record, c.triangle_cache), r.line(record_end, c.triangle_cache));
 
-  // Six independent lif issue in cycles 0-5 (one a cycle); the trace reads r1 and r2,
-  // ready one integer latency after their last writes, so it issues in cycle 6.
-  const Cycle issue = 5 + static_cast<Cycle>(c.latency.integer);
+  // The six lif write r1 and r2 in three parts each: a write waits for the one before
+  // it to the same register (issue, its lane's S0 a cycle later, then `result`); r2's
+  // first waits for the chunk's reissue after r1's last. The trace waits for r2.
+  const auto result = static_cast<Cycle>(c.latency.result), reissue = static_cast<Cycle>(c.latency.reissue);
+  const Cycle issue = 2 * (1 + result) + 1 + reissue + 3 * (1 + result);
+  // The ray reaches the traversal unit to_unit after its lane's S0; every memory answer
+  // takes memory_wait more than the cache, the IU's iu_wait more than its latency; the
+  // 48-byte record is three pieces on the cache port, one a cycle.
+  const Cycle arrive = issue + 1 + static_cast<Cycle>(c.latency.to_unit);
+  const Cycle mw = static_cast<Cycle>(c.tu.memory_wait);
+  const Cycle pieces = port_pieces(record, spec::memory::kTriangleRecordWoopBytes);
+  ASSERT_EQ(pieces, 3u);
   const Cycle setup = static_cast<Cycle>(c.tu.setup_woop);
-  const Cycle cold = setup + (r.miss(c.node_cache) + static_cast<Cycle>(c.tu.leaf)) + r.miss(c.triangle_cache) +
-                     (r.miss(c.triangle_cache) + static_cast<Cycle>(c.iu.woop));
-  const Cycle warm = setup + static_cast<Cycle>(c.node_cache.hit_latency + c.tu.leaf) +
-                     static_cast<Cycle>(c.triangle_cache.hit_latency) +
-                     static_cast<Cycle>(c.triangle_cache.hit_latency + c.iu.woop);
-  // The halt does not wait for the ray; the frame ends the cycle after the hit record
-  // reaches its register.
-  EXPECT_EQ(r.cycles(1), issue + cold + 1);
-  // The second, identical ray waits for the one traversal unit and then hits in every
-  // cache: all-miss costs three line fills more than all-hit, nothing else.
-  EXPECT_EQ(r.cycles(2), issue + cold + warm + 1);
+  const Cycle test = static_cast<Cycle>(c.iu.woop + c.tu.iu_wait);
+  // The record's later pieces wait for its line, and are answered one a cycle after it.
+  const Cycle cold = setup + (r.miss(c.node_cache) + mw + static_cast<Cycle>(c.tu.leaf)) +
+                     (r.miss(c.triangle_cache) + mw) + (r.miss(c.triangle_cache) + (pieces - 1) + mw + test);
+  const Cycle warm = setup + static_cast<Cycle>(c.node_cache.hit_latency + c.tu.leaf) + mw +
+                     static_cast<Cycle>(c.triangle_cache.hit_latency) + mw +
+                     static_cast<Cycle>(c.triangle_cache.hit_latency) + (pieces - 1) + mw + test;
+  // The halt does not wait for the ray; the frame ends the cycle after the ray's last step.
+  EXPECT_EQ(r.cycles(1), arrive + cold + 1);
+  // The second, identical ray waits for the one traversal unit (and its turnaround) and
+  // then hits in every cache: all-miss costs three line fills more than all-hit, nothing
+  // else.
+  EXPECT_EQ(r.cycles(2), arrive + cold + static_cast<Cycle>(c.tu.turnaround) + warm + 1);
   EXPECT_EQ(cold - warm, r.miss(c.node_cache) - static_cast<Cycle>(c.node_cache.hit_latency) +
                              2 * (r.miss(c.triangle_cache) - static_cast<Cycle>(c.triangle_cache.hit_latency)));
 }
