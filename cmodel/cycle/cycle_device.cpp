@@ -125,6 +125,7 @@ class CycleDevice final : public device::DeviceBase {
   Cycle issue(std::uint32_t c, std::uint32_t i, Cycle now);
   void time_issue(std::uint32_t c, std::uint32_t i, std::uint32_t pc, Cycle now);
   Cycle take_return_slot(Core& core, Cycle at);
+  Cycle send_access(Core& core, Cycle s0, const functional::MemoryAccess& a);
   void start_round(std::uint32_t c, std::uint32_t i, Cycle at);
   void dispatch(Ray&& ray, Cycle at);
   void start_ray(std::uint32_t u, Ray&& ray, Cycle at);
@@ -284,6 +285,19 @@ Cycle CycleDevice::take_return_slot(Core& core, Cycle at) {
   return at;
 }
 
+// A lane's access (its S0 in `s0`) through the load/store unit: in program order, one
+// piece a cycle onto the data cache's port. A load's data comes back through S0: returns
+// that cycle (0 for a store).
+Cycle CycleDevice::send_access(Core& core, Cycle s0, const functional::MemoryAccess& a) {
+  const Cycle at = std::max(s0 + static_cast<Cycle>(config_.latency.to_unit), core.lsu_free);
+  core.lsu_free = at + port_pieces(a.address, a.bytes);
+  if (a.store) {
+    core.data_cache->write(at, a.address, a.bytes);
+    return 0;
+  }
+  return take_return_slot(core, core.data_cache->read(at, a.address, a.bytes) + static_cast<Cycle>(config_.latency.from_unit));
+}
+
 void CycleDevice::set_result(ChunkSlot& s, int reg, Cycle ready) {
   if (reg < 0) return;
   const auto r = static_cast<std::size_t>(reg);
@@ -294,7 +308,6 @@ void CycleDevice::set_result(ChunkSlot& s, int reg, Cycle ready) {
 Cycle CycleDevice::issue(std::uint32_t c, std::uint32_t i, Cycle now) {
   Core& core = cores_[c];
   ChunkSlot& s = core.chunks[i];
-  s.ready_known = false;
   const std::uint32_t pc = s.chunk.next_pc();
   // Its lanes: those standing at the pc enter S0 one a cycle, in cycles no value
   // handed back has taken.
@@ -359,9 +372,9 @@ void CycleDevice::time_issue(std::uint32_t c, std::uint32_t i, std::uint32_t pc,
       const auto passes = (static_cast<Cycle>(std::popcount(in.wmask)) + units - 1) / units;
       const auto each = static_cast<Cycle>(op == Opcode::kRsq ? lat.rsq : lat.sfu) + 1;
       Cycle done = 0;
+      while (!core.sfu_starts.empty() && core.sfu_starts.front() <= now) core.sfu_starts.pop_front();
       for (std::size_t k = 0; k < static_cast<std::size_t>(std::popcount(record_.lanes)); ++k) {
         const Cycle start = std::max(lane_slot(k) + to_unit, core.sfu_free);
-        while (!core.sfu_starts.empty() && core.sfu_starts.front() <= now) core.sfu_starts.pop_front();
         core.sfu_starts.push_back(start);
         const Cycle out = start + passes * each - 1 + from_unit;
         core.sfu_free = out + 1;
@@ -375,30 +388,18 @@ void CycleDevice::time_issue(std::uint32_t c, std::uint32_t i, std::uint32_t pc,
       // picks its next pc when the last has come back.
       Cycle back = 0;
       for (std::size_t k = 0; k < record_.accesses.size(); ++k) {
-        const functional::MemoryAccess& a = record_.accesses[k];
-        const Cycle at = std::max(lane_slot(k) + to_unit, core.lsu_free);
-        core.lsu_free = at + port_pieces(a.address, a.bytes);
-        back = std::max(back, take_return_slot(core, core.data_cache->read(at, a.address, a.bytes) + from_unit));
+        back = std::max(back, send_access(core, lane_slot(k), record_.accesses[k]));
       }
       s.earliest = std::max(s.earliest, back + static_cast<Cycle>(lat.reissue));
       s.loads_back = std::max(s.loads_back, back);
       break;
     }
     case si::Class::kMem: {
-      // The load/store unit sends the accesses in program order, one piece a cycle;
-      // loads come back.
       bool load = false;
       Cycle done = 0;
       for (std::size_t k = 0; k < record_.accesses.size(); ++k) {
-        const functional::MemoryAccess& a = record_.accesses[k];
-        const Cycle at = std::max(lane_slot(k) + to_unit, core.lsu_free);
-        core.lsu_free = at + port_pieces(a.address, a.bytes);
-        if (a.store) {
-          core.data_cache->write(at, a.address, a.bytes);
-        } else {
-          load = true;
-          done = std::max(done, take_return_slot(core, core.data_cache->read(at, a.address, a.bytes) + from_unit));
-        }
+        load |= !record_.accesses[k].store;
+        done = std::max(done, send_access(core, lane_slot(k), record_.accesses[k]));
       }
       if (load) {
         set_result(s, use.dst, done + result);

@@ -78,6 +78,7 @@ Cycle Cache::read_line(Cycle at, std::uint32_t line) {
   Cycle request = looked_up;
   if (in_flight_.size() >= static_cast<std::size_t>(config_.mshrs)) {
     const auto earliest = std::min_element(in_flight_.begin(), in_flight_.end());
+    // A miss register is free again the cycle after its fill is installed.
     request = *earliest + 1;
     stats_.mshr_wait_cycles += request - looked_up;
     in_flight_.erase(earliest);
