@@ -4,6 +4,7 @@
 // the functional model's at the end; the memory port served by the cycle model's DRAM.
 //
 //   chip_cosim --config default --scene cornell --width 16 --height 12 [--isect woop]
+//   chip_cosim --config tiny --write-vectors FILE --write-framebuffer FILE   (rtl/flow.py synth --unit chip)
 #include <chrono>
 #include <cstdio>
 
@@ -36,7 +37,36 @@ struct Options {
   int width = 8, height = 6, spp = 1, max_depth = 2;
   std::uint64_t watchdog = 1'000'000;
   std::uint64_t seed = 1;
-  std::string trace;
+  std::string trace, vectors, framebuffer;
+};
+
+// Records the ports of every cycle out of reset (rtl/flow.py's netlist testbench
+// replays them after its own reset).
+class RecordingChip final : public ChipModel {
+ public:
+  RecordingChip(std::unique_ptr<ChipModel> inner, std::ostream& out) : inner_(std::move(inner)), writer_(out) {}
+  ChipOutputs settle(const ChipInputs& in) override {
+    ChipOutputs out = inner_->settle(in);
+    if (in.rst_n) {
+      writer_.write(inner_->port_words());
+      ++cycles_;
+    }
+    return out;
+  }
+  std::uint64_t cycles() const { return cycles_; }
+  void clock() override { inner_->clock(); }
+  int cores() const override { return inner_->cores(); }
+  int ray_units() const override { return inner_->ray_units(); }
+  ChipCounters counters() override { return inner_->counters(); }
+  std::uint32_t code_words() const override { return inner_->code_words(); }
+  void close_trace() override { inner_->close_trace(); }
+  void set_wave_window(std::uint64_t begin, std::uint64_t end) override { inner_->set_wave_window(begin, end); }
+  PortWords port_words() override { return inner_->port_words(); }
+
+ private:
+  std::unique_ptr<ChipModel> inner_;
+  VectorWriter writer_;
+  std::uint64_t cycles_ = 0;
 };
 
 int run(const Options& o, std::unique_ptr<ChipModel>& model) {
@@ -45,6 +75,15 @@ int run(const Options& o, std::unique_ptr<ChipModel>& model) {
   model = make_chip_model({o.config, o.isect}, o.seed, o.trace);
   if (!model) throw Error(fmt::format("no chip model for configuration '{}' with the {} test in this build", o.config,
                                       o.isect));
+  if (!o.framebuffer.empty()) check_output_path(o.framebuffer);
+  std::unique_ptr<OutputFile> vectors;
+  const RecordingChip* recorder = nullptr;
+  if (!o.vectors.empty()) {
+    vectors = std::make_unique<OutputFile>(o.vectors);
+    auto recording = std::make_unique<RecordingChip>(std::move(model), vectors->stream());
+    recorder = recording.get();
+    model = std::move(recording);
+  }
   KdBuildConfig build = kd_build_config_for(config);
   build.format = format;
   const Scene scene = functional::chip_space_scene(resolve_scene(o.scene), format);
@@ -77,6 +116,16 @@ int run(const Options& o, std::unique_ptr<ChipModel>& model) {
              o.config, o.scene, format.name(), o.isect, o.width, o.height, r.cycles, r.lockstep_steps, instructions,
              r.closest_rays + r.any_rays, seconds, static_cast<double>(r.cycles) / std::max(seconds, 1e-9));
   if (r.fault) fmt::print("the frame faulted at pixel {}, the same on both\n", r.fault->pixel);
+  if (vectors) {
+    vectors->commit();
+    fmt::print("chip_cosim: wrote {} cycles' ports to {}\n", recorder->cycles(), o.vectors);
+  }
+  if (!o.framebuffer.empty()) {
+    OutputFile file(o.framebuffer);
+    file.stream().write(reinterpret_cast<const char*>(r.framebuffer.data()),
+                        static_cast<std::streamsize>(r.framebuffer.size()));
+    file.commit();
+  }
   return 0;
 }
 
@@ -97,8 +146,12 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(std::uint64_t{1}, std::uint64_t{0xffffffff}));
   app.add_option("--seed", o.seed, "seed of the RTL's initial values");
   app.add_option("--trace", o.trace, "write FST waveforms here");
+  app.add_option("--write-vectors", o.vectors, "write every cycle's ports here (rtl/flow.py's netlist testbench)");
+  app.add_option("--write-framebuffer", o.framebuffer,
+                 "write the framebuffer the chip wrote here, pixels x 16 bytes as in device memory");
   CLI11_PARSE(app, argc, argv);
   report_sigbus_as_write_failure("chip_cosim");
   std::unique_ptr<ChipModel> model;
-  return run_harness("chip_cosim", o.trace, "", model, [&o](std::unique_ptr<ChipModel>& m) { return run(o, m); });
+  return run_harness("chip_cosim", o.trace, o.vectors, model,
+                     [&o](std::unique_ptr<ChipModel>& m) { return run(o, m); });
 }

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "port_vectors.hpp"
 #include "rpu/streams.hpp"
 
 // One Verilated chip (rtl/rpu_top.sv through sim/rpu_chip_cosim_top.sv) behind a plain
@@ -72,6 +73,9 @@ class ChipModel {
   virtual void close_trace() = 0;
   // Waveforms of the cycles [begin, end) only (counted from the model's first cycle).
   virtual void set_wave_window(std::uint64_t begin, std::uint64_t end) = 0;
+  // The ports as they are after the last settle(), in rpu_chip_cosim_top's port order
+  // (what chip_cosim --write-vectors records for sim/rpu_chip_netlist_tb.sv).
+  virtual PortWords port_words() = 0;
 };
 
 struct ChipModelName {

@@ -60,32 +60,24 @@ struct Options {
 // testbench replays them).
 class RecordingModel final : public MemModel {
  public:
-  RecordingModel(std::unique_ptr<MemModel> inner, OutputFile* file) : inner_(std::move(inner)), file_(file) {}
-  void start() { recording_ = file_ != nullptr; }
+  RecordingModel(std::unique_ptr<MemModel> inner, OutputFile* file) : inner_(std::move(inner)) {
+    if (file) writer_.emplace(file->stream());
+  }
+  void start() { recording_ = writer_.has_value(); }
   MemOutputs settle(const MemInputs& in) override {
     MemOutputs out = inner_->settle(in);
-    if (recording_) {
-      const MemPortWords w = inner_->port_words();
-      std::ostream& s = file_->stream();
-      if (!header_) {
-        s << w.inputs.size() << ' ' << w.outputs.size() << '\n';
-        header_ = true;
-      }
-      for (const std::uint32_t x : w.inputs) s << fmt::format("{:08x} ", x);
-      for (const std::uint32_t x : w.outputs) s << fmt::format("{:08x} ", x);
-      s << '\n';
-    }
+    if (recording_) writer_->write(inner_->port_words());
     return out;
   }
   void clock() override { inner_->clock(); }
   std::array<CacheGeometry, kMemCaches> geometry() override { return inner_->geometry(); }
-  MemPortWords port_words() override { return inner_->port_words(); }
+  PortWords port_words() override { return inner_->port_words(); }
   void close_trace() override { inner_->close_trace(); }
 
  private:
   std::unique_ptr<MemModel> inner_;
-  OutputFile* file_;
-  bool recording_ = false, header_ = false;
+  std::optional<VectorWriter> writer_;
+  bool recording_ = false;
 };
 
 // A cache port's requester: random reads and writes, each tag in flight at most once.

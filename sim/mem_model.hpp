@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "port_vectors.hpp"
 #include "rpu/streams.hpp"
 
 // The memory system as the Verilator harness drives it (sim/rpu_mem_cosim_top.sv)
@@ -54,12 +55,6 @@ struct MemOutputs {
   std::array<bool, kMemCaches> idle{};
 };
 
-// The flat ports of one cycle as 32-bit words, inputs then outputs, each port least
-// significant word first: what --write-vectors records for the netlist testbench.
-struct MemPortWords {
-  std::vector<std::uint32_t> inputs, outputs;
-};
-
 class MemModel {
  public:
   using Inputs = MemInputs;
@@ -71,7 +66,7 @@ class MemModel {
   virtual void clock() = 0;
   virtual std::array<CacheGeometry, kMemCaches> geometry() = 0;
   // The ports as they are after the last settle().
-  virtual MemPortWords port_words() = 0;
+  virtual PortWords port_words() = 0;
   // Closes the waveforms and renames them over their path; rpu::Error naming it if
   // they could not be written. Without waveforms, nothing.
   virtual void close_trace() = 0;

@@ -6,6 +6,7 @@
 #include <type_traits>
 
 #include "chip_model.hpp"
+#include "port_vectors.hpp"
 #include "verilated_dut.hpp"
 
 namespace rpu::sim {
@@ -92,6 +93,37 @@ class VerilatedChip final : public ChipModel {
       if (r.fault_valid) r.fault = stream_slice<streams::Fault>(t.fault_o, c);
     }
     return out;
+  }
+
+  PortWords port_words() override {
+    const Top& t = dut_.top();
+    PortWords w;
+    append_words(w.inputs, t.rst_ni);
+    append_words(w.inputs, t.code_we_i);
+    append_words(w.inputs, t.code_addr_i);
+    append_words(w.inputs, t.code_data_i);
+    append_words(w.inputs, t.start_i);
+    append_words(w.inputs, t.launch_i);
+    append_words(w.inputs, t.tu_cfg_i);
+    append_words(w.inputs, t.dram_req_ready_i);
+    append_words(w.inputs, t.dram_rsp_valid_i);
+    append_words(w.inputs, t.dram_rsp_i);
+    append_words(w.outputs, t.done_o);
+    append_words(w.outputs, t.dram_req_valid_o);
+    append_words(w.outputs, t.dram_req_o);
+    append_words(w.outputs, t.dram_rsp_ready_o);
+    append_words(w.outputs, t.issue_valid_o);
+    append_words(w.outputs, t.issue_o);
+    append_words(w.outputs, t.retire_valid_o);
+    append_words(w.outputs, t.retire_o);
+    append_words(w.outputs, t.wb_valid_o);
+    append_words(w.outputs, t.wb_o);
+    append_words(w.outputs, t.fault_valid_o);
+    append_words(w.outputs, t.fault_o);
+    append_words(w.outputs, t.core_counters_o);
+    append_words(w.outputs, t.ray_counters_o);
+    append_words(w.outputs, t.cache_counters_o);
+    return w;
   }
 
  private:

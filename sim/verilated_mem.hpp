@@ -7,23 +7,12 @@
 #include <vector>
 
 #include "mem_model.hpp"
+#include "port_vectors.hpp"
 #include "verilated_dut.hpp"
 
 namespace rpu::sim {
 
 namespace detail {
-
-// A port's words, least significant first (a 1-bit port is one word).
-template <class Port>
-void append_words(std::vector<std::uint32_t>& out, const Port& port) {
-  if constexpr (std::is_integral_v<Port>) {
-    const auto v = static_cast<std::uint64_t>(port);
-    out.push_back(static_cast<std::uint32_t>(v));
-    if constexpr (sizeof(Port) == 8) out.push_back(static_cast<std::uint32_t>(v >> 32));
-  } else {
-    for (std::size_t i = 0; i < sizeof(port.m_storage) / sizeof(port.m_storage[0]); ++i) out.push_back(port[i]);
-  }
-}
 
 template <class Port, std::size_t N>
 void set_bits(Port& port, const std::array<bool, N>& bits) {
@@ -100,30 +89,30 @@ class VerilatedMem final : public MemModel {
   }
 
   // In the order of the top's port list (sim/rpu_mem_netlist_tb.sv reads them so).
-  MemPortWords port_words() override {
+  PortWords port_words() override {
     const Top& t = dut_.top();
-    MemPortWords w;
-    detail::append_words(w.inputs, t.rst_ni);
-    detail::append_words(w.inputs, t.req_valid_i);
-    detail::append_words(w.inputs, t.req_i);
-    detail::append_words(w.inputs, t.rsp_ready_i);
-    detail::append_words(w.inputs, t.mem_req_valid_i);
-    detail::append_words(w.inputs, t.mem_req_i);
-    detail::append_words(w.inputs, t.mem_rsp_ready_i);
-    detail::append_words(w.inputs, t.dram_req_ready_i);
-    detail::append_words(w.inputs, t.dram_rsp_valid_i);
-    detail::append_words(w.inputs, t.dram_rsp_i);
-    detail::append_words(w.outputs, t.req_ready_o);
-    detail::append_words(w.outputs, t.rsp_valid_o);
-    detail::append_words(w.outputs, t.rsp_o);
-    detail::append_words(w.outputs, t.mem_req_ready_o);
-    detail::append_words(w.outputs, t.mem_rsp_valid_o);
-    detail::append_words(w.outputs, t.mem_rsp_o);
-    detail::append_words(w.outputs, t.dram_req_valid_o);
-    detail::append_words(w.outputs, t.dram_req_o);
-    detail::append_words(w.outputs, t.dram_rsp_ready_o);
-    detail::append_words(w.outputs, t.counters_o);
-    detail::append_words(w.outputs, t.idle_o);
+    PortWords w;
+    append_words(w.inputs, t.rst_ni);
+    append_words(w.inputs, t.req_valid_i);
+    append_words(w.inputs, t.req_i);
+    append_words(w.inputs, t.rsp_ready_i);
+    append_words(w.inputs, t.mem_req_valid_i);
+    append_words(w.inputs, t.mem_req_i);
+    append_words(w.inputs, t.mem_rsp_ready_i);
+    append_words(w.inputs, t.dram_req_ready_i);
+    append_words(w.inputs, t.dram_rsp_valid_i);
+    append_words(w.inputs, t.dram_rsp_i);
+    append_words(w.outputs, t.req_ready_o);
+    append_words(w.outputs, t.rsp_valid_o);
+    append_words(w.outputs, t.rsp_o);
+    append_words(w.outputs, t.mem_req_ready_o);
+    append_words(w.outputs, t.mem_rsp_valid_o);
+    append_words(w.outputs, t.mem_rsp_o);
+    append_words(w.outputs, t.dram_req_valid_o);
+    append_words(w.outputs, t.dram_req_o);
+    append_words(w.outputs, t.dram_rsp_ready_o);
+    append_words(w.outputs, t.counters_o);
+    append_words(w.outputs, t.idle_o);
     return w;
   }
 
