@@ -9,6 +9,7 @@ gen.py turns into rpu_pkg.sv, so nothing here repeats a width or a unit list.
     flow.py synth --unit iu --isect woop --format fp16 --pkg ... --cosim build/ci/sim/iu_cosim --out DIR
     flow.py synth --unit tu --isect woop --format fp16 --pkg ... --cosim build/ci/sim/tu_cosim --out DIR
     flow.py synth --unit mem --config tiny --pkg ... --cosim build/ci/sim/mem_cosim --out DIR
+    flow.py synth --unit chip --config tiny --netlist --pkg ... --cosim build/release/sim/chip_cosim --out DIR
     flow.py area  --from DIR --commit HASH    # appends to bench/results/area.json
 """
 from __future__ import annotations
@@ -34,6 +35,8 @@ SPU_SIM_TOP = ROOT / "sim" / "rpu_spu_cosim_top.sv"
 TU_NETLIST_TB = ROOT / "sim" / "rpu_tu_netlist_tb.sv"
 MEM_SIM_TOP = ROOT / "sim" / "rpu_mem_cosim_top.sv"
 MEM_NETLIST_TB = ROOT / "sim" / "rpu_mem_netlist_tb.sv"
+CHIP_SIM_TOP = ROOT / "sim" / "rpu_chip_cosim_top.sv"
+CHIP_NETLIST_TB = ROOT / "sim" / "rpu_chip_netlist_tb.sv"
 # The intersection modes (spec/memory_map.toml [isect_mode]: the IsectMode parameter).
 ISECT_MODES = ("woop", "watertight")
 
@@ -171,8 +174,23 @@ def yosys(args, top: str, chparams: dict, extra: list, out: pathlib.Path, stem: 
         f"write_verilog -noattr {netlist}",
     ])
     start = time.monotonic()
+    text = run_yosys(args, script, log)
+    if text is None:
+        return None
+    stats = parse_stat(text)
+    stats.update(synth_seconds=round(time.monotonic() - start, 1))
+    if keep_rams:
+        # Each memory as write_verilog declares it: reg [W-1:0] name [D-1:0].
+        rams = re.findall(r"^\s*reg \[(\d+):0\] \S+\s+\[(\d+):0\];", netlist.read_text(), re.M)
+        stats.update(rams=len(rams), ram_bits=sum((int(w) + 1) * (int(d) + 1) for w, d in rams))
+    print(f"ok   yosys {stem}: {stats['cells']} cells in {stats['synth_seconds']:.1f} s")
+    return stats
+
+
+def run_yosys(args, script: str, log: pathlib.Path) -> str | None:
+    """Runs the Yosys script, its output to `log`; returns the output, or None (with the
+    reason printed) if Yosys failed or warned."""
     r = run([args.yosys, "-p", script])
-    synth_seconds = time.monotonic() - start
     log.write_text(r.stdout + r.stderr)
     if r.returncode != 0:
         print(f"synth FAIL: yosys exited {r.returncode}; log in {log}\n{r.stderr[-3000:]}")
@@ -183,14 +201,7 @@ def yosys(args, top: str, chparams: dict, extra: list, out: pathlib.Path, stem: 
     if warnings:
         print("synth FAIL: yosys warnings:\n" + "\n".join(warnings))
         return None
-    stats = parse_stat(r.stdout)
-    stats.update(synth_seconds=round(synth_seconds, 1))
-    if keep_rams:
-        # Each memory as write_verilog declares it: reg [W-1:0] name [D-1:0].
-        rams = re.findall(r"^\s*reg \[(\d+):0\] \S+\s+\[(\d+):0\];", netlist.read_text(), re.M)
-        stats.update(rams=len(rams), ram_bits=sum((int(w) + 1) * (int(d) + 1) for w, d in rams))
-    print(f"ok   yosys {stem}: {stats['cells']} cells in {synth_seconds:.1f} s")
-    return stats
+    return r.stdout
 
 
 def synth(args) -> int:
@@ -198,6 +209,8 @@ def synth(args) -> int:
     formats, units = spec()
     if args.unit == "mem":
         return synth_mem(args)
+    if args.unit == "chip":
+        return synth_chip(args)
     if args.format is None:
         print("flow.py: --format is required for this unit", file=sys.stderr)
         return 2
@@ -395,6 +408,277 @@ def synth_mem(args) -> int:
     return 0
 
 
+# The chip's units as docs/area.md names them: (module, a pattern of the instance's
+# path, the name). Each is counted with everything inside it; a unit's remainder is
+# the logic of its own module. Everything else (FIFOs, skid buffers, pipeline
+# registers, the FP units' rounding and classification) counts in the unit around it.
+CHIP_UNITS = [
+    ("rpu_chip_cosim_top", r"", "chip"),
+    ("rpu_spu", r"", "shader core"),
+    ("rpu_ram", r"\.u_code$", "code memory"),
+    ("rpu_ram", r"\.u_rf$", "register file bank"),
+    ("rpu_ram", r"\.u_return_stack$", "return stack"),
+    ("rpu_spu_datapath", r"", "vector datapath"),
+    ("rpu_fp_fma", r"", "fma"),
+    ("rpu_fp_misc", r"", "misc"),
+    ("rpu_fp_misc_core", r"\.u_(from|to)_fp32$", "fp32 conversion"),
+    ("rpu_fp_divsqrt", r"", "divsqrt"),
+    ("rpu_spu_lsu", r"", "load/store unit"),
+    ("rpu_spu_memcheck", r"", "address check"),
+    ("rpu_spu_sfu", r"", "special-function unit"),
+    ("rpu_cache", r"g_core\[\d+\]\.u_data_cache$", "data cache"),
+    ("rpu_cache", r"g_ray_cache\[0\]\.u_cache$", "node cache"),
+    ("rpu_cache", r"g_ray_cache\[1\]\.u_cache$", "triangle cache"),
+    ("rpu_ray_dispatch", r"", "ray dispatch"),
+    ("rpu_ray_unit", r"", "ray unit"),
+    ("rpu_tu", r"", "traversal unit"),
+    ("rpu_iu", r"", "intersection unit"),
+    ("rpu_inorder_port", r"", "in-order port"),
+    ("rpu_cache_arbiter", r"", "cache arbiter"),
+    ("rpu_mem_arbiter", r"", "memory arbiter"),
+]
+
+
+def module_name(rtlil: str) -> str:
+    """The source module of a Yosys module name: rpu_fifo for $paramod$<hash>\\rpu_fifo and
+    $paramod\\rpu_fifo\\Width=..."""
+    parts = rtlil.split("\\")
+    return parts[1] if parts[0].startswith("$paramod") else parts[0]
+
+
+def parse_module_stats(stat: str, cmos: str, netlist: str) -> dict[str, dict]:
+    """Per module of a hierarchical Yosys run: its own cells, flops, CMOS transistors and
+    RAM bits (without its submodules'), and its submodule instances (type, name).
+    `stat` and `cmos` are Yosys' hierarchical `stat` and `stat -tech cmos`; `netlist` is
+    its write_verilog output, which names the instances and declares the RAMs."""
+    modules = {}
+    for name, body in re.findall(r"^=== (.+?) ===\n(.*?)(?=^=== |\Z)", stat, re.M | re.S):
+        if name == "design hierarchy":
+            continue
+        kinds = {m.group(1): int(m.group(2)) for m in re.finditer(r"^\s+(\S+)\s+(\d+)$", body, re.M)
+                 if not m.group(1).startswith("Number")}
+        modules[name] = {"kinds": kinds}
+    for name, body in re.findall(r"^=== (.+?) ===\n(.*?)(?=^=== |\Z)", cmos, re.M | re.S):
+        m = re.search(r"Estimated number of transistors:\s+(\d+)", body)
+        if name in modules:
+            modules[name]["transistors"] = int(m.group(1)) if m else 0
+    # write_verilog escapes a name with a backslash and ends it with a space.
+    unescape = lambda n: n[1:] if n.startswith("\\") else n  # noqa: E731
+    for block in re.split(r"^module ", netlist, flags=re.M)[1:]:
+        name = unescape(block.split("(", 1)[0].strip())
+        if name not in modules:
+            continue
+        rams = re.findall(r"^\s*reg \[(\d+):0\] \S+\s+\[(\d+):0\];", block, re.M)
+        modules[name]["ram_bits"] = sum((int(w) + 1) * (int(d) + 1) for w, d in rams)
+        modules[name]["instances"] = [(unescape(t), unescape(i)) for t, i in
+                                      re.findall(r"^\s+(\S+)\s+(\S+)\s+\($", block, re.M)
+                                      if unescape(t) in modules]
+    for st in modules.values():
+        subs = {t for t, _ in st.get("instances", [])}
+        own = {k: n for k, n in st["kinds"].items() if k not in subs}
+        st["cells"] = sum(own.values())
+        st["flops"] = sum(n for k, n in own.items() if "DFF" in k or "DLATCH" in k)
+        st.setdefault("ram_bits", 0)
+        st.setdefault("transistors", 0)
+        st.setdefault("instances", [])
+    return modules
+
+
+def chip_units(modules: dict[str, dict], top: str) -> tuple[list[dict], dict]:
+    """The chip's units (CHIP_UNITS) with their instance counts and each instance's
+    cells, flops, RAM bits and transistors (everything inside it), in the order of the
+    hierarchy; and the chip's totals."""
+    totals_of = {}
+
+    def inclusive(name: str) -> dict:
+        if name not in totals_of:
+            st = modules[name]
+            t = {k: st[k] for k in ("cells", "flops", "ram_bits", "transistors")}
+            for sub, _ in st["instances"]:
+                for k, v in inclusive(sub).items():
+                    t[k] += v
+            totals_of[name] = t
+        return totals_of[name]
+
+    units: dict[tuple, dict] = {}
+
+    def walk(name: str, path: str, depth: int, parent: str) -> None:
+        base = module_name(name)
+        unit = next((label for mod, pattern, label in CHIP_UNITS
+                     if mod == base and re.search(pattern, path)), None)
+        if unit is not None:
+            key = (parent, unit, name)
+            if key not in units:
+                units[key] = {"unit": unit, "module": base, "within": parent, "depth": depth, "instances": 0,
+                              **inclusive(name)}
+            units[key]["instances"] += 1
+            parent, depth = unit, depth + 1
+        for sub, inst in modules[name]["instances"]:
+            walk(sub, f"{path}.{inst}" if path else inst, depth, parent)
+
+    walk(top, "", 0, "")
+    # What no unit holds: rpu_top's own logic (the launch and start registers, the stop
+    # and done logic, the counters) and its skid buffers.
+    total = inclusive(top)
+    rest = dict(total)
+    for u in units.values():
+        if u["within"] == "chip":
+            for k in rest:
+                rest[k] -= u["instances"] * u[k]
+    result = list(units.values())
+    result.insert(1, {"unit": "top-level logic", "module": "rpu_top", "within": "chip", "depth": 1, "instances": 1,
+                      **rest})
+    return result, total
+
+
+def synth_chip(args) -> int:
+    """Yosys synth of a named configuration's chip (rpu_chip_cosim_top: rpu_top with the
+    Woop test), RAMs kept as memories: cells, flops, RAM bits and transistors per unit
+    and of the chip from the hierarchical run. With --netlist, flattened (and its totals
+    counted again), the netlist replays every cycle of a chip_cosim frame and must match
+    the RTL's outputs in every bit, and its memory-port writes must rebuild the frame."""
+    tables = gen.load(ROOT / "spec")
+    resolved = {r["name"]: r for r in tables["resolved"]}
+    if args.config not in resolved:
+        print(f"flow.py: unknown configuration '{args.config}'; spec/configs.toml has {list(resolved)}",
+              file=sys.stderr)
+        return 2
+    if args.netlist and not args.cosim:
+        print("flow.py: --netlist needs --cosim (the chip_cosim binary)", file=sys.stderr)
+        return 2
+    top = "rpu_chip_cosim_top"
+    params = {**gen.rtl_parameters(tables, resolved[args.config]["values"]), "IsectMode": isect_mode("woop"),
+              "CodeWords": args.code_words}
+    out = pathlib.Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    stem = f"chip_{args.config}"
+    netlist, hier = out / f"{stem}.v", out / f"{stem}_hier.v"
+    stat, cmos = out / f"{stem}_hier.stat", out / f"{stem}_hier.cmos"
+    reads = " ".join(str(p) for p in [args.pkg, *rtl_sources(), CHIP_SIM_TOP])
+    # Synthesised without -flatten, every module once however often it is instantiated
+    # (the default chip's four cores cost one core's time); stat then counts each module
+    # alone. Flattened afterwards for the netlist simulation only (the default chip's
+    # flat netlist would hold every core and ray unit again): the same gates, and
+    # opt_clean drops what only fed outputs nothing reads (so the flat total is lower).
+    flatten = ["flatten", "opt_clean", "splitnets", "stat", "stat -tech cmos",
+               f"write_verilog -noattr {netlist}"] if args.netlist else []
+    script = "; ".join([
+        f"read_verilog -sv {reads}",
+        f"hierarchy -check -top {top} " + " ".join(f"-chparam {k} {v}" for k, v in params.items()),
+        f"synth -top {top} -run begin:fine", *KEEP_RAMS,
+        f"tee -q -o {stat} stat", f"tee -q -o {cmos} stat -tech cmos",
+        f"write_verilog -noattr {hier}",
+        *flatten,
+    ])
+    start = time.monotonic()
+    text = run_yosys(args, script, out / f"{stem}.yosys.log")
+    if text is None:
+        return 1
+    synth_seconds = time.monotonic() - start
+    modules = parse_module_stats(stat.read_text(), cmos.read_text(), hier.read_text())
+    units, hier_total = chip_units(modules, top)
+    result = {"unit": "chip", "config": args.config, "isect": "woop", "parameters": params, "units": units,
+              "hierarchical": hier_total, "synth_seconds": round(synth_seconds, 1)}
+    print(f"ok   yosys {stem} in {synth_seconds:.1f} s: {hier_total['cells']} cells ({hier_total['flops']} flops), "
+          f"{hier_total['ram_bits']} RAM bits, {hier_total['transistors']} CMOS transistors")
+    if args.netlist:
+        flat = parse_stat(text.split("Executing FLATTEN pass")[-1])
+        flat["ram_bits"] = sum((int(w) + 1) * (int(d) + 1) for w, d in
+                               re.findall(r"^\s*reg \[(\d+):0\] \S+\s+\[(\d+):0\];", netlist.read_text(), re.M))
+        del flat["cell_kinds"]
+        result["flat"] = flat
+        print(f"ok   flattened: {flat['cells']} cells ({flat['flops']} flops), {flat['ram_bits']} RAM bits, "
+              f"{flat['transistors']} CMOS transistors")
+    for u in units:
+        print(f"     {'  ' * u['depth']}{u['unit']:<24} {u['instances']:>3} x {u['cells']:>8} cells "
+              f"{u['flops']:>7} flops {u['ram_bits']:>8} RAM bits")
+    if args.netlist:
+        sim = simulate_chip(args, out, stem, netlist, tables)
+        if sim is None:
+            return 1
+        result.update(sim)
+    (out / f"{stem}.json").write_text(json.dumps(result, indent=1) + "\n")
+    print(f"synth ok: {args.config} chip {hier_total['cells']} cells ({hier_total['flops']} flops), "
+          f"{hier_total['ram_bits']} RAM bits"
+          + (f"; the flattened netlist matches the RTL in all {result['netlist_cycles']} cycles of a "
+             f"{result['netlist_frame']} frame and rebuilds its framebuffer" if args.netlist else ""))
+    return 0
+
+
+def simulate_chip(args, out: pathlib.Path, stem: str, netlist: pathlib.Path, tables: dict) -> dict | None:
+    """The chip's netlist through every cycle of a chip_cosim frame (the code writes, the
+    start and the frame; chip_cosim checks the RTL against the functional model in
+    lockstep meanwhile); then the frame rebuilt from the netlist's own memory-port
+    writes against the framebuffer the RTL wrote."""
+    # The testbench's port widths from the netlist itself (the cores, ray units and code
+    # address) and the spec (each stream's bits).
+    widths = {m.group(2): int(m.group(1)) + 1 if m.group(1) else 1
+              for m in re.finditer(r"^\s*(?:input|output)\s+(?:\[(\d+):0\]\s+)?(\w+);", netlist.read_text(), re.M)}
+    bits = stream_bits()
+    tb_params = {"Cores": widths["issue_valid_o"], "RayUnits": widths["ray_counters_o"] // bits["ray_unit_counters"],
+                 "CodeAddrBits": widths["code_addr_i"], "LaunchBits": bits["launch"], "TuCfgBits": bits["tu_cfg"],
+                 "DramReqBits": bits["dram_req"], "DramRspBits": bits["dram_rsp"], "IssueBits": bits["issue"],
+                 "RetireBits": bits["retire"], "WritebackBits": bits["writeback"], "FaultBits": bits["fault"],
+                 "CoreCountersBits": bits["core_counters"], "RayUnitCountersBits": bits["ray_unit_counters"],
+                 "CacheCountersBits": bits["cache_counters"]}
+    start = time.monotonic()
+    simulate = build_netlist_sim(args, out, stem, netlist, CHIP_NETLIST_TB, "rpu_chip_netlist_tb", tb_params)
+    if simulate is None:
+        return None
+    build_seconds = time.monotonic() - start
+    vectors, framebuffer, requests = out / f"{stem}.vec", out / f"{stem}.fb", out / f"{stem}.requests"
+    frame = ["--config", args.config, "--isect", "woop", "--scene", args.scene, "--width", args.width,
+             "--height", args.height, "--spp", 1, "--max-depth", args.max_depth]
+    r = run([args.cosim, *frame, "--write-vectors", vectors, "--write-framebuffer", framebuffer])
+    if r.returncode != 0:
+        print(f"synth FAIL: {args.cosim} --write-vectors:\n{r.stdout}{r.stderr}")
+        return None
+    print(f"ok   {r.stdout.strip()}")
+    start = time.monotonic()
+    r = run([*simulate, f"+vectors={vectors}", f"+requests={requests}"])
+    sim_seconds = time.monotonic() - start
+    text = r.stdout + r.stderr
+    m = re.search(r"netlist ok: (\d+) cycles", text)
+    if r.returncode != 0 or not m:
+        print(f"synth FAIL: netlist of the {args.config} chip on {vectors}:\n{text[-5000:]}")
+        return None
+    print(f"ok   netlist: {m.group(0)} in {sim_seconds:.1f} s")
+    want = framebuffer.read_bytes()
+    got = frame_from_requests(requests.read_text(), len(want), tables)
+    if got != want:
+        i = next(k for k in range(len(want)) if got[k] != want[k])
+        print(f"synth FAIL: the netlist's framebuffer writes differ from the RTL's framebuffer at byte {i} "
+              f"(pixel {i // 16}): {got[i]:#04x}, the RTL's {want[i]:#04x}")
+        return None
+    print(f"ok   the netlist's memory-port writes rebuild the RTL's {len(want) // 16}-pixel framebuffer byte for byte")
+    vectors.unlink()
+    requests.unlink()
+    return {"netlist_cycles": int(m.group(1)), "netlist_simulator": args.sim,
+            "netlist_frame": f"{args.scene} {args.width}x{args.height}, 1 spp, max depth {args.max_depth}",
+            "netlist_build_seconds": round(build_seconds, 1), "netlist_seconds": round(sim_seconds, 1)}
+
+
+def frame_from_requests(text: str, size: int, tables: dict) -> bytes:
+    """The framebuffer (`size` bytes at the device's framebuffer_base) as the memory-port
+    writes in `text` leave it: one request a line, its 32-bit words least significant
+    first (sim/rpu_chip_netlist_tb.sv +requests); dram_req's fields from the spec."""
+    fields = {f["name"]: f for s in gen.streams.layout(tables, gen.fp_op_bits(tables))["streams"]
+              if s["name"] == "dram_req" for f in s["fields"]}
+    base = tables["memory_map"]["device"]["framebuffer_base"]
+    field = lambda v, name: v >> fields[name]["lsb"] & ((1 << fields[name]["bits"]) - 1)  # noqa: E731
+    frame = bytearray(size)
+    for line in text.splitlines():
+        v = sum(int(w, 16) << (32 * i) for i, w in enumerate(line.split()))
+        if not field(v, "write"):
+            continue
+        addr, mask, data = field(v, "addr"), field(v, "wmask"), field(v, "data")
+        for k in range(mask.bit_length()):
+            at = addr + 4 * k - base
+            if mask >> k & 1 and 0 <= at < size:
+                frame[at:at + 4] = (data >> (32 * k) & 0xFFFFFFFF).to_bytes(4, "little")
+    return bytes(frame)
+
+
 def build_netlist_sim(args, out: pathlib.Path, stem: str, netlist: pathlib.Path, tb: pathlib.Path = NETLIST_TB,
                       tb_top: str = "rpu_fp_netlist_tb", params: dict | None = None) -> list | None:
     """Compiles the testbench with the netlist; returns the command that runs it.
@@ -456,12 +740,20 @@ def area(args) -> int:
     keep = ("unit", "format", "exponent_bits", "fraction_bits", "cells", "flops", "transistors", "synth_seconds",
             "netlist_vectors", "netlist_simulator", "netlist_build_seconds", "netlist_seconds")
     new = []
+    # A chip's record: its units and totals, the netlist's frame (flow.py synth --unit chip).
+    keep_chip = ("unit", "config", "isect", "units", "hierarchical", "flat", "synth_seconds", "netlist_frame",
+                 "netlist_cycles", "netlist_simulator", "netlist_build_seconds", "netlist_seconds")
     for p in sorted(pathlib.Path(getattr(args, "from")).glob("*.json")):
         s = json.loads(p.read_text())
-        ray_unit = s["unit"].startswith(("iu_", "tu_"))
-        rec = {"commit": args.commit, "date": time.strftime("%Y-%m-%d"),
-               "command": "ctest --preset ci -L slow -R '^slow\\.synth\\.'" if ray_unit else "ctest --preset ci -L synth"}
-        rec.update({k: s.get(k) for k in keep})
+        rec = {"commit": args.commit, "date": time.strftime("%Y-%m-%d")}
+        if s["unit"] == "chip":
+            rec["command"] = f"ctest --preset slow -R '^slow\\.synth\\.chip\\.{s['config']}$'"
+            rec.update({k: s[k] for k in keep_chip if k in s})
+        else:
+            ray_unit = s["unit"].startswith(("iu_", "tu_"))
+            rec["command"] = ("ctest --preset ci -L slow -R '^slow\\.synth\\.'" if ray_unit
+                              else "ctest --preset ci -L synth")
+            rec.update({k: s.get(k) for k in keep})
         new.append(rec)
     if not new:
         print(f"flow.py area: no synthesis results in {getattr(args, 'from')}; run ctest -L synth "
@@ -483,13 +775,22 @@ def main() -> int:
     p.add_argument("--verilator", default=shutil.which("verilator"))
     p.add_argument("--pkg", required=True, help="the generated rpu_pkg.sv")
     p = sub.add_parser("synth")
-    p.add_argument("--unit", required=True, help="an FP unit of spec/fp_units.toml, iu, tu or mem")
+    p.add_argument("--unit", required=True, help="an FP unit of spec/fp_units.toml, iu, tu, mem or chip")
     p.add_argument("--isect", choices=ISECT_MODES, default="woop", help="with --unit iu or tu: the intersection mode")
     p.add_argument("--format", help="the number format (not for --unit mem)")
-    p.add_argument("--config", default="tiny", help="with --unit mem: the named configuration")
+    p.add_argument("--config", default="tiny", help="with --unit mem or chip: the named configuration")
+    p.add_argument("--netlist", action="store_true",
+                   help="with --unit chip: simulate the netlist through a chip_cosim frame (--cosim)")
+    p.add_argument("--code-words", type=int, default=4096,
+                   help="with --unit chip: each core's code memory, as the chip_cosim models are built")
+    p.add_argument("--scene", default="cornell", help="with --unit chip --netlist: the frame's scene")
+    p.add_argument("--width", type=int, default=8, help="with --unit chip --netlist: the frame's pixels")
+    p.add_argument("--height", type=int, default=6, help="with --unit chip --netlist: the frame's pixels")
+    p.add_argument("--max-depth", type=int, default=2, help="with --unit chip --netlist: the frame's bounces")
     p.add_argument("--pkg", required=True)
-    p.add_argument("--cosim", required=True,
-                   help="the fp_cosim (for iu iu_cosim, for tu tu_cosim, for mem mem_cosim) binary: writes the vectors")
+    p.add_argument("--cosim",
+                   help="the fp_cosim (for iu iu_cosim, for tu tu_cosim, for mem mem_cosim, for chip chip_cosim) "
+                        "binary: writes the vectors (for chip only with --netlist)")
     p.add_argument("--out", required=True)
     p.add_argument("--vectors", type=int, default=10000,
                    help="random vectors, shared by the unit's ops (iu: captured IU tests; tu: rays; mem: requests "
@@ -506,6 +807,8 @@ def main() -> int:
     p.add_argument("--results", default=str(ROOT / "bench" / "results" / "area.json"),
                    help="the result file to append to (default bench/results/area.json)")
     args = ap.parse_args()
+    if args.cmd == "synth" and args.unit != "chip" and not args.cosim:
+        ap.error("synth needs --cosim (the harness that writes the vectors)")
     return {"lint": lint, "synth": synth, "area": area}[args.cmd](args)
 
 
