@@ -190,8 +190,11 @@ def yosys(args, top: str, chparams: dict, extra: list, out: pathlib.Path, stem: 
 def run_yosys(args, script: str, log: pathlib.Path) -> str | None:
     """Runs the Yosys script, its output to `log`; returns the output, or None (with the
     reason printed) if Yosys failed or warned."""
-    r = run([args.yosys, "-p", script])
-    log.write_text(r.stdout + r.stderr)
+    # Yosys writes the log as it goes: a long synthesis shows where it is.
+    r = run([args.yosys, "-l", log, "-p", script])
+    if r.stderr:
+        with log.open("a") as f:
+            f.write(r.stderr)
     if r.returncode != 0:
         print(f"synth FAIL: yosys exited {r.returncode}; log in {log}\n{r.stderr[-3000:]}")
         return None
@@ -577,8 +580,10 @@ def synth_chip(args) -> int:
     synth_seconds = time.monotonic() - start
     modules = parse_module_stats(stat.read_text(), cmos.read_text(), hier.read_text())
     units, hier_total = chip_units(modules, top)
-    result = {"unit": "chip", "config": args.config, "isect": "woop", "parameters": params, "units": units,
-              "hierarchical": hier_total, "synth_seconds": round(synth_seconds, 1)}
+    # How this run was asked for, paths in the tree relative to it (flow.py area keeps it).
+    command = " ".join(["python3", "rtl/flow.py", *(a.replace(f"{ROOT}/", "") for a in sys.argv[1:])])
+    result = {"unit": "chip", "config": args.config, "isect": "woop", "command": command, "parameters": params,
+              "units": units, "hierarchical": hier_total, "synth_seconds": round(synth_seconds, 1)}
     print(f"ok   yosys {stem} in {synth_seconds:.1f} s: {hier_total['cells']} cells ({hier_total['flops']} flops), "
           f"{hier_total['ram_bits']} RAM bits, {hier_total['transistors']} CMOS transistors")
     if args.netlist:
@@ -740,14 +745,14 @@ def area(args) -> int:
     keep = ("unit", "format", "exponent_bits", "fraction_bits", "cells", "flops", "transistors", "synth_seconds",
             "netlist_vectors", "netlist_simulator", "netlist_build_seconds", "netlist_seconds")
     new = []
-    # A chip's record: its units and totals, the netlist's frame (flow.py synth --unit chip).
+    # A chip's record: its units and totals, the netlist's frame and the command that
+    # synthesised it (flow.py synth --unit chip).
     keep_chip = ("unit", "config", "isect", "units", "hierarchical", "flat", "synth_seconds", "netlist_frame",
-                 "netlist_cycles", "netlist_simulator", "netlist_build_seconds", "netlist_seconds")
+                 "netlist_cycles", "netlist_simulator", "netlist_build_seconds", "netlist_seconds", "command")
     for p in sorted(pathlib.Path(getattr(args, "from")).glob("*.json")):
         s = json.loads(p.read_text())
         rec = {"commit": args.commit, "date": time.strftime("%Y-%m-%d")}
         if s["unit"] == "chip":
-            rec["command"] = f"ctest --preset slow -R '^slow\\.synth\\.chip\\.{s['config']}$'"
             rec.update({k: s[k] for k in keep_chip if k in s})
         else:
             ray_unit = s["unit"].startswith(("iu_", "tu_"))
