@@ -68,6 +68,7 @@ module rpu_cache #(
   localparam int unsigned PieceAddrBits = 32 - $clog2(PieceBytes);
   localparam int unsigned TagBits       = LineAddrBits - IndexBits;
   localparam int unsigned WayBits       = Ways > 1 ? $clog2(Ways) : 1;
+  localparam int unsigned EntryBits     = Sets * Ways > 1 ? $clog2(Sets * Ways) : 1;
   // The LRU order of a set: bit p(i, j), i < j, says way i was used after way j. All
   // zero (reset) is the order 0 oldest ... Ways-1 newest, a valid one.
   localparam int unsigned PairBits      = Ways > 1 ? Ways * (Ways - 1) / 2 : 1;
@@ -87,9 +88,11 @@ module rpu_cache #(
   // ---------------------------------------------------------------------------------
   // State.
   // ---------------------------------------------------------------------------------
-  logic [Sets*Ways*TagBits-1:0]  tag_d, tag_q;  // way w of set s at entry s*Ways + w
+  // Valid bits are flops (reset); way w of set s at entry s*Ways + w. Tags and LRU order
+  // are memories read in the lookup's cycle (g_way below, set_order): written by an
+  // install or a touch alone, a set at a time, they need no shifter as wide as the
+  // array in synthesis and no copy of it each cycle in simulation.
   logic [Sets*Ways-1:0]          valid_d, valid_q;
-  logic [Sets*PairBits-1:0]      order_d, order_q;
   logic [Mshrs-1:0]              mshr_valid_d, mshr_valid_q;
   logic [Mshrs*LineAddrBits-1:0] mshr_line_d, mshr_line_q;
   // Reads by tag: waiting for a fill, or answered next by a replay.
@@ -148,15 +151,17 @@ module rpu_cache #(
   assign look_line  = look_addr[31:OffsetBits];
   assign look_piece = look_addr[OffsetBits-1 -: PieceBits];
 
-  logic [Ways-1:0]     hit_ways;
-  logic                hit;
-  logic [WayBits-1:0]  hit_way;
+  logic [Ways-1:0]        set_valid;
+  logic [Ways*TagBits-1:0] set_tags;
+  logic [Ways-1:0]        hit_ways;
+  logic                   hit;
+  logic [WayBits-1:0]     hit_way;
+  assign set_valid = valid_q[EntryBits'(look_set) * EntryBits'(Ways) +: Ways];
   always_comb begin
     hit     = 1'b0;
     hit_way = '0;
     for (int w = Ways - 1; w >= 0; w--) begin
-      hit_ways[w] = valid_q[32'(look_set)*Ways + w]
-                    && tag_q[(32'(look_set)*Ways + w)*TagBits +: TagBits] == look_tag;
+      hit_ways[w] = set_valid[w] && set_tags[w*TagBits +: TagBits] == look_tag;
       if (hit_ways[w]) begin
         hit     = 1'b1;
         hit_way = WayBits'(w);
@@ -186,12 +191,9 @@ module rpu_cache #(
   end
 
   // The victim: the lowest invalid way, else the way every other way was used after.
-  logic [Ways-1:0]     set_valid;
   logic [PairBits-1:0] set_order;
   logic [Ways-1:0]     oldest;
   logic [WayBits-1:0]  victim;
-  assign set_valid = valid_q[32'(look_set)*Ways +: Ways];
-  assign set_order = order_q[32'(look_set)*PairBits +: PairBits];
   always_comb begin
     for (int v = 0; v < Ways; v++) begin
       oldest[v] = 1'b1;
@@ -240,6 +242,34 @@ module rpu_cache #(
   logic [WayBits-1:0] touch_way;
   assign touch     = launch || install_go;
   assign touch_way = install_go ? victim : hit_way;
+
+  // A set's tags, one memory per way, and its LRU order. Neither has a reset: a tag is
+  // read behind its valid bit, and the order only once every way of its set is valid,
+  // by when the touch of one of each pair of ways has written the pair's bit. The array
+  // writes are in their clocked processes, as in rpu_ram (the exception to _q <= _d).
+  for (genvar w = 0; w < Ways; w++) begin : g_way
+    logic [TagBits-1:0] tags_q [Sets];
+    always_ff @(posedge clk_i) begin
+      if (install_go && victim == WayBits'(w)) tags_q[look_set] <= look_tag;
+    end
+    assign set_tags[w*TagBits +: TagBits] = tags_q[look_set];
+  end
+
+  logic [PairBits-1:0] order_q [Sets];
+  logic [PairBits-1:0] touched_order;
+  assign set_order = order_q[look_set];
+  always_comb begin
+    touched_order = set_order;
+    for (int i = 0; i < Ways; i++) begin
+      for (int j = i + 1; j < Ways; j++) begin
+        if (32'(touch_way) == i) touched_order[i*(2*Ways - i - 1)/2 + (j - i - 1)] = 1'b1;
+        if (32'(touch_way) == j) touched_order[i*(2*Ways - i - 1)/2 + (j - i - 1)] = 1'b0;
+      end
+    end
+  end
+  always_ff @(posedge clk_i) begin
+    if (touch) order_q[look_set] <= touched_order;
+  end
 
   // ---------------------------------------------------------------------------------
   // The data array: one RAM per word of a line, so that a fill writes a line and a
@@ -350,9 +380,7 @@ module rpu_cache #(
   // Next state.
   // ---------------------------------------------------------------------------------
   always_comb begin
-    tag_d        = tag_q;
     valid_d      = valid_q;
-    order_d      = order_q;
     mshr_valid_d = mshr_valid_q;
     mshr_line_d  = mshr_line_q;
     wait_d       = wait_q;
@@ -360,19 +388,9 @@ module rpu_cache #(
     wait_mshr_d  = wait_mshr_q;
     wait_addr_d  = wait_addr_q;
 
-    if (touch) begin
-      for (int i = 0; i < Ways; i++) begin
-        for (int j = i + 1; j < Ways; j++) begin
-          if (32'(touch_way) == i) order_d[32'(look_set)*PairBits + i*(2*Ways - i - 1)/2 + (j - i - 1)] = 1'b1;
-          if (32'(touch_way) == j) order_d[32'(look_set)*PairBits + i*(2*Ways - i - 1)/2 + (j - i - 1)] = 1'b0;
-        end
-      end
-    end
-
     if (install_go) begin
-      tag_d[(32'(look_set)*Ways + 32'(victim))*TagBits +: TagBits] = look_tag;
-      valid_d[32'(look_set)*Ways + 32'(victim)]                   = 1'b1;
-      mshr_valid_d[fill_mshr]                                     = 1'b0;
+      valid_d[EntryBits'(look_set) * EntryBits'(Ways) + EntryBits'(victim)] = 1'b1;
+      mshr_valid_d[fill_mshr] = 1'b0;
       for (int t = 0; t < Tags; t++) begin
         if (wait_q[t] && wait_mshr_q[t*MshrBits +: MshrBits] == fill_mshr) begin
           wait_d[t]   = 1'b0;
@@ -410,9 +428,7 @@ module rpu_cache #(
 
   always_ff @(posedge clk_i or negedge rst_ni) begin
     if (!rst_ni) begin
-      tag_q        <= '0;
       valid_q      <= '0;
-      order_q      <= '0;
       mshr_valid_q <= '0;
       mshr_line_q  <= '0;
       wait_q       <= '0;
@@ -425,9 +441,7 @@ module rpu_cache #(
       rd_tag_q     <= '0;
       rd_piece_q   <= '0;
     end else begin
-      tag_q        <= tag_d;
       valid_q      <= valid_d;
-      order_q      <= order_d;
       mshr_valid_q <= mshr_valid_d;
       mshr_line_q  <= mshr_line_d;
       wait_q       <= wait_d;
