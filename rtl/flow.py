@@ -531,7 +531,20 @@ def chip_units(modules: dict[str, dict], top: str) -> tuple[list[dict], dict]:
         if u["within"] == "chip":
             for k in rest:
                 rest[k] -= u["instances"] * u[k]
-    result = list(units.values())
+    # Modules that differ only in an id parameter (a core's CoreId, a cache's CacheId) are
+    # one row: the instances of every such module, each instance's numbers their mean
+    # (they differ by a few cells, where the id is compared with a constant).
+    rows: dict[tuple, dict] = {}
+    for u in units.values():
+        key = (u["within"], u["unit"])
+        if key not in rows:
+            rows[key] = {**u, "instances": 0, **{k: 0 for k in rest}}
+        rows[key]["instances"] += u["instances"]
+        for k in rest:
+            rows[key][k] += u["instances"] * u[k]
+    result = []
+    for row in rows.values():
+        result.append({**row, **{k: round(row[k] / row["instances"]) for k in rest}})
     result.insert(1, {"unit": "top-level logic", "module": "rpu_top", "within": "chip", "depth": 1, "instances": 1,
                       **rest})
     return result, total
