@@ -89,10 +89,10 @@ module rpu_spu #(
   localparam int unsigned FlightBits   = 16;
   localparam int unsigned TotalThreads = Cores * Threads;
   localparam int unsigned Thread0      = CoreId * Threads;  // this core's first global thread
-  // A queue takes a whole chunk instruction, and a lane of the one before may still be
-  // on its way to it.
-  localparam int unsigned QueueDepth   = 2 * ChunkSize + 2;
-  localparam int unsigned QueueNeed    = ChunkSize + 2;
+  // A queue to a unit and the room a chunk instruction needs in it (rpu_pkg's
+  // UnitQueueChunks and UnitQueueSlack; the cycle model's rule is the same).
+  localparam int unsigned QueueDepth   = rpu_pkg::UnitQueueChunks * ChunkSize + rpu_pkg::UnitQueueSlack;
+  localparam int unsigned QueueNeed    = ChunkSize + rpu_pkg::UnitQueueSlack;
   localparam int unsigned QCountBits   = $clog2(QueueDepth + 1);
   // What comes back with a load, an sfu result and a ray.
   localparam int unsigned LsuTagBits   = TB + RegBits + 4 + 3;  // thread, dst, wmask, {broadcast, round, calli}
@@ -960,9 +960,10 @@ module rpu_spu #(
 
   // ---------------------------------------------------------------------------------
   // Counters (docs/chip.md "Statistics"): why no instruction issues. A chunk with rays
-  // out waits for rays, else one with loads out for memory, else any live chunk for the
-  // core itself; the core waits for what its soonest chunk does (the core's own
-  // latencies are the shortest, rays the longest), as the cycle model does.
+  // out waits for rays, else one with loads out for memory, else it waits for the core
+  // itself; the core waits for itself if any live chunk does, else for memory if any
+  // does, else for rays (the core's own latencies are the shortest, rays the longest),
+  // as the cycle model does.
   // ---------------------------------------------------------------------------------
   logic [FlightBits*Chunks-1:0] rays_d, rays_q, loads_d, loads_q;
   logic [Chunks-1:0]            chunk_dep, chunk_mem, chunk_ray;

@@ -19,6 +19,7 @@
 #include "device/device_base.hpp"
 #include "fp/fast32.hpp"
 #include "functional/tracer.hpp"
+#include "rpu/streams.hpp"
 
 namespace rpu::cycle {
 
@@ -215,11 +216,13 @@ Cycle CycleDevice::compute_ready_time(const ChunkSlot& s) const {
   if (!need(use.dst) || !need(use.data) || !need(use.src[0]) || !need(use.src[1]) || !need(use.src[2])) {
     return kNever;
   }
-  // The queue the instruction hands its lanes to must have room for all of them and a
-  // lane of the instruction before (rpu_spu's QueueNeed): it holds at most a chunk.
+  // The queue the instruction hands its lanes to must have room for all of them and for
+  // lanes of the instruction before still on their way (rpu_spu's QueueDepth and
+  // QueueNeed): at most UnitQueueChunks - 1 chunks of lanes may wait in it.
   // (So the answer depends on the core's queues too: every issue on the core asks again.)
   const Core& core = cores_[s.core];
-  const auto room = static_cast<std::size_t>(config_.chunk_size);
+  const auto room = static_cast<std::size_t>(streams::kUnitQueueChunks - 1) *
+                    static_cast<std::size_t>(config_.chunk_size);
   const isa::Instruction& in = *shader_->instruction(pc);
   if (in.spec->cls == si::Class::kTrace && core.rays.size() > room) return kNever;
   if (in.spec->cls == si::Class::kMem || in.opcode() == Opcode::kCalli) {
