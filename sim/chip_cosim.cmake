@@ -6,6 +6,8 @@
 # builds one: its time budget, docs/rtl.md "What CI builds").
 set(RPU_CHIP_MODELS "" CACHE STRING
     "Chips to verilate as config/isect pairs, e.g. tiny/woop;rpu2005/woop (default: all)")
+set(RPU_CHIP_THREADS 1 CACHE STRING
+    "Host threads a chip model's evaluation uses (Verilator --threads; docs/chip.md \"Simulation speed\")")
 set(rpu_chip_top_params Cores Threads ChunkSize Registers CallDepth StackBytes SfuUnits StackDepth RayUnits
     NodeBytes NodeWays NodeHitLatency NodeMshrs TriangleBytes TriangleWays TriangleHitLatency TriangleMshrs
     DataBytes DataWays DataHitLatency DataMshrs ExpBits FracBits)
@@ -36,7 +38,7 @@ foreach(line IN LISTS rpu_rtl_config_lines)
       continue()
     endif()
     set(prefix Vchip_${config}_${isect})
-    rpu_verilate(rpu_chip_rtl_models ${prefix} rpu_chip_cosim_top TRACE ASSERT
+    rpu_verilate(rpu_chip_rtl_models ${prefix} rpu_chip_cosim_top TRACE ASSERT THREADS ${RPU_CHIP_THREADS}
                  PARAMS ${params} -GIsectMode=${rpu_isect_${isect}})
     string(APPEND rpu_chip_model_includes "#include \"${prefix}.h\"\n")
     string(APPEND rpu_chip_model_entries
