@@ -28,9 +28,9 @@ ROOT = pathlib.Path(__file__).resolve().parent.parent
 RTL = ROOT / "rtl"
 SIM_TOP = ROOT / "sim" / "rpu_fp_cosim_top.sv"
 TU_SIM_TOP = ROOT / "sim" / "rpu_tu_cosim_top.sv"
-NETLIST_TB = ROOT / "sim" / "rpu_fp_netlist_tb.sv"
+# The FP units' and the IU's netlists: one request and one response stream in order.
+STREAM_NETLIST_TB = ROOT / "sim" / "rpu_stream_netlist_tb.sv"
 IU_TOP = ROOT / "sim" / "rpu_iu_cosim_top.sv"
-IU_NETLIST_TB = ROOT / "sim" / "rpu_iu_netlist_tb.sv"
 SPU_SIM_TOP = ROOT / "sim" / "rpu_spu_cosim_top.sv"
 TU_NETLIST_TB = ROOT / "sim" / "rpu_tu_netlist_tb.sv"
 MEM_SIM_TOP = ROOT / "sim" / "rpu_mem_cosim_top.sv"
@@ -241,7 +241,10 @@ def synth(args) -> int:
 
     # Every op of the unit through the netlist, with vectors from the C++ model.
     start = time.monotonic()
-    simulate = build_netlist_sim(args, out, stem, netlist)
+    bits = stream_bits()
+    simulate = build_netlist_sim(args, out, stem, netlist, STREAM_NETLIST_TB, "rpu_stream_netlist_tb",
+                                 {"ReqBits": bits["fp_req"], "RspBits": bits["fp_rsp"]},
+                                 {"RPU_STREAM_DUT": "rpu_fp_cosim_top"})
     if simulate is None:
         return 1
     stats.update(netlist_build_seconds=round(time.monotonic() - start, 1))
@@ -281,9 +284,11 @@ def synth(args) -> int:
 # memory image and the Tracer's IU tests in walk order), the testbench's last line and
 # its stream-width parameters.
 RAY_UNIT_SYNTH = {
-    "iu": {"top": "rpu_iu_cosim_top", "top_file": IU_TOP, "tb": IU_NETLIST_TB, "tb_top": "rpu_iu_netlist_tb",
+    "iu": {"top": "rpu_iu_cosim_top", "top_file": IU_TOP,
+           "tb": STREAM_NETLIST_TB, "tb_top": "rpu_stream_netlist_tb",
+           "defines": {"RPU_STREAM_DUT": "rpu_iu_cosim_top"},
            "vector_args": lambda n: ["--rays", 100000, "--vectors", n],
-           "done": r"netlist ok: (\d+) IU tests",
+           "done": r"netlist ok: (\d+) vectors",
            "streams": {"ReqBits": "iu_req", "RspBits": "iu_rsp"}},
     "tu": {"top": "rpu_tu_cosim_top", "top_file": TU_SIM_TOP, "tb": TU_NETLIST_TB, "tb_top": "rpu_tu_netlist_tb",
            "vector_args": lambda n: ["--rays", -(-n // 3)],
@@ -314,7 +319,8 @@ def synth_ray_unit(args, formats: dict) -> int:
     start = time.monotonic()
     bits = stream_bits()
     simulate = build_netlist_sim(args, out, stem, netlist, kind["tb"], kind["tb_top"],
-                                 {param: bits[stream] for param, stream in kind["streams"].items()})
+                                 {param: bits[stream] for param, stream in kind["streams"].items()},
+                                 kind.get("defines"))
     if simulate is None:
         return 1
     stats.update(netlist_build_seconds=round(time.monotonic() - start, 1))
@@ -700,9 +706,10 @@ def frame_from_requests(text: str, size: int, tables: dict) -> bytes:
     return bytes(frame)
 
 
-def build_netlist_sim(args, out: pathlib.Path, stem: str, netlist: pathlib.Path, tb: pathlib.Path = NETLIST_TB,
-                      tb_top: str = "rpu_fp_netlist_tb", params: dict | None = None) -> list | None:
-    """Compiles the testbench with the netlist; returns the command that runs it.
+def build_netlist_sim(args, out: pathlib.Path, stem: str, netlist: pathlib.Path, tb: pathlib.Path, tb_top: str,
+                      params: dict, defines: dict | None = None) -> list | None:
+    """Compiles the testbench with the netlist (its parameters and macros); returns the
+    command that runs it.
 
     Verilator by default: Icarus is exact on Yosys netlists but event-driven, and the
     glitches of a multiplier's gate netlist made it take minutes per netlist (fp32 fma:
@@ -710,13 +717,11 @@ def build_netlist_sim(args, out: pathlib.Path, stem: str, netlist: pathlib.Path,
     about 30 s to compile). Verilator 5.006 mis-simulated some netlists without
     splitnets (docs/style.md "What Yosys 0.23 reads"); a mis-simulation shows up as a mismatch here.
     """
-    if params is None:
-        bits = stream_bits()
-        params = {"ReqBits": bits["fp_req"], "RspBits": bits["fp_rsp"]}
     start = time.monotonic()
     if args.sim == "icarus":
         vvp = out / f"{stem}.vvp"
         r = run([args.iverilog, "-g2012", "-I", ROOT / "sim", "-o", vvp, "-s", tb_top,
+                 *[f"-D{k}={v}" for k, v in (defines or {}).items()],
                  *[f"-P{tb_top}.{k}={v}" for k, v in params.items()], tb, netlist])
         command = [args.vvp, "-n", vvp]
     else:
@@ -729,7 +734,8 @@ def build_netlist_sim(args, out: pathlib.Path, stem: str, netlist: pathlib.Path,
             env["OBJCACHE"] = "ccache"
         r = run([args.verilator, "--binary", "-Wno-fatal", "-Wno-lint", "-Wno-style",
                  "--x-assign", "unique", "--x-initial", "unique", "--top-module", tb_top, f"-I{ROOT / 'sim'}",
-                 *[f"-G{k}={v}" for k, v in params.items()], "-Mdir", obj, "-j", "1",
+                 *[f"-G{k}={v}" for k, v in params.items()],
+                 *[f"+define+{k}={v}" for k, v in (defines or {}).items()], "-Mdir", obj, "-j", "1",
                  "-CFLAGS", "-O0", tb, netlist], env=env)
         # Registers and X start random but reproducible (docs/style.md "SystemVerilog").
         command = [obj / f"V{tb_top}", "+verilator+rand+reset+2", "+verilator+seed+1"]

@@ -149,7 +149,7 @@ std::uint64_t default_seed(const Options& o) {
   return std::hash<std::string>{}(key);
 }
 
-// The netlist testbench's input (sim/rpu_fp_netlist_tb.sv): a header "count", then one
+// The netlist testbench's input (sim/rpu_stream_netlist_tb.sv): a header "count", then one
 // vector a line: the fp_req words (word 0 first, tag = the vector's index) and the
 // fp_rsp words the model expects, in hex, so the testbench knows no field. With an
 // edge limit, an even sample of the edge and constructed vectors is kept (a gate-level

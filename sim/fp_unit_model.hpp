@@ -7,38 +7,15 @@
 #include <vector>
 
 #include "rpu/streams.hpp"
+#include "stream_unit_model.hpp"
 
-// One Verilated floating-point unit (rpu_fp_cosim_top.sv) behind a plain interface,
-// so the harness needs no Verilator header: the models are built in their own
-// library, compiled with Verilator's flags rather than the project's warnings.
+// The Verilated floating-point units (rpu_fp_cosim_top.sv), one per unit and format,
+// behind StreamUnitModel.
 namespace rpu::sim {
 
-struct FpUnitInputs {
-  bool rst_n = false;
-  bool req_valid = false;
-  streams::FpReq req;
-  bool rsp_ready = false;
-};
-
-struct FpUnitOutputs {
-  bool req_ready = false;
-  bool rsp_valid = false;
-  streams::FpRsp rsp;
-};
-
-class FpUnitModel {
- public:
-  using Inputs = FpUnitInputs;
-  using Outputs = FpUnitOutputs;
-  virtual ~FpUnitModel() = default;
-  // Applies the inputs with the clock low and returns the outputs they give.
-  virtual FpUnitOutputs settle(const FpUnitInputs& in) = 0;
-  // One rising and one falling clock edge.
-  virtual void clock() = 0;
-  // Closes the waveforms and renames them over their path; rpu::Error naming it if
-  // they could not be written. Without waveforms, nothing.
-  virtual void close_trace() = 0;
-};
+using FpUnitModel = StreamUnitModel<streams::FpReq, streams::FpRsp>;
+using FpUnitInputs = FpUnitModel::Inputs;
+using FpUnitOutputs = FpUnitModel::Outputs;
 
 struct FpUnitModelName {
   std::string unit, format;

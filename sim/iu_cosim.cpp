@@ -209,7 +209,7 @@ void print_failure(const std::string& what, fp::Format f, std::uint64_t cycle, c
                value(f, t.result.u).c_str(), value(f, t.result.v).c_str());
 }
 
-// The netlist testbench's input (sim/rpu_iu_netlist_tb.sv): a header with the count,
+// The netlist testbench's input (sim/rpu_stream_netlist_tb.sv): a header with the count,
 // then per test the iu_req words (word 0 first; tag = the test's index) and the iu_rsp
 // words the model expects, in hex, so the testbench knows no field.
 int write_vectors(const Options& o, TransactionSource& source) {

@@ -7,37 +7,15 @@
 #include <vector>
 
 #include "rpu/streams.hpp"
+#include "stream_unit_model.hpp"
 
-// One Verilated intersection unit (rpu_iu_cosim_top.sv) behind a plain interface, so
-// the harness needs no Verilator header (as fp_unit_model.hpp does for the FP units).
+// The Verilated intersection units (rpu_iu_cosim_top.sv), one per format and mode,
+// behind StreamUnitModel.
 namespace rpu::sim {
 
-struct IuInputs {
-  bool rst_n = false;
-  bool req_valid = false;
-  streams::IuReq req;
-  bool rsp_ready = false;
-};
-
-struct IuOutputs {
-  bool req_ready = false;
-  bool rsp_valid = false;
-  streams::IuRsp rsp;
-};
-
-class IuModel {
- public:
-  using Inputs = IuInputs;
-  using Outputs = IuOutputs;
-  virtual ~IuModel() = default;
-  // Applies the inputs with the clock low and returns the outputs they give.
-  virtual IuOutputs settle(const IuInputs& in) = 0;
-  // One rising and one falling clock edge.
-  virtual void clock() = 0;
-  // Closes the waveforms and renames them over the path; rpu::Error naming it if they
-  // could not be written. Without waveforms, nothing.
-  virtual void close_trace() = 0;
-};
+using IuModel = StreamUnitModel<streams::IuReq, streams::IuRsp>;
+using IuInputs = IuModel::Inputs;
+using IuOutputs = IuModel::Outputs;
 
 struct IuModelName {
   std::string format, isect;

@@ -1,18 +1,25 @@
-// Testbench for a Yosys netlist of rpu_iu_cosim_top (rtl/flow.py synth --unit iu): reads
-// the iu_req and expected iu_rsp words that iu_cosim --write-vectors wrote, drives the
-// requests through the valid/ready port with random stalls, and compares every
-// response with the model's, whole. It knows no field of either stream
-// (spec/streams.toml): a mismatch prints both in hex, most significant word first, as
-// docs/streams.md lays them out. Stops at the first mismatch with the test's index,
-// its request and the cycle. flow.py passes the stream widths from the spec.
-//   Vrpu_iu_netlist_tb +vectors=FILE [+seed=N]
+// Testbench for a Yosys netlist of a unit with one request and one response stream in
+// order (rpu_fp_cosim_top, rpu_iu_cosim_top; rtl/flow.py synth), for Verilator (--binary,
+// the default) or Icarus: reads the request and expected response words that the unit's
+// harness wrote (fp_cosim, iu_cosim --write-vectors), drives the requests through the
+// valid/ready port with random stalls, and compares every response with the model's,
+// whole. It knows no field of either stream (spec/streams.toml): a mismatch prints both
+// responses in hex, most significant word first, as docs/streams.md lays them out. Stops
+// at the first mismatch with the vector, its request and the cycle.
+//   Vrpu_stream_netlist_tb +vectors=FILE [+seed=N]   or   vvp tb.vvp +vectors=FILE [+seed=N]
+// The netlist's top is `RPU_STREAM_DUT, a macro flow.py defines: a module name cannot be a
+// parameter. Icarus 11 does not read rpu_pkg.sv (`int unsigned` localparams), so flow.py
+// passes the stream widths from the spec as parameters.
+`ifndef RPU_STREAM_DUT
+  `error "define RPU_STREAM_DUT as the netlist's top module"
+`endif
 `timescale 1ns / 1ps
-module rpu_iu_netlist_tb #(
+module rpu_stream_netlist_tb #(
   parameter integer ReqBits = 1,
   parameter integer RspBits = 1
 );
 
-  localparam integer MaxVectors = 1 << 16;
+  localparam integer MaxVectors = 1 << 18;
   localparam integer StallPercent = 6;
   localparam integer Timeout = 1000;
   localparam integer ReqWords = (ReqBits + 31) / 32;
@@ -27,7 +34,7 @@ module rpu_iu_netlist_tb #(
   reg                rsp_ready = 1'b0;
   wire [RspBits-1:0] rsp;
 
-  rpu_iu_cosim_top dut (
+  `RPU_STREAM_DUT dut (
     .clk_i(clk), .rst_ni(rst_n),
     .req_valid_i(req_valid), .req_ready_o(req_ready), .req_i(req),
     .rsp_valid_o(rsp_valid), .rsp_ready_i(rsp_ready), .rsp_o(rsp)
@@ -40,6 +47,7 @@ module rpu_iu_netlist_tb #(
 
   reg [1023:0] path;
   integer fd, n, i, k, sent, got, cycle, last, seed, ok;
+  reg        fire_req;
 
   `include "rpu_netlist_vectors.svh"
 
@@ -55,7 +63,7 @@ module rpu_iu_netlist_tb #(
       for (k = 0; k < ReqWords; k = k + 1) ok = ok + $fscanf(fd, "%h", req_words[i * ReqWords + k]);
       for (k = 0; k < RspWords; k = k + 1) ok = ok + $fscanf(fd, "%h", rsp_words[i * RspWords + k]);
       if (ok != ReqWords + RspWords) begin
-        $display("netlist FAIL: %0s: IU test %0d unreadable", path, i);
+        $display("netlist FAIL: %0s: vector %0d unreadable", path, i);
         $fatal(2);
       end
     end
@@ -78,23 +86,24 @@ module rpu_iu_netlist_tb #(
         for (k = 0; k < RspWords; k = k + 1) want_flat[k*32 +: 32] = rsp_words[got * RspWords + k];
         if (rsp !== want_flat[RspBits-1:0]) begin
           for (k = 0; k < ReqWords; k = k + 1) req_flat[k*32 +: 32] = req_words[got * ReqWords + k];
-          $display("netlist FAIL: cycle %0d, IU test %0d: iu_req %h", cycle, got, req_flat[ReqBits-1:0]);
-          $display("  expected iu_rsp %h; actual %h", want_flat[RspBits-1:0], rsp);
+          $display("netlist FAIL: cycle %0d, vector %0d: request %h", cycle, got, req_flat[ReqBits-1:0]);
+          $display("  expected response %h; actual %h", want_flat[RspBits-1:0], rsp);
           $fatal(1);
         end
         got = got + 1;
         last = cycle;
       end
-      if (req_valid && req_ready) sent = sent + 1;
+      fire_req = req_valid && req_ready;
+      if (fire_req) sent = sent + 1;
       if (sent == got) last = cycle;
       if (cycle - last > Timeout) begin
-        $display("netlist FAIL: no response for %0d cycles at cycle %0d (IU test %0d)", Timeout, cycle, got);
+        $display("netlist FAIL: no response for %0d cycles at cycle %0d (vector %0d)", Timeout, cycle, got);
         $fatal(1);
       end
       clk = 1'b1;
       #1 clk = 1'b0;
     end
-    $display("netlist ok: %0d IU tests match the model in %0d cycles", n, cycle);
+    $display("netlist ok: %0d vectors match the model in %0d cycles", n, cycle);
     $finish;
   end
 
