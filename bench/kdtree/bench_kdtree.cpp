@@ -15,6 +15,7 @@
 
 #include "kdtree/kdtree.hpp"
 #include "scene/mesh.hpp"
+#include "common/random_vector.hpp"
 
 namespace rpu {
 namespace {
@@ -28,10 +29,10 @@ Scene random_soup(std::size_t n) {
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
   const float scale = 1.0f / std::cbrt(static_cast<float>(n));
   for (std::size_t i = 0; i < n; ++i) {
-    const glm::vec3 centre(u(rng), u(rng), u(rng));
+    const glm::vec3 centre = random_vector<glm::vec3>(u, rng);
     const float size = 2.0f * scale * u(rng);
     const auto base = static_cast<std::uint32_t>(s.positions.size());
-    for (int v = 0; v < 3; ++v) s.positions.push_back(centre + size * (glm::vec3(u(rng), u(rng), u(rng)) - 0.5f));
+    for (int v = 0; v < 3; ++v) s.positions.push_back(centre + size * (random_vector<glm::vec3>(u, rng) - 0.5f));
     s.triangles.emplace_back(base, base + 1, base + 2);
     s.material_ids.push_back(0);
   }

@@ -23,6 +23,7 @@
 #include "common/error.hpp"
 #include "kdtree/kdtree.hpp"
 #include "scene/resolve.hpp"
+#include "common/random_vector.hpp"
 
 namespace rpu {
 namespace {
@@ -56,7 +57,7 @@ RayCost measure_rays(const Scene& scene, const KdTree& tree, int rays) {
   };
   std::vector<Item> stack;
   for (int r = 0; r < rays; ++r) {
-    const glm::dvec3 o = lo + (hi - lo) * glm::dvec3(u(rng), u(rng), u(rng));
+    const glm::dvec3 o = lo + (hi - lo) * random_vector(u, rng);
     const auto tri = static_cast<std::uint32_t>(u(rng) * static_cast<double>(scene.triangles.size()));
     double s = u(rng), w = u(rng);
     if (s + w > 1.0) {

@@ -11,6 +11,7 @@
 #include "functional/scene_image.hpp"
 #include "functional/tracer.hpp"
 #include "trace_fixtures.hpp"
+#include "common/random_vector.hpp"
 
 namespace rpu::functional {
 namespace {
@@ -28,7 +29,7 @@ std::uint64_t count_leaks(const Scene& closed, IsectMode mode, fp::Format format
     const glm::uvec3 t = closed.triangles[pick(rng)];
     const glm::dvec3 a(closed.positions[t.x]), b(closed.positions[t.y]);
     const double s = i % 8 == 0 ? 0.0 : u(rng);  // every 8th ray at a vertex
-    const glm::dvec3 origin(inside(rng), inside(rng), inside(rng));
+    const glm::dvec3 origin = random_vector(inside, rng);
     const TraceHit hit = tracer.trace(test::make_ray(origin, a + s * (b - a) - origin), TraceMode::kAny);
     leaks += !hit.hit;
   }

@@ -24,6 +24,7 @@
 #include "scene/geometry.hpp"
 #include "scene/procedural.hpp"
 #include "scene/resolve.hpp"
+#include "common/random_vector.hpp"
 
 namespace rpu {
 namespace {
@@ -248,7 +249,7 @@ Scene random_soup(std::size_t n, bool grid, std::uint64_t seed) {
     return grid ? std::round(v * 8.0f) / 8.0f : v;
   };
   while (s.triangles.size() < n) {
-    const glm::vec3 centre(u(rng), u(rng), u(rng));
+    const glm::vec3 centre = random_vector<glm::vec3>(u, rng);
     const float size = grid ? 0.5f : 0.2f * u(rng) * u(rng);
     glm::vec3 v[3];
     for (glm::vec3& p : v) p = {coord(centre.x, size), coord(centre.y, size), coord(centre.z, size)};

@@ -8,6 +8,7 @@
 
 #include "reference/bvh.hpp"
 #include "scene_builder.hpp"
+#include "common/random_vector.hpp"
 
 namespace rpu {
 namespace {
@@ -18,8 +19,10 @@ Scene random_triangles(int count, std::mt19937& rng) {
   std::uniform_real_distribution<float> pos(-10.0f, 10.0f), off(-1.0f, 1.0f);
   for (int i = 0; i < count; ++i) {
     const glm::vec3 c{pos(rng), pos(rng), pos(rng)};
-    test::add_triangle(scene, c + glm::vec3(off(rng), off(rng), off(rng)), c + glm::vec3(off(rng), off(rng), off(rng)),
-                       c + glm::vec3(off(rng), off(rng), off(rng)), m);
+    // The last corner first: the order gcc drew them in (common/random_vector.hpp).
+    const glm::vec3 corner2 = random_vector<glm::vec3>(off, rng), corner1 = random_vector<glm::vec3>(off, rng),
+                    corner0 = random_vector<glm::vec3>(off, rng);
+    test::add_triangle(scene, c + corner0, c + corner1, c + corner2, m);
   }
   return scene;
 }
@@ -50,7 +53,7 @@ TEST(ReferenceBvh, ClosestHitMatchesBruteForceOnRandomTriangles) {
   std::uniform_real_distribution<double> u(-15.0, 15.0);
   int hits = 0;
   for (int i = 0; i < 20000; ++i) {
-    RayD ray{{u(rng), u(rng), u(rng)}, glm::normalize(glm::dvec3(u(rng), u(rng), u(rng)))};
+    RayD ray{{u(rng), u(rng), u(rng)}, glm::normalize(random_vector(u, rng))};
     const HitD expected = brute_force(scene, ray);
     const HitD got = bvh.closest_hit(ray);
     ASSERT_EQ(got.hit, expected.hit) << "ray " << i;
@@ -118,9 +121,9 @@ TEST(ReferenceBvh, TessellatedSphereHitsWithinSagittaOfAnalyticSphere) {
   std::uniform_real_distribution<double> unit(-0.5, 0.5), dist(2.0, 50.0);
   double worst = 0.0;
   for (int i = 0; i < 20000; ++i) {
-    const glm::dvec3 dir_out = glm::normalize(glm::dvec3(gauss(rng), gauss(rng), gauss(rng)));
+    const glm::dvec3 dir_out = glm::normalize(random_vector(gauss, rng));
     const glm::dvec3 origin = dir_out * dist(rng);
-    glm::dvec3 target(unit(rng), unit(rng), unit(rng));
+    glm::dvec3 target = random_vector(unit, rng);
     if (glm::length(target) > 0.5) target *= 0.5 / glm::length(target);
     const glm::dvec3 d = glm::normalize(target - origin);
     // Analytic: |o + t d| = 1, nearer root.

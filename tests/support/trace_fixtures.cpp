@@ -8,6 +8,7 @@
 #include "kdtree/kd_node.hpp"
 #include "render/sampling.hpp"
 #include "scene/geometry.hpp"
+#include "common/random_vector.hpp"
 
 namespace rpu::test {
 
@@ -40,7 +41,7 @@ std::vector<functional::TraceRay> random_rays(const Scene& scene, int count, std
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   auto point = [&] {
-    return b.lo - margin + glm::dvec3(u(rng), u(rng), u(rng)) * (b.hi - b.lo + 2.0 * margin);
+    return b.lo - margin + random_vector(u, rng) * (b.hi - b.lo + 2.0 * margin);
   };
   std::vector<functional::TraceRay> rays;
   rays.reserve(static_cast<std::size_t>(count));
@@ -65,7 +66,7 @@ std::vector<functional::TraceRay> split_plane_rays(const functional::SceneImage&
     if (node.is_leaf()) continue;
     const int a = node.split_axis();
     for (int k = 0; k < 6 && static_cast<int>(rays.size()) < count; ++k) {
-      glm::dvec3 o = lo + glm::dvec3(u(rng), u(rng), u(rng)) * (hi - lo), dir(d(rng), d(rng), d(rng));
+      glm::dvec3 o = lo + random_vector(u, rng) * (hi - lo), dir = random_vector(d, rng);
       if (k >= 2) dir[a] = k % 2 ? 0.0 : -0.0;
       if (k == 5) dir = -dir;
       functional::TraceRay r = make_ray(o, dir);
@@ -86,8 +87,14 @@ DoubleHit double_hit(const Scene& s, std::uint32_t prim, const functional::Trace
   const glm::dvec3 o(r.origin[0], r.origin[1], r.origin[2]), d(r.direction[0], r.direction[1], r.direction[2]);
   const glm::dvec3 e1 = b - a, e2 = c - a, p = glm::cross(d, e2), q = glm::cross(o - a, e1);
   const double det = glm::dot(e1, p);
-  const double u = glm::dot(o - a, p) / det, v = glm::dot(d, q) / det;
-  return {glm::dot(e2, q) / det, std::min({u, v, 1.0 - u - v})};
+  const double u = glm::dot(o - a, p) / det, v = glm::dot(d, q) / det, w = 1.0 - u - v;
+  // A barycentric coordinate times its vertex's height over the opposite edge is the
+  // point's distance from that edge.
+  const double twice_area = glm::length(glm::cross(e1, e2));
+  const double edge_distance = std::min({w * twice_area / glm::length(c - b), u * twice_area / glm::length(e2),
+                                         v * twice_area / glm::length(e1)});
+  const double cosine = std::abs(glm::dot(glm::cross(e1, e2) / twice_area, glm::normalize(d)));
+  return {glm::dot(e2, q) / det, std::min({u, v, w}), edge_distance, 16.0 * 0x1p-24 * glm::length(a - o) / cosine};
 }
 
 }  // namespace rpu::test

@@ -75,11 +75,17 @@ inline functional::TraceRay make_ray(glm::dvec3 o, glm::dvec3 d, float t_min = 0
   return r;
 }
 
-// A ray/triangle hit in double precision, as an independent judge of near ties: the
-// distance t and the smallest barycentric coordinate (< 0 outside the triangle, ~0 on
-// an edge) of the ray's meeting with the triangle's plane.
+// A ray/triangle hit in double precision, as an independent judge of near ties: of the
+// ray's meeting with the triangle's plane, the distance t, the smallest barycentric
+// coordinate (< 0 outside the triangle, ~0 on an edge) and the distance from the nearest
+// edge in scene units (< 0 outside). fp32_reach bounds how far fp32 rounding can move
+// the meeting point, along the ray and so within the plane: a plane distance formed from
+// rounded coordinates is off by a few ulps of the coordinates it subtracts, divided by
+// the cosine of the incidence angle, 16 u |A - O| / |cos| with u = 2^-24
+// (docs/traversal.md, "Accuracy"). Within it of an edge, an fp32 test may fall on either
+// side.
 struct DoubleHit {
-  double t, min_barycentric;
+  double t, min_barycentric, edge_distance, fp32_reach;
 };
 DoubleHit double_hit(const Scene& scene, std::uint32_t prim, const functional::TraceRay& ray);
 
