@@ -1,0 +1,23 @@
+#include "accel/structure.hpp"
+
+#include <fmt/format.h>
+
+#include "accel/brute_force.hpp"
+#include "accel/bvh.hpp"
+#include "accel/uniform_grid.hpp"
+#include "common/error.hpp"
+
+namespace rpu::accel {
+
+std::vector<std::string> structure_names() { return {"brute", "grid", "bvh"}; }
+
+std::unique_ptr<Structure> build_structure(std::string_view name, const TriangleSet& triangles,
+                                           const StructureOptions& options) {
+  if (name == "brute") return std::make_unique<BruteForce>(triangles);
+  if (name == "grid") return std::make_unique<UniformGrid>(triangles, options.grid_lambda, options.grid_mailbox);
+  if (name == "bvh") return std::make_unique<Bvh>(triangles);
+  throw Error(fmt::format("unknown acceleration structure '{}'; known: {}", name,
+                          fmt::join(structure_names(), ", ")));
+}
+
+}  // namespace rpu::accel
