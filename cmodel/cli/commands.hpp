@@ -30,5 +30,6 @@ Command add_scenes_command(CLI::App& app);
 Command add_asm_command(CLI::App& app);
 Command add_disasm_command(CLI::App& app);
 Command add_config_command(CLI::App& app);
+Command add_accel_command(CLI::App& app);
 
 }  // namespace rpu::cli

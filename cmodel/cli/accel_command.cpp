@@ -1,0 +1,240 @@
+// rpu accel: the acceleration structures side by side on one scene and one set of rays
+// (docs/accel.md): build time, memory, and what each ray cost, checked against brute force.
+#include <algorithm>
+#include <chrono>
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "accel/bvh.hpp"
+#include "accel/ray_sets.hpp"
+#include "accel/structure.hpp"
+#include "cli/commands.hpp"
+#include "cli/output_paths.hpp"
+#include "common/error.hpp"
+#include "common/output_file.hpp"
+#include "scene/resolve.hpp"
+
+namespace rpu::cli {
+namespace {
+
+struct AccelOptions {
+  std::string scene;
+  std::string rays = "primary";
+  int count = 100000;
+  int width = 256, height = 256;
+  std::uint32_t seed = 1;
+  std::filesystem::path csv;
+  double grid_lambda = accel::StructureOptions{}.grid_lambda;
+};
+
+// Brute force traces only as many rays as keep its triangle tests under this budget
+// (about ten seconds); the other structures are checked against it on those rays.
+constexpr double kBruteForceTestBudget = 1e9;
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
+// One structure's row: its build, and both queries over the rays it traced.
+struct Row {
+  std::string name, parameters;
+  double build_seconds = 0.0;
+  std::uint64_t memory_bytes = 0, nodes = 0;
+  std::size_t rays = 0;  // traced: all, or brute force's share
+  accel::RayCost closest_cost, any_cost;
+  double closest_seconds = 0.0, any_seconds = 0.0;
+  std::size_t checked = 0, mismatches = 0;
+};
+
+std::string human_bytes(double bytes) {
+  if (bytes < 1e4) return fmt::format("{:.0f} B", bytes);
+  if (bytes < 1e7) return fmt::format("{:.1f} kB", bytes * 1e-3);
+  if (bytes < 1e10) return fmt::format("{:.1f} MB", bytes * 1e-6);
+  return fmt::format("{:.1f} GB", bytes * 1e-9);
+}
+
+std::string mrays_per_second(std::size_t rays, double seconds) {
+  return rays > 0 && seconds > 0.0 ? fmt::format("{:.3f}", double(rays) * 1e-6 / seconds) : "-";
+}
+
+double per_ray(std::uint64_t total, std::size_t rays) { return rays > 0 ? double(total) / double(rays) : 0.0; }
+
+// RFC 4180: a field with a comma, quote or line break is quoted, its quotes doubled.
+std::string csv_field(const std::string& text) {
+  if (text.find_first_of(",\"\r\n") == std::string::npos) return text;
+  std::string out = "\"";
+  for (const char c : text) out += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return out + '"';
+}
+
+std::string describe(const accel::Ray& r) {
+  return fmt::format("origin ({:.17g}, {:.17g}, {:.17g}) direction ({:.17g}, {:.17g}, {:.17g}) t in ({:.17g}, {:.17g})",
+                     r.origin.x, r.origin.y, r.origin.z, r.direction.x, r.direction.y, r.direction.z, r.t_min,
+                     r.t_max);
+}
+
+std::string describe(const accel::Hit& h) {
+  return h.hit() ? fmt::format("triangle {} at t = {:.17g}", h.prim, h.t) : std::string("no hit");
+}
+
+std::vector<accel::Ray> make_rays(const AccelOptions& o, const Scene& scene, const accel::TriangleSet& triangles) {
+  if (o.rays == "random") return accel::random_rays(triangles, o.count, o.seed);
+  std::vector<accel::Ray> primary = accel::primary_rays(scene, o.width, o.height);
+  if (o.rays == "primary") return primary;
+  if (scene.lights.empty()) {
+    throw Error(fmt::format("{} has no lights, so there are no shadow rays; add a light to the scene or choose "
+                            "--rays primary or random",
+                            scene.source));
+  }
+  const accel::Bvh bvh(triangles);
+  std::vector<accel::Hit> hits;
+  hits.reserve(primary.size());
+  accel::RayCost unused;
+  for (const accel::Ray& r : primary) hits.push_back(bvh.closest_hit(r, unused));
+  return accel::shadow_rays(scene, triangles, primary, hits, o.seed);
+}
+
+void write_csv(const std::filesystem::path& path, const AccelOptions& o, const Scene& scene,
+               const accel::TriangleSet& triangles, const std::vector<Row>& rows) {
+  OutputFile file(path);
+  std::ostream& out = file.stream();
+  out << "scene,triangles,rays,structure,parameters,build_seconds,memory_bytes,nodes,traced_rays,"
+         "closest_nodes_per_ray,closest_tests_per_ray,closest_bytes_per_ray,closest_rays_per_second,"
+         "any_nodes_per_ray,any_tests_per_ray,any_bytes_per_ray,any_rays_per_second,checked_rays,mismatches\n";
+  for (const Row& r : rows) {
+    auto rate = [&](double seconds) { return r.rays > 0 && seconds > 0.0 ? double(r.rays) / seconds : 0.0; };
+    out << fmt::format("{},{},{},{},{},{:.6g},{},{},{},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{},{}\n",
+                       csv_field(scene.source), triangles.size(), o.rays, r.name, csv_field(r.parameters),
+                       r.build_seconds, r.memory_bytes, r.nodes, r.rays, per_ray(r.closest_cost.nodes, r.rays),
+                       per_ray(r.closest_cost.tests, r.rays), per_ray(r.closest_cost.bytes, r.rays),
+                       rate(r.closest_seconds), per_ray(r.any_cost.nodes, r.rays), per_ray(r.any_cost.tests, r.rays),
+                       per_ray(r.any_cost.bytes, r.rays), rate(r.any_seconds), r.checked, r.mismatches);
+  }
+  file.commit();
+}
+
+int run_accel(const AccelOptions& o) {
+  std::vector<PlannedInput> inputs;
+  if (std::filesystem::is_regular_file(o.scene)) inputs.push_back({"the scene", o.scene});
+  std::vector<PlannedOutput> outputs;
+  if (!o.csv.empty()) outputs.push_back({"--csv", o.csv, {".csv"}});
+  check_outputs(outputs, inputs);
+
+  const Scene scene = resolve_scene(o.scene);
+  for (const std::string& w : scene.warnings) fmt::print(stderr, "rpu: warning: {}\n", w);
+  const accel::TriangleSet triangles(scene);
+  if (triangles.skipped() > 0) {
+    fmt::print(stderr, "rpu: warning: {}: {} triangles skipped by every structure (a vertex index out of range, "
+               "a vertex not finite, or degenerate)\n", scene.source, triangles.skipped());
+  }
+  const std::vector<accel::Ray> rays = make_rays(o, scene, triangles);
+  const double brute_rays = kBruteForceTestBudget / double(std::max<std::size_t>(1, triangles.size()));
+  const std::size_t checked = std::min(rays.size(), static_cast<std::size_t>(std::max(1.0, brute_rays)));
+
+  accel::StructureOptions options;
+  options.grid_lambda = o.grid_lambda;
+  std::vector<Row> rows;
+  std::vector<accel::Hit> expected_hits;
+  std::vector<char> expected_any;
+  std::string first_mismatch;
+  for (const std::string& name : accel::structure_names()) {
+    Row row;
+    row.name = name;
+    const Clock::time_point build_start = Clock::now();
+    const std::unique_ptr<accel::Structure> s = accel::build_structure(name, triangles, options);
+    row.build_seconds = seconds_since(build_start);
+    row.parameters = s->parameters();
+    row.memory_bytes = s->memory_bytes();
+    row.nodes = s->node_count();
+    const bool brute = name == "brute";
+    row.rays = brute ? checked : rays.size();
+
+    std::vector<accel::Hit> hits(row.rays);
+    Clock::time_point start = Clock::now();
+    for (std::size_t i = 0; i < row.rays; ++i) hits[i] = s->closest_hit(rays[i], row.closest_cost);
+    row.closest_seconds = seconds_since(start);
+    std::vector<char> any(row.rays);
+    start = Clock::now();
+    for (std::size_t i = 0; i < row.rays; ++i) any[i] = s->any_hit(rays[i], row.any_cost);
+    row.any_seconds = seconds_since(start);
+
+    if (brute) {
+      expected_hits.assign(hits.begin(), hits.end());
+      expected_any = any;
+    } else {
+      row.checked = std::min(row.rays, expected_hits.size());
+      for (std::size_t i = 0; i < row.checked; ++i) {
+        const bool closest_differs = hits[i].prim != expected_hits[i].prim || hits[i].t != expected_hits[i].t;
+        if (!closest_differs && any[i] == expected_any[i]) continue;
+        ++row.mismatches;
+        if (!first_mismatch.empty()) continue;
+        first_mismatch = closest_differs
+                             ? fmt::format("{} closest hit of ray {} ({}): {}, brute force: {}", name, i,
+                                           describe(rays[i]), describe(hits[i]), describe(expected_hits[i]))
+                             : fmt::format("{} any hit of ray {} ({}): {}, brute force: {}", name, i,
+                                           describe(rays[i]), any[i] ? "hit" : "no hit",
+                                           expected_any[i] ? "hit" : "no hit");
+      }
+    }
+    rows.push_back(std::move(row));
+  }
+
+  const bool shadow = o.rays == "shadow";
+  fmt::print("{}: {} triangles, {} {} rays{}; per ray: {} hit\n", scene.source, triangles.size(), rays.size(), o.rays,
+             checked < rays.size() ? fmt::format(" (brute force: the first {})", checked) : std::string(),
+             shadow ? "any" : "closest");
+  fmt::print("{:<6} {:>10} {:>10} {:>9} {:>10} {:>10} {:>10} {:>10} {:>10}  {}\n", "struct", "build ms", "memory",
+             "nodes", "nodes/ray", "tests/ray", "bytes/ray", "closest", "any", "parameters");
+  fmt::print("{:<6} {:>10} {:>10} {:>9} {:>10} {:>10} {:>10} {:>10} {:>10}\n", "", "", "", "", "", "", "", "Mrays/s",
+             "Mrays/s");
+  for (const Row& r : rows) {
+    const accel::RayCost& cost = shadow ? r.any_cost : r.closest_cost;
+    fmt::print("{:<6} {:>10.3f} {:>10} {:>9} {:>10.2f} {:>10.2f} {:>10.1f} {:>10} {:>10}  {}\n", r.name,
+               r.build_seconds * 1e3, human_bytes(double(r.memory_bytes)), r.nodes, per_ray(cost.nodes, r.rays),
+               per_ray(cost.tests, r.rays), per_ray(cost.bytes, r.rays), mrays_per_second(r.rays, r.closest_seconds),
+               mrays_per_second(r.rays, r.any_seconds), r.parameters);
+  }
+  if (!o.csv.empty()) write_csv(o.csv, o, scene, triangles, rows);
+
+  std::size_t mismatches = 0;
+  for (const Row& r : rows) mismatches += r.mismatches;
+  if (mismatches > 0) {
+    throw Error(fmt::format("{} of the answers differ from brute force on {} rays; the first: {}", mismatches,
+                            checked, first_mismatch));
+  }
+  fmt::print("every structure's closest and any hits equal brute force's on {} rays\n", checked);
+  return 0;
+}
+
+}  // namespace
+
+Command add_accel_command(CLI::App& app) {
+  auto o = std::make_shared<AccelOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "accel", "Acceleration structures side by side: build time, memory, nodes, tests and bytes per ray, rays/s");
+  cmd->add_option("scene", o->scene, "Scene file, built-in name or mesh file (default: the Cornell box)");
+  cmd->add_option("--rays", o->rays,
+                  "Rays: primary (one per pixel from the camera), random (between random points of the scene's "
+                  "box) or shadow (from the primary hits to the lights)")
+      ->check(CLI::IsMember({"primary", "random", "shadow"}))
+      ->capture_default_str();
+  cmd->add_option("--count", o->count, "Number of random rays")->check(CLI::Range(1, 100000000))->capture_default_str();
+  cmd->add_option("--width", o->width, "Image width of primary and shadow rays")
+      ->check(CLI::Range(1, 16384))
+      ->capture_default_str();
+  cmd->add_option("--height", o->height, "Image height of primary and shadow rays")
+      ->check(CLI::Range(1, 16384))
+      ->capture_default_str();
+  cmd->add_option("--seed", o->seed, "Seed of the random rays and of the points on area lights")->capture_default_str();
+  cmd->add_option("--csv", o->csv, "Write the table as CSV (.csv)");
+  cmd->add_option("--grid-lambda", o->grid_lambda, "Uniform grid cells per triangle")
+      ->check(CLI::Range(1e-6, 1e6))
+      ->capture_default_str();
+  return {cmd, [o] { return run_accel(*o); }};
+}
+
+}  // namespace rpu::cli
