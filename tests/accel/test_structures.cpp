@@ -1,0 +1,148 @@
+// What every structure shares: the ray/triangle test, the triangles it skips, empty
+// scenes, the closest-hit tie rule, and the byte model of its counters.
+#include <limits>
+
+#include <gtest/gtest.h>
+
+#include "accel/brute_force.hpp"
+#include "accel/bvh.hpp"
+#include "accel/structure.hpp"
+#include "accel/uniform_grid.hpp"
+#include "common/error.hpp"
+#include "scene/resolve.hpp"
+
+namespace rpu::accel {
+namespace {
+
+Triangle unit_triangle_at_z(double z) { return {{0.0, 0.0, z}, {1.0, 0.0, 0.0}, {0.0, 1.0, 0.0}, 0}; }
+
+TEST(SharedTriangleTest, FindsTheAnalyticDistance) {
+  double t = 0.0;
+  ASSERT_TRUE(intersect({{0.25, 0.25, 5.0}, {0.0, 0.0, -1.0}}, unit_triangle_at_z(2.0), t));
+  EXPECT_EQ(t, 3.0);
+  ASSERT_TRUE(intersect({{0.25, 0.25, 5.0}, {0.0, 0.0, -2.0}}, unit_triangle_at_z(2.0), t));
+  EXPECT_EQ(t, 1.5);  // t in units of the direction
+}
+
+TEST(SharedTriangleTest, CountsEdgesAndKeepsTheOpenInterval) {
+  double t = 0.0;
+  EXPECT_TRUE(intersect({{0.5, 0.5, 1.0}, {0.0, 0.0, -1.0}}, unit_triangle_at_z(0.0), t));   // on the hypotenuse
+  EXPECT_TRUE(intersect({{0.0, 0.0, 1.0}, {0.0, 0.0, -1.0}}, unit_triangle_at_z(0.0), t));   // on a vertex
+  EXPECT_FALSE(intersect({{0.6, 0.6, 1.0}, {0.0, 0.0, -1.0}}, unit_triangle_at_z(0.0), t));  // outside
+  EXPECT_FALSE(intersect({{0.2, 0.2, 1.0}, {0.0, 0.0, -1.0}, 0.0, 1.0}, unit_triangle_at_z(0.0), t));  // t = t_max
+  EXPECT_FALSE(intersect({{0.2, 0.2, 1.0}, {0.0, 0.0, -1.0}, 1.0}, unit_triangle_at_z(0.0), t));       // t = t_min
+  EXPECT_FALSE(intersect({{0.2, 0.2, 0.0}, {1.0, 0.0, 0.0}}, unit_triangle_at_z(0.0), t));  // in the plane
+  EXPECT_FALSE(intersect({{0.2, 0.2, 1.0}, {0.0, 0.0, std::numeric_limits<double>::quiet_NaN()}},
+                         unit_triangle_at_z(0.0), t));
+}
+
+// Two triangles in one plane sharing an edge, a ray through the edge: both give the
+// same t, and every structure names the smaller id.
+TEST(Structures, BreakTiesOfEqualTByTheSmallerPrimitiveId) {
+  Scene s;
+  s.materials.push_back({});
+  s.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  s.triangles = {{0, 2, 3}, {0, 1, 2}};  // the shared edge is the diagonal 0-2
+  s.material_ids = {0, 0};
+  const TriangleSet triangles(s);
+  const Ray r{{0.5, 0.5, 1.0}, {0.0, 0.0, -1.0}};
+  for (const std::string& name : structure_names()) {
+    const auto st = build_structure(name, triangles, {});
+    RayCost cost;
+    const Hit h = st->closest_hit(r, cost);
+    EXPECT_EQ(h.prim, 0u) << name;
+    EXPECT_EQ(h.t, 1.0) << name;
+  }
+}
+
+TEST(Structures, AnEmptySceneIsMissedByEveryRay) {
+  Scene s;
+  const TriangleSet triangles(s);
+  for (const std::string& name : structure_names()) {
+    const auto st = build_structure(name, triangles, {});
+    RayCost cost;
+    EXPECT_FALSE(st->closest_hit({{0, 0, 0}, {0, 0, 1}}, cost).hit()) << name;
+    EXPECT_FALSE(st->any_hit({{0, 0, 0}, {0, 0, 1}}, cost)) << name;
+    EXPECT_EQ(cost.tests, 0u) << name;
+    EXPECT_EQ(st->node_count(), 0u) << name;
+    EXPECT_EQ(st->memory_bytes(), 0u) << name;
+  }
+}
+
+// A scene built in code may hold what the loader drops: every structure skips the same
+// triangles, so a ray through them finds the one valid triangle behind.
+TEST(Structures, SkipDegenerateNonFiniteAndOutOfRangeTrianglesAlike) {
+  Scene s;
+  s.materials.push_back({});
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  s.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0},       // 0: valid, z = 0
+                 {0, 0, 1}, {1, 1, 1}, {2, 2, 1},       // 1: collinear, zero area
+                 {0, 0, 2}, {nan, 0, 2}, {0, 1, 2}};    // 2: a NaN vertex
+  s.triangles = {{0, 1, 2}, {3, 4, 5}, {6, 7, 8}, {0, 1, 99}};  // 3: an index out of range
+  s.material_ids = {0, 0, 0, 0};
+  const TriangleSet triangles(s);
+  EXPECT_EQ(triangles.size(), 1u);
+  EXPECT_EQ(triangles.skipped(), 3u);
+  for (const std::string& name : structure_names()) {
+    const auto st = build_structure(name, triangles, {});
+    RayCost cost;
+    const Hit h = st->closest_hit({{0.25, 0.25, 3.0}, {0.0, 0.0, -1.0}}, cost);
+    EXPECT_EQ(h.prim, 0u) << name;
+    EXPECT_EQ(h.t, 3.0) << name;
+  }
+}
+
+TEST(Structures, UnknownNameIsAnError) {
+  Scene s;
+  const TriangleSet triangles(s);
+  EXPECT_THROW(build_structure("octree-of-doom", triangles, {}), Error);
+}
+
+// The counters follow each structure's stated byte model.
+TEST(Structures, CountBytesByTheirByteModel) {
+  const Scene s = resolve_scene("tetra:3");
+  const TriangleSet triangles(s);
+  const Ray r{{0.05, 0.1, 5.0}, {0.0, 0.0, -1.0}};
+
+  RayCost brute;
+  BruteForce(triangles).closest_hit(r, brute);
+  EXPECT_EQ(brute.tests, triangles.size());
+  EXPECT_EQ(brute.bytes, triangles.size() * kTriangleRecordBytes);
+
+  RayCost bvh;
+  Bvh(triangles).closest_hit(r, bvh);
+  EXPECT_GT(bvh.nodes, 0u);
+  EXPECT_EQ(bvh.bytes, bvh.nodes * Bvh::kNodeBytes + bvh.tests * kTriangleRecordBytes);
+
+  // Without mailboxes every reference read is a test.
+  RayCost grid;
+  UniformGrid(triangles, 4.0, false).closest_hit(r, grid);
+  EXPECT_GT(grid.nodes, 0u);
+  EXPECT_EQ(grid.bytes,
+            grid.nodes * UniformGrid::kCellRecordBytes + grid.tests * (kReferenceBytes + kTriangleRecordBytes));
+}
+
+TEST(Bvh, SplitsTrianglesWithOneCentroidAtTheMedian) {
+  // Every centroid in one place: no SAH plane separates them, the median split must.
+  Scene s;
+  s.materials.push_back({});
+  for (int i = 0; i < 5000; ++i) {
+    const float r = 1.0f + 0.001f * static_cast<float>(i);
+    s.positions.insert(s.positions.end(), {{-r, -r, 0.0f}, {r, -r, 0.0f}, {0.0f, r, 0.0f}});
+    const auto v = static_cast<std::uint32_t>(3 * i);
+    s.triangles.emplace_back(v, v + 1, v + 2);
+    s.material_ids.push_back(0);
+  }
+  const TriangleSet triangles(s);
+  const Bvh bvh(triangles);
+  EXPECT_LE(bvh.depth(), 12);  // log2(5000 / 8) levels of halving
+  // Every triangle is met near t = 1, rounded differently: brute force decides which.
+  const Ray r{{0.0, 0.0, 1.0}, {0.0, 0.0, -1.0}};
+  RayCost cost;
+  const Hit h = bvh.closest_hit(r, cost), expected = BruteForce(triangles).closest_hit(r, cost);
+  EXPECT_EQ(h.prim, expected.prim);
+  EXPECT_EQ(h.t, expected.t);
+}
+
+}  // namespace
+}  // namespace rpu::accel
