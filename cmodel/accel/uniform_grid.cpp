@@ -16,9 +16,8 @@ namespace {
 // An axis shorter than this fraction of the longest is flat: one cell thick.
 constexpr double kFlatFraction = 1e-6;
 
-std::uint64_t cell_count(const glm::ivec3& r) {
-  return static_cast<std::uint64_t>(r.x) * static_cast<std::uint64_t>(r.y) * static_cast<std::uint64_t>(r.z);
-}
+// In double: three axes of up to kMaxCells cells each overflow 64 bits.
+double cell_count(const glm::ivec3& r) { return double(r.x) * double(r.y) * double(r.z); }
 }  // namespace
 
 UniformGrid::UniformGrid(const TriangleSet& set, double lambda, bool mailbox)
@@ -51,7 +50,7 @@ UniformGrid::UniformGrid(const TriangleSet& set, double lambda, bool mailbox)
     return r;
   };
   resolution_ = resolution_at(density);
-  while (cell_count(resolution_) > kMaxCells) {
+  while (cell_count(resolution_) > double(kMaxCells)) {
     density *= 0.95;
     resolution_ = resolution_at(density);
   }
@@ -64,7 +63,7 @@ UniformGrid::UniformGrid(const TriangleSet& set, double lambda, bool mailbox)
 
   // Bin each triangle into the cells its padded box reaches and the separating-axis
   // test keeps; then a counting sort by cell, stable, so references ascend in a cell.
-  const std::uint64_t cells = cell_count(resolution_);
+  const auto cells = static_cast<std::uint64_t>(cell_count(resolution_));
   std::vector<std::pair<std::uint32_t, std::uint32_t>> cell_and_triangle;
   cell_and_triangle.reserve(triangles_.size() * 2);
   auto cell_of = [&](double x, int a) {
