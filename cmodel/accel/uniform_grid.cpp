@@ -59,7 +59,7 @@ UniformGrid::UniformGrid(const TriangleSet& set, double lambda, bool mailbox)
   lo_ = b.lo - pad;
   hi_ = b.hi + pad;
   cell_size_ = (hi_ - lo_) / glm::dvec3(resolution_);
-  tested_by_ray_.assign(triangles_.size(), 0);
+  if (mailbox_) tested_by_ray_.assign(triangles_.size(), 0);
 
   // Bin each triangle into the cells its padded box reaches and the separating-axis
   // test keeps; then a counting sort by cell, stable, so references ascend in a cell.
