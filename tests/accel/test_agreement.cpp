@@ -43,7 +43,8 @@ TEST(StructuresAgreeWithBruteForceOn, RaysGrazingATrianglesPlane) {
     const Scene scene = scene_named(name);
     const TriangleSet triangles(scene);
     const BruteForce brute(triangles);
-    const auto grid = build_structure("grid", triangles, {}), bvh = build_structure("bvh", triangles, {});
+    const auto grid = build_structure("grid", triangles, {}), bvh = build_structure("bvh", triangles, {}),
+               kdtree = build_structure("kdtree", triangles, {});
     const double back = 0.3 * glm::length(triangles.bounds().hi - triangles.bounds().lo);
     std::mt19937 rng(1);
     std::uniform_real_distribution<double> unit(0.0, 1.0), symmetric(-1.0, 1.0);
@@ -59,7 +60,7 @@ TEST(StructuresAgreeWithBruteForceOn, RaysGrazingATrianglesPlane) {
         const Ray r{on - back * d, d};
         RayCost cost;
         const Hit expected = brute.closest_hit(r, cost);
-        for (const Structure* s : {grid.get(), bvh.get()}) {
+        for (const Structure* s : {grid.get(), bvh.get(), kdtree.get()}) {
           const Hit got = s->closest_hit(r, cost);
           ASSERT_EQ(got.prim, expected.prim) << name << " " << s->name() << " angle " << angle << " ray " << i;
           ASSERT_EQ(got.t, expected.t) << name << " " << s->name() << " angle " << angle << " ray " << i;

@@ -6,6 +6,7 @@
 
 #include "accel/brute_force.hpp"
 #include "accel/bvh.hpp"
+#include "accel/kd_tree.hpp"
 #include "accel/structure.hpp"
 #include "accel/uniform_grid.hpp"
 #include "common/error.hpp"
@@ -113,6 +114,11 @@ TEST(Structures, CountBytesByTheirByteModel) {
   Bvh(triangles).closest_hit(r, bvh);
   EXPECT_GT(bvh.nodes, 0u);
   EXPECT_EQ(bvh.bytes, bvh.nodes * Bvh::kNodeBytes + bvh.tests * kTriangleRecordBytes);
+
+  RayCost kd;
+  KdTreeStructure(triangles).closest_hit(r, kd);
+  EXPECT_GT(kd.nodes, 0u);
+  EXPECT_EQ(kd.bytes, kd.nodes * KdTreeStructure::kNodeBytes + kd.tests * (kReferenceBytes + kTriangleRecordBytes));
 
   // Without mailboxes every reference read is a test.
   RayCost grid;
