@@ -5,17 +5,19 @@
 #include "accel/brute_force.hpp"
 #include "accel/bvh.hpp"
 #include "accel/kd_tree.hpp"
+#include "accel/octree.hpp"
 #include "accel/uniform_grid.hpp"
 #include "common/error.hpp"
 
 namespace rpu::accel {
 
-std::vector<std::string> structure_names() { return {"brute", "grid", "bvh", "kdtree"}; }
+std::vector<std::string> structure_names() { return {"brute", "grid", "octree", "bvh", "kdtree"}; }
 
 std::unique_ptr<Structure> build_structure(std::string_view name, const TriangleSet& triangles,
                                            const StructureOptions& options) {
   if (name == "brute") return std::make_unique<BruteForce>(triangles);
   if (name == "grid") return std::make_unique<UniformGrid>(triangles, options.grid_lambda, options.grid_mailbox);
+  if (name == "octree") return std::make_unique<Octree>(triangles);
   if (name == "bvh") return std::make_unique<Bvh>(triangles);
   if (name == "kdtree") return std::make_unique<KdTreeStructure>(triangles);
   throw Error(fmt::format("unknown acceleration structure '{}'; known: {}", name,

@@ -1,5 +1,6 @@
 // What every structure shares: the ray/triangle test, the triangles it skips, empty
 // scenes, the closest-hit tie rule, and the byte model of its counters.
+#include <cmath>
 #include <limits>
 
 #include <gtest/gtest.h>
@@ -7,6 +8,7 @@
 #include "accel/brute_force.hpp"
 #include "accel/bvh.hpp"
 #include "accel/kd_tree.hpp"
+#include "accel/octree.hpp"
 #include "accel/structure.hpp"
 #include "accel/uniform_grid.hpp"
 #include "common/error.hpp"
@@ -120,12 +122,44 @@ TEST(Structures, CountBytesByTheirByteModel) {
   EXPECT_GT(kd.nodes, 0u);
   EXPECT_EQ(kd.bytes, kd.nodes * KdTreeStructure::kNodeBytes + kd.tests * (kReferenceBytes + kTriangleRecordBytes));
 
+  RayCost octree;
+  Octree(triangles).closest_hit(r, octree);
+  EXPECT_GT(octree.nodes, 0u);
+  EXPECT_EQ(octree.bytes, octree.nodes * Octree::kNodeBytes + octree.tests * (kReferenceBytes + kTriangleRecordBytes));
+
   // Without mailboxes every reference read is a test.
   RayCost grid;
   UniformGrid(triangles, 4.0, false).closest_hit(r, grid);
   EXPECT_GT(grid.nodes, 0u);
   EXPECT_EQ(grid.bytes,
             grid.nodes * UniformGrid::kCellRecordBytes + grid.tests * (kReferenceBytes + kTriangleRecordBytes));
+}
+
+// Many triangles around one point (a fan): the octree stops at its depth limit there.
+TEST(Octree, StopsAtItsDepthWhereTrianglesCannotBeSeparated) {
+  Scene s;
+  s.materials.push_back({});
+  s.positions.emplace_back(0.0f, 0.0f, 0.0f);
+  for (int i = 0; i < 40; ++i) {
+    const float a = 0.157f * static_cast<float>(i);
+    s.positions.emplace_back(std::cos(a), std::sin(a), 0.3f);
+  }
+  for (std::uint32_t i = 1; i <= 40; ++i) {
+    s.triangles.emplace_back(0u, i, i % 40 + 1);
+    s.material_ids.push_back(0);
+  }
+  const TriangleSet triangles(s);
+  const Octree octree(triangles);
+  EXPECT_EQ(octree.depth(), Octree::kMaxDepth);
+  EXPECT_LT(octree.node_count(), 8u * 8u * Octree::kMaxDepth);  // split only around the fan's centre
+  const BruteForce brute(triangles);
+  for (const double x : {0.0, 1e-4, -0.3, 0.5}) {
+    const Ray r{{x, 0.01, 1.0}, {0.0, 0.0, -1.0}};
+    RayCost cost;
+    const Hit got = octree.closest_hit(r, cost), expected = brute.closest_hit(r, cost);
+    EXPECT_EQ(got.prim, expected.prim) << x;
+    EXPECT_EQ(got.t, expected.t) << x;
+  }
 }
 
 TEST(Bvh, SplitsTrianglesWithOneCentroidAtTheMedian) {
