@@ -108,7 +108,18 @@ Hit Octree::traverse(const Ray& ray, RayCost& cost) const {
         if (high) octant |= 1u << a;
         if (ray.direction[a] != 0.0 && t_mid > current.t_near && t_mid < current.t_far) crossings[n++] = {t_mid, a};
       }
-      std::sort(crossings.begin(), crossings.begin() + n);
+      // At most three: sorted by exchanges (std::sort on a 3-element array trips gcc 12's
+      // -Warray-bounds under ASan).
+      auto order = [&](int i, int j) {
+        if (crossings[static_cast<std::size_t>(j)] < crossings[static_cast<std::size_t>(i)]) {
+          std::swap(crossings[static_cast<std::size_t>(i)], crossings[static_cast<std::size_t>(j)]);
+        }
+      };
+      if (n > 1) order(0, 1);
+      if (n > 2) {
+        order(1, 2);
+        order(0, 1);
+      }
       // The octants in the order the ray meets them; pushed last first.
       std::array<Pending, 4> sequence;
       double from = current.t_near;
