@@ -61,6 +61,18 @@ void trace_rays(benchmark::State& state, const std::string& scene, bool primary,
   state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * rays.size()));
   state.counters["Mrays/s"] =
       benchmark::Counter(static_cast<double>(rays.size()) * 1e-6, benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["triangles"] = static_cast<double>(w.scene.triangles.size());
+  // The walk's work per ray, from the last pass (every pass traces the same rays), so
+  // that a profile's instructions can be put per node visited and per triangle tested.
+  if (engine != Engine::kEmbree) {
+    double nodes = 0, tests = 0;
+    for (const TraceHit& h : out) {
+      nodes += h.counters.nodes;
+      tests += h.counters.tests;
+    }
+    state.counters["nodes/ray"] = nodes / static_cast<double>(rays.size());
+    state.counters["tests/ray"] = tests / static_cast<double>(rays.size());
+  }
 }
 
 void register_all() {

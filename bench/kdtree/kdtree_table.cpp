@@ -6,10 +6,12 @@
 // K_T * nodes/ray + K_I * tests/ray for the hardware's real K_T : K_I at moderate memory.
 //
 //   build/ci/bench/kdtree/kdtree_table [--rays] [--kt 15] [--ki 20] [--bonus 0.2]
-//       [--leaf 2] [--perfect 0|1] [--format fp32|e8m15|rpu24|bf16|fp16] [--margin 4] [--hash] SCENE...
+//       [--leaf 2] [--perfect 0|1] [--format fp32|e8m15|rpu24|bf16|fp16] [--margin 4] [--hash] [--json] SCENE...
 //
 // --hash adds a column with an FNV-1a hash of the nodes and the reference list, so that
-// a change meant to speed the builder up can show it builds the identical tree.
+// a change meant to speed the builder up can show it builds the identical tree. --json
+// prints one JSON object per scene instead of the Markdown rows, with every number at
+// full precision (scripts/bench-record kdtree-stats reads it).
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -19,6 +21,7 @@
 #include <vector>
 
 #include <glm/glm.hpp>
+#include <nlohmann/json.hpp>
 
 #include "common/error.hpp"
 #include "kdtree/kdtree.hpp"
@@ -49,7 +52,10 @@ RayCost measure_rays(const Scene& scene, const KdTree& tree, int rays) {
   std::mt19937_64 rng(1);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   const glm::dvec3 lo(tree.bounds_lo), hi(tree.bounds_hi);
-  const auto vertex = [&](std::uint32_t t, int k) { return glm::dvec3(scene.positions[scene.triangles[t][k]]); };
+  // The tree's box is in kd space (world x 2^-scale_exponent, exact), so the rays are too.
+  const auto vertex = [&](std::uint32_t t, int k) {
+    return glm::dvec3(to_kd_space(scene.positions[scene.triangles[t][k]], tree.scale_exponent));
+  };
   std::uint64_t steps = 0, tests = 0;
   struct Item {
     std::uint32_t node;
@@ -129,13 +135,14 @@ std::uint64_t tree_hash(const KdTree& tree) {
 
 int run(int argc, char** argv) {
   KdBuildConfig config = kd_build_config_for("default");
-  bool rays = false, hash = false;
+  bool rays = false, hash = false, json = false;
   std::vector<std::string> scenes;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     const auto value = [&] { return i + 1 < argc ? std::atof(argv[++i]) : 0.0; };
     if (arg == "--rays") rays = true;
     else if (arg == "--hash") hash = true;
+    else if (arg == "--json") json = true;
     else if (arg == "--kt") config.traversal_cost = value();
     else if (arg == "--ki") config.intersection_cost = value();
     else if (arg == "--bonus") config.empty_bonus = value();
@@ -145,15 +152,51 @@ int run(int argc, char** argv) {
     else if (arg == "--format" && i + 1 < argc) config.format = fp::format_by_name(argv[++i]);
     else scenes.push_back(arg);
   }
-  std::printf("| scene | triangles | nodes | leaves | empty | max/mean depth | prims/leaf | refs/tri | SAH cost | "
-              "bytes | build s |%s\n|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|%s\n",
-              (std::string(rays ? " nodes/ray | tests/ray |" : "") + (hash ? " hash |" : "")).c_str(),
-              (std::string(rays ? "--:|--:|" : "") + (hash ? "---|" : "")).c_str());
+  if (!json) {
+    std::printf("| scene | triangles | nodes | leaves | empty | max/mean depth | prims/leaf | refs/tri | SAH cost | "
+                "bytes | build s |%s\n|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|%s\n",
+                (std::string(rays ? " nodes/ray | tests/ray |" : "") + (hash ? " hash |" : "")).c_str(),
+                (std::string(rays ? "--:|--:|" : "") + (hash ? "---|" : "")).c_str());
+  }
   for (const std::string& name : scenes) {
     const Scene scene = resolve_scene(name);
     const KdTree tree = build_kdtree(scene, config);
     const KdTreeStats& s = tree.stats;
     const double tris = static_cast<double>(scene.triangles.size());
+    if (json) {
+      nlohmann::json row = {{"scene", name},
+                            {"triangles", scene.triangles.size()},
+                            {"nodes", s.nodes},
+                            {"leaves", s.leaves},
+                            {"empty", s.empty_leaves},
+                            {"max_depth", s.max_depth},
+                            {"mean_depth", s.mean_leaf_depth},
+                            {"prims_per_leaf", s.mean_prims_per_leaf},
+                            {"refs_per_tri", static_cast<double>(s.prim_refs) / tris},
+                            {"sah", s.sah_cost},
+                            {"bytes", s.bytes},
+                            {"build_s", s.build_seconds},
+                            {"config", {{"format", config.format.name()},
+                                        {"margin_ulps", config.margin_ulps},
+                                        {"kt", config.traversal_cost},
+                                        {"ki", config.intersection_cost},
+                                        {"lambda", config.empty_bonus},
+                                        {"max_leaf_prims", config.max_leaf_prims},
+                                        {"perfect_splits", config.perfect_splits},
+                                        {"max_depth", config.max_depth}}}};
+      if (rays) {
+        const RayCost c = measure_rays(scene, tree, 100000);
+        row["nodes_per_ray"] = c.steps;
+        row["tests_per_ray"] = c.tests;
+      }
+      if (hash) {
+        char hex[17];
+        std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(tree_hash(tree)));
+        row["hash"] = hex;
+      }
+      std::printf("%s\n", row.dump().c_str());
+      continue;
+    }
     std::printf("| %s | %zu | %llu | %llu | %llu | %d / %.1f | %.2f | %.2f | %.1f | %llu | %.3f |", name.c_str(),
                 scene.triangles.size(), static_cast<unsigned long long>(s.nodes),
                 static_cast<unsigned long long>(s.leaves), static_cast<unsigned long long>(s.empty_leaves),
