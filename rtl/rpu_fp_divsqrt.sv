@@ -41,10 +41,7 @@ module rpu_fp_divsqrt #(
   localparam int unsigned CountBits = $clog2(Cycles + 1);
   // Exponents here stay within +-(2^ExpBits + Steps), and rounding adds Steps + 1.
   localparam int unsigned ExpWidth  = $clog2((2 << ExpBits) + 4 * Steps) + 1;
-  localparam logic signed [ExpWidth-1:0] StepsS = ExpWidth'(Steps);
   localparam logic [Width-1:0] One = {2'b00, {(ExpBits - 1){1'b1}}, {FracBits{1'b0}}};
-  localparam logic [Width-1:0] CanonicalNan = {1'b0, {ExpBits{1'b1}}, 1'b1, {(FracBits - 1){1'b0}}};
-  localparam logic [ExpBits+FracBits-1:0] InfMagnitude = {{ExpBits{1'b1}}, {FracBits{1'b0}}};
 
   typedef enum logic [1:0] {
     StIdle,  // waiting for a request
@@ -72,92 +69,27 @@ module rpu_fp_divsqrt #(
   // rsqrt's second pass.
   logic                       load_sqrt;
   logic [Width-1:0]           load_a, load_b;
-  logic                       la_sign, la_zero, la_inf, la_nan;
-  logic                       lb_sign, lb_zero, lb_inf, lb_nan;
-  logic signed [ExpWidth-1:0] la_exp, lb_exp;
-  logic [FracBits:0]          la_sig, lb_sig;
-
-  rpu_fp_classify #(.ExpBits(ExpBits), .FracBits(FracBits), .ExpWidth(ExpWidth)) u_a (
-    .value_i(load_a), .sign_o(la_sign), .zero_o(la_zero), .inf_o(la_inf), .nan_o(la_nan),
-    .exp_o(la_exp), .sig_o(la_sig)
-  );
-  rpu_fp_classify #(.ExpBits(ExpBits), .FracBits(FracBits), .ExpWidth(ExpWidth)) u_b (
-    .value_i(load_b), .sign_o(lb_sign), .zero_o(lb_zero), .inf_o(lb_inf), .nan_o(lb_nan),
-    .exp_o(lb_exp), .sig_o(lb_sig)
-  );
-
   logic                       load_sign, load_special;
   logic [Width-1:0]           load_special_value;
   logic signed [ExpWidth-1:0] load_exp;
   logic [RemBits-1:0]         load_rem;
   logic [RadBits-1:0]         load_rad;
+  logic [FracBits:0]          load_divisor;
 
-  always_comb begin
-    load_special       = 1'b1;
-    load_special_value = CanonicalNan;
-    load_rem           = '0;
-    load_rad           = '0;
-    if (load_sqrt) begin
-      load_sign = 1'b0;
-      // sqrt(a) = sqrt(sig * 2^(e mod 2)) * 2^floor(e / 2): the radicand is scaled so its
-      // integer root has exactly Steps bits.
-      load_exp = (la_exp >>> 1) - StepsS;
-      load_rad = la_exp[0] ? RadBits'(la_sig) << (RadBits - 1 - FracBits)
-                           : RadBits'(la_sig) << (RadBits - 2 - FracBits);
-      // §6.3 sqrt(-0) = -0; §7.2(g) a negative operand is invalid.
-      if (la_nan) begin
-        load_special_value = CanonicalNan;
-      end else if (la_zero) begin
-        load_special_value = {la_sign, {(Width - 1){1'b0}}};
-      end else if (la_sign) begin
-        load_special_value = CanonicalNan;
-      end else if (la_inf) begin
-        load_special_value = {1'b0, InfMagnitude};
-      end else begin
-        load_special = 1'b0;
-      end
-    end else begin
-      load_sign = la_sign ^ lb_sign;
-      // quotient digits q = floor(sig_a / sig_b * 2^(Steps-1)), bit 0 weight 2^(ea-eb-Steps+1)
-      load_exp = la_exp - lb_exp - StepsS;
-      load_rem = RemBits'(la_sig);
-      // §7.2(d) 0/0 and inf/inf are invalid; §7.3 x/0 is an exact infinity.
-      if (la_nan || lb_nan || (la_inf && lb_inf) || (la_zero && lb_zero)) begin
-        load_special_value = CanonicalNan;
-      end else if (la_inf || lb_zero) begin
-        load_special_value = {load_sign, InfMagnitude};
-      end else if (lb_inf || la_zero) begin
-        load_special_value = {load_sign, {(Width - 1){1'b0}}};
-      end else begin
-        load_special = 1'b0;
-      end
-    end
-  end
+  rpu_fp_divsqrt_load #(.ExpBits(ExpBits), .FracBits(FracBits), .Steps(Steps), .ExpWidth(ExpWidth)) u_load (
+    .sqrt_i(load_sqrt), .a_i(load_a), .b_i(load_b), .sign_o(load_sign), .exp_o(load_exp),
+    .rem_o(load_rem), .rad_o(load_rad), .divisor_o(load_divisor), .special_o(load_special),
+    .special_value_o(load_special_value)
+  );
 
-  // StepsPerCycle restoring steps: compare the partial remainder with the divisor
-  // (division) or with 4 * root + 1 (square root) and keep the difference if it fits.
   logic [RemBits-1:0] step_rem;
   logic [Steps-1:0]   step_root;
   logic [RadBits-1:0] step_rad;
-  logic [RemBits-1:0] candidate, trial;
-  logic               fits;
-  always_comb begin
-    candidate = '0;
-    trial     = '0;
-    fits      = 1'b0;
-    step_rem  = rem_q;
-    step_root = root_q;
-    step_rad  = rad_q;
-    for (int unsigned s = 0; s < StepsPerCycle; s++) begin
-      candidate = sqrt_q ? {step_rem[RemBits-3:0], step_rad[RadBits-1 -: 2]} : step_rem;
-      trial     = sqrt_q ? {step_root, 2'b01} : RemBits'(divisor_q);
-      fits      = candidate >= trial;
-      step_rem  = fits ? candidate - trial : candidate;
-      if (!sqrt_q) step_rem = step_rem << 1;
-      step_root = {step_root[Steps-2:0], fits};
-      step_rad  = step_rad << 2;
-    end
-  end
+
+  rpu_fp_divsqrt_steps #(.FracBits(FracBits), .Steps(Steps), .Count(StepsPerCycle)) u_steps (
+    .sqrt_i(sqrt_q), .rem_i(rem_q), .root_i(root_q), .rad_i(rad_q), .divisor_i(divisor_q),
+    .rem_o(step_rem), .root_o(step_root), .rad_o(step_rad)
+  );
 
   logic [Width-1:0] rounded, pass_result;
   rpu_fp_round #(
@@ -242,7 +174,7 @@ module rpu_fp_divsqrt #(
       rem_d           = load_rem;
       root_d          = '0;
       rad_d           = load_rad;
-      divisor_d       = lb_sig;
+      divisor_d       = load_divisor;
       sign_d          = load_sign;
       exp_d           = load_exp;
       special_d       = load_special;

@@ -28,39 +28,18 @@ module rpu_fp_fma #(
 
   localparam int unsigned Width = 1 + ExpBits + FracBits;
   localparam int unsigned StageBits = rpu_pkg::FpTagBits + 3 * Width;
-  localparam logic [Width-1:0] One = {2'b00, {(ExpBits - 1){1'b1}}, {FracBits{1'b0}}};
-  localparam logic [Width-1:0] SignBit = {1'b1, {(Width - 1){1'b0}}};
 
   // Stage 1: operand selection.
-  logic [Width-1:0] a, b, c, a_floor;
+  logic [Width-1:0] a, b, c;
   logic [Width-1:0] x_d, y_d, z_d;
 
   assign a = req_i.a[Width-1:0];
   assign b = req_i.b[Width-1:0];
   assign c = req_i.c[Width-1:0];
 
-  rpu_fp_floor #(.ExpBits(ExpBits), .FracBits(FracBits)) u_floor (.a_i(a), .floor_o(a_floor));
-
-  always_comb begin
-    x_d = a;
-    y_d = One;
-    z_d = b;
-    unique case (req_i.op)
-      rpu_pkg::FpOpAdd:   z_d = b;
-      rpu_pkg::FpOpSub:   z_d = b ^ SignBit;
-      rpu_pkg::FpOpMul: begin
-        y_d = b;
-        z_d = SignBit;
-      end
-      rpu_pkg::FpOpFma: begin
-        y_d = b;
-        z_d = c;
-      end
-      rpu_pkg::FpOpFract: z_d = a_floor ^ SignBit;
-      // Ops of other units never reach this one; add is as good a mapping as any.
-      default:            z_d = b;
-    endcase
-  end
+  rpu_fp_fma_operands #(.ExpBits(ExpBits), .FracBits(FracBits)) u_operands (
+    .op_i(req_i.op), .a_i(a), .b_i(b), .c_i(c), .x_o(x_d), .y_o(y_d), .z_o(z_d)
+  );
 
   logic                         s1_valid, s1_ready;
   logic [StageBits-1:0]         s1_q;

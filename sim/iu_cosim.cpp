@@ -52,6 +52,7 @@ struct Options {
   std::uint64_t seed = 1;
   unsigned stall_percent = 6;
   bool check_config = false;
+  double min_tests_per_cycle = 0;  // of the full-rate burst
 };
 
 // One IU test and where it came from, for the failure report.
@@ -245,14 +246,19 @@ int write_vectors(const Options& o, TransactionSource& source) {
 struct Pending {
   Transaction x;
   std::uint32_t tag;
-  std::uint64_t accepted;  // cycle of the request transfer; ~0 once its response showed
+  std::uint64_t accepted;  // unheld cycles (below) at the request transfer; ~0 once its response showed
 };
 
 // Latency (request transfer to the first cycle of rsp_valid) and interval (cycles between
-// request transfers with req_valid and rsp_ready always high), from a burst of tests.
+// request transfers), with req_valid and rsp_ready always high, from a burst of tests;
+// and the burst's tests per cycle, its first request transfer to its last response.
 struct Timing {
   std::uint64_t latency = 0, interval = 0;
+  double tests_per_cycle = 0;
 };
+
+// The tests of the full-rate burst: enough that the pipeline's fill is a small part.
+constexpr std::size_t kBurstTests = 1000;
 
 Timing measure_timing(IuModel& model, const std::vector<Transaction>& burst) {
   Clock clock(model);
@@ -260,10 +266,10 @@ Timing measure_timing(IuModel& model, const std::vector<Transaction>& burst) {
   clock.reset(in);
   in.rsp_ready = true;
   Timing timing;
-  std::uint64_t last_accept = 0;
+  std::uint64_t first_accept = 0, last_accept = 0, last_response = 0;
   std::size_t next = 0, done = 0;
   std::deque<std::uint64_t> accepted;
-  for (; done < burst.size() && clock.cycle() < 100000; clock.tick()) {
+  for (; done < burst.size() && clock.cycle() < 100 * kBurstTests; clock.tick()) {
     const std::uint64_t cycle = clock.cycle();
     if (next < burst.size()) in.req = request_of(burst[next].test, static_cast<std::uint32_t>(next));
     in.req_valid = next < burst.size();
@@ -271,15 +277,18 @@ Timing measure_timing(IuModel& model, const std::vector<Transaction>& burst) {
     if (out.rsp_valid) {
       timing.latency = std::max(timing.latency, cycle - accepted.front());
       accepted.pop_front();
+      last_response = cycle;
       ++done;
     }
     if (in.req_valid && out.req_ready) {
       if (next > 0) timing.interval = std::max(timing.interval, cycle - last_accept);
+      if (next == 0) first_accept = cycle;
       last_accept = cycle;
       accepted.push_back(cycle);
       ++next;
     }
   }
+  timing.tests_per_cycle = static_cast<double>(done) / static_cast<double>(last_response - first_accept + 1);
   return timing;
 }
 
@@ -307,6 +316,9 @@ int run(const Options& o, fp::Format f, TransactionSource& source, std::unique_p
   std::int64_t sent = 0, checked = 0, hits = 0;
   std::uint64_t cycles = 0;
   std::uint64_t min_latency = ~std::uint64_t{0}, max_latency = 0;
+  // The unit is held in a cycle whose answer is not taken: its pipeline stands still, so
+  // a test's latency counts the other cycles only.
+  std::uint64_t unheld = 0;
   bool have_current = false;
   Transaction current;
   std::uint32_t current_tag = 0;
@@ -323,7 +335,7 @@ int run(const Options& o, fp::Format f, TransactionSource& source, std::unique_p
           queue.pop_front();
           current_tag = static_cast<std::uint32_t>(sent) & tag_mask;
           have_current = true;
-          if (burst.size() < 16) burst.push_back(current);
+          if (burst.size() < kBurstTests) burst.push_back(current);
         }
       }
       if (!have_current && pending.empty()) break;
@@ -333,9 +345,9 @@ int run(const Options& o, fp::Format f, TransactionSource& source, std::unique_p
       const IuOutputs out = clock.settle(in);
 
       if (Pending* p = out.rsp_valid ? pending.find(out.rsp.tag) : nullptr; p && p->accepted != ~std::uint64_t{0}) {
-        // Fixed latency: the response is first valid exactly `latency` cycles after the
-        // request (a stall of rsp_ready only holds it).
-        const std::uint64_t latency = cycle - p->accepted;
+        // Fixed latency: the response is first valid exactly `latency` unheld cycles after
+        // the request.
+        const std::uint64_t latency = unheld - p->accepted;
         min_latency = std::min(min_latency, latency);
         max_latency = std::max(max_latency, latency);
         p->accepted = ~std::uint64_t{0};
@@ -352,7 +364,7 @@ int run(const Options& o, fp::Format f, TransactionSource& source, std::unique_p
         watchdog.progress(cycle);
       }
       if (in.req_valid && out.req_ready) {
-        pending.add(current_tag, {std::move(current), current_tag, cycle});
+        pending.add(current_tag, {std::move(current), current_tag, unheld});
         have_current = false;
         ++sent;
       }
@@ -361,6 +373,7 @@ int run(const Options& o, fp::Format f, TransactionSource& source, std::unique_p
       } else {
         watchdog.progress(cycle);
       }
+      if (!(out.rsp_valid && !in.rsp_ready)) ++unheld;
       clock.tick();
     }
     IuInputs idle = in;
@@ -392,13 +405,19 @@ int run(const Options& o, fp::Format f, TransactionSource& source, std::unique_p
   std::printf("iu cosim ok: format %s (%s), isect %s: %" PRId64 " rays, %" PRId64
               " IU tests (%" PRId64 " hits) match the functional model in %" PRIu64
               " cycles, %.2f s (%.0f tests/s, %.0f cycles/s) with %u%% stalls; latency %" PRIu64
-              " cycles, interval %" PRIu64 " cycles\n",
+              " cycles, interval %" PRIu64 " cycles, %.3f tests per cycle at full rate\n",
               o.format.c_str(), f.name().c_str(), o.isect.c_str(), source.rays_traced(), checked, hits, cycle, seconds,
               static_cast<double>(checked) / seconds, static_cast<double>(cycle) / seconds, o.stall_percent,
-              timing.latency, timing.interval);
+              timing.latency, timing.interval, timing.tests_per_cycle);
   if (timing.latency != min_latency) {
     std::fprintf(stderr, "iu cosim FAIL: latency %" PRIu64 " at full rate but %" PRIu64 " with stalls\n",
                  timing.latency, min_latency);
+    return 1;
+  }
+
+  if (timing.tests_per_cycle < o.min_tests_per_cycle) {
+    std::fprintf(stderr, "iu cosim FAIL: %.3f tests per cycle at full rate, under the required %.3f\n",
+                 timing.tests_per_cycle, o.min_tests_per_cycle);
     return 1;
   }
 
@@ -447,6 +466,9 @@ int main(int argc, char** argv) {
   app.add_option("--trace", o.trace, "write FST waveforms of the whole run to this file");
   app.add_flag("--check-config", o.check_config,
                "fail unless spec/latencies.toml's [iu.FORMAT] equals the measured latency and interval");
+  app.add_option("--min-tests-per-cycle", o.min_tests_per_cycle,
+                 "fail when the full-rate burst (the first 1,000 tests) runs fewer tests per cycle")
+      ->check(CLI::Range(0.0, 1.0));
   app.add_option("--write-vectors", o.write_vectors, "write IU tests and results for the netlist testbench");
   app.add_option("--vectors", o.vectors, "with --write-vectors: how many")->check(CLI::PositiveNumber);
   CLI11_PARSE(app, argc, argv);
