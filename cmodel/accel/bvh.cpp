@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <limits>
+#include <span>
 
 #include <fmt/format.h>
 
@@ -164,14 +165,8 @@ Hit Bvh::traverse(const Ray& ray, RayCost& cost) const {
         }
         continue;
       }
-      for (std::uint32_t i = node.offset; i < node.offset + node.count; ++i) {
-        ++cost.tests;
-        cost.bytes += kTriangleRecordBytes;
-        double t;
-        if (intersect(ray, triangles_[i], t)) {
-          if constexpr (kAnyHit) return {t, triangles_[i].prim};
-          if (best.improved_by(t, triangles_[i].prim)) best = {t, triangles_[i].prim};
-        }
+      if (test_triangles<kAnyHit>(ray, std::span(triangles_).subspan(node.offset, node.count), best, cost)) {
+        return best;
       }
     }
     if (top == 0) break;

@@ -2,6 +2,7 @@
 
 #include <array>
 #include <cmath>
+#include <span>
 
 #include <fmt/format.h>
 
@@ -87,15 +88,10 @@ Hit KdTreeStructure::traverse(const Ray& ray, RayCost& cost) const {
       }
       continue;
     }
-    for (std::uint32_t r = node.first_prim_ref(); r < node.first_prim_ref() + node.prim_count(); ++r) {
-      const Triangle& tri = triangles_[tree_.prim_refs[r]];
-      cost.bytes += kReferenceBytes + kTriangleRecordBytes;
-      ++cost.tests;
-      double t;
-      if (intersect(ray, tri, t)) {
-        if constexpr (kAnyHit) return {t, tri.prim};
-        if (best.improved_by(t, tri.prim)) best = {t, tri.prim};
-      }
+    if (test_references<kAnyHit>(ray, triangles_,
+                                 std::span(tree_.prim_refs).subspan(node.first_prim_ref(), node.prim_count()), best,
+                                 cost)) {
+      return best;
     }
     if (top == 0) break;
     const Pending& next = stack[static_cast<std::size_t>(--top)];

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <limits>
+#include <span>
 
 #include <fmt/format.h>
 
@@ -134,15 +135,9 @@ Hit Octree::traverse(const Ray& ray, RayCost& cost) const {
       current = sequence[0];
       continue;
     }
-    for (std::uint32_t r = node.first; r < node.first + node.count; ++r) {
-      const Triangle& tri = triangles_[references_[r]];
-      cost.bytes += kReferenceBytes + kTriangleRecordBytes;
-      ++cost.tests;
-      double t;
-      if (intersect(ray, tri, t)) {
-        if constexpr (kAnyHit) return {t, tri.prim};
-        if (best.improved_by(t, tri.prim)) best = {t, tri.prim};
-      }
+    if (test_references<kAnyHit>(ray, triangles_, std::span(references_).subspan(node.first, node.count), best,
+                                 cost)) {
+      return best;
     }
     if (top == 0) break;
     current = stack[static_cast<std::size_t>(--top)];

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <span>
 
 #include <fmt/format.h>
 
@@ -154,20 +155,15 @@ Hit UniformGrid::walk(const Ray& ray, RayCost& cost) const {
     const std::uint64_t c = (static_cast<std::uint64_t>(cell.z) * resolution_.y + cell.y) * resolution_.x + cell.x;
     ++cost.nodes;
     cost.bytes += kCellRecordBytes;
-    for (std::uint32_t r = cell_begin_[c]; r < cell_begin_[c + 1]; ++r) {
-      const std::uint32_t k = references_[r];
-      cost.bytes += kReferenceBytes;
-      if (mailbox_) {
-        if (tested_by_ray_[k] == ray_number) continue;
-        tested_by_ray_[k] = ray_number;
-      }
-      ++cost.tests;
-      cost.bytes += kTriangleRecordBytes;
-      double t;
-      if (intersect(ray, triangles_[k], t)) {
-        if constexpr (kAnyHit) return {t, triangles_[k].prim};
-        if (best.improved_by(t, triangles_[k].prim)) best = {t, triangles_[k].prim};
-      }
+    const auto cell_references =
+        std::span(references_).subspan(cell_begin_[c], cell_begin_[c + 1] - cell_begin_[c]);
+    if (test_references<kAnyHit>(ray, triangles_, cell_references, best, cost, [&](std::uint32_t k) {
+          if (!mailbox_) return true;
+          if (tested_by_ray_[k] == ray_number) return false;
+          tested_by_ray_[k] = ray_number;
+          return true;
+        })) {
+      return best;
     }
     // The cell ends where the first axis crosses its next boundary. A hit found so far
     // is final only if it lies within the cells walked: a triangle reaching into later
