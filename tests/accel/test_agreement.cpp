@@ -23,8 +23,8 @@ INSTANTIATE_TEST_SUITE_P(
                       AgreementCase{"bunny", [] { return scene_named("scenes/bunny.json"); }, 160, 160, 40000,
                                     100000},
                       AgreementCase{"tetra6", [] { return scene_named("tetra:6"); }, 256, 256, 40000, 100000},
-                      AgreementCase{"teapot_in_a_stadium", teapot_in_a_stadium, 200, 200, 40000, 100000},
-                      AgreementCase{"scattered", [] { return scattered_triangles(3000, 5); }, 256, 256, 40000,
+                      AgreementCase{"stadium", [] { return scene_named("stadium"); }, 200, 200, 40000, 100000},
+                      AgreementCase{"scattered", [] { return scene_named("scattered:3000"); }, 256, 256, 40000,
                                     100000}),
     [](const ::testing::TestParamInfo<AgreementCase>& param) { return param.param.name; });
 
