@@ -82,8 +82,8 @@ struct StructureOptions {
   bool grid_mailbox = true;  // test a triangle at most once per ray in the grid
 };
 
-// The structures build_structure knows, in table order: "brute", "grid", "octree", "bvh",
-// "kdtree".
+// The structures build_structure knows, in table order: "brute", "grid", "octree",
+// "octree-r", "bvh", "kdtree".
 std::vector<std::string> structure_names();
 // Throws rpu::Error for a name structure_names() does not list, a bad option, or a scene
 // the kd-tree builder refuses (coordinates beyond its format's range).

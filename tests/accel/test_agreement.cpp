@@ -1,6 +1,9 @@
 // Every structure against brute force on five scenes of different character, at least
 // 10^5 rays each (docs/accel.md, "Tests").
+#include <memory>
 #include <random>
+#include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -43,8 +46,10 @@ TEST(StructuresAgreeWithBruteForceOn, RaysGrazingATrianglesPlane) {
     const Scene scene = scene_named(name);
     const TriangleSet triangles(scene);
     const BruteForce brute(triangles);
-    const auto grid = build_structure("grid", triangles, {}), bvh = build_structure("bvh", triangles, {}),
-               kdtree = build_structure("kdtree", triangles, {});
+    std::vector<std::unique_ptr<Structure>> structures;
+    for (const std::string& structure : structure_names()) {
+      if (structure != "brute") structures.push_back(build_structure(structure, triangles, {}));
+    }
     const double back = 0.3 * glm::length(triangles.bounds().hi - triangles.bounds().lo);
     std::mt19937 rng(1);
     std::uniform_real_distribution<double> unit(0.0, 1.0), symmetric(-1.0, 1.0);
@@ -60,7 +65,7 @@ TEST(StructuresAgreeWithBruteForceOn, RaysGrazingATrianglesPlane) {
         const Ray r{on - back * d, d};
         RayCost cost;
         const Hit expected = brute.closest_hit(r, cost);
-        for (const Structure* s : {grid.get(), bvh.get(), kdtree.get()}) {
+        for (const auto& s : structures) {
           const Hit got = s->closest_hit(r, cost);
           ASSERT_EQ(got.prim, expected.prim) << name << " " << s->name() << " angle " << angle << " ray " << i;
           ASSERT_EQ(got.t, expected.t) << name << " " << s->name() << " angle " << angle << " ray " << i;

@@ -122,10 +122,13 @@ TEST(Structures, CountBytesByTheirByteModel) {
   EXPECT_GT(kd.nodes, 0u);
   EXPECT_EQ(kd.bytes, kd.nodes * KdTreeStructure::kNodeBytes + kd.tests * (kReferenceBytes + kTriangleRecordBytes));
 
-  RayCost octree;
-  Octree(triangles).closest_hit(r, octree);
-  EXPECT_GT(octree.nodes, 0u);
-  EXPECT_EQ(octree.bytes, octree.nodes * Octree::kNodeBytes + octree.tests * (kReferenceBytes + kTriangleRecordBytes));
+  for (const OctreeSplit split : {OctreeSplit::kMidpoint, OctreeSplit::kCost}) {
+    RayCost octree;
+    const Octree tree(triangles, split);
+    tree.closest_hit(r, octree);
+    EXPECT_GT(octree.nodes, 0u);
+    EXPECT_EQ(octree.bytes, octree.nodes * tree.node_bytes() + octree.tests * (kReferenceBytes + kTriangleRecordBytes));
+  }
 
   // Without mailboxes every reference read is a test.
   RayCost grid;
@@ -160,6 +163,30 @@ TEST(Octree, StopsAtItsDepthWhereTrianglesCannotBeSeparated) {
     EXPECT_EQ(got.prim, expected.prim) << x;
     EXPECT_EQ(got.t, expected.t) << x;
   }
+}
+
+// Octree-R's root plane on x, worked by hand: 200 small triangles in x in [0, 0.2] and
+// one at x = 1. The cost SA(low) N(low) + SA(high) N(high) falls as the plane moves left
+// while every cluster triangle stays on the low side alone; the first candidate (k/32)
+// past 0.2 is 7/32. The midpoint octree splits at 1/2.
+TEST(Octree, OctreeRPlacesItsPlaneByCost) {
+  Scene s;
+  s.materials.push_back({});
+  auto add = [&](float x, float y, float z, float size) {
+    const auto v = static_cast<std::uint32_t>(s.positions.size());
+    s.positions.insert(s.positions.end(), {{x, y, z}, {x + size, y, z}, {x, y + size, z + size}});
+    s.triangles.emplace_back(v, v + 1, v + 2);
+    s.material_ids.push_back(0);
+  };
+  for (int i = 0; i < 200; ++i) add(0.19f * float(i % 7) / 6.0f, float(i) / 200.0f, float(i % 13) / 13.0f, 0.01f);
+  add(0.99f, 0.5f, 0.5f, 0.01f);
+  const TriangleSet triangles(s);
+  const Octree r(triangles, OctreeSplit::kCost), midpoint(triangles, OctreeSplit::kMidpoint);
+  const double lo = triangles.bounds().lo.x, hi = triangles.bounds().hi.x;
+  EXPECT_NEAR(r.root_planes().x, lo + (hi - lo) * 7.0 / 32.0, 1e-6);
+  EXPECT_NEAR(midpoint.root_planes().x, 0.5 * (lo + hi), 1e-6);
+  EXPECT_EQ(r.name(), "octree-r");
+  EXPECT_EQ(midpoint.name(), "octree");
 }
 
 TEST(Bvh, SplitsTrianglesWithOneCentroidAtTheMedian) {
