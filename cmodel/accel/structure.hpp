@@ -83,7 +83,7 @@ struct StructureOptions {
 };
 
 // The structures build_structure knows, in table order: "brute", "grid", "octree",
-// "octree-r", "bvh", "kdtree".
+// "octree-r", "bsp", "bvh", "kdtree".
 std::vector<std::string> structure_names();
 // Throws rpu::Error for a name structure_names() does not list, a bad option, or a scene
 // the kd-tree builder refuses (coordinates beyond its format's range).

@@ -187,13 +187,13 @@ int run_accel(const AccelOptions& o) {
   fmt::print("{}: {} triangles, {} {} rays{}; per ray: {} hit\n", scene.source, triangles.size(), rays.size(), o.rays,
              checked < rays.size() ? fmt::format(" (brute force: the first {})", checked) : std::string(),
              shadow ? "any" : "closest");
-  fmt::print("{:<6} {:>10} {:>10} {:>9} {:>10} {:>10} {:>10} {:>10} {:>10}  {}\n", "struct", "build ms", "memory",
+  fmt::print("{:<8} {:>10} {:>10} {:>9} {:>10} {:>10} {:>10} {:>10} {:>10}  {}\n", "struct", "build ms", "memory",
              "nodes", "nodes/ray", "tests/ray", "bytes/ray", "closest", "any", "parameters");
-  fmt::print("{:<6} {:>10} {:>10} {:>9} {:>10} {:>10} {:>10} {:>10} {:>10}\n", "", "", "", "", "", "", "", "Mrays/s",
+  fmt::print("{:<8} {:>10} {:>10} {:>9} {:>10} {:>10} {:>10} {:>10} {:>10}\n", "", "", "", "", "", "", "", "Mrays/s",
              "Mrays/s");
   for (const Row& r : rows) {
     const accel::RayCost& cost = shadow ? r.any_cost : r.closest_cost;
-    fmt::print("{:<6} {:>10.3f} {:>10} {:>9} {:>10.2f} {:>10.2f} {:>10.1f} {:>10} {:>10}  {}\n", r.name,
+    fmt::print("{:<8} {:>10.3f} {:>10} {:>9} {:>10.2f} {:>10.2f} {:>10.1f} {:>10} {:>10}  {}\n", r.name,
                r.build_seconds * 1e3, human_bytes(double(r.memory_bytes)), r.nodes, per_ray(cost.nodes, r.rays),
                per_ray(cost.tests, r.rays), per_ray(cost.bytes, r.rays), mrays_per_second(r.rays, r.closest_seconds),
                mrays_per_second(r.rays, r.any_seconds), r.parameters);

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "accel/brute_force.hpp"
+#include "accel/bsp.hpp"
 #include "accel/bvh.hpp"
 #include "accel/kd_tree.hpp"
 #include "accel/octree.hpp"
@@ -130,6 +131,11 @@ TEST(Structures, CountBytesByTheirByteModel) {
     EXPECT_EQ(octree.bytes, octree.nodes * tree.node_bytes() + octree.tests * (kReferenceBytes + kTriangleRecordBytes));
   }
 
+  RayCost bsp;
+  Bsp(triangles).closest_hit(r, bsp);
+  EXPECT_GT(bsp.nodes, 0u);
+  EXPECT_EQ(bsp.bytes, bsp.nodes * Bsp::kNodeBytes + bsp.tests * (kReferenceBytes + kTriangleRecordBytes));
+
   // Without mailboxes every reference read is a test.
   RayCost grid;
   UniformGrid(triangles, 4.0, false).closest_hit(r, grid);
@@ -138,8 +144,8 @@ TEST(Structures, CountBytesByTheirByteModel) {
             grid.nodes * UniformGrid::kCellRecordBytes + grid.tests * (kReferenceBytes + kTriangleRecordBytes));
 }
 
-// Many triangles around one point (a fan): the octree stops at its depth limit there.
-TEST(Octree, StopsAtItsDepthWhereTrianglesCannotBeSeparated) {
+// Many triangles around one point (a fan).
+Scene fan() {
   Scene s;
   s.materials.push_back({});
   s.positions.emplace_back(0.0f, 0.0f, 0.0f);
@@ -151,18 +157,40 @@ TEST(Octree, StopsAtItsDepthWhereTrianglesCannotBeSeparated) {
     s.triangles.emplace_back(0u, i, i % 40 + 1);
     s.material_ids.push_back(0);
   }
-  const TriangleSet triangles(s);
-  const Octree octree(triangles);
-  EXPECT_EQ(octree.depth(), Octree::kMaxDepth);
-  EXPECT_LT(octree.node_count(), 8u * 8u * Octree::kMaxDepth);  // split only around the fan's centre
+  return s;
+}
+
+// Rays down through the fan's centre and around it: brute force's answers.
+void expect_fan_answers(const Structure& s, const TriangleSet& triangles) {
   const BruteForce brute(triangles);
   for (const double x : {0.0, 1e-4, -0.3, 0.5}) {
     const Ray r{{x, 0.01, 1.0}, {0.0, 0.0, -1.0}};
     RayCost cost;
-    const Hit got = octree.closest_hit(r, cost), expected = brute.closest_hit(r, cost);
-    EXPECT_EQ(got.prim, expected.prim) << x;
-    EXPECT_EQ(got.t, expected.t) << x;
+    const Hit got = s.closest_hit(r, cost), expected = brute.closest_hit(r, cost);
+    EXPECT_EQ(got.prim, expected.prim) << s.name() << " " << x;
+    EXPECT_EQ(got.t, expected.t) << s.name() << " " << x;
   }
+}
+
+// The octree stops at its depth limit around the fan's centre.
+TEST(Octree, StopsAtItsDepthWhereTrianglesCannotBeSeparated) {
+  const Scene s = fan();
+  const TriangleSet triangles(s);
+  const Octree octree(triangles);
+  EXPECT_EQ(octree.depth(), Octree::kMaxDepth);
+  EXPECT_LT(octree.node_count(), 8u * 8u * Octree::kMaxDepth);  // split only around the fan's centre
+  expect_fan_answers(octree, triangles);
+}
+
+// The BSP likewise, halving x, y and z in turn. The centre lies on the first planes, so
+// up to four boxes of a level touch it; a full tree of depth 30 would have 2^31 nodes.
+TEST(Bsp, StopsAtItsDepthWhereTrianglesCannotBeSeparated) {
+  const Scene s = fan();
+  const TriangleSet triangles(s);
+  const Bsp bsp(triangles);
+  EXPECT_EQ(bsp.depth(), Bsp::kMaxDepth);
+  EXPECT_LT(bsp.node_count(), 8u * 4u * Bsp::kMaxDepth);  // split only around the fan's centre
+  expect_fan_answers(bsp, triangles);
 }
 
 // Octree-R's root plane on x, worked by hand: 200 small triangles in x in [0, 0.2] and
