@@ -1,6 +1,7 @@
 // rpu accel: the acceleration structures side by side on one scene and one set of rays
 // (docs/accel.md): build time, memory, and what each ray cost, checked against brute force.
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cstdint>
 #include <filesystem>
@@ -10,7 +11,9 @@
 
 #include <fmt/format.h>
 
+#include "accel/bounding_volumes.hpp"
 #include "accel/bvh.hpp"
+#include "accel/minimum_sphere.hpp"
 #include "accel/ray_sets.hpp"
 #include "accel/structure.hpp"
 #include "cli/commands.hpp"
@@ -30,6 +33,7 @@ struct AccelOptions {
   std::uint32_t seed = 1;
   std::filesystem::path csv;
   double grid_lambda = accel::StructureOptions{}.grid_lambda;
+  bool bounds = false;
 };
 
 // Brute force traces only as many rays as keep its triangle tests under this budget
@@ -117,6 +121,54 @@ void write_csv(const std::filesystem::path& path, const AccelOptions& o, const S
   file.commit();
 }
 
+// --bounds: each object's bounding volumes against its minimum sphere, per object and
+// summed over the scene's objects; Ritter's radius against the minimum one.
+int run_bounds(const AccelOptions& o, const Scene& scene) {
+  const std::vector<std::vector<glm::dvec3>> objects = accel::scene_objects(scene);
+  struct Kind {
+    const char* name;
+    const char* key;
+    double summed = 0.0, ratio_sum = 0.0;  // volume; the objects' volume / minimum sphere's
+  };
+  std::array<Kind, 4> kinds{{{"axis-aligned box", "aabb"}, {"PCA box", "obb"}, {"Ritter sphere", "ritter"},
+                             {"minimum sphere (CGAL)", "minimum"}}};
+  double radius_ratio_sum = 0.0, radius_ratio_max = 0.0;
+  std::size_t points = 0, measured = 0;
+  for (const std::vector<glm::dvec3>& object : objects) {
+    points += object.size();
+    Bounds b;
+    for (const glm::dvec3& p : object) b.extend(p);
+    const accel::Sphere ritter = accel::ritter_sphere(object), smallest = accel::minimum_sphere(object);
+    const std::array<double, 4> volumes{accel::volume(b), accel::volume(accel::pca_box(object)),
+                                        accel::volume(ritter), accel::volume(smallest)};
+    for (std::size_t k = 0; k < kinds.size(); ++k) kinds[k].summed += volumes[k];
+    if (!(smallest.radius > 0.0)) continue;
+    for (std::size_t k = 0; k < kinds.size(); ++k) kinds[k].ratio_sum += volumes[k] / volumes[3];
+    radius_ratio_sum += ritter.radius / smallest.radius;
+    radius_ratio_max = std::max(radius_ratio_max, ritter.radius / smallest.radius);
+    ++measured;
+  }
+  auto mean = [&](double sum) { return measured > 0 ? sum / double(measured) : 0.0; };
+  fmt::print("{}: {} objects (classes of triangles sharing a vertex), {} distinct vertices\n", scene.source,
+             objects.size(), points);
+  fmt::print("{:<22} {:>14} {:>22}\n", "bounding volume", "volume, summed", "mean of / minimum's");
+  for (const Kind& k : kinds) fmt::print("{:<22} {:>14.6g} {:>22.4f}\n", k.name, k.summed, mean(k.ratio_sum));
+  fmt::print("Ritter's radius / the minimum: mean {:.4f}, largest {:.4f} over {} objects\n", mean(radius_ratio_sum),
+             radius_ratio_max, measured);
+  if (!o.csv.empty()) {
+    OutputFile file(o.csv);
+    std::ostream& out = file.stream();
+    out << "scene,objects,points";
+    for (const Kind& k : kinds) out << fmt::format(",{0}_volume,{0}_volume_ratio_mean", k.key);
+    out << ",ritter_radius_ratio_mean,ritter_radius_ratio_max\n";
+    out << fmt::format("{},{},{}", csv_field(scene.source), objects.size(), points);
+    for (const Kind& k : kinds) out << fmt::format(",{:.9g},{:.9g}", k.summed, mean(k.ratio_sum));
+    out << fmt::format(",{:.9g},{:.9g}\n", mean(radius_ratio_sum), radius_ratio_max);
+    file.commit();
+  }
+  return 0;
+}
+
 int run_accel(const AccelOptions& o) {
   std::vector<PlannedInput> inputs;
   if (std::filesystem::is_regular_file(o.scene)) inputs.push_back({"the scene", o.scene});
@@ -126,6 +178,7 @@ int run_accel(const AccelOptions& o) {
 
   const Scene scene = resolve_scene(o.scene);
   for (const std::string& w : scene.warnings) fmt::print(stderr, "rpu: warning: {}\n", w);
+  if (o.bounds) return run_bounds(o, scene);
   const accel::TriangleSet triangles(scene);
   if (triangles.skipped() > 0) {
     fmt::print(stderr, "rpu: warning: {}: {} triangles skipped by every structure (a vertex index out of range, "
@@ -234,6 +287,9 @@ Command add_accel_command(CLI::App& app) {
   cmd->add_option("--grid-lambda", o->grid_lambda, "Uniform grid cells per triangle")
       ->check(CLI::Range(1e-6, 1e6))
       ->capture_default_str();
+  cmd->add_flag("--bounds", o->bounds,
+                "Instead of the structures: each object's axis-aligned box, PCA box, Ritter sphere and minimum "
+                "sphere, their volumes summed, and Ritter's radius against the minimum");
   return {cmd, [o] { return run_accel(*o); }};
 }
 
