@@ -11,6 +11,7 @@
 
 #include <fmt/format.h>
 
+#include "accel/beam.hpp"
 #include "accel/bounding_volumes.hpp"
 #include "accel/bvh.hpp"
 #include "accel/minimum_sphere.hpp"
@@ -34,6 +35,7 @@ struct AccelOptions {
   std::filesystem::path csv;
   double grid_lambda = accel::StructureOptions{}.grid_lambda;
   bool bounds = false;
+  int beam = 0;  // pixels a side of a beam of primary rays through the BVH; 0: no beams
 };
 
 // Brute force traces only as many rays as keep its triangle tests under this budget
@@ -52,6 +54,7 @@ struct Row {
   accel::RayCost closest_cost, any_cost;
   double closest_seconds = 0.0, any_seconds = 0.0;
   std::size_t checked = 0, mismatches = 0;
+  double frustum_nodes_per_ray = 0.0, frustum_triangles_per_ray = 0.0;  // beams only
 };
 
 std::string human_bytes(double bytes) {
@@ -108,15 +111,18 @@ void write_csv(const std::filesystem::path& path, const AccelOptions& o, const S
   std::ostream& out = file.stream();
   out << "scene,triangles,rays,structure,parameters,build_seconds,memory_bytes,nodes,traced_rays,"
          "closest_nodes_per_ray,closest_tests_per_ray,closest_bytes_per_ray,closest_rays_per_second,"
-         "any_nodes_per_ray,any_tests_per_ray,any_bytes_per_ray,any_rays_per_second,checked_rays,mismatches\n";
+         "any_nodes_per_ray,any_tests_per_ray,any_bytes_per_ray,any_rays_per_second,checked_rays,mismatches,"
+         "frustum_nodes_per_ray,frustum_triangles_per_ray\n";
   for (const Row& r : rows) {
     auto rate = [&](double seconds) { return r.rays > 0 && seconds > 0.0 ? double(r.rays) / seconds : 0.0; };
-    out << fmt::format("{},{},{},{},{},{:.6g},{},{},{},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{},{}\n",
+    out << fmt::format("{},{},{},{},{},{:.6g},{},{},{},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{},{},{:.6g},"
+                       "{:.6g}\n",
                        csv_field(scene.source), triangles.size(), o.rays, r.name, csv_field(r.parameters),
                        r.build_seconds, r.memory_bytes, r.nodes, r.rays, per_ray(r.closest_cost.nodes, r.rays),
                        per_ray(r.closest_cost.tests, r.rays), per_ray(r.closest_cost.bytes, r.rays),
                        rate(r.closest_seconds), per_ray(r.any_cost.nodes, r.rays), per_ray(r.any_cost.tests, r.rays),
-                       per_ray(r.any_cost.bytes, r.rays), rate(r.any_seconds), r.checked, r.mismatches);
+                       per_ray(r.any_cost.bytes, r.rays), rate(r.any_seconds), r.checked, r.mismatches,
+                       r.frustum_nodes_per_ray, r.frustum_triangles_per_ray);
   }
   file.commit();
 }
@@ -169,6 +175,34 @@ int run_bounds(const AccelOptions& o, const Scene& scene) {
   return 0;
 }
 
+// --beam: the primary rays in beams of o.beam x o.beam pixels through the BVH
+// (accel/beam.hpp), closest hits only, checked against brute force like every row.
+template <typename Check>
+Row beam_row(const AccelOptions& o, const std::vector<accel::Ray>& rays, const accel::TriangleSet& triangles,
+             const Check& check) {
+  Row row;
+  row.name = "bvh-beam";
+  const Clock::time_point build_start = Clock::now();
+  const accel::Bvh bvh(triangles);
+  row.build_seconds = seconds_since(build_start);
+  row.memory_bytes = bvh.memory_bytes();
+  row.nodes = bvh.node_count();
+  row.rays = rays.size();
+  accel::BeamCost cost;
+  const Clock::time_point start = Clock::now();
+  const std::vector<accel::Hit> hits = accel::trace_primary_beams(bvh, rays, o.width, o.height, o.beam, cost);
+  row.closest_seconds = seconds_since(start);
+  // The rays' own box and triangle tests; the frustum's tests apart, in the parameters.
+  row.closest_cost = {cost.ray_nodes, cost.ray_tests, cost.bytes};
+  row.frustum_nodes_per_ray = per_ray(cost.frustum_nodes, rays.size());
+  row.frustum_triangles_per_ray = per_ray(cost.frustum_triangles, rays.size());
+  row.parameters = fmt::format("{0}x{0} pixel beams through the bvh; per ray {1:.2f} frustum node and {2:.2f} "
+                               "frustum triangle tests",
+                               o.beam, row.frustum_nodes_per_ray, row.frustum_triangles_per_ray);
+  check(row, hits, nullptr);
+  return row;
+}
+
 int run_accel(const AccelOptions& o) {
   std::vector<PlannedInput> inputs;
   if (std::filesystem::is_regular_file(o.scene)) inputs.push_back({"the scene", o.scene});
@@ -179,6 +213,9 @@ int run_accel(const AccelOptions& o) {
   const Scene scene = resolve_scene(o.scene);
   for (const std::string& w : scene.warnings) fmt::print(stderr, "rpu: warning: {}\n", w);
   if (o.bounds) return run_bounds(o, scene);
+  if (o.beam > 0 && o.rays != "primary") {
+    throw Error(fmt::format("--beam {} traces beams of primary rays; leave it out with --rays {}", o.beam, o.rays));
+  }
   const accel::TriangleSet triangles(scene);
   if (triangles.skipped() > 0) {
     fmt::print(stderr, "rpu: warning: {}: {} triangles skipped by every structure (a vertex index out of range, "
@@ -194,6 +231,23 @@ int run_accel(const AccelOptions& o) {
   std::vector<accel::Hit> expected_hits;
   std::vector<char> expected_any;
   std::string first_mismatch;
+  // A row's answers against brute force's on the rays both traced (any hits when given).
+  const auto check = [&](Row& row, const std::vector<accel::Hit>& hits, const std::vector<char>* any) {
+    row.checked = std::min(row.rays, expected_hits.size());
+    for (std::size_t i = 0; i < row.checked; ++i) {
+      const bool closest_differs = hits[i].prim != expected_hits[i].prim || hits[i].t != expected_hits[i].t;
+      const bool any_differs = any != nullptr && (*any)[i] != expected_any[i];
+      if (!closest_differs && !any_differs) continue;
+      ++row.mismatches;
+      if (!first_mismatch.empty()) continue;
+      first_mismatch = closest_differs
+                           ? fmt::format("{} closest hit of ray {} ({}): {}, brute force: {}", row.name, i,
+                                         describe(rays[i]), describe(hits[i]), describe(expected_hits[i]))
+                           : fmt::format("{} any hit of ray {} ({}): {}, brute force: {}", row.name, i,
+                                         describe(rays[i]), (*any)[i] ? "hit" : "no hit",
+                                         expected_any[i] ? "hit" : "no hit");
+    }
+  };
   for (const std::string& name : accel::structure_names()) {
     Row row;
     row.name = name;
@@ -220,21 +274,11 @@ int run_accel(const AccelOptions& o) {
       expected_any = any;
     } else {
       row.checked = std::min(row.rays, expected_hits.size());
-      for (std::size_t i = 0; i < row.checked; ++i) {
-        const bool closest_differs = hits[i].prim != expected_hits[i].prim || hits[i].t != expected_hits[i].t;
-        if (!closest_differs && any[i] == expected_any[i]) continue;
-        ++row.mismatches;
-        if (!first_mismatch.empty()) continue;
-        first_mismatch = closest_differs
-                             ? fmt::format("{} closest hit of ray {} ({}): {}, brute force: {}", name, i,
-                                           describe(rays[i]), describe(hits[i]), describe(expected_hits[i]))
-                             : fmt::format("{} any hit of ray {} ({}): {}, brute force: {}", name, i,
-                                           describe(rays[i]), any[i] ? "hit" : "no hit",
-                                           expected_any[i] ? "hit" : "no hit");
-      }
+      check(row, hits, &any);
     }
     rows.push_back(std::move(row));
   }
+  if (o.beam > 0) rows.push_back(beam_row(o, rays, triangles, check));
 
   const bool shadow = o.rays == "shadow";
   fmt::print("{}: {} triangles, {} {} rays{}; per ray: {} hit\n", scene.source, triangles.size(), rays.size(), o.rays,
@@ -290,6 +334,9 @@ Command add_accel_command(CLI::App& app) {
   cmd->add_flag("--bounds", o->bounds,
                 "Instead of the structures: each object's axis-aligned box, PCA box, Ritter sphere and minimum "
                 "sphere, their volumes summed, and Ritter's radius against the minimum");
+  cmd->add_option("--beam", o->beam,
+                  "Also trace the primary rays in beams of NxN pixels through the BVH (frustum culling; 1..8)")
+      ->check(CLI::Range(1, 8));
   return {cmd, [o] { return run_accel(*o); }};
 }
 
