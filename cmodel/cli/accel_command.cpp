@@ -21,6 +21,7 @@
 #include "cli/output_paths.hpp"
 #include "common/error.hpp"
 #include "common/output_file.hpp"
+#include "image/image.hpp"
 #include "scene/resolve.hpp"
 
 namespace rpu::cli {
@@ -36,7 +37,13 @@ struct AccelOptions {
   double grid_lambda = accel::StructureOptions{}.grid_lambda;
   bool bounds = false;
   int beam = 0;  // pixels a side of a beam of primary rays through the BVH; 0: no beams
+  std::string heatmap;  // prefix of the per-structure heatmaps; empty: none
 };
+
+// --heatmap PREFIX: the file of one structure's heatmap.
+std::filesystem::path heatmap_path(const std::string& prefix, const std::string& structure) {
+  return prefix + "-" + structure + ".png";
+}
 
 // Brute force traces only as many rays as keep its triangle tests under this budget
 // (about ten seconds); the other structures are checked against it on those rays.
@@ -55,7 +62,27 @@ struct Row {
   double closest_seconds = 0.0, any_seconds = 0.0;
   std::size_t checked = 0, mismatches = 0;
   double frustum_nodes_per_ray = 0.0, frustum_triangles_per_ray = 0.0;  // beams only
+  std::vector<std::uint64_t> pixel_cost;  // --heatmap: each primary ray's nodes + tests
 };
+
+// The heatmaps of the rows that have per-pixel costs, all on one scale: false colour over
+// 0..the largest cost of any of them, so that the pictures compare.
+void write_heatmaps(const AccelOptions& o, const std::vector<Row>& rows) {
+  std::uint64_t largest = 1;
+  for (const Row& r : rows) {
+    for (const std::uint64_t c : r.pixel_cost) largest = std::max(largest, c);
+  }
+  for (const Row& r : rows) {
+    if (r.pixel_cost.empty()) continue;
+    Image image(o.width, o.height);
+    for (std::size_t i = 0; i < image.pixels.size(); ++i) {
+      image.pixels[i] = false_colour(double(r.pixel_cost[i]) / double(largest));
+    }
+    write_image(image, heatmap_path(o.heatmap, r.name));
+  }
+  fmt::print("heatmaps {}: nodes + triangle tests per primary ray, false colour over 0..{}\n",
+             heatmap_path(o.heatmap, "STRUCTURE").string(), largest);
+}
 
 std::string human_bytes(double bytes) {
   if (bytes < 1e4) return fmt::format("{:.0f} B", bytes);
@@ -208,11 +235,19 @@ int run_accel(const AccelOptions& o) {
   if (std::filesystem::is_regular_file(o.scene)) inputs.push_back({"the scene", o.scene});
   std::vector<PlannedOutput> outputs;
   if (!o.csv.empty()) outputs.push_back({"--csv", o.csv, {".csv"}});
+  if (!o.heatmap.empty()) {
+    for (const std::string& name : accel::structure_names()) {
+      if (name != "brute") outputs.push_back({"--heatmap", heatmap_path(o.heatmap, name), {".png"}});
+    }
+  }
   check_outputs(outputs, inputs);
 
   const Scene scene = resolve_scene(o.scene);
   for (const std::string& w : scene.warnings) fmt::print(stderr, "rpu: warning: {}\n", w);
   if (o.bounds) return run_bounds(o, scene);
+  if (!o.heatmap.empty() && o.rays != "primary") {
+    throw Error(fmt::format("--heatmap draws primary rays' costs as an image; leave it out with --rays {}", o.rays));
+  }
   if (o.beam > 0 && o.rays != "primary") {
     throw Error(fmt::format("--beam {} traces beams of primary rays; leave it out with --rays {}", o.beam, o.rays));
   }
@@ -269,6 +304,15 @@ int run_accel(const AccelOptions& o) {
     for (std::size_t i = 0; i < row.rays; ++i) any[i] = s->any_hit(rays[i], row.any_cost);
     row.any_seconds = seconds_since(start);
 
+    if (!o.heatmap.empty() && !brute) {
+      // Apart from the timed pass, one ray at a time.
+      row.pixel_cost.resize(row.rays);
+      for (std::size_t i = 0; i < row.rays; ++i) {
+        accel::RayCost cost;
+        s->closest_hit(rays[i], cost);
+        row.pixel_cost[i] = cost.nodes + cost.tests;
+      }
+    }
     if (brute) {
       expected_hits.assign(hits.begin(), hits.end());
       expected_any = any;
@@ -296,6 +340,7 @@ int run_accel(const AccelOptions& o) {
                mrays_per_second(r.rays, r.any_seconds), r.parameters);
   }
   if (!o.csv.empty()) write_csv(o.csv, o, scene, triangles, rows);
+  if (!o.heatmap.empty()) write_heatmaps(o, rows);
 
   std::size_t mismatches = 0;
   for (const Row& r : rows) mismatches += r.mismatches;
@@ -337,6 +382,9 @@ Command add_accel_command(CLI::App& app) {
   cmd->add_option("--beam", o->beam,
                   "Also trace the primary rays in beams of NxN pixels through the BVH (frustum culling; 1..8)")
       ->check(CLI::Range(1, 8));
+  cmd->add_option("--heatmap", o->heatmap,
+                  "Write PREFIX-STRUCTURE.png for each structure: nodes + triangle tests of each primary ray, in "
+                  "false colour on one scale");
   return {cmd, [o] { return run_accel(*o); }};
 }
 
