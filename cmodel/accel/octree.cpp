@@ -125,9 +125,9 @@ template <bool kAnyHit>
 Hit Octree::traverse(const Ray& ray, RayCost& cost) const {
   Hit best;
   if (nodes_.empty()) return best;
-  const glm::dvec3 inv = safe_reciprocal(ray.direction);
-  double t_near = ray.t_min, t_far = ray.t_max;
-  if (!clip_to_box(lo_, hi_, ray.origin, inv, t_near, t_far)) return best;
+  const RootSegment root = enter_root(lo_, hi_, ray);
+  if (!root.entered) return best;
+  const glm::dvec3& inv = root.inv;
 
   struct Pending {
     std::uint32_t node;
@@ -136,7 +136,7 @@ Hit Octree::traverse(const Ray& ray, RayCost& cost) const {
   // Each level pushes at most three octants (four crossed, one taken at once).
   std::array<Pending, 3 * kMaxDepth + 1> stack;
   int top = 0;
-  Pending current{0, t_near, t_far};
+  Pending current{0, root.t_near, root.t_far};
   for (;;) {
     // A hit before this node's range is final; one exactly at its entry is not (a tie of
     // a smaller id may lie here).

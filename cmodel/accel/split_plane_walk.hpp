@@ -38,9 +38,10 @@ Hit walk_split_planes(const Ray& ray, const glm::dvec3& lo, const glm::dvec3& hi
                       const std::vector<Triangle>& triangles, std::uint64_t node_bytes, NodeAt node_at,
                       RayCost& cost) {
   Hit best;
-  const glm::dvec3 inv = safe_reciprocal(ray.direction);
-  double t_near = ray.t_min, t_far = ray.t_max;
-  if (!clip_to_box(lo, hi, ray.origin, inv, t_near, t_far)) return best;
+  const RootSegment root = enter_root(lo, hi, ray);
+  if (!root.entered) return best;
+  const glm::dvec3& inv = root.inv;
+  double t_near = root.t_near, t_far = root.t_far;
 
   struct Pending {
     std::uint32_t node;

@@ -125,9 +125,10 @@ template <bool kAnyHit>
 Hit UniformGrid::walk(const Ray& ray, RayCost& cost) const {
   Hit best;
   if (references_.empty()) return best;
-  const glm::dvec3 inv = safe_reciprocal(ray.direction);
-  double t_enter = ray.t_min, t_end = ray.t_max;
-  if (!clip_to_box(lo_, hi_, ray.origin, inv, t_enter, t_end)) return best;
+  const RootSegment root = enter_root(lo_, hi_, ray);
+  if (!root.entered) return best;
+  const glm::dvec3& inv = root.inv;
+  const double t_enter = root.t_near, t_end = root.t_far;
   const std::uint64_t ray_number = ++ray_number_;
 
   // The DDA's set-up: the entry cell, and per axis the step, the t of the next boundary

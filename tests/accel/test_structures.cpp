@@ -172,25 +172,25 @@ void expect_fan_answers(const Structure& s, const TriangleSet& triangles) {
   }
 }
 
-// The octree stops at its depth limit around the fan's centre.
-TEST(Octree, StopsAtItsDepthWhereTrianglesCannotBeSeparated) {
-  const Scene s = fan();
-  const TriangleSet triangles(s);
-  const Octree octree(triangles);
-  EXPECT_EQ(octree.depth(), Octree::kMaxDepth);
-  EXPECT_LT(octree.node_count(), 8u * 8u * Octree::kMaxDepth);  // split only around the fan's centre
-  expect_fan_answers(octree, triangles);
+// A tree built over the fan stops at its depth limit around the fan's centre, with fewer
+// than `most_nodes` nodes (it splits only there), and answers as brute force does.
+template <typename Tree>
+void expect_stopped_at_depth_around_the_fan(std::uint64_t most_nodes) {
+  const TriangleSet triangles(fan());
+  const Tree tree(triangles);
+  EXPECT_EQ(tree.depth(), Tree::kMaxDepth) << tree.name();
+  EXPECT_LT(tree.node_count(), most_nodes) << tree.name();
+  expect_fan_answers(tree, triangles);
 }
 
-// The BSP likewise, halving x, y and z in turn. The centre lies on the first planes, so
-// up to four boxes of a level touch it; a full tree of depth 30 would have 2^31 nodes.
+TEST(Octree, StopsAtItsDepthWhereTrianglesCannotBeSeparated) {
+  expect_stopped_at_depth_around_the_fan<Octree>(8u * 8u * Octree::kMaxDepth);
+}
+
+// The BSP halves x, y and z in turn. The centre lies on the first planes, so up to four
+// boxes of a level touch it; a full tree of depth 30 would have 2^31 nodes.
 TEST(Bsp, StopsAtItsDepthWhereTrianglesCannotBeSeparated) {
-  const Scene s = fan();
-  const TriangleSet triangles(s);
-  const Bsp bsp(triangles);
-  EXPECT_EQ(bsp.depth(), Bsp::kMaxDepth);
-  EXPECT_LT(bsp.node_count(), 8u * 4u * Bsp::kMaxDepth);  // split only around the fan's centre
-  expect_fan_answers(bsp, triangles);
+  expect_stopped_at_depth_around_the_fan<Bsp>(8u * 4u * Bsp::kMaxDepth);
 }
 
 // Octree-R's root plane on x, worked by hand: 200 small triangles in x in [0, 0.2] and
