@@ -14,6 +14,9 @@ namespace {
 // Added to every plane's margin: more than the rounding of a plane test, n.(q - o), of
 // about 1e-16 of |q - o|, and far less than any angle a frustum plane cuts off.
 constexpr double kMarginSlack = 1e-9;
+// A plane that leaves a ray of the beam outside by more than this cosine is not one of
+// the beam's (its corners were not the beam's outermost rays): it is not kept.
+constexpr double kMostOutside = 1e-6;
 }  // namespace
 
 Frustum::Frustum(std::span<const Ray> rays, const std::array<std::size_t, 4>& corners) {
@@ -32,7 +35,7 @@ Frustum::Frustum(std::span<const Ray> rays, const std::array<std::size_t, 4>& co
     // How far outside the plane, as a cosine, rounding puts a ray of the beam.
     double outside = 0.0;
     for (const Ray& r : rays) outside = std::max(outside, -glm::dot(normal, glm::normalize(r.direction)));
-    if (outside > 1e-6) continue;  // not a plane of this beam: its rays are not inside it
+    if (outside > kMostOutside) continue;
     normals_[static_cast<std::size_t>(planes_)] = normal;
     margins_[static_cast<std::size_t>(planes_)] = outside + kMarginSlack;
     ++planes_;

@@ -241,6 +241,16 @@ Row beam_row(const AccelOptions& o, const std::vector<accel::Ray>& rays, const a
 }
 
 int run_accel(const AccelOptions& o) {
+  // Options that do not go together, refused before any work.
+  if (o.bounds && (o.beam > 0 || !o.heatmap.empty())) {
+    throw Error("--bounds measures bounding volumes instead of tracing rays; leave out --beam and --heatmap");
+  }
+  if (!o.heatmap.empty() && o.rays != "primary") {
+    throw Error(fmt::format("--heatmap draws primary rays' costs as an image; leave it out with --rays {}", o.rays));
+  }
+  if (o.beam > 0 && o.rays != "primary") {
+    throw Error(fmt::format("--beam {} traces beams of primary rays; leave it out with --rays {}", o.beam, o.rays));
+  }
   std::vector<PlannedInput> inputs;
   if (std::filesystem::is_regular_file(o.scene)) inputs.push_back({"the scene", o.scene});
   std::vector<PlannedOutput> outputs;
@@ -255,12 +265,6 @@ int run_accel(const AccelOptions& o) {
   const Scene scene = resolve_scene(o.scene);
   for (const std::string& w : scene.warnings) fmt::print(stderr, "rpu: warning: {}\n", w);
   if (o.bounds) return run_bounds(o, scene);
-  if (!o.heatmap.empty() && o.rays != "primary") {
-    throw Error(fmt::format("--heatmap draws primary rays' costs as an image; leave it out with --rays {}", o.rays));
-  }
-  if (o.beam > 0 && o.rays != "primary") {
-    throw Error(fmt::format("--beam {} traces beams of primary rays; leave it out with --rays {}", o.beam, o.rays));
-  }
   const accel::TriangleSet triangles(scene);
   if (triangles.skipped() > 0) {
     fmt::print(stderr, "rpu: warning: {}: {} triangles skipped by every structure (a vertex index out of range, "
