@@ -27,7 +27,7 @@ INSTANTIATE_TEST_SUITE_P(
                       AgreementCase{"bunny", [] { return scene_named("scenes/bunny.json"); }, 160, 160, 40000,
                                     100000},
                       AgreementCase{"tetra6", [] { return scene_named("tetra:6"); }, 240, 240, 40000, 100000},
-                      AgreementCase{"stadium", [] { return scene_named("stadium"); }, 190, 190, 40000, 100000},
+                      AgreementCase{"stadium", [] { return scene_named("stadium:5"); }, 190, 190, 40000, 100000},
                       AgreementCase{"scattered", [] { return scene_named("scattered:3000"); }, 240, 240, 40000,
                                     100000}),
     [](const ::testing::TestParamInfo<AgreementCase>& param) { return param.param.name; });
