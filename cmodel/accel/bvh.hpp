@@ -40,7 +40,7 @@ class Bvh final : public Structure {
   Hit closest_hit(const Ray& ray, RayCost& cost) const override;
   bool any_hit(const Ray& ray, RayCost& cost) const override;
   std::uint64_t memory_bytes() const override {
-    return nodes_.size() * kNodeBytes + triangles_.size() * kTriangleRecordBytes;
+    return stored_bytes(nodes_.size(), kNodeBytes, 0, triangles_.size());
   }
   std::uint64_t node_count() const override { return nodes_.size(); }
   int depth() const { return depth_; }

@@ -113,8 +113,8 @@ std::string UniformGrid::parameters() const {
 }
 
 std::uint64_t UniformGrid::memory_bytes() const {
-  return cell_begin_.size() * sizeof(std::uint32_t) + references_.size() * kReferenceBytes +
-         triangles_.size() * kTriangleRecordBytes;
+  // A cell's record is one 32-bit offset (4 bytes stored; a visit reads its own and the next).
+  return stored_bytes(cell_begin_.size(), sizeof(std::uint32_t), references_.size(), triangles_.size());
 }
 
 Hit UniformGrid::closest_hit(const Ray& ray, RayCost& cost) const { return walk<false>(ray, cost); }
