@@ -34,8 +34,9 @@ enum class OctreeSplit {
 // Storage and byte model: the midpoint octree's node is 8 bytes (an inner node: the index
 // of its first child, the eight children stored together; a leaf: its first reference
 // and count); the octants' boxes follow from the root cube, so no planes are stored.
-// Octree-R's node is 16 bytes: an inner node adds its three planes as fp32. A reference
-// is a 32-bit triangle index (4 bytes); a test reads the 36-byte triangle record.
+// Octree-R's node is 16 bytes: an inner node holds the index of its first child (its kind
+// in a spare bit) and its three planes as fp32, a leaf its first reference and count. A
+// reference is a 32-bit triangle index (4 bytes); a test reads the 36-byte triangle record.
 class Octree final : public Structure {
  public:
   static constexpr int kMaxDepth = 10;
