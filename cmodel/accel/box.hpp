@@ -6,6 +6,7 @@
 
 #include <glm/glm.hpp>
 
+#include "accel/ray.hpp"
 #include "scene/geometry.hpp"
 
 namespace rpu::accel {
@@ -46,6 +47,20 @@ inline bool clip_to_box(const glm::dvec3& lo, const glm::dvec3& hi, const glm::d
     t_far = std::min(t_far, t1 + std::abs(t1) * kFarWidening);
   }
   return t_near <= t_far;
+}
+
+// Where a ray enters a structure's root box [lo, hi] and leaves it (its t-range clipped
+// to the box), with its reciprocal direction for the walk; `entered` false when it misses.
+struct RootSegment {
+  glm::dvec3 inv;
+  double t_near, t_far;
+  bool entered;
+};
+
+inline RootSegment enter_root(const glm::dvec3& lo, const glm::dvec3& hi, const Ray& ray) {
+  RootSegment s{safe_reciprocal(ray.direction), ray.t_min, ray.t_max, false};
+  s.entered = clip_to_box(lo, hi, ray.origin, s.inv, s.t_near, s.t_far);
+  return s;
 }
 
 }  // namespace rpu::accel

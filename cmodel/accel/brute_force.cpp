@@ -4,23 +4,13 @@ namespace rpu::accel {
 
 Hit BruteForce::closest_hit(const Ray& ray, RayCost& cost) const {
   Hit best;
-  for (const Triangle& tri : triangles_) {
-    double t;
-    if (intersect(ray, tri, t) && best.improved_by(t, tri.prim)) best = {t, tri.prim};
-  }
-  cost.tests += triangles_.size();
-  cost.bytes += triangles_.size() * kTriangleRecordBytes;
+  test_triangles<false>(ray, triangles_, best, cost);
   return best;
 }
 
 bool BruteForce::any_hit(const Ray& ray, RayCost& cost) const {
-  for (const Triangle& tri : triangles_) {
-    ++cost.tests;
-    cost.bytes += kTriangleRecordBytes;
-    double t;
-    if (intersect(ray, tri, t)) return true;
-  }
-  return false;
+  Hit best;
+  return test_triangles<true>(ray, triangles_, best, cost);
 }
 
 }  // namespace rpu::accel

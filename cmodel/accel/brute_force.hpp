@@ -17,7 +17,7 @@ class BruteForce final : public Structure {
   std::string parameters() const override { return "no structure"; }
   Hit closest_hit(const Ray& ray, RayCost& cost) const override;
   bool any_hit(const Ray& ray, RayCost& cost) const override;
-  std::uint64_t memory_bytes() const override { return triangles_.size() * kTriangleRecordBytes; }
+  std::uint64_t memory_bytes() const override { return stored_bytes(0, 0, 0, triangles_.size()); }
   std::uint64_t node_count() const override { return 0; }
 
  private:

@@ -2,11 +2,14 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <limits>
+#include <span>
 
 #include <fmt/format.h>
 
 #include "accel/box.hpp"
+#include "common/error.hpp"
 
 namespace rpu::accel {
 
@@ -164,20 +167,71 @@ Hit Bvh::traverse(const Ray& ray, RayCost& cost) const {
         }
         continue;
       }
-      for (std::uint32_t i = node.offset; i < node.offset + node.count; ++i) {
-        ++cost.tests;
-        cost.bytes += kTriangleRecordBytes;
-        double t;
-        if (intersect(ray, triangles_[i], t)) {
-          if constexpr (kAnyHit) return {t, triangles_[i].prim};
-          if (best.improved_by(t, triangles_[i].prim)) best = {t, triangles_[i].prim};
-        }
+      if (test_triangles<kAnyHit>(ray, std::span(triangles_).subspan(node.offset, node.count), best, cost)) {
+        return best;
       }
     }
     if (top == 0) break;
     current = stack[static_cast<std::size_t>(--top)];
   }
   return best;
+}
+
+void Bvh::closest_hits_of_beam(std::span<const Ray> rays, const Frustum& frustum, std::span<Hit> hits,
+                               BeamCost& cost) const {
+  if (nodes_.empty() || rays.empty()) return;
+  if (rays.size() > kMaxBeamRays || hits.size() != rays.size()) {
+    throw Error(fmt::format("a beam of {} rays and {} hits; at most {} rays, one hit each", rays.size(), hits.size(),
+                            kMaxBeamRays));
+  }
+  std::array<glm::dvec3, kMaxBeamRays> inv;
+  for (std::size_t i = 0; i < rays.size(); ++i) inv[i] = safe_reciprocal(rays[i].direction);
+  struct Pending {
+    std::uint32_t node;
+    std::uint64_t rays;  // bit i: rays[i] still walks this node
+  };
+  std::array<Pending, kStackSize> stack;
+  int top = 0;
+  Pending current{0, rays.size() == 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << rays.size()) - 1};
+  auto each_ray = [](std::uint64_t mask, auto&& f) {
+    for (; mask != 0; mask &= mask - 1) f(static_cast<std::size_t>(std::countr_zero(mask)));
+  };
+  for (;;) {
+    const Node& node = nodes_[current.node];
+    ++cost.frustum_nodes;
+    cost.bytes += kNodeBytes;
+    std::uint64_t entering = 0;
+    if (!frustum.misses_box(node.lo, node.hi)) {
+      // Each ray's own test, as closest_hit makes it.
+      each_ray(current.rays, [&](std::size_t i) {
+        ++cost.ray_nodes;
+        double t_near = rays[i].t_min, t_far = std::min(rays[i].t_max, hits[i].t);
+        if (clip_to_box(node.lo, node.hi, rays[i].origin, inv[i], t_near, t_far)) entering |= std::uint64_t{1} << i;
+      });
+    }
+    if (entering != 0 && node.count == 0) {
+      // The child on the side the first entering ray comes from first.
+      const bool second_first = inv[static_cast<std::size_t>(std::countr_zero(entering))][node.axis] < 0.0;
+      stack[static_cast<std::size_t>(top++)] = {second_first ? current.node + 1 : node.offset, entering};
+      current = {second_first ? node.offset : current.node + 1, entering};
+      continue;
+    }
+    if (entering != 0) {
+      for (std::uint32_t k = node.offset; k < node.offset + node.count; ++k) {
+        const Triangle& tri = triangles_[k];
+        ++cost.frustum_triangles;
+        cost.bytes += kTriangleRecordBytes;
+        if (frustum.misses_triangle(tri)) continue;
+        each_ray(entering, [&](std::size_t i) {
+          ++cost.ray_tests;
+          double t;
+          if (intersect(rays[i], tri, t) && hits[i].improved_by(t, tri.prim)) hits[i] = {t, tri.prim};
+        });
+      }
+    }
+    if (top == 0) break;
+    current = stack[static_cast<std::size_t>(--top)];
+  }
 }
 
 }  // namespace rpu::accel

@@ -1,10 +1,12 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include <glm/glm.hpp>
 
+#include "accel/beam.hpp"
 #include "accel/structure.hpp"
 
 namespace rpu::accel {
@@ -38,10 +40,14 @@ class Bvh final : public Structure {
   Hit closest_hit(const Ray& ray, RayCost& cost) const override;
   bool any_hit(const Ray& ray, RayCost& cost) const override;
   std::uint64_t memory_bytes() const override {
-    return nodes_.size() * kNodeBytes + triangles_.size() * kTriangleRecordBytes;
+    return stored_bytes(nodes_.size(), kNodeBytes, 0, triangles_.size());
   }
   std::uint64_t node_count() const override { return nodes_.size(); }
   int depth() const { return depth_; }
+  // The closest hits of a beam of at most kMaxBeamRays rays (beam.hpp): hits[i] of
+  // rays[i], each exactly as closest_hit finds it.
+  void closest_hits_of_beam(std::span<const Ray> rays, const Frustum& frustum, std::span<Hit> hits,
+                            BeamCost& cost) const;
 
  private:
   struct Node {

@@ -1,11 +1,12 @@
 #include "accel/kd_tree.hpp"
 
-#include <array>
 #include <cmath>
+#include <span>
 
 #include <fmt/format.h>
 
 #include "accel/box.hpp"
+#include "accel/split_plane_walk.hpp"
 
 namespace rpu::accel {
 
@@ -47,63 +48,17 @@ bool KdTreeStructure::any_hit(const Ray& ray, RayCost& cost) const { return trav
 
 template <bool kAnyHit>
 Hit KdTreeStructure::traverse(const Ray& ray, RayCost& cost) const {
-  Hit best;
-  if (tree_.nodes.empty()) return best;
-  const glm::dvec3 inv = safe_reciprocal(ray.direction);
-  double t_near = ray.t_min, t_far = ray.t_max;
-  if (!clip_to_box(lo_, hi_, ray.origin, inv, t_near, t_far)) return best;
-
-  struct Pending {
-    std::uint32_t node;
-    double t_near, t_far;
-  };
-  std::array<Pending, kKdMaxDepthLimit + 1> stack;
-  int top = 0;
-  std::uint32_t current = 0;
-  for (;;) {
-    // A hit before this node's range is final. A hit exactly at its entry is not: the
-    // node may hold a tie of a smaller id.
-    if (best.t < t_near) break;
-    const KdNode& node = tree_.nodes[current];
-    ++cost.nodes;
-    cost.bytes += kNodeBytes;
-    if (!node.is_leaf()) {
-      const int axis = node.split_axis();
-      const double split = splits_[current];
-      const double t_plane = (split - ray.origin[axis]) * inv[axis];
-      // The child on the origin's side first; an origin on the plane goes with its direction.
-      const bool below_first =
-          ray.origin[axis] < split || (ray.origin[axis] == split && ray.direction[axis] <= 0.0);
-      const std::uint32_t first = below_first ? current + 1 : node.above_child();
-      const std::uint32_t second = below_first ? node.above_child() : current + 1;
-      if (t_plane > t_far || t_plane <= 0.0) {
-        current = first;
-      } else if (t_plane < t_near) {
-        current = second;
-      } else {
-        stack[static_cast<std::size_t>(top++)] = {second, t_plane, t_far};
-        current = first;
-        t_far = t_plane;
-      }
-      continue;
-    }
-    for (std::uint32_t r = node.first_prim_ref(); r < node.first_prim_ref() + node.prim_count(); ++r) {
-      const Triangle& tri = triangles_[tree_.prim_refs[r]];
-      cost.bytes += kReferenceBytes + kTriangleRecordBytes;
-      ++cost.tests;
-      double t;
-      if (intersect(ray, tri, t)) {
-        if constexpr (kAnyHit) return {t, tri.prim};
-        if (best.improved_by(t, tri.prim)) best = {t, tri.prim};
-      }
-    }
-    if (top == 0) break;
-    const Pending& next = stack[static_cast<std::size_t>(--top)];
-    current = next.node;
-    t_near = next.t_near;
-    t_far = next.t_far;
-  }
-  return best;
+  if (tree_.nodes.empty()) return {};
+  return walk_split_planes<kAnyHit, kKdMaxDepthLimit + 1>(
+      ray, lo_, hi_, triangles_, kNodeBytes, [&](std::uint32_t n) {
+        const KdNode& node = tree_.nodes[n];
+        if (node.is_leaf()) {
+          return SplitPlaneNode{true, 0, 0.0, 0, 0,
+                                std::span(tree_.prim_refs).subspan(node.first_prim_ref(), node.prim_count())};
+        }
+        return SplitPlaneNode{false, node.split_axis(), splits_[n], n + 1, node.above_child(), {}};
+      },
+      cost);
 }
 
 }  // namespace rpu::accel

@@ -32,8 +32,7 @@ class KdTreeStructure final : public Structure {
   Hit closest_hit(const Ray& ray, RayCost& cost) const override;
   bool any_hit(const Ray& ray, RayCost& cost) const override;
   std::uint64_t memory_bytes() const override {
-    return tree_.nodes.size() * kNodeBytes + tree_.prim_refs.size() * kReferenceBytes +
-           triangles_.size() * kTriangleRecordBytes;
+    return stored_bytes(tree_.nodes.size(), kNodeBytes, tree_.prim_refs.size(), triangles_.size());
   }
   std::uint64_t node_count() const override { return tree_.nodes.size(); }
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <limits>
+#include <span>
 
 #include <fmt/format.h>
 
@@ -12,50 +13,106 @@
 
 namespace rpu::accel {
 
-Octree::Octree(const TriangleSet& set) : triangles_(set.triangles()) {
+Octree::Octree(const TriangleSet& set, OctreeSplit split) : triangles_(set.triangles()), split_(split) {
   if (triangles_.empty()) return;
   const Bounds& b = set.bounds();
   pad_ = box_pad(b);
-  const glm::dvec3 extent = b.hi - b.lo;
-  size_ = std::max({extent.x, extent.y, extent.z}) + 2.0 * pad_;
-  lo_ = 0.5 * (b.lo + b.hi) - 0.5 * size_;
+  if (split_ == OctreeSplit::kMidpoint) {
+    const glm::dvec3 extent = b.hi - b.lo;
+    const double size = std::max({extent.x, extent.y, extent.z}) + 2.0 * pad_;
+    lo_ = 0.5 * (b.lo + b.hi) - 0.5 * size;
+    hi_ = lo_ + size;
+  } else {
+    lo_ = b.lo - pad_;
+    hi_ = b.hi + pad_;
+  }
   std::vector<std::uint32_t> all(triangles_.size());
   for (std::uint32_t k = 0; k < all.size(); ++k) all[k] = k;
   nodes_.push_back({});
-  build(0, lo_, size_, 0, all);
+  build(0, lo_, hi_, 0, all);
 }
 
-void Octree::build(std::uint32_t index, const glm::dvec3& lo, double size, int depth,
+glm::dvec3 Octree::cost_split(const glm::dvec3& lo, const glm::dvec3& hi,
+                              const std::vector<std::uint32_t>& items) const {
+  constexpr int kBins = kCostCandidates;
+  const glm::dvec3 extent = hi - lo;
+  glm::dvec3 split = lo + 0.5 * extent;
+  for (int a = 0; a < 3; ++a) {
+    // Per bin, the triangles whose box (clipped to the node) starts in it and ends in it;
+    // plane k (at lo + k/kBins of the extent) has on its low side those starting in a bin
+    // below k, on its high side those ending in bin k or above.
+    std::array<std::uint32_t, kBins> starts{}, ends{};
+    auto bin = [&](double x) {
+      return std::clamp(static_cast<int>((x - lo[a]) / extent[a] * kBins), 0, kBins - 1);
+    };
+    for (const std::uint32_t k : items) {
+      const Triangle& t = triangles_[k];
+      const double v1 = t.v0[a] + t.e1[a], v2 = t.v0[a] + t.e2[a];
+      ++starts[static_cast<std::size_t>(bin(std::min({t.v0[a], v1, v2})))];
+      ++ends[static_cast<std::size_t>(bin(std::max({t.v0[a], v1, v2})))];
+    }
+    // Areas are half surface areas: the two faces across the axis and the sides' lengths.
+    const int b = (a + 1) % 3, c = (a + 2) % 3;
+    const double across = extent[b] * extent[c], around = extent[b] + extent[c];
+    auto cost = [&](int k, std::uint32_t low, std::uint32_t high) {
+      const double low_length = extent[a] * k / kBins, high_length = extent[a] - low_length;
+      return (across + low_length * around) * low + (across + high_length * around) * high;
+    };
+    std::array<std::uint32_t, kBins + 1> low{}, high{};  // low[k], high[k]: the two sides of plane k
+    for (int k = 1; k <= kBins; ++k) low[k] = low[k - 1] + starts[static_cast<std::size_t>(k - 1)];
+    for (int k = kBins - 1; k >= 0; --k) high[k] = high[k + 1] + ends[static_cast<std::size_t>(k)];
+    int best = kBins / 2;
+    double best_cost = cost(best, low[best], high[best]);
+    for (int k = 1; k < kBins; ++k) {
+      const double c_k = cost(k, low[k], high[k]);
+      if (c_k < best_cost) {
+        best_cost = c_k;
+        best = k;
+      }
+    }
+    if (best != kBins / 2) split[a] = lo[a] + extent[a] * best / kBins;
+  }
+  return split;
+}
+
+void Octree::build(std::uint32_t index, const glm::dvec3& lo, const glm::dvec3& hi, int depth,
                    std::vector<std::uint32_t>& items) {
   depth_ = std::max(depth_, depth);
   if (items.size() <= kMaxLeafTriangles || depth >= kMaxDepth) {
     if (references_.size() + items.size() > std::numeric_limits<std::uint32_t>::max()) {
-      throw Error(fmt::format("octree needs more than 2^32 references; the scene has {} triangles",
+      throw Error(fmt::format("{} needs more than 2^32 references; the scene has {} triangles", name(),
                               triangles_.size()));
     }
-    nodes_[index] = {static_cast<std::uint32_t>(references_.size()), static_cast<std::uint32_t>(items.size())};
+    nodes_[index] = {static_cast<std::uint32_t>(references_.size()), static_cast<std::uint32_t>(items.size()), {}};
     references_.insert(references_.end(), items.begin(), items.end());
     return;
   }
+  const glm::dvec3 split = split_ == OctreeSplit::kMidpoint ? 0.5 * (lo + hi) : cost_split(lo, hi, items);
   const auto first = static_cast<std::uint32_t>(nodes_.size());
-  nodes_[index] = {first, kInner};
+  nodes_[index] = {first, kInner, split};
   nodes_.resize(nodes_.size() + 8);
-  const double half = 0.5 * size;
   // Octant i lies on the high side of axis a when bit a of i is set.
   for (std::uint32_t i = 0; i < 8; ++i) {
-    const glm::dvec3 child_lo = lo + half * glm::dvec3(i & 1u, (i >> 1) & 1u, (i >> 2) & 1u);
-    const glm::dvec3 box_lo = child_lo - pad_, box_hi = child_lo + half + pad_;
+    glm::dvec3 child_lo, child_hi;
+    for (int a = 0; a < 3; ++a) {
+      const bool high = (i >> a) & 1u;
+      child_lo[a] = high ? split[a] : lo[a];
+      child_hi[a] = high ? hi[a] : split[a];
+    }
     std::vector<std::uint32_t> inside;
     for (const std::uint32_t k : items) {
       const Triangle& t = triangles_[k];
-      if (triangle_overlaps_box(t.v0, t.v0 + t.e1, t.v0 + t.e2, box_lo, box_hi)) inside.push_back(k);
+      if (triangle_overlaps_box(t.v0, t.v0 + t.e1, t.v0 + t.e2, child_lo - pad_, child_hi + pad_)) {
+        inside.push_back(k);
+      }
     }
-    build(first + i, child_lo, half, depth + 1, inside);
+    build(first + i, child_lo, child_hi, depth + 1, inside);
   }
 }
 
 std::string Octree::parameters() const {
-  return fmt::format("leaves <= {} triangles or depth {}, depth {}, {:.2f} refs/triangle", kMaxLeafTriangles,
+  return fmt::format("{}, leaves <= {} triangles or depth {}, depth {}, {:.2f} refs/triangle",
+                     split_ == OctreeSplit::kMidpoint ? "midpoint splits" : "SAH planes per axis", kMaxLeafTriangles,
                      kMaxDepth, depth_,
                      triangles_.empty() ? 0.0 : double(references_.size()) / double(triangles_.size()));
 }
@@ -68,30 +125,28 @@ template <bool kAnyHit>
 Hit Octree::traverse(const Ray& ray, RayCost& cost) const {
   Hit best;
   if (nodes_.empty()) return best;
-  const glm::dvec3 inv = safe_reciprocal(ray.direction);
-  double t_near = ray.t_min, t_far = ray.t_max;
-  if (!clip_to_box(lo_, lo_ + size_, ray.origin, inv, t_near, t_far)) return best;
+  const RootSegment root = enter_root(lo_, hi_, ray);
+  if (!root.entered) return best;
+  const glm::dvec3& inv = root.inv;
 
   struct Pending {
     std::uint32_t node;
-    glm::dvec3 lo;
-    double size, t_near, t_far;
+    double t_near, t_far;
   };
   // Each level pushes at most three octants (four crossed, one taken at once).
   std::array<Pending, 3 * kMaxDepth + 1> stack;
   int top = 0;
-  Pending current{0, lo_, size_, t_near, t_far};
+  Pending current{0, root.t_near, root.t_far};
   for (;;) {
     // A hit before this node's range is final; one exactly at its entry is not (a tie of
     // a smaller id may lie here).
     if (best.t < current.t_near) break;
     const Node& node = nodes_[current.node];
     ++cost.nodes;
-    cost.bytes += kNodeBytes;
+    cost.bytes += node_bytes();
     if (node.count == kInner) {
-      const double half = 0.5 * current.size;
-      const glm::dvec3 mid = current.lo + half;
-      // The octant the segment starts in, and the t where it crosses each mid-plane.
+      const glm::dvec3& mid = node.split;
+      // The octant the segment starts in, and the t where it crosses each plane.
       std::uint32_t octant = 0;
       std::array<std::pair<double, int>, 3> crossings;
       int n = 0;
@@ -125,8 +180,7 @@ Hit Octree::traverse(const Ray& ray, RayCost& cost) const {
       double from = current.t_near;
       for (int k = 0; k <= n; ++k) {
         const double to = k < n ? crossings[k].first : current.t_far;
-        const glm::dvec3 child_lo = current.lo + half * glm::dvec3(octant & 1u, (octant >> 1) & 1u, (octant >> 2) & 1u);
-        sequence[k] = {node.first + octant, child_lo, half, from, to};
+        sequence[k] = {node.first + octant, from, to};
         if (k < n) octant ^= 1u << crossings[k].second;
         from = to;
       }
@@ -134,15 +188,9 @@ Hit Octree::traverse(const Ray& ray, RayCost& cost) const {
       current = sequence[0];
       continue;
     }
-    for (std::uint32_t r = node.first; r < node.first + node.count; ++r) {
-      const Triangle& tri = triangles_[references_[r]];
-      cost.bytes += kReferenceBytes + kTriangleRecordBytes;
-      ++cost.tests;
-      double t;
-      if (intersect(ray, tri, t)) {
-        if constexpr (kAnyHit) return {t, tri.prim};
-        if (best.improved_by(t, tri.prim)) best = {t, tri.prim};
-      }
+    if (test_references<kAnyHit>(ray, triangles_, std::span(references_).subspan(node.first, node.count), best,
+                                 cost)) {
+      return best;
     }
     if (top == 0) break;
     current = stack[static_cast<std::size_t>(--top)];

@@ -5,6 +5,7 @@
 
 #include "common/random_vector.hpp"
 #include "render/sampling.hpp"
+#include "scene/geometry.hpp"
 
 namespace rpu::accel {
 
@@ -62,13 +63,10 @@ std::vector<Ray> shadow_rays(const Scene& scene, const TriangleSet& triangles, s
       if (light.kind == LightKind::kDirectional) {
         to_light = -light.direction;
       } else {
-        glm::dvec3 at = light.position;
-        if (light.kind == LightKind::kArea) {
-          const double s = unit(rng);
-          const double t = unit(rng);
-          at += s * light.edge_u + t * light.edge_v;
-        }
-        to_light = at - above;
+        const bool area = light.kind == LightKind::kArea;
+        const double s = area ? unit(rng) : 0.0;
+        const double t = area ? unit(rng) : 0.0;
+        to_light = light_sample_point(light, s, t) - above;
         distance = glm::length(to_light);
         if (!(distance > lift)) continue;
         to_light /= distance;

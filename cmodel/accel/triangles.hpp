@@ -19,6 +19,14 @@ inline constexpr std::uint64_t kTriangleRecordBytes = 36;
 // Bytes of one primitive reference (a 32-bit triangle index) in a cell or leaf list.
 inline constexpr std::uint64_t kReferenceBytes = 4;
 
+// Bytes of a structure stored as `nodes` records of `node_bytes` each, a list of
+// `references` 32-bit triangle indices and `triangles` triangle records (docs/accel.md,
+// "Byte model").
+inline std::uint64_t stored_bytes(std::uint64_t nodes, std::uint64_t node_bytes, std::uint64_t references,
+                                  std::uint64_t triangles) {
+  return nodes * node_bytes + references * kReferenceBytes + triangles * kTriangleRecordBytes;
+}
+
 // A triangle ready for the ray test: a vertex and the two edges from it, in double.
 struct Triangle {
   glm::dvec3 v0, e1, e2;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <span>
 
 #include <fmt/format.h>
 
@@ -112,8 +113,8 @@ std::string UniformGrid::parameters() const {
 }
 
 std::uint64_t UniformGrid::memory_bytes() const {
-  return cell_begin_.size() * sizeof(std::uint32_t) + references_.size() * kReferenceBytes +
-         triangles_.size() * kTriangleRecordBytes;
+  // A cell's record is one 32-bit offset (4 bytes stored; a visit reads its own and the next).
+  return stored_bytes(cell_begin_.size(), sizeof(std::uint32_t), references_.size(), triangles_.size());
 }
 
 Hit UniformGrid::closest_hit(const Ray& ray, RayCost& cost) const { return walk<false>(ray, cost); }
@@ -124,9 +125,10 @@ template <bool kAnyHit>
 Hit UniformGrid::walk(const Ray& ray, RayCost& cost) const {
   Hit best;
   if (references_.empty()) return best;
-  const glm::dvec3 inv = safe_reciprocal(ray.direction);
-  double t_enter = ray.t_min, t_end = ray.t_max;
-  if (!clip_to_box(lo_, hi_, ray.origin, inv, t_enter, t_end)) return best;
+  const RootSegment root = enter_root(lo_, hi_, ray);
+  if (!root.entered) return best;
+  const glm::dvec3& inv = root.inv;
+  const double t_enter = root.t_near, t_end = root.t_far;
   const std::uint64_t ray_number = ++ray_number_;
 
   // The DDA's set-up: the entry cell, and per axis the step, the t of the next boundary
@@ -154,20 +156,15 @@ Hit UniformGrid::walk(const Ray& ray, RayCost& cost) const {
     const std::uint64_t c = (static_cast<std::uint64_t>(cell.z) * resolution_.y + cell.y) * resolution_.x + cell.x;
     ++cost.nodes;
     cost.bytes += kCellRecordBytes;
-    for (std::uint32_t r = cell_begin_[c]; r < cell_begin_[c + 1]; ++r) {
-      const std::uint32_t k = references_[r];
-      cost.bytes += kReferenceBytes;
-      if (mailbox_) {
-        if (tested_by_ray_[k] == ray_number) continue;
-        tested_by_ray_[k] = ray_number;
-      }
-      ++cost.tests;
-      cost.bytes += kTriangleRecordBytes;
-      double t;
-      if (intersect(ray, triangles_[k], t)) {
-        if constexpr (kAnyHit) return {t, triangles_[k].prim};
-        if (best.improved_by(t, triangles_[k].prim)) best = {t, triangles_[k].prim};
-      }
+    const auto cell_references =
+        std::span(references_).subspan(cell_begin_[c], cell_begin_[c + 1] - cell_begin_[c]);
+    if (test_references<kAnyHit>(ray, triangles_, cell_references, best, cost, [&](std::uint32_t k) {
+          if (!mailbox_) return true;
+          if (tested_by_ray_[k] == ray_number) return false;
+          tested_by_ray_[k] = ray_number;
+          return true;
+        })) {
+      return best;
     }
     // The cell ends where the first axis crosses its next boundary. A hit found so far
     // is final only if it lies within the cells walked: a triangle reaching into later

@@ -67,13 +67,10 @@ glm::dvec3 ReferenceRenderer::shade(const RayD& ray, const HitD& hit, int depth,
     if (light.kind == LightKind::kDirectional) {
       l = -light.direction;
     } else {
-      glm::dvec3 at = light.position;
-      if (light.kind == LightKind::kArea) {
-        const double s = stream.next_double();
-        const double t = stream.next_double();
-        at += s * light.edge_u + t * light.edge_v;
-      }
-      l = at - p;
+      const bool area = light.kind == LightKind::kArea;
+      const double s = area ? stream.next_double() : 0.0;
+      const double t = area ? stream.next_double() : 0.0;
+      l = light_sample_point(light, s, t) - p;
       distance = glm::length(l);
       l /= distance;
     }

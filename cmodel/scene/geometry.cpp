@@ -13,6 +13,11 @@
 
 namespace rpu {
 
+glm::dvec3 light_sample_point(const Light& light, double s, double t) {
+  if (light.kind != LightKind::kArea) return light.position;
+  return light.position + (s * light.edge_u + t * light.edge_v);
+}
+
 Bounds scene_bounds(const Scene& scene) {
   Bounds box;
   for (const glm::uvec3& t : scene.triangles) {

@@ -22,6 +22,11 @@ struct Bounds {
   }
 };
 
+// The point of `light` that (s, t) in [0, 1)^2 picks: an area light's
+// position + s edge_u + t edge_v, a point light's position whatever s and t. Callers
+// draw s and t only for area lights, so a scene of point lights uses no random numbers.
+glm::dvec3 light_sample_point(const Light& light, double s, double t);
+
 // Box around every vertex some triangle uses (unreferenced vertices do not count).
 Bounds scene_bounds(const Scene& scene);
 

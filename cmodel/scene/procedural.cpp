@@ -5,12 +5,14 @@
 #include <cmath>
 #include <numbers>
 #include <optional>
+#include <random>
 #include <utility>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
 #include "common/error.hpp"
+#include "common/random_vector.hpp"
 #include "scene/geometry.hpp"
 
 namespace rpu {
@@ -346,7 +348,67 @@ Scene make_tetra(int levels) {
   return s;
 }
 
-std::vector<std::string> builtin_scene_names() { return {"cornell", "balls", "tetra"}; }
+Scene make_stadium(int levels) {
+  if (levels < 1 || levels > 10) {
+    throw Error(fmt::format("stadium:{}: size must be 1..10 (the tetra's levels of recursion)", levels));
+  }
+  Scene s = make_tetra(levels);
+  s.source = fmt::format("stadium:{}", levels);
+  // Looking at the tetrahedron from inside the stadium; SPD's up vector is not kept.
+  s.camera.position = {0.0, 0.5, 4.0};
+  s.camera.look_at = {0.0, 0.0, 0.0};
+  s.camera.up = {0.0, 1.0, 0.0};
+  const std::uint32_t grey = add_material(
+      s, Material{.name = "stadium", .ambient = glm::dvec3(0.1), .diffuse = glm::dvec3(0.5)});
+  // The cube [-1000, 1000]^3, 12 triangles; vertex first + 4 (x > 0) + 2 (y > 0) + (z > 0).
+  const auto first = static_cast<std::uint32_t>(s.positions.size());
+  for (const float x : {-1000.0f, 1000.0f}) {
+    for (const float y : {-1000.0f, 1000.0f}) {
+      for (const float z : {-1000.0f, 1000.0f}) s.positions.emplace_back(x, y, z);
+    }
+  }
+  static constexpr std::array<glm::uvec3, 12> kFaces{{{0, 1, 3}, {0, 3, 2}, {4, 6, 7}, {4, 7, 5},
+                                                      {0, 4, 5}, {0, 5, 1}, {2, 3, 7}, {2, 7, 6},
+                                                      {0, 2, 6}, {0, 6, 4}, {1, 5, 7}, {1, 7, 3}}};
+  for (const glm::uvec3& f : kFaces) {
+    s.triangles.push_back(f + first);
+    s.material_ids.push_back(grey);
+  }
+  return s;
+}
+
+Scene make_scattered(int count) {
+  if (count < 1 || count > kMaxScattered) {
+    throw Error(fmt::format("scattered:{}: size must be 1..{} (triangles)", count, kMaxScattered));
+  }
+  Scene s;
+  s.source = fmt::format("scattered:{}", count);
+  const std::uint32_t material = add_material(s, Material{.name = "scattered"});
+  // A fixed seed: the same name is the same scene on every run and machine that shares
+  // the standard library's distributions.
+  std::mt19937 rng(5);
+  const double reach = 0.04 * std::cbrt(3000.0 / count);
+  std::uniform_real_distribution<double> position(0.0, 1.0), offset(-reach, reach);
+  for (int i = 0; i < count; ++i) {
+    const glm::dvec3 centre = random_vector(position, rng);
+    for (int k = 0; k < 3; ++k) s.positions.emplace_back(centre + random_vector(offset, rng));
+    const auto v = static_cast<std::uint32_t>(3 * i);
+    s.triangles.emplace_back(v, v + 1, v + 2);
+    s.material_ids.push_back(material);
+  }
+  drop_degenerate_triangles(s, s.source);
+  s.camera.position = {0.5, 0.6, 3.0};
+  s.camera.look_at = {0.5, 0.5, 0.5};
+  s.camera.up = {0.0, 1.0, 0.0};
+  Light light;
+  light.position = {2.0, 3.0, 2.0};
+  s.lights.push_back(light);
+  return s;
+}
+
+std::vector<std::string> builtin_scene_names() {
+  return {"cornell", "balls", "tetra", "stadium", "scattered"};
+}
 
 bool is_builtin_scene(std::string_view name_and_size) {
   const std::string_view name = name_and_size.substr(0, name_and_size.find(':'));
@@ -374,6 +436,8 @@ Scene make_builtin_scene(std::string_view name_and_size) {
   if (name == "cornell") return size ? make_cornell_box(*size) : make_cornell_box();
   if (name == "balls") return size ? make_sphereflake(*size) : make_sphereflake();
   if (name == "tetra") return size ? make_tetra(*size) : make_tetra();
+  if (name == "stadium") return size ? make_stadium(*size) : make_stadium();
+  if (name == "scattered") return size ? make_scattered(*size) : make_scattered();
   throw Error(fmt::format("unknown built-in scene '{}' (built-ins: {})", name,
                           fmt::join(builtin_scene_names(), ", ")));
 }

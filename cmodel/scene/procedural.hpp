@@ -25,8 +25,20 @@ Scene make_sphereflake(int levels = 3, int slices = 16);
 // with SPD's camera and light.
 Scene make_tetra(int levels = 6);
 
+// A teapot in a stadium (Haines' term for the case that defeats a uniform grid): the
+// tetra of `levels` (within [-1, 1]^3, SPD's light) inside a cube 2000 wide, 12 large
+// triangles, seen from (0, 0.5, 4).
+Scene make_stadium(int levels = 6);
+
+// `count` small triangles scattered uniformly over the unit cube: each vertex within
+// +-0.04 (3000 / count)^(1/3) of its triangle's centre on each axis (so the scene keeps
+// its character at every count), from std::mt19937(5); a camera at (0.5, 0.6, 3) and a
+// point light at (2, 3, 2). count 1..kMaxScattered.
+inline constexpr int kMaxScattered = 1000000;
+Scene make_scattered(int count = 3000);
+
 // The built-in generators by name, each optionally followed by ":size"
-// ("cornell", "balls:4", "tetra:3"). Throws rpu::Error for an unknown name or a bad size.
+// ("cornell", "balls:4", "tetra:3", "stadium", "scattered:100000"). Throws rpu::Error for an unknown name or a bad size.
 Scene make_builtin_scene(std::string_view name_and_size);
 
 // Generator names accepted by make_builtin_scene, in a stable order.

@@ -16,12 +16,8 @@ struct AgreementCase {
   std::size_t min_rays;  // all rays at least (the claim the test holds)
 };
 
-// The scenes: built-in names and files through resolve_scene, and two built here.
+// The scenes: built-in names and files through resolve_scene.
 Scene scene_named(const std::string& name);
-// A small dense mesh (tetra:6, 4096 triangles within [-1, 1]^3) inside a box 2000 wide.
-Scene teapot_in_a_stadium();
-// Small triangles scattered uniformly over a unit cube.
-Scene scattered_triangles(int count, unsigned seed);
 
 // Runs the case: for each structure but brute force, closest hits (primitive and t)
 // identical to brute force's, and any hit answers equal to whether brute force hit.

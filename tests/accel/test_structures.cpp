@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "accel/brute_force.hpp"
+#include "accel/bsp.hpp"
 #include "accel/bvh.hpp"
 #include "accel/kd_tree.hpp"
 #include "accel/octree.hpp"
@@ -122,10 +123,18 @@ TEST(Structures, CountBytesByTheirByteModel) {
   EXPECT_GT(kd.nodes, 0u);
   EXPECT_EQ(kd.bytes, kd.nodes * KdTreeStructure::kNodeBytes + kd.tests * (kReferenceBytes + kTriangleRecordBytes));
 
-  RayCost octree;
-  Octree(triangles).closest_hit(r, octree);
-  EXPECT_GT(octree.nodes, 0u);
-  EXPECT_EQ(octree.bytes, octree.nodes * Octree::kNodeBytes + octree.tests * (kReferenceBytes + kTriangleRecordBytes));
+  for (const OctreeSplit split : {OctreeSplit::kMidpoint, OctreeSplit::kCost}) {
+    RayCost octree;
+    const Octree tree(triangles, split);
+    tree.closest_hit(r, octree);
+    EXPECT_GT(octree.nodes, 0u);
+    EXPECT_EQ(octree.bytes, octree.nodes * tree.node_bytes() + octree.tests * (kReferenceBytes + kTriangleRecordBytes));
+  }
+
+  RayCost bsp;
+  Bsp(triangles).closest_hit(r, bsp);
+  EXPECT_GT(bsp.nodes, 0u);
+  EXPECT_EQ(bsp.bytes, bsp.nodes * Bsp::kNodeBytes + bsp.tests * (kReferenceBytes + kTriangleRecordBytes));
 
   // Without mailboxes every reference read is a test.
   RayCost grid;
@@ -135,8 +144,8 @@ TEST(Structures, CountBytesByTheirByteModel) {
             grid.nodes * UniformGrid::kCellRecordBytes + grid.tests * (kReferenceBytes + kTriangleRecordBytes));
 }
 
-// Many triangles around one point (a fan): the octree stops at its depth limit there.
-TEST(Octree, StopsAtItsDepthWhereTrianglesCannotBeSeparated) {
+// Many triangles around one point (a fan).
+Scene fan() {
   Scene s;
   s.materials.push_back({});
   s.positions.emplace_back(0.0f, 0.0f, 0.0f);
@@ -148,18 +157,64 @@ TEST(Octree, StopsAtItsDepthWhereTrianglesCannotBeSeparated) {
     s.triangles.emplace_back(0u, i, i % 40 + 1);
     s.material_ids.push_back(0);
   }
-  const TriangleSet triangles(s);
-  const Octree octree(triangles);
-  EXPECT_EQ(octree.depth(), Octree::kMaxDepth);
-  EXPECT_LT(octree.node_count(), 8u * 8u * Octree::kMaxDepth);  // split only around the fan's centre
+  return s;
+}
+
+// Rays down through the fan's centre and around it: brute force's answers.
+void expect_fan_answers(const Structure& s, const TriangleSet& triangles) {
   const BruteForce brute(triangles);
   for (const double x : {0.0, 1e-4, -0.3, 0.5}) {
     const Ray r{{x, 0.01, 1.0}, {0.0, 0.0, -1.0}};
     RayCost cost;
-    const Hit got = octree.closest_hit(r, cost), expected = brute.closest_hit(r, cost);
-    EXPECT_EQ(got.prim, expected.prim) << x;
-    EXPECT_EQ(got.t, expected.t) << x;
+    const Hit got = s.closest_hit(r, cost), expected = brute.closest_hit(r, cost);
+    EXPECT_EQ(got.prim, expected.prim) << s.name() << " " << x;
+    EXPECT_EQ(got.t, expected.t) << s.name() << " " << x;
   }
+}
+
+// A tree built over the fan stops at its depth limit around the fan's centre, with fewer
+// than `most_nodes` nodes (it splits only there), and answers as brute force does.
+template <typename Tree>
+void expect_stopped_at_depth_around_the_fan(std::uint64_t most_nodes) {
+  const TriangleSet triangles(fan());
+  const Tree tree(triangles);
+  EXPECT_EQ(tree.depth(), Tree::kMaxDepth) << tree.name();
+  EXPECT_LT(tree.node_count(), most_nodes) << tree.name();
+  expect_fan_answers(tree, triangles);
+}
+
+TEST(Octree, StopsAtItsDepthWhereTrianglesCannotBeSeparated) {
+  expect_stopped_at_depth_around_the_fan<Octree>(8u * 8u * Octree::kMaxDepth);
+}
+
+// The BSP halves x, y and z in turn. The centre lies on the first planes, so up to four
+// boxes of a level touch it; a full tree of depth 30 would have 2^31 nodes.
+TEST(Bsp, StopsAtItsDepthWhereTrianglesCannotBeSeparated) {
+  expect_stopped_at_depth_around_the_fan<Bsp>(8u * 4u * Bsp::kMaxDepth);
+}
+
+// Octree-R's root plane on x, worked by hand: 200 small triangles in x in [0, 0.2] and
+// one at x = 1. The cost SA(low) N(low) + SA(high) N(high) falls as the plane moves left
+// while every cluster triangle stays on the low side alone; the first candidate (k/32)
+// past 0.2 is 7/32. The midpoint octree splits at 1/2.
+TEST(Octree, OctreeRPlacesItsPlaneByCost) {
+  Scene s;
+  s.materials.push_back({});
+  auto add = [&](float x, float y, float z, float size) {
+    const auto v = static_cast<std::uint32_t>(s.positions.size());
+    s.positions.insert(s.positions.end(), {{x, y, z}, {x + size, y, z}, {x, y + size, z + size}});
+    s.triangles.emplace_back(v, v + 1, v + 2);
+    s.material_ids.push_back(0);
+  };
+  for (int i = 0; i < 200; ++i) add(0.19f * float(i % 7) / 6.0f, float(i) / 200.0f, float(i % 13) / 13.0f, 0.01f);
+  add(0.99f, 0.5f, 0.5f, 0.01f);
+  const TriangleSet triangles(s);
+  const Octree r(triangles, OctreeSplit::kCost), midpoint(triangles, OctreeSplit::kMidpoint);
+  const double lo = triangles.bounds().lo.x, hi = triangles.bounds().hi.x;
+  EXPECT_NEAR(r.root_planes().x, lo + (hi - lo) * 7.0 / 32.0, 1e-6);
+  EXPECT_NEAR(midpoint.root_planes().x, 0.5 * (lo + hi), 1e-6);
+  EXPECT_EQ(r.name(), "octree-r");
+  EXPECT_EQ(midpoint.name(), "octree");
 }
 
 TEST(Bvh, SplitsTrianglesWithOneCentroidAtTheMedian) {

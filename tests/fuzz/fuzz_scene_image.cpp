@@ -22,7 +22,7 @@
 namespace {
 
 // balls 1 (2 k triangles), tetra 5 (1 k), cornell 32 (990).
-constexpr rpu::fuzz::GeneratorLimits kLimits{1, 5, 32};
+constexpr rpu::fuzz::GeneratorLimits kLimits{1, 5, 32, 5, 1000};
 
 }  // namespace
 

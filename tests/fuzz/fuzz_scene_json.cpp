@@ -23,7 +23,7 @@ extern "C" int LLVMFuzzerInitialize(int*, char***) {
 
 // Scenes that run in well under a second here: balls 3 (184 k triangles), tetra 7 (16 k),
 // cornell 128 (16 k).
-constexpr rpu::fuzz::GeneratorLimits kLimits{3, 7, 128};
+constexpr rpu::fuzz::GeneratorLimits kLimits{3, 7, 128, 7, 20000};
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string_view text(reinterpret_cast<const char*>(data), size);

@@ -8,7 +8,7 @@ namespace rpu::fuzz {
 
 // The largest size of each built-in generator a fuzz target builds.
 struct GeneratorLimits {
-  long long balls, tetra, cornell;
+  long long balls, tetra, cornell, stadium, scattered;
 };
 
 // True for {"procedural": {"generator": G, "size": N}} with N above `limits`: such a
@@ -24,7 +24,8 @@ inline bool asks_for_large_scene(std::string_view text, const GeneratorLimits& l
   const nlohmann::json& g = p["generator"];
   const long long n = p["size"].get<long long>();
   return (g == "balls" && n > limits.balls) || (g == "tetra" && n > limits.tetra) ||
-         (g == "cornell" && n > limits.cornell);
+         (g == "cornell" && n > limits.cornell) || (g == "stadium" && n > limits.stadium) ||
+         (g == "scattered" && n > limits.scattered);
 }
 
 }  // namespace rpu::fuzz

@@ -135,6 +135,33 @@ TEST(Tetra, HasFourToTheLevelTriangles) {
   EXPECT_EQ(make_tetra().triangles.size(), 4096u);
 }
 
+TEST(Stadium, IsTheTetraInsideACube2000Wide) {
+  const Scene s = make_stadium(3);
+  expect_well_formed(s);
+  EXPECT_EQ(s.triangles.size(), 64u + 12u);
+  const Bounds box = scene_bounds(s);
+  EXPECT_EQ(box.lo, glm::dvec3(-1000.0));
+  EXPECT_EQ(box.hi, glm::dvec3(1000.0));
+  EXPECT_EQ(make_stadium().triangles.size(), 4096u + 12u);
+}
+
+TEST(Scattered, HasCountSmallTrianglesInTheUnitCube) {
+  for (const int count : {1, 3000, 100000}) {
+    const Scene s = make_scattered(count);
+    expect_well_formed(s);
+    EXPECT_EQ(s.triangles.size(), static_cast<std::size_t>(count));
+    // Each vertex within 0.04 (3000 / count)^(1/3) of a centre in [0, 1)^3.
+    const double reach = 0.04 * std::cbrt(3000.0 / count);
+    const Bounds box = scene_bounds(s);
+    for (int a = 0; a < 3; ++a) {
+      EXPECT_GE(box.lo[a], -reach - 1e-6) << count;
+      EXPECT_LE(box.hi[a], 1.0 + reach + 1e-6) << count;
+    }
+  }
+  // The same name is the same scene.
+  EXPECT_EQ(make_scattered(50).positions, make_builtin_scene("scattered:50").positions);
+}
+
 TEST(Builtins, NamesCarryASize) {
   EXPECT_EQ(make_builtin_scene("balls:1").triangles.size(), 10 * sphere_triangles(16) + 2);
   EXPECT_EQ(make_builtin_scene("tetra:2").triangles.size(), 16u);
@@ -158,6 +185,8 @@ TEST(Builtins, RejectBadNamesAndSizes) {
   EXPECT_NE(message("balls:9").find("size must be 0..5"), std::string::npos);
   EXPECT_NE(message("tetra:0").find("size must be 1..10"), std::string::npos);
   EXPECT_EQ(message("cornell:100000"), "cornell: sphere tessellation 100000 must be an even number in 4..1024");
+  EXPECT_EQ(message("scattered:0"), "scattered:0: size must be 1..1000000 (triangles)");
+  EXPECT_EQ(message("stadium:11"), "stadium:11: size must be 1..10 (the tetra's levels of recursion)");
   EXPECT_EQ(message("cornell:2"), "cornell: sphere tessellation 2 must be an even number in 4..1024");
   EXPECT_NE(message("teapot").find("teapot: no such scene: not a file, nor a built-in scene "
                                    "(cornell, balls, tetra"),

@@ -268,7 +268,7 @@ TEST_F(SceneFile, ProceduralKeepsItsCameraAndLightsAndMaterialsCanBeRestyled) {
   write("bad.json", R"({"procedural": {"generator": "teapot"}})");
   EXPECT_EQ(error_of("bad.json"), file("bad.json") +
                                       ": /procedural/generator: unknown generator \"teapot\" "
-                                      "(expected one of: cornell, balls, tetra)");
+                                      "(expected one of: cornell, balls, tetra, stadium, scattered)");
   write("size.json", R"({"procedural": {"generator": "balls", "size": 2.5}})");
   EXPECT_EQ(error_of("size.json"),
             file("size.json") + ": /procedural/size: expected a whole number, got the number 2.5");
