@@ -36,14 +36,33 @@ module rpu_iu #(
     .clk_i, .rst_ni, .en_i(advance), .data_i({req_valid_i, req_i}), .data_o({valid_q, req_q})
   );
 
+  localparam int unsigned W = 1 + ExpBits + FracBits;
+  logic                          valid;
+  logic [rpu_pkg::RayTagBits-1:0] tag;
+  logic                          hit;
+  logic [W-1:0]                  t, u, v;
+
   if (IsectMode == rpu_pkg::IsectModeWatertight) begin : gen_watertight
     rpu_iu_watertight #(.ExpBits(ExpBits), .FracBits(FracBits)) u_test (
-      .clk_i, .rst_ni, .en_i(advance), .valid_i(valid_q), .req_i(req_q), .valid_o(rsp_valid_o), .rsp_o
+      .clk_i, .rst_ni, .en_i(advance), .valid_i(valid_q), .req_i(req_q),
+      .valid_o(valid), .tag_o(tag), .hit_o(hit), .t_o(t), .u_o(u), .v_o(v)
     );
   end else begin : gen_woop
     rpu_iu_woop #(.ExpBits(ExpBits), .FracBits(FracBits)) u_test (
-      .clk_i, .rst_ni, .en_i(advance), .valid_i(valid_q), .req_i(req_q), .valid_o(rsp_valid_o), .rsp_o
+      .clk_i, .rst_ni, .en_i(advance), .valid_i(valid_q), .req_i(req_q),
+      .valid_o(valid), .tag_o(tag), .hit_o(hit), .t_o(t), .u_o(u), .v_o(v)
     );
   end
+
+  // The answer register; t, u, v are zero on a miss.
+  rpu_pkg::iu_rsp_t rsp_d;
+  assign rsp_d.tag = tag;
+  assign rsp_d.hit = hit;
+  assign rsp_d.t   = hit ? 32'(t) : '0;
+  assign rsp_d.u   = hit ? 32'(u) : '0;
+  assign rsp_d.v   = hit ? 32'(v) : '0;
+  rpu_en_reg #(.Width(1 + $bits(rsp_d))) u_rsp (
+    .clk_i, .rst_ni, .en_i(advance), .data_i({valid, rsp_d}), .data_o({rsp_valid_o, rsp_o})
+  );
 
 endmodule

@@ -25,8 +25,13 @@ module rpu_iu_watertight #(
   input  logic             valid_i,
   input  rpu_pkg::iu_req_t req_i,
 
-  output logic             valid_o,
-  output rpu_pkg::iu_rsp_t rsp_o
+  // The last stage's answer, combinational (rpu_iu registers it).
+  output logic                          valid_o,
+  output logic [rpu_pkg::RayTagBits-1:0] tag_o,
+  output logic                          hit_o,
+  output logic [ExpBits+FracBits:0]     t_o,
+  output logic [ExpBits+FracBits:0]     u_o,
+  output logic [ExpBits+FracBits:0]     v_o
 );
 
   localparam int unsigned W = 1 + ExpBits + FracBits;
@@ -222,18 +227,13 @@ module rpu_iu_watertight #(
   rpu_fp_misc_core #(.ExpBits(ExpBits), .FracBits(FracBits)) u_lt_best (
     .op_i(rpu_pkg::FpOpLt), .a_i(ext(t)), .b_i(ext(t_best_q)), .result_o(lt_best)
   );
-  logic hit;
-  assign hit = decided && gt_min[0] && lt_best[0];
+  assign hit_o = decided && gt_min[0] && lt_best[0];
 
-  rpu_pkg::iu_rsp_t rsp_d;
-  assign rsp_d.tag = tag_q;
-  assign rsp_d.hit = hit;
-  assign rsp_d.t   = hit ? ext(t) : '0;
-  assign rsp_d.u   = hit ? ext(u) : '0;
-  assign rsp_d.v   = hit ? ext(v) : '0;
-  rpu_en_reg #(.Width(1 + $bits(rsp_d))) u_rsp (
-    .clk_i, .rst_ni, .en_i, .data_i({valid_q, rsp_d}), .data_o({valid_o, rsp_o})
-  );
+  assign valid_o = valid_q;
+  assign tag_o   = tag_q;
+  assign t_o     = t;
+  assign u_o     = u;
+  assign v_o     = v;
 
   // kz is the axis neither kx nor ky names; compares answer in bit 0; words above the
   // format's width carry nothing.

@@ -25,8 +25,13 @@ module rpu_iu_woop #(
   input  logic             valid_i,
   input  rpu_pkg::iu_req_t req_i,
 
-  output logic             valid_o,
-  output rpu_pkg::iu_rsp_t rsp_o
+  // The last stage's answer, combinational (rpu_iu registers it).
+  output logic                          valid_o,
+  output logic [rpu_pkg::RayTagBits-1:0] tag_o,
+  output logic                          hit_o,
+  output logic [ExpBits+FracBits:0]     t_o,
+  output logic [ExpBits+FracBits:0]     u_o,
+  output logic [ExpBits+FracBits:0]     v_o
 );
 
   localparam int unsigned W = 1 + ExpBits + FracBits;
@@ -105,7 +110,7 @@ module rpu_iu_woop #(
       .clk_i, .rst_ni, .en_i, .a_i(ext(lp3[0 +: W])), .b_i(ext(lp3[W +: W])), .result_o(sp4)
     );
     rpu_en_reg #(.Width(W)) u_lp2 (.clk_i, .rst_ni, .en_i, .data_i(lp3[2*W +: W]), .data_o(lp4_2));
-    rpu_fp_pipe_op #(.ExpBits(ExpBits), .FracBits(FracBits), .Op(rpu_pkg::FpOpAdd)) u_o (
+    rpu_fp_pipe_op #(.ExpBits(ExpBits), .FracBits(FracBits), .Op(rpu_pkg::FpOpAdd)) u_dot_p (
       .clk_i, .rst_ni, .en_i, .a_i(ext(sp4)), .b_i(ext(lp4_2)), .result_o(o5[r*W +: W])
     );
   end
@@ -188,18 +193,13 @@ module rpu_iu_woop #(
   rpu_fp_misc_core #(.ExpBits(ExpBits), .FracBits(FracBits)) u_uv_le1 (
     .op_i(rpu_pkg::FpOpLe), .a_i(ext(uv_c)), .b_i(ext(One)), .result_o(uv_le1)
   );
-  logic hit;
-  assign hit = flags_c && u_ge0[0] && u_le1[0] && v_ge0[0] && uv_le1[0];
+  assign hit_o = flags_c && u_ge0[0] && u_le1[0] && v_ge0[0] && uv_le1[0];
 
-  rpu_pkg::iu_rsp_t rsp_d;
-  assign rsp_d.tag = ctlc[TagBits-1:0];
-  assign rsp_d.hit = hit;
-  assign rsp_d.t   = hit ? ext(t_c) : '0;
-  assign rsp_d.u   = hit ? ext(u_c) : '0;
-  assign rsp_d.v   = hit ? ext(v_c) : '0;
-  rpu_en_reg #(.Width(1 + $bits(rsp_d))) u_rsp (
-    .clk_i, .rst_ni, .en_i, .data_i({ctlc[TagBits], rsp_d}), .data_o({valid_o, rsp_o})
-  );
+  assign valid_o = ctlc[TagBits];
+  assign tag_o   = ctlc[TagBits-1:0];
+  assign t_o     = t_c;
+  assign u_o     = u_c;
+  assign v_o     = v_c;
 
   // Woop's test has no axes or shear; compares answer in bit 0; words above the
   // format's width carry nothing.
