@@ -272,6 +272,8 @@ def synth(args) -> int:
         vectors.unlink()
     stats.update(netlist_vectors=total, netlist_seconds=round(time.monotonic() - start, 1),
                  netlist_simulator=args.sim)
+    if "design" in kind:
+        stats["design"] = kind["design"]
     (out / f"{stem}.json").write_text(json.dumps(stats, indent=1) + "\n")
     print(f"synth ok: {args.unit} {args.format}: {stats['cells']} cells ({stats['flops']} flops), "
           f"{stats.get('transistors', '?')} CMOS transistors; {total} netlist vectors match")
@@ -282,9 +284,10 @@ def synth(args) -> int:
 # testbench, the harness' arguments that write its vectors (iu_cosim: IU tests captured
 # from Cornell box rays; tu_cosim: a third each camera, random and shadow rays with the
 # memory image and the Tracer's IU tests in walk order), the testbench's last line and
-# its stream-width parameters.
+# its stream-width parameters; and the design, which docs/area.md shows beside the unit
+# (bench/results/area.json keeps the records of earlier designs).
 RAY_UNIT_SYNTH = {
-    "iu": {"top": "rpu_iu_cosim_top", "top_file": IU_TOP,
+    "iu": {"top": "rpu_iu_cosim_top", "top_file": IU_TOP, "design": "pipeline, one test a cycle",
            "tb": STREAM_NETLIST_TB, "tb_top": "rpu_stream_netlist_tb",
            "defines": {"RPU_STREAM_DUT": "rpu_iu_cosim_top"},
            "vector_args": lambda n: ["--rays", 100000, "--vectors", n],
@@ -351,6 +354,8 @@ def synth_ray_unit(args, formats: dict) -> int:
     vectors.unlink()
     stats.update(netlist_vectors=total, netlist_seconds=round(time.monotonic() - start, 1),
                  netlist_simulator=args.sim)
+    if "design" in kind:
+        stats["design"] = kind["design"]
     (out / f"{stem}.json").write_text(json.dumps(stats, indent=1) + "\n")
     print(f"synth ok: {unit} {args.format}: {stats['cells']} cells ({stats['flops']} flops), "
           f"{stats.get('transistors', '?')} CMOS transistors; {m.group(0).removeprefix('netlist ok: ')} "
@@ -764,8 +769,8 @@ def area(args) -> int:
     """Append synth's results (one JSON file per unit and format) to bench/results/area.json,
     from which scripts/doc-tables makes the tables of docs/area.md."""
     results = pathlib.Path(args.results)
-    keep = ("unit", "format", "exponent_bits", "fraction_bits", "cells", "flops", "transistors", "synth_seconds",
-            "netlist_vectors", "netlist_simulator", "netlist_build_seconds", "netlist_seconds")
+    keep = ("unit", "design", "format", "exponent_bits", "fraction_bits", "cells", "flops", "transistors",
+            "synth_seconds", "netlist_vectors", "netlist_simulator", "netlist_build_seconds", "netlist_seconds")
     new = []
     # A chip's record: its units and totals, the netlist's frame and the command that
     # synthesised it (flow.py synth --unit chip).
@@ -780,7 +785,7 @@ def area(args) -> int:
             ray_unit = s["unit"].startswith(("iu_", "tu_"))
             rec["command"] = ("ctest --preset ci -L slow -R '^slow\\.synth\\.'" if ray_unit
                               else "ctest --preset ci -L synth")
-            rec.update({k: s.get(k) for k in keep})
+            rec.update({k: s[k] for k in keep if k in s})
         new.append(rec)
     if not new:
         print(f"flow.py area: no synthesis results in {getattr(args, 'from')}; run ctest -L synth "
