@@ -272,8 +272,6 @@ def synth(args) -> int:
         vectors.unlink()
     stats.update(netlist_vectors=total, netlist_seconds=round(time.monotonic() - start, 1),
                  netlist_simulator=args.sim)
-    if "design" in kind:
-        stats["design"] = kind["design"]
     (out / f"{stem}.json").write_text(json.dumps(stats, indent=1) + "\n")
     print(f"synth ok: {args.unit} {args.format}: {stats['cells']} cells ({stats['flops']} flops), "
           f"{stats.get('transistors', '?')} CMOS transistors; {total} netlist vectors match")
