@@ -7,7 +7,8 @@ module rpu_ray_unit #(
   parameter int unsigned ExpBits    = rpu_pkg::FormatFp32ExponentBits,
   parameter int unsigned FracBits   = rpu_pkg::FormatFp32FractionBits,
   parameter int unsigned IsectMode  = rpu_pkg::IsectModeWoop,
-  parameter int unsigned StackDepth = rpu_pkg::ConfigDefaultStackDepth
+  parameter int unsigned StackDepth = rpu_pkg::ConfigDefaultStackDepth,
+  parameter int unsigned TuSlots    = 1
 ) (
   input  logic              clk_i,
   input  logic              rst_ni,
@@ -40,7 +41,8 @@ module rpu_ray_unit #(
   logic             iu_rsp_valid, iu_rsp_ready;
   rpu_pkg::iu_rsp_t iu_rsp;
 
-  rpu_tu #(.ExpBits(ExpBits), .FracBits(FracBits), .IsectMode(IsectMode), .StackDepth(StackDepth)) u_tu (
+  rpu_tu_slots #(.ExpBits(ExpBits), .FracBits(FracBits), .IsectMode(IsectMode), .StackDepth(StackDepth),
+                 .Slots(TuSlots)) u_tu (
     .clk_i, .rst_ni, .cfg_i,
     .req_valid_i, .req_ready_o, .req_i,
     .rsp_valid_o, .rsp_ready_i, .rsp_o,
@@ -73,9 +75,12 @@ module rpu_ray_unit #(
   // waits for memory while a line read is asked for and unanswered, for the IU while a
   // test is, and is busy otherwise. The work is the answers' own counts, summed.
   // ---------------------------------------------------------------------------------
-  logic [2:0] rays_in_d, rays_in_q;      // the request's skid buffer and the TU hold up to 3
-  logic [2:0] lines_out_d, lines_out_q;  // the TU waits for each line
-  logic [2:0] tests_out_d, tests_out_q;  // ... and for each test
+  // Rays in the unit (one walker with its skid buffer holds up to 3, Slots walkers one
+  // each), lines out (up to a record's 3 per walker) and tests out (one per walker).
+  localparam int unsigned CountBits = $clog2(3 * TuSlots + 4);
+  logic [CountBits-1:0] rays_in_d, rays_in_q;
+  logic [CountBits-1:0] lines_out_d, lines_out_q;
+  logic [CountBits-1:0] tests_out_d, tests_out_q;
   logic       ray_in, ray_out, line_out, line_back, test_out, test_back;
   assign ray_in    = req_valid_i && req_ready_o;
   assign ray_out   = rsp_valid_o && rsp_ready_i;
@@ -83,9 +88,9 @@ module rpu_ray_unit #(
   assign line_back = mem_rsp_valid_i && mem_rsp_ready_o;
   assign test_out  = iu_req_valid && iu_req_ready;
   assign test_back = iu_rsp_valid && iu_rsp_ready;
-  assign rays_in_d   = rays_in_q + 3'(ray_in) - 3'(ray_out);
-  assign lines_out_d = lines_out_q + 3'(line_out) - 3'(line_back);
-  assign tests_out_d = tests_out_q + 3'(test_out) - 3'(test_back);
+  assign rays_in_d   = rays_in_q + CountBits'(ray_in) - CountBits'(ray_out);
+  assign lines_out_d = lines_out_q + CountBits'(line_out) - CountBits'(line_back);
+  assign tests_out_d = tests_out_q + CountBits'(test_out) - CountBits'(test_back);
 
   rpu_pkg::ray_unit_counters_t counters_d, counters_q;
   always_comb begin

@@ -2,14 +2,16 @@
 // one flat port of its rpu_pkg width (spec/streams.toml), which the harness fills from
 // rpu::streams words. WithIu = 0: rpu_tu with its IU port open, so the harness
 // answers the IU's tests with the C++ intersection unit; WithIu = 1 (tu_cosim --with-iu):
-// the ray unit (rpu_tu + rpu_iu), the IU port's pins tied off. Only wiring: a synthesis
+// the ray unit (rpu_tu + rpu_iu), the IU port's pins tied off. Slots: the TU's ray
+// slots (rpu_tu_slots). Only wiring: a synthesis
 // of this top has the unit's cells.
 module rpu_tu_cosim_top #(
   parameter int unsigned ExpBits    = rpu_pkg::FormatFp32ExponentBits,
   parameter int unsigned FracBits   = rpu_pkg::FormatFp32FractionBits,
   parameter int unsigned IsectMode  = rpu_pkg::IsectModeWoop,
   parameter int unsigned StackDepth = rpu_pkg::ConfigDefaultStackDepth,
-  parameter int unsigned WithIu     = 0
+  parameter int unsigned WithIu     = 0,
+  parameter int unsigned Slots      = 1
 ) (
   input  logic                            clk_i,
   input  logic                            rst_ni,
@@ -58,8 +60,8 @@ module rpu_tu_cosim_top #(
   if (WithIu != 0) begin : g_ray_unit
     // The counters are the chip's (sim/chip_cosim reads them).
     rpu_pkg::ray_unit_counters_t counters;
-    rpu_ray_unit #(.ExpBits(ExpBits), .FracBits(FracBits), .IsectMode(IsectMode), .StackDepth(StackDepth))
-        u_ray_unit (
+    rpu_ray_unit #(.ExpBits(ExpBits), .FracBits(FracBits), .IsectMode(IsectMode), .StackDepth(StackDepth),
+                   .TuSlots(Slots)) u_ray_unit (
       .clk_i, .rst_ni, .cfg_i(cfg),
       .req_valid_i, .req_ready_o, .req_i(req),
       .rsp_valid_o, .rsp_ready_i, .rsp_o(rsp),
@@ -75,7 +77,8 @@ module rpu_tu_cosim_top #(
     logic unused_iu_port;
     assign unused_iu_port = ^{iu_req_ready_i, iu_rsp_valid_i, iu_rsp};
   end else begin : g_tu
-    rpu_tu #(.ExpBits(ExpBits), .FracBits(FracBits), .IsectMode(IsectMode), .StackDepth(StackDepth)) u_tu (
+    rpu_tu_slots #(.ExpBits(ExpBits), .FracBits(FracBits), .IsectMode(IsectMode), .StackDepth(StackDepth),
+                   .Slots(Slots)) u_tu (
       .clk_i, .rst_ni, .cfg_i(cfg),
       .req_valid_i, .req_ready_o, .req_i(req),
       .rsp_valid_o, .rsp_ready_i, .rsp_o(rsp),

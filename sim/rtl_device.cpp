@@ -202,6 +202,12 @@ std::unique_ptr<device::Device> make_rtl_device(const spec::HardwareConfig& conf
                             "or was changed with --set or a file",
                             rtl_models_built(), config.name));
   }
+  if (config.tu_slots != 1) {
+    throw Error(fmt::format("the rtl backend's chip walks one ray per ray unit; configuration '{}' has tu_slots = {} "
+                            "(its ray units are co-simulated alone by tu_cosim --slots; the cycle backend models the "
+                            "chip)",
+                            config.name, config.tu_slots));
+  }
   if (format != fp::format_by_name(std::string(config.format))) {
     throw Error(fmt::format("the rtl backend's chip of configuration '{}' computes in {}, not {}", config.name,
                             config.format, format.name()));

@@ -35,12 +35,14 @@
 #include <ostream>
 #include <map>
 #include <optional>
+#include <queue>
 #include <random>
 #include <string>
 #include <vector>
 
 #include "common/error.hpp"
 #include "cosim_core.hpp"
+#include "cycle/ray_unit_timing.hpp"
 #include "fp/format.hpp"
 #include "functional/arith.hpp"
 #include "functional/intersection_unit.hpp"
@@ -66,6 +68,8 @@ struct Options {
   std::string format = "fp32";
   std::string isect = "woop";
   bool with_iu = false;
+  int slots = 1;      // the model's ray slots
+  int in_flight = 1;  // rays the harness keeps in the unit at once
   int scale = 0;  // the scene times 2^scale (kd space, docs/traversal.md §1)
   int rays = 10000;  // per kind: camera, random, shadow
   int plane_rays = -1;  // from origins on split planes; -1: a tenth of rays
@@ -77,6 +81,8 @@ struct Options {
   std::string expect_timing;
   std::string trace;
   std::string write_vectors;
+  std::string cycle_model;        // a named configuration whose step cycles time the same rays
+  double cycle_tolerance = 2.0;   // percent the model's cycles may differ from the RTL's
 };
 
 enum class Kind { kCamera, kRandom, kShadow, kPlane };
@@ -92,6 +98,7 @@ struct Case {
   TraceHit expect;
   bool fault = false;
   std::uint32_t pops = 0;
+  functional::TraceLog log;  // the walk, for the cycle model
 };
 
 std::uint32_t bits(float f) { return std::bit_cast<std::uint32_t>(f); }
@@ -339,6 +346,70 @@ Scene scaled(Scene scene, int k) {
   return scene;
 }
 
+// The harness's memory as the cycle model's walk sees it: one line asked a cycle, each
+// answered `latency` cycles later, in order, one answer a cycle; the unit steps on the
+// cycle after the last answer. Nothing lies between it and the unit, where the chip has
+// memory_wait cycles of registers before its caches, so its lines are back that much
+// earlier.
+class HarnessLines final : public cycle::LineSource {
+ public:
+  HarnessLines(cycle::Cycle latency, cycle::Cycle registers) : latency_(latency), registers_(registers) {}
+  cycle::Cycle read(cycle::Cycle now, std::uint32_t address, std::uint32_t bytes, bool) override {
+    const std::uint32_t first = address / streams::kMemLineBytes;
+    const std::uint32_t last = (address + bytes - 1) / streams::kMemLineBytes;
+    cycle::Cycle back = now;
+    for (std::uint32_t line = first; line <= last; ++line) {
+      const cycle::Cycle asked = std::max(now, port_free_);
+      port_free_ = asked + 1;
+      back = std::max(asked + latency_, answer_free_);
+      answer_free_ = back + 1;
+    }
+    return back + 1 - std::min(back + 1 - now, registers_);
+  }
+
+ private:
+  cycle::Cycle latency_, registers_, port_free_ = 0, answer_free_ = 0;
+};
+
+// The cycles the cycle model's ray unit (`slots` slots, one IU) takes for the cases in
+// order, each slot taking the next ray as it answers one (the harness keeps more in
+// flight than there are slots).
+cycle::Cycle model_cycles(const std::vector<Case>& cases, const cycle::WalkCosts& costs, int slots,
+                          cycle::Cycle mem_latency) {
+  HarnessLines lines(mem_latency, costs.memory_wait);
+  std::vector<cycle::IuTimer> ius(1);
+  struct Slot {
+    std::size_t ray = 0;
+    cycle::Walk walk;
+    cycle::TraversalUnitTime time;
+  };
+  std::vector<Slot> slot(static_cast<std::size_t>(slots));
+  using Event = std::pair<cycle::Cycle, std::size_t>;
+  std::priority_queue<Event, std::vector<Event>, std::greater<>> events;
+  std::size_t next = 0;
+  for (std::size_t s = 0; s < slot.size() && next < cases.size(); ++s) {
+    slot[s].ray = next++;
+    events.push({0, s});
+  }
+  cycle::Cycle end = 0;
+  while (!events.empty()) {
+    const auto [now, s] = events.top();
+    events.pop();
+    Slot& sl = slot[s];
+    const cycle::WalkStep step = cycle::step_walk(cases[sl.ray].log, sl.walk, now, costs, lines, ius, sl.time);
+    if (!step.done) {
+      events.push({step.next, s});
+      continue;
+    }
+    end = std::max(end, now);
+    if (next < cases.size()) {
+      sl = Slot{next++, {}, {}};
+      events.push({now + costs.turnaround, s});
+    }
+  }
+  return end;
+}
+
 // `model` outlives the run, so that its waveforms are kept whether the run passed or
 // failed.
 int run(const Options& o, std::unique_ptr<TuModel>& model) {
@@ -368,11 +439,10 @@ int run(const Options& o, std::unique_ptr<TuModel>& model) {
   for (std::size_t i = 0; i < plane.size(); ++i) {
     cases.push_back({plane[i], Kind::kPlane, i % 2 ? TraceMode::kAny : TraceMode::kClosest, {}});
   }
-  functional::TraceLog log;
   for (Case& c : cases) {
     try {
-      c.expect = tracer.trace(c.ray, c.mode, log);
-      c.pops = static_cast<std::uint32_t>(std::count_if(log.events.begin(), log.events.end(), [](const auto& e) {
+      c.expect = tracer.trace(c.ray, c.mode, c.log);
+      c.pops = static_cast<std::uint32_t>(std::count_if(c.log.events.begin(), c.log.events.end(), [](const auto& e) {
         return e.kind == functional::TraceEvent::Kind::kPop;
       }));
     } catch (const Error&) {
@@ -382,15 +452,15 @@ int run(const Options& o, std::unique_ptr<TuModel>& model) {
 
   if (!o.write_vectors.empty()) return write_vectors(o, si, tracer, cases);
 
-  const TuModelName name{o.format, o.isect, o.with_iu};
+  const TuModelName name{o.format, o.isect, o.with_iu, o.slots};
   model = make_tu_model(name, o.seed, o.trace);
   if (!model) {
     std::string built;
     for (const TuModelName& n : tu_models()) {
-      built += " " + n.format + "/" + n.isect + (n.with_iu ? "+iu" : "");
+      built += " " + n.format + "/" + n.isect + (n.with_iu ? "+iu" : "") + "/" + std::to_string(n.slots) + "slots";
     }
-    std::fprintf(stderr, "tu_cosim: no model for %s/%s%s in this build; built:%s\n", o.format.c_str(),
-                 o.isect.c_str(), o.with_iu ? "+iu" : "", built.c_str());
+    std::fprintf(stderr, "tu_cosim: no model for %s/%s%s/%dslots in this build; built:%s\n", o.format.c_str(),
+                 o.isect.c_str(), o.with_iu ? "+iu" : "", o.slots, built.c_str());
     return 2;
   }
 
@@ -405,6 +475,8 @@ int run(const Options& o, std::unique_ptr<TuModel>& model) {
     streams::IuRsp iu;
   };
   std::deque<Owed> mem_q, iu_q;
+  std::size_t iu_pick = 0;    // the IU answer presented
+  bool iu_presented = false;  // ... and not taken last cycle
   std::uint64_t mem_last = 0, iu_last = 0;
   const std::uint32_t tag_mask = (1u << streams::kRayTagBits) - 1;
 
@@ -430,11 +502,12 @@ int run(const Options& o, std::unique_ptr<TuModel>& model) {
   try {
     while (done < cases.size()) {
       const std::uint64_t cycle = clock.cycle();
-      // One ray at a time, so that the busy cycles below are the ray's.
+      // Up to --in-flight rays at once; with one, the busy cycles below are the ray's.
       const bool in_flight = !pending.empty();
-      const Case* current = in_flight || next < cases.size() ? &cases[in_flight ? next - 1 : next] : nullptr;
-      in.req_valid = !in_flight && next < cases.size() && !stalled();
-      if (in.req_valid) in.req = request_of(*current, static_cast<std::uint32_t>(next) & tag_mask);
+      const bool full = pending.size() >= static_cast<std::size_t>(o.in_flight);
+      const Case* current = in_flight ? &cases[pending.oldest()] : next < cases.size() ? &cases[next] : nullptr;
+      in.req_valid = !full && next < cases.size() && !stalled();
+      if (in.req_valid) in.req = request_of(cases[next], static_cast<std::uint32_t>(next) & tag_mask);
       in.rsp_ready = !stalled();
       in.mem_req_ready = !stalled();
       in.mem_rsp_valid = !mem_q.empty() && mem_q.front().ready <= cycle && !stalled();
@@ -442,14 +515,24 @@ int run(const Options& o, std::unique_ptr<TuModel>& model) {
         std::memcpy(in.mem_rsp.data.data(), image.data() + mem_q.front().addr, streams::kMemLineBytes);
       }
       in.iu_req_ready = !stalled();
-      in.iu_rsp_valid = !iu_q.empty() && iu_q.front().ready <= cycle && !stalled();
-      if (in.iu_rsp_valid) in.iu_rsp = iu_q.front().iu;
+      // With several rays in flight the IU answers in any order: a random answer that is
+      // due, kept until taken (a valid stream holds its payload).
+      if (!iu_presented && !iu_q.empty()) {
+        iu_pick = 0;
+        if (o.in_flight > 1) {
+          std::size_t due = 0;
+          while (due < iu_q.size() && iu_q[due].ready <= cycle) ++due;
+          if (due > 1) iu_pick = std::uniform_int_distribution<std::size_t>(0, due - 1)(rng);
+        }
+      }
+      in.iu_rsp_valid = !iu_q.empty() && (iu_presented || iu_q[iu_pick].ready <= cycle) && !stalled();
+      if (in.iu_rsp_valid) in.iu_rsp = iu_q[iu_pick].iu;
 
       const TuOutputs out = clock.settle(in);
 
       // Cycles the unit spends waiting: a request presented or a response owed.
       const bool waiting = out.mem_req_valid || !mem_q.empty() || out.iu_req_valid || !iu_q.empty();
-      if (in_flight && !responded) {
+      if (o.in_flight == 1 && in_flight && !responded) {
         if (out.rsp_valid) {
           responded = true;
         } else if (!waiting) {
@@ -470,7 +553,7 @@ int run(const Options& o, std::unique_ptr<TuModel>& model) {
         const Expected want = expected_of(c, static_cast<std::uint32_t>(i) & tag_mask);
         const std::string mismatch = field_mismatch(want.rsp, out.rsp, want.care);
         if (!mismatch.empty()) return fail("ray " + std::to_string(i) + ": " + describe_ray(c) + "\n  " + mismatch);
-        if (!c.fault) {
+        if (!c.fault && o.in_flight == 1) {
           if (c.expect.counters.nodes == 0) {
             ++miss_busy[busy];
           } else {
@@ -500,7 +583,8 @@ int run(const Options& o, std::unique_ptr<TuModel>& model) {
                                           std::uniform_int_distribution<int>(0, o.iu_jitter)(rng));
           iu_q.push_back({iu_last, 0, iu_answer(ar, watertight, out.iu_req, rng)});
         }
-        if (in.iu_rsp_valid && out.iu_rsp_ready) iu_q.pop_front();
+        iu_presented = in.iu_rsp_valid && !out.iu_rsp_ready;
+        if (in.iu_rsp_valid && out.iu_rsp_ready) iu_q.erase(iu_q.begin() + static_cast<std::ptrdiff_t>(iu_pick));
       }
       watchdog.check(cycle, !pending.empty(), [&] { return describe_ray(cases[pending.oldest()]); });
       clock.tick();
@@ -528,13 +612,43 @@ int run(const Options& o, std::unique_ptr<TuModel>& model) {
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
 
   std::size_t hits = 0;
-  for (const Case& c : cases) hits += c.expect.hit;
+  std::uint64_t nodes = 0, tests = 0;
+  for (const Case& c : cases) {
+    hits += c.expect.hit;
+    nodes += c.expect.counters.nodes;
+    tests += c.expect.counters.tests;
+  }
   std::printf("tu_cosim ok: %s, format %s, %s test%s: %zu rays (%d camera, %d random, %zu shadow, "
               "%zu split-plane; %zu hit) "
               "bit for bit; %" PRIu64 " cycles in %.1f s (%.0f cycles/s, %.0f rays/s)\n",
               o.scene.c_str(), o.format.c_str(), o.isect.c_str(), o.with_iu ? ", RTL IU" : ", C++ IU", cases.size(),
               o.rays, o.rays, shadow.size(), plane.size(), hits, cycle, seconds, double(cycle) / seconds,
               double(cases.size()) / seconds);
+  // The unit's throughput on this stream: kd nodes visited and triangles tested per
+  // cycle, with --slots ray slots and --in-flight rays offered.
+  std::printf("tu_cosim throughput: %d slots, %d rays in flight: %.4f node steps per cycle, %.4f IU tests per cycle, "
+              "%.1f cycles per ray\n",
+              o.slots, o.in_flight, double(nodes) / double(cycle), double(tests) / double(cycle),
+              double(cycle) / double(cases.size()));
+
+  if (!o.cycle_model.empty()) {
+    const spec::HardwareConfig* config = nullptr;
+    for (const spec::HardwareConfig& c : spec::kConfigs) {
+      if (c.name == o.cycle_model) config = &c;
+    }
+    const cycle::WalkCosts costs =
+        cycle::WalkCosts::of(*config, watertight ? IsectMode::kWatertight : IsectMode::kWoop);
+    const cycle::Cycle modelled = model_cycles(cases, costs, o.slots, static_cast<cycle::Cycle>(o.mem_latency));
+    const double error = 100.0 * (double(modelled) - double(cycle)) / double(cycle);
+    std::printf("tu_cosim cycle model: '%s' step cycles, %d slots: %" PRIu64 " cycles against the RTL's %" PRIu64
+                " (%+.2f%%)\n",
+                o.cycle_model.c_str(), o.slots, modelled, cycle, error);
+    if (std::abs(error) > o.cycle_tolerance) {
+      std::printf("tu_cosim FAIL: the cycle model is %.2f%% off the RTL, more than --cycle-tolerance %.2f%%\n", error,
+                  o.cycle_tolerance);
+      return 1;
+    }
+  }
 
   std::string misses;
   for (const auto& [b, n] : miss_busy) misses += " " + std::to_string(b) + " (" + std::to_string(n) + " rays)";
@@ -593,6 +707,9 @@ int main(int argc, char** argv) {
   app.add_option("--format", o.format, "number format (spec/formats.toml)");
   app.add_option("--isect", o.isect, "intersection test")->check(CLI::IsMember({"woop", "watertight"}));
   app.add_flag("--with-iu", o.with_iu, "the RTL IU inside (rpu_ray_unit), else the C++ IU answers");
+  app.add_option("--slots", o.slots, "the TU's ray slots (a model built with them)")->check(CLI::Range(1, 256));
+  app.add_option("--in-flight", o.in_flight, "rays in the unit at once (1: step cycles are measured per ray)")
+      ->check(CLI::Range(1, 256));
   app.add_option("--scale", o.scale, "scale the scene by 2^K (its kd scale exponent moves by K)")
       ->check(CLI::Range(-100, 100));
   app.add_option("--rays", o.rays, "rays of each kind (camera, random, shadow)")->check(CLI::PositiveNumber);
@@ -608,7 +725,31 @@ int main(int argc, char** argv) {
   app.add_option("--expect-timing", o.expect_timing, "setup,inner,leaf,pop the RTL must measure");
   app.add_option("--trace", o.trace, "write an FST waveform to this file");
   app.add_option("--write-vectors", o.write_vectors, "write the rays, results and image for the netlist testbench");
+  app.add_option("--cycle-model", o.cycle_model,
+                 "time the same rays with the cycle model's ray unit at this named configuration's step cycles "
+                 "(its format the --format; --with-iu, no stalls or jitter) and compare the cycles");
+  app.add_option("--cycle-tolerance", o.cycle_tolerance, "percent the cycle model may be off the RTL")
+      ->check(CLI::NonNegativeNumber);
   CLI11_PARSE(app, argc, argv);
+  if (!o.cycle_model.empty()) {
+    const rpu::spec::HardwareConfig* config = nullptr;
+    for (const rpu::spec::HardwareConfig& c : rpu::spec::kConfigs) {
+      if (c.name == o.cycle_model) config = &c;
+    }
+    if (!config || config->format != o.format) {
+      std::fprintf(stderr, "tu_cosim: --cycle-model wants a named configuration in --format %s (spec/configs.toml)\n",
+                   o.format.c_str());
+      return 2;
+    }
+    if (!o.with_iu || o.stall != 0 || o.mem_jitter != 0) {
+      std::fprintf(stderr, "tu_cosim: --cycle-model times the ray unit: --with-iu --stall 0 --mem-jitter 0\n");
+      return 2;
+    }
+  }
+  if (o.in_flight > 1 && (o.timing || !o.expect_timing.empty())) {
+    std::fprintf(stderr, "tu_cosim: --timing and --expect-timing measure one ray at a time (--in-flight 1)\n");
+    return 2;
+  }
   rpu::report_sigbus_as_write_failure("tu_cosim");
   try {
     rpu::sim::check_output_paths(o.trace, o.write_vectors);

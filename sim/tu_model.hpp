@@ -58,6 +58,7 @@ class TuModel {
 struct TuModelName {
   std::string format, isect;
   bool with_iu;  // the RTL IU inside (rpu_ray_unit), else the IU port is open
+  int slots = 1;  // ray slots of the TU (rpu_tu_slots)
 };
 
 // The models built into this binary.

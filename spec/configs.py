@@ -475,7 +475,8 @@ def doc_tables(schema: Schema, resolved: list[dict]) -> dict[str, str]:
         named.append(f"| {label} | " + " | ".join(cell(r["values"]) for r in resolved) + " |")
     row("shader cores x threads (chunk)", lambda v: f"{v['shader_cores']} x {v['threads_per_core']} ({v['chunk_size']})")
     row("registers", lambda v: str(v["registers"]))
-    row("traversal / intersection units", lambda v: f"{v['traversal_units']} / {v['intersection_units']}")
+    row("traversal units (ray slots each) / intersection units",
+        lambda v: f"{v['traversal_units']} ({v['tu_slots']}) / {v['intersection_units']}")
     row("dividers per core (sfu_units)", lambda v: str(v["sfu_units"]))
     row("stack depth, call depth, stack bytes", lambda v: f"{v['stack_depth']}, {v['call_depth']}, {v['stack_bytes']}")
     row("clock", lambda v: f"{v['clock_mhz']} MHz")

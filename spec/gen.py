@@ -568,7 +568,11 @@ def main() -> int:
             print(fmt, *(values[k] for k in configs.LATENCY_GROUPS["tu"][1]))
         return 0
     if args.list == "rtl-configs":
+        # The chip's ray units walk one ray each (rpu_top, docs/chip.md): configurations
+        # with more ray slots have no chip model, and the rtl backend says so.
         for r in spec["resolved"]:
+            if r["values"]["tu_slots"] != 1:
+                continue
             print(r["name"], *(f"-G{k}={v}" for k, v in rtl_parameters(spec, r["values"]).items()))
         return 0
     if args.cpp is None or args.sv is None:

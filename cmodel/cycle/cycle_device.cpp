@@ -18,6 +18,7 @@
 #include "common/error.hpp"
 #include "device/device_base.hpp"
 #include "fp/fast32.hpp"
+#include "cycle/ray_unit_timing.hpp"
 #include "functional/tracer.hpp"
 #include "rpu/streams.hpp"
 
@@ -43,8 +44,7 @@ struct Ray {
   std::uint32_t core = 0, chunk = 0, dst = 0;
   TraceLog log;
   Cycle arrived = 0;
-  std::size_t next = 0;  // the next event of the log
-  bool set_up = false;
+  Walk walk;
 };
 
 struct ChunkSlot {
@@ -85,6 +85,8 @@ struct Core {
   Cycle slice_end = 0;  // the timeline's last issue slice of this core ends here
 };
 
+// A ray slot of a traversal unit: each walks its own ray (rpu_tu_slots' walkers), and
+// the slots of all units share the caches and the intersection units.
 struct Tu {
   bool busy = false;
   Ray ray;
@@ -92,9 +94,17 @@ struct Tu {
   TraversalUnitTime time;
 };
 
-struct Iu {
-  Cycle next_accept = 0;
-  IntersectionUnitTime time;
+// The chip's ray units read through the node and triangle caches.
+class CacheLines final : public LineSource {
+ public:
+  CacheLines(Cache& nodes, Cache& triangles) : nodes_(nodes), triangles_(triangles) {}
+  Cycle read(Cycle now, std::uint32_t address, std::uint32_t bytes, bool node) override {
+    return (node ? nodes_ : triangles_).read(now, address, bytes);
+  }
+
+ private:
+  Cache& nodes_;
+  Cache& triangles_;
 };
 
 struct Event {
@@ -148,13 +158,15 @@ class CycleDevice final : public device::DeviceBase {
   std::optional<Dram> dram_;
   std::optional<Cache> node_cache_, triangle_cache_;
   std::vector<Core> cores_;
-  std::vector<Tu> tus_;
-  std::vector<Iu> ius_;
+  std::vector<Tu> tus_;   // unit u's slots at u * slots_ ...
+  std::uint32_t slots_ = 1;
+  std::vector<IuTimer> ius_;
+  WalkCosts costs_;
+  std::optional<CacheLines> lines_;
   std::uint32_t ray_core_ = 0;  // the core whose ray a traversal unit took last
   std::vector<TraceLog> spare_logs_;
   std::priority_queue<Event, std::vector<Event>, std::greater<>> events_;
   std::uint64_t seq_ = 0;
-  Cycle setup_cycles_ = 0, iu_latency_ = 0, iu_interval_ = 0, memory_wait_ = 0;
   std::uint64_t rounds_done_ = 0, rounds_total_ = 0;
   const ProgressCallback* progress_ = nullptr;
   std::vector<functional::ShaderCore::Lane> lanes_;
@@ -463,8 +475,11 @@ void CycleDevice::start_round(std::uint32_t c, std::uint32_t i, Cycle at) {
 void CycleDevice::dispatch(Ray&& ray, Cycle at) {
   ray.arrived = at;
   cores_[ray.core].rays.push_back(std::move(ray));
-  for (std::uint32_t u = 0; u < tus_.size(); ++u) {
-    if (!tus_[u].busy && !take_queued_ray(u, at)) break;
+  // The first free slot of each unit in turn: units fill evenly.
+  const auto units = static_cast<std::uint32_t>(config_.traversal_units);
+  for (std::uint32_t k = 0; k < tus_.size(); ++k) {
+    const std::uint32_t slot = (k % units) * slots_ + k / units;
+    if (!tus_[slot].busy && !take_queued_ray(slot, at)) break;
   }
 }
 
@@ -496,71 +511,17 @@ void CycleDevice::start_ray(std::uint32_t u, Ray&& ray, Cycle at) {
 
 void CycleDevice::tu_event(std::uint32_t u, Cycle now) {
   Tu& tu = tus_[u];
-  Ray& ray = tu.ray;
-  const spec::TraversalUnitConfig& tc = config_.tu;
-  const bool timeline = options_.timeline_end > options_.timeline_begin;
-  const std::string track = timeline ? fmt::format("TU {}", u) : std::string();
-  if (!ray.set_up) {
-    ray.set_up = true;
-    tu.time.busy += setup_cycles_;
-    ++tu.time.rays;
-    if (timeline) slice(track, "set-up", now, now + setup_cycles_);
-    schedule_tu(u, now + setup_cycles_);
-    return;
-  }
-  if (ray.next == ray.log.events.size()) {
+  const WalkStep step = step_walk(tu.ray.log, tu.ray.walk, now, costs_, *lines_, ius_, tu.time);
+  if (step.done) {
     finish_ray(u, now);
     return;
   }
-  const TraceEvent e = ray.log.events[ray.next++];
-  Cycle next = now;
-  std::string_view what;
-  switch (e.kind) {
-    case TraceEvent::Kind::kInner:
-    case TraceEvent::Kind::kLeaf: {
-      const bool leaf = e.kind == TraceEvent::Kind::kLeaf;
-      const Cycle fetched = node_cache_->read(now, e.address, spec::memory::kKdNodeBytes) + memory_wait_;
-      const auto work = static_cast<Cycle>(leaf ? tc.leaf : tc.inner);
-      tu.time.wait_memory += fetched - now;
-      tu.time.busy += work;
-      ++(leaf ? tu.time.leaves : tu.time.inner);
-      next = fetched + work;
-      what = leaf ? "leaf" : "inner node";
-      break;
-    }
-    case TraceEvent::Kind::kRef: {
-      next = triangle_cache_->read(now, e.address, spec::memory::kPrimRefBytes) + memory_wait_;
-      tu.time.wait_memory += next - now;
-      ++tu.time.refs;
-      what = "prim ref";
-      break;
-    }
-    case TraceEvent::Kind::kTest: {
-      const Cycle fetched = triangle_cache_->read(now, e.address, isect_record_bytes(layout_.isect_mode)) + memory_wait_;
-      tu.time.wait_memory += fetched - now;
-      // The IU that can take the test first; the TU waits for its answer.
-      auto iu = std::min_element(ius_.begin(), ius_.end(),
-                                 [](const Iu& a, const Iu& b) { return a.next_accept < b.next_accept; });
-      const Cycle accept = std::max(fetched, iu->next_accept);
-      iu->next_accept = accept + iu_interval_;
-      ++iu->time.tests;
-      iu->time.busy += iu_interval_;
-      next = accept + iu_latency_ + static_cast<Cycle>(tc.iu_wait);
-      tu.time.wait_iu += next - fetched;
-      ++tu.time.tests;
-      if (timeline) slice(fmt::format("IU {}", iu - ius_.begin()), "test", accept, accept + iu_latency_);
-      what = "test";
-      break;
-    }
-    case TraceEvent::Kind::kPop:
-      next = now + static_cast<Cycle>(tc.pop);
-      tu.time.busy += static_cast<Cycle>(tc.pop);
-      ++tu.time.pops;
-      what = "pop";
-      break;
+  if (options_.timeline_end > options_.timeline_begin) {
+    slice(slots_ == 1 ? fmt::format("TU {}", u) : fmt::format("TU {} slot {}", u / slots_, u % slots_),
+          std::string(step.what), now, step.next);
+    if (step.iu >= 0) slice(fmt::format("IU {}", step.iu), "test", step.iu_accept, step.iu_accept + costs_.iu_latency);
   }
-  if (timeline) slice(track, std::string(what), now, next);
-  schedule_tu(u, next);
+  schedule_tu(u, step.next);
 }
 
 // The ray's hit record reaches its register; the TU takes the next waiting ray.
@@ -583,7 +544,7 @@ void CycleDevice::finish_ray(std::uint32_t u, Cycle now) {
 
   tu.busy = false;
   spare_logs_.push_back(std::move(tu.ray.log));
-  take_queued_ray(u, now + static_cast<Cycle>(config_.tu.turnaround));
+  take_queued_ray(u, now + costs_.turnaround);
 }
 
 void CycleDevice::slice(std::string track, std::string name, Cycle begin, Cycle end) {
@@ -640,11 +601,8 @@ void CycleDevice::run(const ProgressCallback& progress) {
   out_.height = launch_.height;
   out_.pixel_cycles.assign(pixels(), 0);
   out_.dram_bytes_per_cycle = config_.dram.bytes_per_cycle;
-  const bool watertight = layout_.isect_mode == IsectMode::kWatertight;
-  setup_cycles_ = static_cast<Cycle>(watertight ? config_.tu.setup_watertight : config_.tu.setup_woop);
-  iu_latency_ = static_cast<Cycle>(watertight ? config_.iu.watertight : config_.iu.woop);
-  iu_interval_ = static_cast<Cycle>(watertight ? config_.iu.interval_watertight : config_.iu.interval_woop);
-  memory_wait_ = static_cast<Cycle>(config_.tu.memory_wait);
+  costs_ = WalkCosts::of(config_, layout_.isect_mode);
+  lines_.emplace(*node_cache_, *triangle_cache_);
   progress_ = &progress;
   rounds_done_ = 0;
   rounds_total_ = (pixels() + static_cast<std::uint64_t>(config_.chunk_size) - 1) /
@@ -668,8 +626,9 @@ void CycleDevice::run(const ProgressCallback& progress) {
     }
     plan(c, 0);
   }
-  tus_.assign(static_cast<std::size_t>(config_.traversal_units), Tu{});
-  ius_.assign(static_cast<std::size_t>(config_.intersection_units), Iu{});
+  slots_ = static_cast<std::uint32_t>(config_.tu_slots);
+  tus_.assign(static_cast<std::size_t>(config_.traversal_units) * slots_, Tu{});
+  ius_.assign(static_cast<std::size_t>(config_.intersection_units), IuTimer{});
 
   Cycle now = 0;
   {
@@ -728,11 +687,15 @@ void CycleDevice::finish(Cycle end) {
     out_.cores.push_back(core.time);
     out_.data_cache += core.data_cache->stats();
   }
-  for (Tu& tu : tus_) {
-    tu.time.idle = end - std::min(end, tu.time.busy + tu.time.wait_memory + tu.time.wait_iu);
-    out_.tus.push_back(tu.time);
+  // A unit's times are its slots' summed: they add up to cycles x slots.
+  out_.tu_slots = slots_;
+  out_.tus.assign(static_cast<std::size_t>(config_.traversal_units), TraversalUnitTime{});
+  for (std::uint32_t i = 0; i < tus_.size(); ++i) {
+    TraversalUnitTime& t = tus_[i].time;
+    t.idle = end - std::min(end, t.busy + t.wait_memory + t.wait_iu);
+    out_.tus[i / slots_] += t;
   }
-  for (const Iu& iu : ius_) out_.ius.push_back(iu.time);
+  for (const IuTimer& iu : ius_) out_.ius.push_back(iu.time);
   out_.node_cache = node_cache_->stats();
   out_.triangle_cache = triangle_cache_->stats();
   out_.dram = dram_->stats();
@@ -743,30 +706,23 @@ void CycleDevice::finish(Cycle end) {
   // Speed of light: each resource's work at full rate, every access a hit, no queueing.
   TraversalUnitTime tu_work;
   std::uint64_t tests = 0;
-  for (const TraversalUnitTime& t : out_.tus) {
-    tu_work.rays += t.rays;
-    tu_work.inner += t.inner;
-    tu_work.leaves += t.leaves;
-    tu_work.refs += t.refs;
-    tu_work.tests += t.tests;
-    tu_work.pops += t.pops;
-  }
+  for (const TraversalUnitTime& t : out_.tus) tu_work += t;
   for (const IntersectionUnitTime& t : out_.ius) tests += t.tests;
   const spec::TraversalUnitConfig& tc = config_.tu;
   const auto node_hit = static_cast<double>(config_.node_cache.hit_latency + config_.tu.memory_wait);
   const auto tri_hit = static_cast<double>(config_.triangle_cache.hit_latency + config_.tu.memory_wait);
-  const double tu_cycles = static_cast<double>(tu_work.rays) * static_cast<double>(setup_cycles_) +
+  const double tu_cycles = static_cast<double>(tu_work.rays) * static_cast<double>(costs_.setup) +
                            static_cast<double>(tu_work.inner) * (node_hit + tc.inner) +
                            static_cast<double>(tu_work.leaves) * (node_hit + tc.leaf) +
                            static_cast<double>(tu_work.refs) * tri_hit +
                            static_cast<double>(tu_work.tests) *
-                               (tri_hit + static_cast<double>(iu_latency_ + static_cast<Cycle>(tc.iu_wait))) +
+                               (tri_hit + static_cast<double>(costs_.iu_latency + costs_.iu_wait)) +
                            static_cast<double>(tu_work.pops) * tc.pop;
   out_.bounds = {
       // One lane a cycle enters a core's pipeline.
       {"shader cores (issue)", static_cast<double>(out_.thread_instructions) / config_.shader_cores},
-      {"traversal units", tu_cycles / config_.traversal_units},
-      {"intersection units", static_cast<double>(tests) * static_cast<double>(iu_interval_) / config_.intersection_units},
+      {"traversal units", tu_cycles / (config_.traversal_units * config_.tu_slots)},
+      {"intersection units", static_cast<double>(tests) * static_cast<double>(costs_.iu_interval) / config_.intersection_units},
       {"DRAM bus", static_cast<double>(out_.dram.bus_cycles)},
   };
   std::stable_sort(out_.bounds.begin(), out_.bounds.end(), [](const Bound& a, const Bound& b) { return a.cycles > b.cycles; });

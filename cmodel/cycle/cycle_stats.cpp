@@ -72,7 +72,9 @@ StatsTree report(const CycleStats& s, const functional::ShaderStats& shader) {
                         .set("prim_refs", t.refs)
                         .set("tests", t.tests);
     if (s.counts_pops) tu.set("pops", t.pops);
-    tu.set("utilisation", ratio(static_cast<double>(t.busy), cycles));
+    // Slot-cycles: busy + wait_memory + wait_iu + idle = cycles x slots.
+    tu.set("slots", std::uint64_t{s.tu_slots});
+    tu.set("utilisation", ratio(static_cast<double>(t.busy), cycles * s.tu_slots));
   }
   r.set("tu_steps_per_cycle", ratio(static_cast<double>(steps), cycles));
   StatsTree& ius = r.list("intersection_units");
@@ -107,10 +109,13 @@ std::string summarize(const StatsTree& r) {
   const double cycles = r.number("cycles");
   // A unit list's total of one counter, and that over the list's unit-cycles.
   const auto share = [&](std::string_view list, std::string_view counter) {
-    double total = 0;
-    const std::vector<StatsTree>& units = r.find(list)->children();
-    for (const StatsTree& u : units) total += u.number(counter);
-    return ratio(total, cycles * static_cast<double>(units.size()));
+    double total = 0, unit_cycles = 0;
+    for (const StatsTree& u : r.find(list)->children()) {
+      total += u.number(counter);
+      // A traversal unit's times count each of its ray slots' cycles.
+      unit_cycles += cycles * (u.find("slots") ? u.number("slots") : 1.0);
+    }
+    return ratio(total, unit_cycles);
   };
   std::string text = fmt::format(
       "{} cycles on '{}' = {:.3f} ms at {} MHz ({:.2f} fps); simulated in {:.2f} s ({:.2f} M cycles/s)\n"

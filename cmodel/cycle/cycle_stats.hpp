@@ -30,6 +30,20 @@ struct TraversalUnitTime {
   std::uint64_t wait_iu = 0;      // waiting for an intersection result
   std::uint64_t idle = 0;
   std::uint64_t rays = 0, inner = 0, leaves = 0, refs = 0, tests = 0, pops = 0;
+
+  TraversalUnitTime& operator+=(const TraversalUnitTime& o) {
+    busy += o.busy;
+    wait_memory += o.wait_memory;
+    wait_iu += o.wait_iu;
+    idle += o.idle;
+    rays += o.rays;
+    inner += o.inner;
+    leaves += o.leaves;
+    refs += o.refs;
+    tests += o.tests;
+    pops += o.pops;
+    return *this;
+  }
 };
 
 struct IntersectionUnitTime {
@@ -58,7 +72,8 @@ struct CycleStats {
   Cycle cycles = 0;
   double frame_seconds() const { return static_cast<double>(cycles) / (clock_mhz * 1e6); }
   std::vector<ShaderCoreTime> cores;
-  std::vector<TraversalUnitTime> tus;
+  std::vector<TraversalUnitTime> tus;  // per unit, its ray slots' times summed
+  std::uint32_t tu_slots = 1;          // ray slots per traversal unit
   std::vector<IntersectionUnitTime> ius;
   CacheStats node_cache, triangle_cache, data_cache;  // data_cache: all cores' together
   DramStats dram;

@@ -117,7 +117,7 @@ TEST(Config, RulesNameEveryValueAndWhereItCameFrom) {
 TEST(Config, UnknownNameIsNeitherANamedConfigurationNorAFile) {
   EXPECT_EQ(error_of("defualt"),
             "--config defualt: no such configuration file, and no named configuration 'defualt' (spec/configs.toml "
-            "has tiny, default, rpu2005) (did you mean 'default'?)");
+            "has tiny, default, rpu2005, drpu) (did you mean 'default'?)");
 }
 
 TEST_F(ConfigFile, AFileWithEveryKeyIsAConfiguration) {
@@ -160,7 +160,7 @@ TEST_F(ConfigFile, MessagesNameTheFileLineAndColumn) {
   EXPECT_EQ(error_of(twice).rfind(twice + ":3:", 0), 0u) << error_of(twice);
   const std::string base = write("base.toml", "base = \"defualt\"\n");
   EXPECT_EQ(error_of(base), base + ":1:8: base = \"defualt\" is not a named configuration (spec/configs.toml has "
-                                   "tiny, default, rpu2005) (did you mean 'default'?)");
+                                   "tiny, default, rpu2005, drpu) (did you mean 'default'?)");
   const std::string measured = write("measured.toml", "base = \"default\"\n[tu]\ninner = 1\n");
   EXPECT_EQ(error_of(measured),
             measured + ":3:9: 'tu.inner' is measured on the RTL (spec/latencies.toml, by the format), not a choice");

@@ -104,7 +104,7 @@ TEST_P(CycleImage, IsBitIdenticalToTheFunctionalImage) {
 
 INSTANTIATE_TEST_SUITE_P(ScenesAndConfigs, CycleImage,
                          testing::Combine(testing::Values("cornell", "balls:2", "scenes/bunny.json"),
-                                          testing::Values("tiny", "default", "rpu2005")),
+                                          testing::Values("tiny", "default", "rpu2005", "drpu")),
                          [](const testing::TestParamInfo<SceneAndConfig>& i) {
                            std::string name = std::get<0>(i.param) + "_" + std::get<1>(i.param);
                            for (char& c : name) {
@@ -158,6 +158,30 @@ TEST(CycleModel, UnitTimeAddsUpToTheFrame) {
   EXPECT_EQ(st.closest_rays + st.any_rays, f.stats.shader.closest_rays + f.stats.shader.any_rays);
   ASSERT_FALSE(st.bounds.empty());
   EXPECT_LE(st.bounds.front().cycles, static_cast<double>(st.cycles));  // nothing beats the speed of light
+}
+
+// With ray slots a unit's times are slot-cycles: they add up to cycles x slots, and the
+// slots of one unit walk rays side by side, so a frame bound by one traversal unit
+// (rpu2005's) takes fewer cycles with more of them and the same work.
+TEST(CycleModel, RaySlotsShareTheFrameAndSpeedUpATraversalBoundOne) {
+  const Cornell c;
+  spec::HardwareConfig config = hardware_config("rpu2005");
+  const functional::SceneImage si =
+      functional::make_scene_image(c.scene, kd_build_config_for("rpu2005"), IsectMode::kWoop);
+  std::uint64_t previous = std::numeric_limits<std::uint64_t>::max(), tests = 0;
+  for (int slots : {1, 2, 4, 8}) {
+    config.tu_slots = slots;
+    const Frame f = render_cycle(config, c.scene, si.image, c.firmware, settings(32, 24));
+    const CycleStats& st = f.cycle;
+    EXPECT_EQ(st.tu_slots, static_cast<std::uint32_t>(slots));
+    for (const TraversalUnitTime& t : st.tus) {
+      EXPECT_EQ(t.busy + t.wait_memory + t.wait_iu + t.idle, st.cycles * static_cast<std::uint64_t>(slots)) << slots;
+    }
+    EXPECT_LT(st.cycles, previous) << slots << " slots";
+    previous = st.cycles;
+    if (tests == 0) tests = f.stats.shader.tests;
+    EXPECT_EQ(f.stats.shader.tests, tests) << slots << " slots";
+  }
 }
 
 // More DRAM bandwidth never costs cycles on a fixed frame.

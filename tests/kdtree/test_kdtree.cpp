@@ -546,7 +546,7 @@ TEST(KdTree, ConfigForNamesTheStackDepth) {
     kd_build_config_for("huge");
     FAIL();
   } catch (const Error& e) {
-    EXPECT_STREQ(e.what(), "unknown hardware configuration 'huge' (spec/configs.toml has tiny, default, rpu2005)");
+    EXPECT_STREQ(e.what(), "unknown hardware configuration 'huge' (spec/configs.toml has tiny, default, rpu2005, drpu)");
   }
 }
 
