@@ -98,7 +98,7 @@ struct Case {
   TraceHit expect;
   bool fault = false;
   std::uint32_t pops = 0;
-  functional::TraceLog log;  // the walk, for the cycle model
+  functional::TraceLog log{};  // the walk, for the cycle model
 };
 
 std::uint32_t bits(float f) { return std::bit_cast<std::uint32_t>(f); }
