@@ -39,8 +39,8 @@ TEST(ScenesDir, EveryJsonFileLoads) {
     if (entry.path().extension() == ".json") names.push_back(entry.path().filename().string());
   }
   std::sort(names.begin(), names.end());
-  EXPECT_EQ(names, (std::vector<std::string>{"balls.json", "bunny.json", "cornell.json",
-                                             "dragon.json", "spider.json", "tetra.json"}));
+  EXPECT_EQ(names, (std::vector<std::string>{"balls.json", "bunny.json", "cornell.json", "dragon.json",
+                                             "dragon_203k.json", "spider.json", "tetra.json"}));
   for (const std::string& name : names) {
     SCOPED_TRACE(name);
     expect_valid(load(name));
@@ -57,6 +57,7 @@ TEST(ScenesDir, RealMeshesHaveTheirPublishedTriangleCounts) {
   // Each mesh scene adds one floor.obj quad (two triangles) per floor or mirror.
   EXPECT_EQ(load("bunny.json").triangles.size(), 3674u + 4u);
   EXPECT_EQ(load("dragon.json").triangles.size(), 47794u + 2u);
+  EXPECT_EQ(load("dragon_203k.json").triangles.size(), 202520u + 2u);
   // The spider OBJ has 56 zero-area faces; they are dropped with one warning.
   const Scene spider = load("spider.json");
   EXPECT_EQ(spider.triangles.size(), 1312u + 2u);
