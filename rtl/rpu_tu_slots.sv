@@ -51,6 +51,10 @@ module rpu_tu_slots #(
   input  rpu_pkg::iu_rsp_t  iu_rsp_i
 );
 
+  // At module scope: Yosys 0.23 does not resolve a generate block's localparam in a
+  // cast inside a loop nested in that block.
+  localparam int unsigned TagBits = rpu_pkg::RayTagBits;
+
   if (Slots == 1) begin : g_one
     rpu_tu #(.ExpBits(ExpBits), .FracBits(FracBits), .IsectMode(IsectMode), .StackDepth(StackDepth)) u_walker (
       .clk_i, .rst_ni, .cfg_i,
@@ -63,7 +67,6 @@ module rpu_tu_slots #(
     );
   end else begin : g_slots
     localparam int unsigned SlotBits = $clog2(Slots);
-    localparam int unsigned TagBits = rpu_pkg::RayTagBits;
     // A walker has at most one intersection record's lines in flight.
     localparam int unsigned RecordBytes = IsectMode == rpu_pkg::IsectModeWatertight
                                           ? rpu_pkg::TriangleRecordWatertightBytes
@@ -84,7 +87,7 @@ module rpu_tu_slots #(
     for (genvar i = 0; i < Slots; i++) begin : g_walker
       rpu_pkg::tu_rsp_t  walker_rsp;
       rpu_pkg::mem_req_t walker_mem_req;
-      rpu_pkg::iu_req_t  walker_iu_req, slot_iu_req;
+      rpu_pkg::iu_req_t  walker_iu_req;
       rpu_tu #(.ExpBits(ExpBits), .FracBits(FracBits), .IsectMode(IsectMode), .StackDepth(StackDepth)) u_walker (
         .clk_i, .rst_ni, .cfg_i,
         .req_valid_i(req_valid[i]), .req_ready_o(req_ready[i]), .req_i,
@@ -94,13 +97,9 @@ module rpu_tu_slots #(
         .iu_req_valid_o(iu_req_valid[i]), .iu_req_ready_i(iu_req_ready[i]), .iu_req_o(walker_iu_req),
         .iu_rsp_valid_i(iu_rsp_valid[i]), .iu_rsp_ready_o(iu_rsp_ready[i]), .iu_rsp_i
       );
-      always_comb begin
-        slot_iu_req     = walker_iu_req;
-        slot_iu_req.tag = TagBits'(i);
-      end
       assign rsp[i*rpu_pkg::TuRspBits +: rpu_pkg::TuRspBits]     = walker_rsp;
       assign mem_req[i*rpu_pkg::MemReqBits +: rpu_pkg::MemReqBits] = walker_mem_req;
-      assign iu_req[i*rpu_pkg::IuReqBits +: rpu_pkg::IuReqBits]   = slot_iu_req;
+      assign iu_req[i*rpu_pkg::IuReqBits +: rpu_pkg::IuReqBits]   = walker_iu_req;
     end
 
     // --- Rays in: the lowest free slot. ---
@@ -155,23 +154,30 @@ module rpu_tu_slots #(
     end
     assign mem_rsp_ready_o = order_valid && mem_rsp_ready[order_slot];
 
-    // --- IU: tests round robin, answers by tag. ---
-    logic [SlotBits-1:0] iu_slot_unused;
+    // --- IU: tests round robin, the tag replaced by the slot's index; answers by tag. ---
+    rpu_pkg::iu_req_t    iu_test;
+    logic [SlotBits-1:0] iu_slot;
     logic [SlotBits-1:0] answer_slot;
     rpu_rr_arbiter #(.Inputs(Slots), .Width(rpu_pkg::IuReqBits)) u_iu_arb (
       .clk_i, .rst_ni,
       .valid_i(iu_req_valid), .ready_o(iu_req_ready), .data_i(iu_req),
-      .valid_o(iu_req_valid_o), .ready_i(iu_req_ready_i), .data_o(iu_req_o), .index_o(iu_slot_unused)
+      .valid_o(iu_req_valid_o), .ready_i(iu_req_ready_i), .data_o(iu_test), .index_o(iu_slot)
     );
+    always_comb begin
+      iu_req_o     = iu_test;
+      iu_req_o.tag = TagBits'(iu_slot);
+    end
     assign answer_slot = iu_rsp_i.tag[SlotBits-1:0];
     for (genvar i = 0; i < Slots; i++) begin : g_iu_rsp
       assign iu_rsp_valid[i] = iu_rsp_valid_i && answer_slot == SlotBits'(i);
     end
     assign iu_rsp_ready_o = iu_rsp_ready[answer_slot];
 
-    // The IU's tag bits above the slot index are zero (the assertion below).
+    // The IU's tag bits above the slot index are zero (the assertion below); the walkers'
+    // own tags are replaced (iu_test whole: Yosys 0.23 reads no field of a struct declared
+    // in a generate block).
     logic unused_tag;
-    assign unused_tag = ^{iu_slot_unused, iu_rsp_i.tag};
+    assign unused_tag = ^{iu_test, iu_rsp_i.tag};
 
     always_ff @(posedge clk_i or negedge rst_ni) begin
       if (!rst_ni) begin
