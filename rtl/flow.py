@@ -7,7 +7,7 @@ gen.py turns into rpu_pkg.sv, so nothing here repeats a width or a unit list.
     flow.py lint  --verilator verilator --pkg build/ci/generated/rtl/rpu_pkg.sv
     flow.py synth --unit fma --format fp16 --pkg ... --cosim build/ci/sim/fp_cosim --out DIR
     flow.py synth --unit iu --isect woop --format fp16 --pkg ... --cosim build/ci/sim/iu_cosim --out DIR
-    flow.py synth --unit tu --isect woop --format fp16 --pkg ... --cosim build/ci/sim/tu_cosim --out DIR
+    flow.py synth --unit tu --isect woop --format fp16 [--slots 4] --pkg ... --cosim build/ci/sim/tu_cosim --out DIR
     flow.py synth --unit mem --config tiny --pkg ... --cosim build/ci/sim/mem_cosim --out DIR
     flow.py synth --unit chip --config tiny --netlist --pkg ... --cosim build/release/sim/chip_cosim --out DIR
     flow.py area  --from DIR --commit HASH    # appends to bench/results/area.json
@@ -56,10 +56,19 @@ def spec() -> tuple[dict, list[dict]]:
     return formats, tables["fp_units"]["unit"]
 
 
-def stream_bits() -> dict[str, int]:
-    """Each stream's width (spec/streams.toml), for the netlist testbenches' ports."""
+def stream_layouts() -> dict[str, dict]:
+    """Each stream's layout (spec/streams.toml): its bits and its fields' low bits."""
     tables = gen.load(ROOT / "spec")
-    return {s["name"]: s["bits"] for s in gen.streams.layout(tables, gen.fp_op_bits(tables))["streams"]}
+    return {s["name"]: s for s in gen.streams.layout(tables, gen.fp_op_bits(tables))["streams"]}
+
+
+def stream_bits() -> dict[str, int]:
+    """Each stream's width, for the netlist testbenches' ports."""
+    return {name: s["bits"] for name, s in stream_layouts().items()}
+
+
+def field_lsb(layout: dict, field: str) -> int:
+    return next(f["lsb"] for f in layout["fields"] if f["name"] == field)
 
 
 def rtl_sources() -> list[pathlib.Path]:
@@ -309,18 +318,31 @@ def synth_ray_unit(args, formats: dict) -> int:
     f = formats[args.format]
     out = pathlib.Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
+    if args.slots < 1 or (args.slots > 1 and args.unit != "tu"):
+        print("flow.py: --slots is a traversal unit's ray slots (1 or more)", file=sys.stderr)
+        return 2
     unit = f"{args.unit}_{args.isect}"
-    stem = f"{unit}_{args.format}"
+    stem = f"{unit}_{args.format}" + (f"_s{args.slots}" if args.slots > 1 else "")
     netlist = out / f"{stem}.v"
-    stats = yosys(args, kind["top"], {"ExpBits": f["exponent_bits"], "FracBits": f["fraction_bits"],
-                                      "IsectMode": isect_mode(args.isect)}, [kind["top_file"]], out, stem)
+    params = {"ExpBits": f["exponent_bits"], "FracBits": f["fraction_bits"], "IsectMode": isect_mode(args.isect)}
+    if args.unit == "tu":
+        params["Slots"] = args.slots
+    stats = yosys(args, kind["top"], params, [kind["top_file"]], out, stem)
     if stats is None:
         return 1
     stats.update(unit=unit, format=args.format, exponent_bits=f["exponent_bits"], fraction_bits=f["fraction_bits"])
+    if args.unit == "tu":
+        stats["slots"] = args.slots
     start = time.monotonic()
-    bits = stream_bits()
-    simulate = build_netlist_sim(args, out, stem, netlist, kind["tb"], kind["tb_top"],
-                                 {param: bits[stream] for param, stream in kind["streams"].items()},
+    layouts = stream_layouts()
+    tb_params = {param: layouts[stream]["bits"] for param, stream in kind["streams"].items()}
+    if args.unit == "tu":
+        # The tags, by which the testbench matches responses and (with slots) IU tests.
+        tb_params.update(TagBits=next(f["width"] for f in layouts["tu_rsp"]["fields"] if f["name"] == "tag"),
+                         RspTagLsb=field_lsb(layouts["tu_rsp"], "tag"),
+                         IuReqTagLsb=field_lsb(layouts["iu_req"], "tag"),
+                         IuRspTagLsb=field_lsb(layouts["iu_rsp"], "tag"), Slots=args.slots)
+    simulate = build_netlist_sim(args, out, stem, netlist, kind["tb"], kind["tb_top"], tb_params,
                                  kind.get("defines"))
     if simulate is None:
         return 1
@@ -354,6 +376,8 @@ def synth_ray_unit(args, formats: dict) -> int:
                  netlist_simulator=args.sim)
     if "design" in kind:
         stats["design"] = kind["design"]
+    if args.slots > 1:
+        stats["design"] = f"{args.slots} ray slots, a walker each"
     (out / f"{stem}.json").write_text(json.dumps(stats, indent=1) + "\n")
     print(f"synth ok: {unit} {args.format}: {stats['cells']} cells ({stats['flops']} flops), "
           f"{stats.get('transistors', '?')} CMOS transistors; {m.group(0).removeprefix('netlist ok: ')} "
@@ -767,7 +791,7 @@ def area(args) -> int:
     """Append synth's results (one JSON file per unit and format) to bench/results/area.json,
     from which scripts/doc-tables makes the tables of docs/area.md."""
     results = pathlib.Path(args.results)
-    keep = ("unit", "design", "format", "exponent_bits", "fraction_bits", "cells", "flops", "transistors",
+    keep = ("unit", "design", "slots", "format", "exponent_bits", "fraction_bits", "cells", "flops", "transistors",
             "synth_seconds", "netlist_vectors", "netlist_simulator", "netlist_build_seconds", "netlist_seconds")
     new = []
     # A chip's record: its units and totals, the netlist's frame and the command that
@@ -807,6 +831,8 @@ def main() -> int:
     p = sub.add_parser("synth")
     p.add_argument("--unit", required=True, help="an FP unit of spec/fp_units.toml, iu, tu, mem or chip")
     p.add_argument("--isect", choices=ISECT_MODES, default="woop", help="with --unit iu or tu: the intersection mode")
+    p.add_argument("--slots", type=int, default=1,
+                   help="with --unit tu: the ray slots (rpu_tu_slots); the netlist keeps that many rays in flight")
     p.add_argument("--format", help="the number format (not for --unit mem)")
     p.add_argument("--config", default="tiny", help="with --unit mem or chip: the named configuration")
     p.add_argument("--netlist", action="store_true",

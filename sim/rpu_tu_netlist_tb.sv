@@ -1,15 +1,19 @@
 // Testbench for a Yosys netlist of rpu_tu_cosim_top (rtl/flow.py synth --unit tu): reads
 // the memory image, the tu_cfg, the rays with the Tracer's expected responses and its
-// IU tests that tu_cosim --write-vectors wrote, each stream as its words. The rays go
-// in one at a time (as in tu_cosim) with random stalls on every port; a behavioural
-// memory serves the image's lines in order after 1-4 cycles (the memory streams are
-// one field each: an address, a line); the IU port is answered with the recorded
-// iu_rsp of the Tracer's IU tests in walk order after 1-4 cycles, each iu_req compared
-// with the recorded one in the bits it records as compared. Every response is compared
-// with the Tracer's in the bits the vectors mark (tu_cosim's expected_of). No field is
-// named here (spec/streams.toml): a mismatch prints the streams in hex, most
-// significant word first, as docs/streams.md lays them out. Stops at the first
-// mismatch. flow.py passes the stream widths from the spec.
+// IU tests that tu_cosim --write-vectors wrote, each stream as its words. Up to Slots
+// rays are in the unit at once (one at a time for one slot, as in tu_cosim), with random
+// stalls on every port; a behavioural memory serves the image's lines in order after 1-4
+// cycles (the memory streams are one field each: an address, a line). Each IU test is
+// answered after 1-4 cycles with the recorded iu_rsp of its ray's next test in walk
+// order, the tests of different slots in random order; the iu_req is compared with the
+// recorded one in the bits it records as compared. With more than one slot the IU tag
+// names the slot (rpu_tu_slots), so the testbench follows the unit's rule (a ray goes to
+// the lowest free slot; a slot is free from its response's hand-over) and checks the tag
+// against it instead of the ray's. Every response, matched to its ray by tag, is
+// compared with the Tracer's in the bits the vectors mark (tu_cosim's expected_of). No
+// field is named here (spec/streams.toml): flow.py passes the stream widths and the tag
+// fields' low bits from the spec, and a mismatch prints the streams in hex, most
+// significant word first, as docs/streams.md lays them out. Stops at the first mismatch.
 //   Vrpu_tu_netlist_tb +vectors=FILE [+seed=N]
 `timescale 1ns / 1ps
 module rpu_tu_netlist_tb #(
@@ -19,7 +23,12 @@ module rpu_tu_netlist_tb #(
   parameter integer MemReqBits = 32,
   parameter integer MemRspBits = 128,
   parameter integer IuReqBits = 1,
-  parameter integer IuRspBits = 1
+  parameter integer IuRspBits = 1,
+  parameter integer TagBits = 8,
+  parameter integer RspTagLsb = 0,
+  parameter integer IuReqTagLsb = 0,
+  parameter integer IuRspTagLsb = 0,
+  parameter integer Slots = 1
 );
 
   localparam integer MaxWords = 1 << 20;
@@ -35,6 +44,7 @@ module rpu_tu_netlist_tb #(
   localparam integer TestFields = 2 * IuReqWords + IuRspWords;      // expected request, compared bits, answer
   localparam integer StallPercent = 8;
   localparam integer Timeout = 100000;
+  localparam integer MemSlots = 64;                                  // memory requests in flight at most
 
   reg                   clk = 1'b0;
   reg                   rst_n = 1'b0;
@@ -81,15 +91,24 @@ module rpu_tu_netlist_tb #(
   reg [CfgWords*32-1:0]   cfg_flat;
   reg [MemRspBits-1:0]    line;
 
-  // Memory requests in flight (at most 3: a record's lines) and when each may answer.
-  reg [MemReqBits-1:0] mem_addr [0:7];
-  integer    mem_due [0:7];
+  // Memory requests in flight and when each may answer.
+  reg [MemReqBits-1:0] mem_addr [0:MemSlots-1];
+  integer    mem_due [0:MemSlots-1];
   integer    mem_head, mem_tail;
-  // The IU test in flight (one at a time) and when it may answer.
-  integer    iu_pending, iu_due;
+  // Per slot: its ray (while busy), that ray's next IU test and the end of its tests,
+  // and its IU test in flight (each slot waits for its answer) with when it may answer.
+  reg        busy [0:Slots-1];
+  integer    slot_ray [0:Slots-1];
+  integer    next_test [0:Slots-1];
+  integer    tests_end [0:Slots-1];
+  reg        iu_pending [0:Slots-1];
+  integer    iu_due [0:Slots-1];
+  // Each ray's first IU test in the file.
+  integer    first_test [0:MaxRays];
 
   reg [1023:0] path;
-  integer fd, words, n, tests, i, k, w, sent, got, cycle, last, seed, ok, next_test, ray_tests_end;
+  integer fd, words, n, tests, i, k, w, s, sent, got, cycle, last, seed, ok, free, answering, in_flight, r;
+  reg [TagBits-1:0] tag;
 
   task automatic load_ray(input integer r);
     integer b, j;
@@ -146,6 +165,16 @@ module rpu_tu_netlist_tb #(
     end
     for (i = 0; i < CfgWords; i = i + 1) cfg_flat[i*32 +: 32] = cfg_words[i];
     cfg = cfg_flat[CfgBits-1:0];
+    first_test[0] = 0;
+    for (i = 0; i < n; i = i + 1) first_test[i + 1] = first_test[i] + ray[i * RayFields + ReqWords];
+    if (first_test[n] != tests) begin
+      $display("netlist FAIL: %0s: the rays count %0d IU tests, the file holds %0d", path, first_test[n], tests);
+      $fatal(2);
+    end
+    for (s = 0; s < Slots; s = s + 1) begin
+      busy[s] = 1'b0;
+      iu_pending[s] = 1'b0;
+    end
 
     reset_dut();
 
@@ -154,85 +183,112 @@ module rpu_tu_netlist_tb #(
     last = 0;
     mem_head = 0;
     mem_tail = 0;
-    iu_pending = 0;
-    iu_due = 0;
-    next_test = 0;
-    ray_tests_end = 0;
     for (cycle = 0; got < n; cycle = cycle + 1) begin
-      // Inputs of this cycle: one ray at a time, stalls everywhere.
-      req_valid = sent == got && sent < n && ({$random(seed)} % 100) >= StallPercent;
+      // The unit's rule: the next ray goes to the lowest free slot.
+      free = -1;
+      for (s = Slots - 1; s >= 0; s = s - 1) if (!busy[s]) free = s;
+      in_flight = 0;
+      for (s = 0; s < Slots; s = s + 1) if (busy[s]) in_flight = in_flight + 1;
+      // Inputs of this cycle: up to Slots rays in the unit, stalls everywhere.
+      req_valid = free >= 0 && sent < n && ({$random(seed)} % 100) >= StallPercent;
       if (sent < n) begin
         load_ray(sent);
         req = req_flat[ReqBits-1:0];
       end
       rsp_ready     = ({$random(seed)} % 100) >= StallPercent;
       mem_req_ready = ({$random(seed)} % 100) >= StallPercent;
-      mem_rsp_valid = mem_head != mem_tail && mem_due[mem_head % 8] <= cycle
+      mem_rsp_valid = mem_head != mem_tail && mem_due[mem_head % MemSlots] <= cycle
                       && ({$random(seed)} % 100) >= StallPercent;
       if (mem_rsp_valid) begin
-        k = mem_addr[mem_head % 8] / 4;
+        k = mem_addr[mem_head % MemSlots] / 4;
         // Whole-value writes of the DUT's inputs: Verilator 5.006 did not pass a
         // part-select write of mem_rsp to the port.
         for (w = 0; w < LineWords; w = w + 1) line[w*32 +: 32] = mem[k + w];
         mem_rsp = line;
       end
-      iu_req_ready = !iu_pending && ({$random(seed)} % 100) >= StallPercent;
-      iu_rsp_valid = iu_pending && iu_due <= cycle && ({$random(seed)} % 100) >= StallPercent;
+      // One due answer, from a random slot onwards.
+      answering = -1;
+      k = {$random(seed)} % Slots;
+      for (i = 0; i < Slots; i = i + 1) begin
+        s = (k + i) % Slots;
+        if (answering < 0 && iu_pending[s] && iu_due[s] <= cycle) answering = s;
+      end
+      iu_req_ready = ({$random(seed)} % 100) >= StallPercent;
+      iu_rsp_valid = answering >= 0 && ({$random(seed)} % 100) >= StallPercent;
       if (iu_rsp_valid) begin
-        load_test(next_test - 1);
+        load_test(next_test[answering] - 1);
+        if (Slots > 1) answer[IuRspTagLsb +: TagBits] = TagBits'(answering);
         iu_rsp = answer[IuRspBits-1:0];
       end
       #1;
 
-      if (rsp_valid && sent == got) begin
-        $display("netlist FAIL: cycle %0d: a response without a ray", cycle);
-        $fatal(1);
-      end
       if (rsp_valid && rsp_ready) begin
-        load_ray(got);
-        if (((rsp ^ want_rsp[RspBits-1:0]) & care_rsp[RspBits-1:0]) !== '0 || next_test != ray_tests_end) begin
-          $display("netlist FAIL: cycle %0d, ray %0d: expected tu_rsp %h in the bits %h", cycle, got,
-                   want_rsp[RspBits-1:0], care_rsp[RspBits-1:0]);
-          $display("  actual %h; IU tests taken %0d of %0d", rsp,
-                   next_test - (ray_tests_end - ray[got * RayFields + ReqWords]), ray[got * RayFields + ReqWords]);
-          fail_ray(got);
+        tag = rsp[RspTagLsb +: TagBits];
+        k = -1;
+        for (s = 0; s < Slots; s = s + 1) if (busy[s] && TagBits'(slot_ray[s]) == tag) k = s;
+        if (k < 0) begin
+          $display("netlist FAIL: cycle %0d: a response (tag %h) for no ray in the unit", cycle, tag);
+          $fatal(1);
         end
+        r = slot_ray[k];
+        load_ray(r);
+        if (((rsp ^ want_rsp[RspBits-1:0]) & care_rsp[RspBits-1:0]) !== '0 || next_test[k] != tests_end[k]) begin
+          $display("netlist FAIL: cycle %0d, ray %0d: expected tu_rsp %h in the bits %h", cycle, r,
+                   want_rsp[RspBits-1:0], care_rsp[RspBits-1:0]);
+          $display("  actual %h; IU tests taken %0d of %0d", rsp, next_test[k] - first_test[r],
+                   tests_end[k] - first_test[r]);
+          fail_ray(r);
+        end
+        busy[k] = 1'b0;
         got = got + 1;
         last = cycle;
       end
       if (mem_req_valid && mem_req_ready) begin
-        if (mem_req % (MemRspBits / 8) != 0 || mem_req / 4 + LineWords > words || mem_tail - mem_head == 8) begin
-          $display("netlist FAIL: cycle %0d: memory request at %h: unaligned, outside the %0d-word image, or 9 in flight",
-                   cycle, mem_req, words);
+        if (mem_req % (MemRspBits / 8) != 0 || mem_req / 4 + LineWords > words || mem_tail - mem_head == MemSlots) begin
+          $display("netlist FAIL: cycle %0d: memory request at %h: unaligned, outside the %0d-word image, or %0d in flight",
+                   cycle, mem_req, words, MemSlots + 1);
           fail_ray(got);
         end
-        mem_addr[mem_tail % 8] = mem_req;
-        mem_due[mem_tail % 8] = cycle + 1 + {$random(seed)} % 4;
+        mem_addr[mem_tail % MemSlots] = mem_req;
+        mem_due[mem_tail % MemSlots] = cycle + 1 + {$random(seed)} % 4;
         mem_tail = mem_tail + 1;
       end
       if (mem_rsp_valid && mem_rsp_ready) mem_head = mem_head + 1;
       if (iu_req_valid && iu_req_ready) begin
-        load_test(next_test);
-        if (next_test >= ray_tests_end
+        // Whose test: the slot the tag names, or the one slot.
+        s = Slots > 1 ? integer'(iu_req[IuReqTagLsb +: TagBits]) : 0;
+        if (s >= Slots || !busy[s] || iu_pending[s]) begin
+          $display("netlist FAIL: cycle %0d: IU request with tag %h: no slot of that index holds a ray waiting for none",
+                   cycle, iu_req[IuReqTagLsb +: TagBits]);
+          $display("  iu_req %h", iu_req);
+          $fatal(1);
+        end
+        r = slot_ray[s];
+        load_test(next_test[s]);
+        if (Slots > 1) care_iu[IuReqTagLsb +: TagBits] = '0;
+        if (next_test[s] >= tests_end[s]
             || ((iu_req ^ want_iu[IuReqBits-1:0]) & care_iu[IuReqBits-1:0]) !== '0) begin
           $display("netlist FAIL: cycle %0d: IU request %0d of the walk (of %0d) differs: iu_req %h", cycle,
-                   next_test - (ray_tests_end - ray[got * RayFields + ReqWords]), ray[got * RayFields + ReqWords],
-                   iu_req);
+                   next_test[s] - first_test[r], tests_end[s] - first_test[r], iu_req);
           $display("  expected %h in the bits %h", want_iu[IuReqBits-1:0], care_iu[IuReqBits-1:0]);
-          fail_ray(got);
+          fail_ray(r);
         end
-        next_test = next_test + 1;
-        iu_pending = 1;
-        iu_due = cycle + 1 + {$random(seed)} % 4;
+        next_test[s] = next_test[s] + 1;
+        iu_pending[s] = 1'b1;
+        iu_due[s] = cycle + 1 + {$random(seed)} % 4;
       end
-      if (iu_rsp_valid && iu_rsp_ready) iu_pending = 0;
+      if (iu_rsp_valid && iu_rsp_ready) iu_pending[answering] = 1'b0;
       if (req_valid && req_ready) begin
-        ray_tests_end = ray_tests_end + ray[sent * RayFields + ReqWords];
+        busy[free] = 1'b1;
+        slot_ray[free] = sent;
+        next_test[free] = first_test[sent];
+        tests_end[free] = first_test[sent + 1];
         sent = sent + 1;
         last = cycle;
       end
       if (cycle - last > Timeout) begin
-        $display("netlist FAIL: no response for %0d cycles at cycle %0d", Timeout, cycle);
+        $display("netlist FAIL: no response for %0d cycles at cycle %0d (%0d rays in the unit)", Timeout, cycle,
+                 in_flight);
         fail_ray(got);
       end
       clk = 1'b1;
