@@ -67,8 +67,9 @@ def stream_bits() -> dict[str, int]:
     return {name: s["bits"] for name, s in stream_layouts().items()}
 
 
-def field_lsb(layout: dict, field: str) -> int:
-    return next(f["lsb"] for f in layout["fields"] if f["name"] == field)
+def stream_field(layout: dict, name: str) -> dict:
+    """A field of a stream's layout: its width and low bit."""
+    return next(f for f in layout["fields"] if f["name"] == name)
 
 
 def rtl_sources() -> list[pathlib.Path]:
@@ -338,10 +339,9 @@ def synth_ray_unit(args, formats: dict) -> int:
     tb_params = {param: layouts[stream]["bits"] for param, stream in kind["streams"].items()}
     if args.unit == "tu":
         # The tags, by which the testbench matches responses and (with slots) IU tests.
-        tb_params.update(TagBits=next(f["width"] for f in layouts["tu_rsp"]["fields"] if f["name"] == "tag"),
-                         RspTagLsb=field_lsb(layouts["tu_rsp"], "tag"),
-                         IuReqTagLsb=field_lsb(layouts["iu_req"], "tag"),
-                         IuRspTagLsb=field_lsb(layouts["iu_rsp"], "tag"), Slots=args.slots)
+        tags = {stream: stream_field(layouts[stream], "tag") for stream in ("tu_rsp", "iu_req", "iu_rsp")}
+        tb_params.update(TagBits=tags["tu_rsp"]["width"], RspTagLsb=tags["tu_rsp"]["lsb"],
+                         IuReqTagLsb=tags["iu_req"]["lsb"], IuRspTagLsb=tags["iu_rsp"]["lsb"], Slots=args.slots)
     simulate = build_netlist_sim(args, out, stem, netlist, kind["tb"], kind["tb_top"], tb_params,
                                  kind.get("defines"))
     if simulate is None:

@@ -107,7 +107,7 @@ module rpu_tu_netlist_tb #(
   integer    first_test [0:MaxRays];
 
   reg [1023:0] path;
-  integer fd, words, n, tests, i, k, w, s, sent, got, cycle, last, seed, ok, free, answering, in_flight, r;
+  integer fd, words, n, tests, i, k, w, s, sent, got, cycle, last, seed, ok, free, answering, r;
   reg [TagBits-1:0] tag;
 
   task automatic load_ray(input integer r);
@@ -138,6 +138,20 @@ module rpu_tu_netlist_tb #(
     begin
       load_ray(r);
       $display("  ray %0d: tu_req %h", r, req_flat[ReqBits-1:0]);
+      $fatal(1);
+    end
+  endtask
+
+  // A failure no one ray is known for: the rays in the unit, then stop.
+  task automatic fail_in_flight;
+    integer j;
+    begin
+      for (j = 0; j < Slots; j = j + 1) begin
+        if (busy[j]) begin
+          load_ray(slot_ray[j]);
+          $display("  slot %0d: ray %0d: tu_req %h", j, slot_ray[j], req_flat[ReqBits-1:0]);
+        end
+      end
       $fatal(1);
     end
   endtask
@@ -187,8 +201,6 @@ module rpu_tu_netlist_tb #(
       // The unit's rule: the next ray goes to the lowest free slot.
       free = -1;
       for (s = Slots - 1; s >= 0; s = s - 1) if (!busy[s]) free = s;
-      in_flight = 0;
-      for (s = 0; s < Slots; s = s + 1) if (busy[s]) in_flight = in_flight + 1;
       // Inputs of this cycle: up to Slots rays in the unit, stalls everywhere.
       req_valid = free >= 0 && sent < n && ({$random(seed)} % 100) >= StallPercent;
       if (sent < n) begin
@@ -247,7 +259,7 @@ module rpu_tu_netlist_tb #(
         if (mem_req % (MemRspBits / 8) != 0 || mem_req / 4 + LineWords > words || mem_tail - mem_head == MemSlots) begin
           $display("netlist FAIL: cycle %0d: memory request at %h: unaligned, outside the %0d-word image, or %0d in flight",
                    cycle, mem_req, words, MemSlots + 1);
-          fail_ray(got);
+          fail_in_flight();
         end
         mem_addr[mem_tail % MemSlots] = mem_req;
         mem_due[mem_tail % MemSlots] = cycle + 1 + {$random(seed)} % 4;
@@ -287,9 +299,8 @@ module rpu_tu_netlist_tb #(
         last = cycle;
       end
       if (cycle - last > Timeout) begin
-        $display("netlist FAIL: no response for %0d cycles at cycle %0d (%0d rays in the unit)", Timeout, cycle,
-                 in_flight);
-        fail_ray(got);
+        $display("netlist FAIL: no response for %0d cycles at cycle %0d; the rays in the unit:", Timeout, cycle);
+        fail_in_flight();
       end
       clk = 1'b1;
       #1 clk = 1'b0;
