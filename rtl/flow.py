@@ -109,6 +109,13 @@ def lint(args) -> int:
             jobs.append((f"rpu_tu {name} {isect}", ["rpu_tu"],
                          [f"-GExpBits={f['exponent_bits']}", f"-GFracBits={f['fraction_bits']}",
                           f"-GIsectMode={isect_mode(isect)}"], []))
+    # The TU whose ray slots share a node-step pipeline (its set-up engines are rpu_tu
+    # with HandOff), every format and mode.
+    for name, f in formats.items():
+        for isect in ISECT_MODES:
+            jobs.append((f"rpu_tu_pipe {name} {isect}", ["rpu_tu_pipe"],
+                         [f"-GExpBits={f['exponent_bits']}", f"-GFracBits={f['fraction_bits']}",
+                          f"-GIsectMode={isect_mode(isect)}", "-GSlots=4", "-GSetups=3"], []))
     # The ray unit (TU + IU) in every format and mode; the sim top with and without the IU.
     for name, f in formats.items():
         for isect in ISECT_MODES:
@@ -118,6 +125,7 @@ def lint(args) -> int:
     for with_iu in (0, 1):
         jobs.append((f"rpu_tu_cosim_top WithIu={with_iu}", ["rpu_tu_cosim_top"], [f"-GWithIu={with_iu}"],
                      [TU_SIM_TOP]))
+    jobs.append(("rpu_tu_cosim_top Pipe=1", ["rpu_tu_cosim_top"], ["-GPipe=1", "-GSlots=16"], [TU_SIM_TOP]))
     for top in ("rpu_fifo", "rpu_skid_buf"):
         jobs.append((top, [top], ["-GWidth=8"], []))
     # The shader core as each named configuration builds it (its build-time parameters
@@ -322,18 +330,34 @@ def synth_ray_unit(args, formats: dict) -> int:
     if args.slots < 1 or (args.slots > 1 and args.unit != "tu"):
         print("flow.py: --slots is a traversal unit's ray slots (1 or more)", file=sys.stderr)
         return 2
+    if args.pipe and (args.unit != "tu" or args.slots < 2):
+        print("flow.py: --pipe is a traversal unit's with 2 or more --slots", file=sys.stderr)
+        return 2
     unit = f"{args.unit}_{args.isect}"
-    stem = f"{unit}_{args.format}" + (f"_s{args.slots}" if args.slots > 1 else "")
+    stem = f"{unit}_{args.format}" + (f"_s{args.slots}" if args.slots > 1 else "") + \
+        (f"_pipe_e{args.setups}" if args.pipe else "")
     netlist = out / f"{stem}.v"
     params = {"ExpBits": f["exponent_bits"], "FracBits": f["fraction_bits"], "IsectMode": isect_mode(args.isect)}
     if args.unit == "tu":
         params["Slots"] = args.slots
-    stats = yosys(args, kind["top"], params, [kind["top_file"]], out, stem)
+    if args.pipe:
+        params.update(Pipe=1, Setups=args.setups)
+    # The pipeline's stacks are one RAM: kept as a memory, its bits counted apart.
+    stats = yosys(args, kind["top"], params, [kind["top_file"]], out, stem, keep_rams=args.pipe)
     if stats is None:
         return 1
     stats.update(unit=unit, format=args.format, exponent_bits=f["exponent_bits"], fraction_bits=f["fraction_bits"])
     if args.unit == "tu":
         stats["slots"] = args.slots
+    if args.pipe:
+        # The netlist testbench checks each IU test against the walk's next one with its
+        # t_best, one test per slot in flight; rpu_tu_pipe streams a leaf's tests with the
+        # t_best of their time, so its netlist is not simulated (docs/area.md).
+        stats["design"] = f"{args.slots} ray slots sharing a node-step pipeline, {args.setups} set-up engines"
+        (out / f"{stem}.json").write_text(json.dumps(stats, indent=1) + "\n")
+        print(f"synth ok: {unit} {args.format}: {stats['cells']} cells ({stats['flops']} flops, "
+              f"{stats['ram_bits']} RAM bits); the netlist is not simulated")
+        return 0
     start = time.monotonic()
     layouts = stream_layouts()
     tb_params = {param: layouts[stream]["bits"] for param, stream in kind["streams"].items()}
@@ -791,8 +815,8 @@ def area(args) -> int:
     """Append synth's results (one JSON file per unit and format) to bench/results/area.json,
     from which scripts/doc-tables makes the tables of docs/area.md."""
     results = pathlib.Path(args.results)
-    keep = ("unit", "design", "slots", "format", "exponent_bits", "fraction_bits", "cells", "flops", "transistors",
-            "synth_seconds", "netlist_vectors", "netlist_simulator", "netlist_build_seconds", "netlist_seconds")
+    keep = ("unit", "design", "slots", "format", "exponent_bits", "fraction_bits", "cells", "flops", "ram_bits",
+            "transistors", "synth_seconds", "netlist_vectors", "netlist_simulator", "netlist_build_seconds", "netlist_seconds")
     new = []
     # A chip's record: its units and totals, the netlist's frame and the command that
     # synthesised it (flow.py synth --unit chip).
@@ -833,6 +857,9 @@ def main() -> int:
     p.add_argument("--isect", choices=ISECT_MODES, default="woop", help="with --unit iu or tu: the intersection mode")
     p.add_argument("--slots", type=int, default=1,
                    help="with --unit tu: the ray slots (rpu_tu_slots); the netlist keeps that many rays in flight")
+    p.add_argument("--pipe", action="store_true",
+                   help="with --unit tu: the slots share a node-step pipeline (rpu_tu_pipe); Yosys only")
+    p.add_argument("--setups", type=int, default=2, help="with --pipe: the set-up engines")
     p.add_argument("--format", help="the number format (not for --unit mem)")
     p.add_argument("--config", default="tiny", help="with --unit mem or chip: the named configuration")
     p.add_argument("--netlist", action="store_true",
@@ -863,7 +890,7 @@ def main() -> int:
     p.add_argument("--results", default=str(ROOT / "bench" / "results" / "area.json"),
                    help="the result file to append to (default bench/results/area.json)")
     args = ap.parse_args()
-    if args.cmd == "synth" and args.unit != "chip" and not args.cosim:
+    if args.cmd == "synth" and args.unit != "chip" and not args.pipe and not args.cosim:
         ap.error("synth needs --cosim (the harness that writes the vectors)")
     return {"lint": lint, "synth": synth, "area": area}[args.cmd](args)
 

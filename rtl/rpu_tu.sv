@@ -15,11 +15,17 @@
 // line, a prim ref one line, an intersection record three (requested back to back).
 // A ray whose walk pushes onto a full stack ends with fault set (Tracer's "traversal
 // stack overflow" error).
+//
+// HandOff = 1 makes the unit a set-up engine of rpu_tu_pipe: a ray whose clipped
+// interval is not empty leaves on the start port after StClipEnd instead of walking
+// (start_ray_o: the ray as the IU sees it, t_best = t_max); defined misses and rays
+// that miss the box answer on rsp as always. The walk's states are then never entered.
 module rpu_tu #(
   parameter int unsigned ExpBits    = rpu_pkg::FormatFp32ExponentBits,
   parameter int unsigned FracBits   = rpu_pkg::FormatFp32FractionBits,
   parameter int unsigned IsectMode  = rpu_pkg::IsectModeWoop,
-  parameter int unsigned StackDepth = rpu_pkg::ConfigDefaultStackDepth
+  parameter int unsigned StackDepth = rpu_pkg::ConfigDefaultStackDepth,
+  parameter bit          HandOff    = 1'b0
 ) (
   input  logic              clk_i,
   input  logic              rst_ni,
@@ -48,7 +54,17 @@ module rpu_tu #(
 
   input  logic              iu_rsp_valid_i,
   output logic              iu_rsp_ready_o,
-  input  rpu_pkg::iu_rsp_t  iu_rsp_i
+  input  rpu_pkg::iu_rsp_t  iu_rsp_i,
+
+  // HandOff = 1: the set-up ray; inv, t_near and t_far in the format, right-aligned.
+  output logic              start_valid_o,
+  input  logic              start_ready_i,
+  output rpu_pkg::iu_req_t  start_ray_o,
+  output logic [3*32-1:0]   start_inv_o,
+  output logic [31:0]       start_t_near_o,
+  output logic [31:0]       start_t_far_o,
+  output logic              start_any_hit_o,
+  output logic [2:0]        start_dir_le0_o  // D[axis] <= 0, which orders a node's children
 );
 
   localparam int unsigned W = 1 + ExpBits + FracBits;
@@ -115,7 +131,8 @@ module rpu_tu #(
     StPop,        // §3: t_best < t_near of the popped entry
     StPopDecide,
     StFinish,     // §6: widen t, u, v to fp32
-    StRsp         // the response
+    StRsp,        // the response
+    StHandOff     // HandOff: the set-up ray leaves on the start port
   } state_e;
 
   // --- The request, through a skid buffer (registered ready). ---
@@ -342,6 +359,7 @@ module rpu_tu #(
     iu_req_valid_o  = 1'b0;
     iu_rsp_ready_o  = 1'b0;
     rsp_valid_o     = 1'b0;
+    start_valid_o   = 1'b0;
 
     unique case (state_q)
       StIdle: begin
@@ -553,7 +571,7 @@ module rpu_tu #(
       StClipEnd: begin
         if (fm_busy_q == '0) begin
           node_d  = '0;
-          state_d = flags_q[FNearFar] ? StNodeReq : StRsp;
+          state_d = !flags_q[FNearFar] ? StRsp : HandOff ? StHandOff : StNodeReq;
         end
       end
 
@@ -815,6 +833,11 @@ module rpu_tu #(
         end
       end
 
+      StHandOff: begin
+        start_valid_o = 1'b1;
+        if (start_ready_i) state_d = StIdle;
+      end
+
       default: state_d = StIdle;
     endcase
 
@@ -881,13 +904,14 @@ module rpu_tu #(
   end
 
   // A push writes the entry at the stack pointer; the record's lines arrive in order.
+  // (A HandOff engine never walks: no writes, so synthesis keeps neither.)
   for (genvar i = 0; i < StackDepth; i++) begin : gen_stack
-    assign stack_d[i*EntryBits +: EntryBits] = push && sp_q == SpBits'(i)
+    assign stack_d[i*EntryBits +: EntryBits] = !HandOff && push && sp_q == SpBits'(i)
                                                ? {second_child, rd(regs_q, RTSplit), rd(regs_q, RTFar)}
                                                : stack_q[i*EntryBits +: EntryBits];
   end
   for (genvar i = 0; i < RecordLines; i++) begin : gen_record
-    assign record_d[i*LineBits +: LineBits] = record_we && got_q == SentBits'(i) ? mem_rsp_i.data
+    assign record_d[i*LineBits +: LineBits] = !HandOff && record_we && got_q == SentBits'(i) ? mem_rsp_i.data
                                                                                 : record_q[i*LineBits +: LineBits];
   end
 
@@ -968,16 +992,24 @@ module rpu_tu #(
   assign iu_req_o.shear_y   = Watertight ? ext(rd(regs_q, RSy)) : '0;
   assign iu_req_o.record    = record_q;
 
+  assign start_ray_o     = iu_req_o;
+  assign start_inv_o     = {ext(rd(regs_q, RInv + 2)), ext(rd(regs_q, RInv + 1)), ext(rd(regs_q, RInv))};
+  assign start_t_near_o  = ext(rd(regs_q, RTNear));
+  assign start_t_far_o   = ext(rd(regs_q, RTFar));
+  assign start_any_hit_o = ray_q.any_hit;
+  assign start_dir_le0_o = flags_q[FDLe0 +: 3];
+
+  // A HandOff engine answers only rays that miss before the walk: no hit, no counts.
   assign rsp_o.tag    = ray_q.tag;
-  assign rsp_o.hit    = hit_q;
+  assign rsp_o.hit    = !HandOff && hit_q;
   assign rsp_o.t      = world_t;
   assign rsp_o.u      = out_q[32 +: 32];
   assign rsp_o.v      = out_q[64 +: 32];
-  assign rsp_o.prim   = hit_prim_q;
-  assign rsp_o.nodes  = nodes_q;
-  assign rsp_o.leaves = leaves_q;
-  assign rsp_o.tests  = tests_q;
-  assign rsp_o.fault  = fault_q;
+  assign rsp_o.prim   = HandOff ? '0 : hit_prim_q;
+  assign rsp_o.nodes  = HandOff ? '0 : nodes_q;
+  assign rsp_o.leaves = HandOff ? '0 : leaves_q;
+  assign rsp_o.tests  = HandOff ? '0 : tests_q;
+  assign rsp_o.fault  = !HandOff && fault_q;
 
   // Bits the unit does not read: the FP units' ready (they never stall here), result
   // bits above the format's width, tag bits beyond the destination, the IU's tag (one

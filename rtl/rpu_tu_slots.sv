@@ -55,6 +55,13 @@ module rpu_tu_slots #(
   // cast inside a loop nested in that block.
   localparam int unsigned TagBits = rpu_pkg::RayTagBits;
 
+  // The walkers' start ports (rpu_tu's HandOff, which these walkers do not use): valid,
+  // ray, inv, t_near, t_far, any_hit, dir_le0, a flat vector for Yosys 0.23.
+  localparam int unsigned StartBits = 1 + rpu_pkg::IuReqBits + 5 * 32 + 1 + 3;
+  logic [Slots*StartBits-1:0] start;
+  logic                       unused_start;
+  assign unused_start = ^start;
+
   if (Slots == 1) begin : g_one
     rpu_tu #(.ExpBits(ExpBits), .FracBits(FracBits), .IsectMode(IsectMode), .StackDepth(StackDepth)) u_walker (
       .clk_i, .rst_ni, .cfg_i,
@@ -63,7 +70,14 @@ module rpu_tu_slots #(
       .mem_req_valid_o, .mem_req_ready_i, .mem_req_o,
       .mem_rsp_valid_i, .mem_rsp_ready_o, .mem_rsp_i,
       .iu_req_valid_o, .iu_req_ready_i, .iu_req_o,
-      .iu_rsp_valid_i, .iu_rsp_ready_o, .iu_rsp_i
+      .iu_rsp_valid_i, .iu_rsp_ready_o, .iu_rsp_i,
+      .start_valid_o(start[0*StartBits]), .start_ready_i(1'b0),
+      .start_ray_o(start[0*StartBits + 1 +: rpu_pkg::IuReqBits]),
+      .start_inv_o(start[0*StartBits + 1 + rpu_pkg::IuReqBits +: 96]),
+      .start_t_near_o(start[0*StartBits + 97 + rpu_pkg::IuReqBits +: 32]),
+      .start_t_far_o(start[0*StartBits + 129 + rpu_pkg::IuReqBits +: 32]),
+      .start_any_hit_o(start[0*StartBits + 161 + rpu_pkg::IuReqBits]),
+      .start_dir_le0_o(start[0*StartBits + 162 + rpu_pkg::IuReqBits +: 3])
     );
   end else begin : g_slots
     localparam int unsigned SlotBits = $clog2(Slots);
@@ -95,7 +109,14 @@ module rpu_tu_slots #(
         .mem_req_valid_o(mem_req_valid[i]), .mem_req_ready_i(mem_req_ready[i]), .mem_req_o(walker_mem_req),
         .mem_rsp_valid_i(mem_rsp_valid[i]), .mem_rsp_ready_o(mem_rsp_ready[i]), .mem_rsp_i,
         .iu_req_valid_o(iu_req_valid[i]), .iu_req_ready_i(iu_req_ready[i]), .iu_req_o(walker_iu_req),
-        .iu_rsp_valid_i(iu_rsp_valid[i]), .iu_rsp_ready_o(iu_rsp_ready[i]), .iu_rsp_i
+        .iu_rsp_valid_i(iu_rsp_valid[i]), .iu_rsp_ready_o(iu_rsp_ready[i]), .iu_rsp_i,
+        .start_valid_o(start[i*StartBits]), .start_ready_i(1'b0),
+        .start_ray_o(start[i*StartBits + 1 +: rpu_pkg::IuReqBits]),
+        .start_inv_o(start[i*StartBits + 1 + rpu_pkg::IuReqBits +: 96]),
+        .start_t_near_o(start[i*StartBits + 97 + rpu_pkg::IuReqBits +: 32]),
+        .start_t_far_o(start[i*StartBits + 129 + rpu_pkg::IuReqBits +: 32]),
+        .start_any_hit_o(start[i*StartBits + 161 + rpu_pkg::IuReqBits]),
+        .start_dir_le0_o(start[i*StartBits + 162 + rpu_pkg::IuReqBits +: 3])
       );
       assign rsp[i*rpu_pkg::TuRspBits +: rpu_pkg::TuRspBits]     = walker_rsp;
       assign mem_req[i*rpu_pkg::MemReqBits +: rpu_pkg::MemReqBits] = walker_mem_req;

@@ -3,15 +3,18 @@
 // rpu::streams words. WithIu = 0: rpu_tu with its IU port open, so the harness
 // answers the IU's tests with the C++ intersection unit; WithIu = 1 (tu_cosim --with-iu):
 // the ray unit (rpu_tu + rpu_iu), the IU port's pins tied off. Slots: the TU's ray
-// slots (rpu_tu_slots). Only wiring: a synthesis
-// of this top has the unit's cells.
+// slots (rpu_tu_slots); Pipe = 1: the slots share a node-step pipeline and Setups set-up
+// engines (rpu_tu_pipe, TU alone). Only wiring: a synthesis of this top has the unit's
+// cells.
 module rpu_tu_cosim_top #(
   parameter int unsigned ExpBits    = rpu_pkg::FormatFp32ExponentBits,
   parameter int unsigned FracBits   = rpu_pkg::FormatFp32FractionBits,
   parameter int unsigned IsectMode  = rpu_pkg::IsectModeWoop,
   parameter int unsigned StackDepth = rpu_pkg::ConfigDefaultStackDepth,
   parameter int unsigned WithIu     = 0,
-  parameter int unsigned Slots      = 1
+  parameter int unsigned Slots      = 1,
+  parameter int unsigned Pipe       = 0,
+  parameter int unsigned Setups     = 2
 ) (
   input  logic                            clk_i,
   input  logic                            rst_ni,
@@ -76,6 +79,17 @@ module rpu_tu_cosim_top #(
     assign iu_rsp_ready_o = 1'b0;
     logic unused_iu_port;
     assign unused_iu_port = ^{iu_req_ready_i, iu_rsp_valid_i, iu_rsp};
+  end else if (Pipe != 0) begin : g_tu_pipe
+    rpu_tu_pipe #(.ExpBits(ExpBits), .FracBits(FracBits), .IsectMode(IsectMode), .StackDepth(StackDepth),
+                  .Slots(Slots), .Setups(Setups)) u_tu (
+      .clk_i, .rst_ni, .cfg_i(cfg),
+      .req_valid_i, .req_ready_o, .req_i(req),
+      .rsp_valid_o, .rsp_ready_i, .rsp_o(rsp),
+      .mem_req_valid_o, .mem_req_ready_i, .mem_req_o(mem_req),
+      .mem_rsp_valid_i, .mem_rsp_ready_o, .mem_rsp_i(mem_rsp),
+      .iu_req_valid_o, .iu_req_ready_i, .iu_req_o(iu_req),
+      .iu_rsp_valid_i, .iu_rsp_ready_o, .iu_rsp_i(iu_rsp)
+    );
   end else begin : g_tu
     rpu_tu_slots #(.ExpBits(ExpBits), .FracBits(FracBits), .IsectMode(IsectMode), .StackDepth(StackDepth),
                    .Slots(Slots)) u_tu (

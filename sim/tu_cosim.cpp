@@ -69,6 +69,7 @@ struct Options {
   std::string isect = "woop";
   bool with_iu = false;
   int slots = 1;      // the model's ray slots
+  bool pipe = false;  // ... sharing a node-step pipeline (rpu_tu_pipe)
   int in_flight = 1;  // rays the harness keeps in the unit at once
   int scale = 0;  // the scene times 2^scale (kd space, docs/traversal.md §1)
   int rays = 10000;  // per kind: camera, random, shadow
@@ -452,15 +453,16 @@ int run(const Options& o, std::unique_ptr<TuModel>& model) {
 
   if (!o.write_vectors.empty()) return write_vectors(o, si, tracer, cases);
 
-  const TuModelName name{o.format, o.isect, o.with_iu, o.slots};
+  const TuModelName name{o.format, o.isect, o.with_iu, o.slots, o.pipe};
   model = make_tu_model(name, o.seed, o.trace);
   if (!model) {
     std::string built;
     for (const TuModelName& n : tu_models()) {
-      built += " " + n.format + "/" + n.isect + (n.with_iu ? "+iu" : "") + "/" + std::to_string(n.slots) + "slots";
+      built += " " + n.format + "/" + n.isect + (n.with_iu ? "+iu" : "") + "/" + std::to_string(n.slots) + "slots" +
+               (n.pipe ? "/pipe" : "");
     }
-    std::fprintf(stderr, "tu_cosim: no model for %s/%s%s/%dslots in this build; built:%s\n", o.format.c_str(),
-                 o.isect.c_str(), o.with_iu ? "+iu" : "", o.slots, built.c_str());
+    std::fprintf(stderr, "tu_cosim: no model for %s/%s%s/%dslots%s in this build; built:%s\n", o.format.c_str(),
+                 o.isect.c_str(), o.with_iu ? "+iu" : "", o.slots, o.pipe ? "/pipe" : "", built.c_str());
     return 2;
   }
 
@@ -491,7 +493,7 @@ int run(const Options& o, std::unique_ptr<TuModel>& model) {
   Watchdog watchdog(1000000);
   std::size_t next = 0, done = 0;
   bool responded = false;
-  std::uint64_t busy = 0, cycles = 0;
+  std::uint64_t busy = 0, cycles = 0, lines = 0;
   const auto begin = std::chrono::steady_clock::now();
   auto fail = [&](const std::string& what) {
     std::printf("tu_cosim FAIL: %s, format %s, %s test, cycle %" PRIu64 "\n  %s\n", o.scene.c_str(),
@@ -565,6 +567,7 @@ int run(const Options& o, std::unique_ptr<TuModel>& model) {
         watchdog.progress(cycle);
       }
       if (out.mem_req_valid && in.mem_req_ready) {
+        ++lines;
         const std::uint32_t addr = out.mem_req.addr;
         if (addr % streams::kMemLineBytes != 0 || std::uint64_t{addr} + streams::kMemLineBytes > image.size()) {
           char what[96];
@@ -625,11 +628,12 @@ int run(const Options& o, std::unique_ptr<TuModel>& model) {
               o.rays, o.rays, shadow.size(), plane.size(), hits, cycle, seconds, double(cycle) / seconds,
               double(cases.size()) / seconds);
   // The unit's throughput on this stream: kd nodes visited and triangles tested per
-  // cycle, with --slots ray slots and --in-flight rays offered.
-  std::printf("tu_cosim throughput: %d slots, %d rays in flight: %.4f node steps per cycle, %.4f IU tests per cycle, "
-              "%.1f cycles per ray\n",
-              o.slots, o.in_flight, double(nodes) / double(cycle), double(tests) / double(cycle),
-              double(cycle) / double(cases.size()));
+  // cycle, with --slots ray slots and --in-flight rays offered; and the memory port's
+  // lines per cycle (one at most, fewer by the --stall share of cycles).
+  std::printf("tu_cosim throughput: %d slots%s, %d rays in flight: %.4f node steps per cycle, %.4f IU tests per "
+              "cycle, %.4f memory lines per cycle, %.1f cycles per ray\n",
+              o.slots, o.pipe ? " (shared pipeline)" : "", o.in_flight, double(nodes) / double(cycle),
+              double(tests) / double(cycle), double(lines) / double(cycle), double(cycle) / double(cases.size()));
 
   if (!o.cycle_model.empty()) {
     const spec::HardwareConfig* config = nullptr;
@@ -708,6 +712,7 @@ int main(int argc, char** argv) {
   app.add_option("--isect", o.isect, "intersection test")->check(CLI::IsMember({"woop", "watertight"}));
   app.add_flag("--with-iu", o.with_iu, "the RTL IU inside (rpu_ray_unit), else the C++ IU answers");
   app.add_option("--slots", o.slots, "the TU's ray slots (a model built with them)")->check(CLI::Range(1, 256));
+  app.add_flag("--pipe", o.pipe, "the slots share a node-step pipeline (rpu_tu_pipe; a model built so)");
   app.add_option("--in-flight", o.in_flight, "rays in the unit at once (1: step cycles are measured per ray)")
       ->check(CLI::Range(1, 256));
   app.add_option("--scale", o.scale, "scale the scene by 2^K (its kd scale exponent moves by K)")

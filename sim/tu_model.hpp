@@ -59,6 +59,7 @@ struct TuModelName {
   std::string format, isect;
   bool with_iu;  // the RTL IU inside (rpu_ray_unit), else the IU port is open
   int slots = 1;  // ray slots of the TU (rpu_tu_slots)
+  bool pipe = false;  // the slots share a node-step pipeline (rpu_tu_pipe)
 };
 
 // The models built into this binary.

@@ -1,0 +1,891 @@
+// A traversal unit whose Slots rays share one node-step pipeline (docs/rtl.md, "The
+// node-step pipeline"): bit for bit rpu_tu's results, counters and faults for every ray,
+// with rpu_tu_slots' ports, so tu_cosim, the ray unit and the netlist testbench take
+// either.
+//
+//   set-up      Setups rpu_tu engines in HandOff mode round the ray into the format and
+//               clip it to the scene box (§1-§2), one ray each at a time; a ray that
+//               misses answers from its engine, any other moves to a free slot.
+//   slot        a ray's walk state: the ray, t_near, t_far, the nearest hit, the node
+//               to visit, the counters, its stack (one RAM banked by slot).
+//   fetch       round robin among the slots with a node to visit: one node line a cycle
+//               on the memory port, whose in-order answers name their slot in a FIFO.
+//   node step   an inner node enters a pipeline of single-rounding ops, one a cycle:
+//               from_fp32 of the split | O < s, O == s, s - O | (s - O) * inv |
+//               t_split <= t_far, <= 0, < t_near | decide: visit, push or fault.
+//               A leaf's end takes the same compares on t_best (t_best <= t_far, and
+//               t_best < t_near of the entry a pop would take) in a cycle no inner
+//               node enters, and pops in the decide stage.
+//   leaf        a leaf's prim refs, then their intersection records, are fetched back
+//               to back (LeafDepth tests between the ref request and the IU at most);
+//               each record goes to the IU tagged with an entry of a table of Tests
+//               tests in flight, so answers come in any order. An answer is folded into
+//               its slot's nearest hit: a smaller t, or an equal t of a lower list
+//               index. That equals the sequential walk's result: the IU hits only in
+//               (t_min, t_best) and a test leaves with its slot's t_best of the time, at
+//               least the sequential walk's, so the hits it reports include the
+//               sequential walk's and its nearest, lowest-index hit is the same. An
+//               any-hit ray keeps one test in flight, so it stops at the same test.
+//   finish      round robin among the finished slots: t, u, v widened to fp32, t back
+//               to world space, the response; the slot is free when it is taken.
+module rpu_tu_pipe #(
+  parameter int unsigned ExpBits    = rpu_pkg::FormatFp32ExponentBits,
+  parameter int unsigned FracBits   = rpu_pkg::FormatFp32FractionBits,
+  parameter int unsigned IsectMode  = rpu_pkg::IsectModeWoop,
+  parameter int unsigned StackDepth = rpu_pkg::ConfigDefaultStackDepth,
+  parameter int unsigned Slots      = 16,
+  parameter int unsigned Setups     = 2,
+  parameter int unsigned LeafDepth  = 16,
+  parameter int unsigned Tests      = 32
+) (
+  input  logic              clk_i,
+  input  logic              rst_ni,
+
+  input  rpu_pkg::tu_cfg_t  cfg_i,
+
+  input  logic              req_valid_i,
+  output logic              req_ready_o,
+  input  rpu_pkg::tu_req_t  req_i,
+
+  output logic              rsp_valid_o,
+  input  logic              rsp_ready_i,
+  output rpu_pkg::tu_rsp_t  rsp_o,
+
+  output logic              mem_req_valid_o,
+  input  logic              mem_req_ready_i,
+  output rpu_pkg::mem_req_t mem_req_o,
+
+  input  logic              mem_rsp_valid_i,
+  output logic              mem_rsp_ready_o,
+  input  rpu_pkg::mem_rsp_t mem_rsp_i,
+
+  output logic              iu_req_valid_o,
+  input  logic              iu_req_ready_i,
+  output rpu_pkg::iu_req_t  iu_req_o,
+
+  input  logic              iu_rsp_valid_i,
+  output logic              iu_rsp_ready_o,
+  input  rpu_pkg::iu_rsp_t  iu_rsp_i
+);
+
+  localparam int unsigned W = 1 + ExpBits + FracBits;
+  localparam logic [W-1:0] Zero = '0;
+  localparam int unsigned SlotBits = $clog2(Slots);
+  localparam int unsigned IndexBits = rpu_pkg::KdNodeIndexBits;
+  localparam int unsigned EntryBits = IndexBits + 2 * W;
+  localparam int unsigned SpBits = $clog2(StackDepth + 1);
+  localparam int unsigned DepthBits = $clog2(StackDepth);
+  localparam int unsigned TestBits = $clog2(Tests);
+  localparam int unsigned PendingBits = $clog2(LeafDepth + Tests + 1);
+  localparam int unsigned WorkBits = $clog2(LeafDepth + 1);
+  localparam int unsigned RecordBytes = IsectMode == rpu_pkg::IsectModeWatertight
+                                        ? rpu_pkg::TriangleRecordWatertightBytes
+                                        : rpu_pkg::TriangleRecordWoopBytes;
+  localparam int unsigned RecordLines = RecordBytes / rpu_pkg::MemLineBytes;
+  localparam int unsigned LineBits = 8 * rpu_pkg::MemLineBytes;
+  localparam int unsigned OffsetBits = $clog2(rpu_pkg::MemLineBytes);
+  localparam int unsigned WordSelBits = OffsetBits - 2;
+  localparam int unsigned GotBits = $clog2(RecordLines + 1);
+  localparam int unsigned SetupBits = $clog2(Setups + 1);
+  // A set-up engine's start port, flat: {dir_le0, any_hit, t_far, t_near, inv, ray}.
+  localparam int unsigned StartBits = rpu_pkg::IuReqBits + 5 * 32 + 1 + 3;
+  // Memory requests in flight: a node line per slot and a leaf's refs and records.
+  localparam int unsigned OrderDepth = Slots + LeafDepth * (1 + RecordLines);
+  localparam logic [1:0] KindNode = 2'd0, KindRef = 2'd1, KindRecord = 2'd2;
+  localparam int unsigned OrderBits = 2 + SlotBits + WordSelBits + IndexBits;
+  localparam int unsigned JobBits = SlotBits + IndexBits + 32;  // {slot, list index, prim}
+
+  typedef enum logic [2:0] {
+    PhFree,     // no ray
+    PhReady,    // a node to fetch
+    PhNode,     // its line on the way, or the node step in the pipeline
+    PhLeaf,     // a leaf's tests on the way
+    PhLeafEnd,  // the leaf's tests answered: waiting for the pipeline
+    PhPop,      // the leaf's end in the pipeline
+    PhDone,     // waiting for the finish stage
+    PhFinish    // in the finish stage
+  } phase_e;
+
+  // The nearest-hit fold's compares on format values that are not NaN (an IU hit's t
+  // lies in (t_min, t_best)): exact, so no FP unit is needed.
+  function automatic logic fp_lt(input logic [W-1:0] a, input logic [W-1:0] b);
+    fp_lt = !(a[W-2:0] == '0 && b[W-2:0] == '0)
+            && (a[W-1] != b[W-1] ? a[W-1] : a[W-1] ? a[W-2:0] > b[W-2:0] : a[W-2:0] < b[W-2:0]);
+  endfunction
+  function automatic logic fp_eq(input logic [W-1:0] a, input logic [W-1:0] b);
+    fp_eq = a == b || (a[W-2:0] == '0 && b[W-2:0] == '0);
+  endfunction
+
+  // --- The slots' state, one flat vector per field (Yosys 0.23). ---
+  logic [Slots*3-1:0]         phase_all;
+  logic [Slots*rpu_pkg::RayTagBits-1:0] tag_all;
+  logic [Slots-1:0]           any_hit_all, hit_all, fault_all;
+  logic [Slots*3*W-1:0]       origin_all, dir_all, inv_all;
+  logic [Slots*3-1:0]         dir_le0_all;
+  logic [Slots*6-1:0]         axes_all;  // {kz, ky, kx}
+  logic [Slots*W-1:0]         t_min_all, near_all, far_all, best_all, u_all, v_all, shear_x_all, shear_y_all;
+  logic [Slots*32-1:0]        hit_prim_all, first_all, nodes_all, leaves_all, tests_all;
+  logic [Slots*IndexBits-1:0] node_all, count_all, k_all, best_k_all;
+  logic [Slots*SpBits-1:0]    sp_all;
+  logic [Slots*PendingBits-1:0] pending_all;
+
+  function automatic logic [W-1:0] pick_w(input logic [Slots*W-1:0] all, input logic [SlotBits-1:0] s);
+    pick_w = all[32'(s)*W +: W];
+  endfunction
+  function automatic logic [W-1:0] pick_axis(input logic [Slots*3*W-1:0] all, input logic [SlotBits-1:0] s,
+                                             input logic [1:0] a);
+    pick_axis = all[(32'(s)*3 + 32'(a))*W +: W];
+  endfunction
+
+  // --- Set-up: Setups rpu_tu engines in HandOff mode. ---
+  logic [Setups-1:0]                   setup_req_valid, setup_req_ready, setup_rsp_valid, setup_rsp_ready;
+  logic [Setups-1:0]                   start_valid, start_ready;
+  logic [Setups*rpu_pkg::TuRspBits-1:0] setup_rsp;
+  logic [Setups*StartBits-1:0]         start;
+  logic [Setups-1:0]                   unused_setup_ports;
+
+  for (genvar i = 0; i < Setups; i++) begin : g_setup
+    rpu_pkg::tu_rsp_t  engine_rsp;
+    rpu_pkg::iu_req_t  engine_ray, engine_test;
+    rpu_pkg::mem_req_t engine_mem_req;
+    logic              engine_mem_valid, engine_mem_ready, engine_iu_valid, engine_iu_ready;
+    logic [3*32-1:0]   engine_inv;
+    logic [31:0]       engine_near, engine_far;
+    logic              engine_any_hit;
+    logic [2:0]        engine_dir_le0;
+    rpu_tu #(.ExpBits(ExpBits), .FracBits(FracBits), .IsectMode(IsectMode), .StackDepth(StackDepth),
+             .HandOff(1'b1)) u_engine (
+      .clk_i, .rst_ni, .cfg_i,
+      .req_valid_i(setup_req_valid[i]), .req_ready_o(setup_req_ready[i]), .req_i,
+      .rsp_valid_o(setup_rsp_valid[i]), .rsp_ready_i(setup_rsp_ready[i]), .rsp_o(engine_rsp),
+      .mem_req_valid_o(engine_mem_valid), .mem_req_ready_i(1'b0), .mem_req_o(engine_mem_req),
+      .mem_rsp_valid_i(1'b0), .mem_rsp_ready_o(engine_mem_ready), .mem_rsp_i('0),
+      .iu_req_valid_o(engine_iu_valid), .iu_req_ready_i(1'b0), .iu_req_o(engine_test),
+      .iu_rsp_valid_i(1'b0), .iu_rsp_ready_o(engine_iu_ready), .iu_rsp_i('0),
+      .start_valid_o(start_valid[i]), .start_ready_i(start_ready[i]), .start_ray_o(engine_ray),
+      .start_inv_o(engine_inv), .start_t_near_o(engine_near), .start_t_far_o(engine_far),
+      .start_any_hit_o(engine_any_hit), .start_dir_le0_o(engine_dir_le0)
+    );
+    assign setup_rsp[i*rpu_pkg::TuRspBits +: rpu_pkg::TuRspBits] = engine_rsp;
+    assign start[i*StartBits +: StartBits] = {engine_dir_le0, engine_any_hit, engine_far, engine_near,
+                                              engine_inv, engine_ray};
+    // A HandOff engine never walks: its memory and IU ports stay idle.
+    assign unused_setup_ports[i] = ^{engine_mem_valid, engine_mem_req, engine_mem_ready, engine_iu_valid,
+                                     engine_test, engine_iu_ready};
+  end
+
+  // Rays in: the lowest engine whose buffer has room.
+  logic [SetupBits-1:0] setup_free;
+  always_comb begin
+    setup_free = SetupBits'(Setups);
+    for (int i = Setups - 1; i >= 0; i--) begin
+      if (setup_req_ready[i]) setup_free = SetupBits'(i);
+    end
+  end
+  for (genvar i = 0; i < Setups; i++) begin : g_setup_req
+    assign setup_req_valid[i] = req_valid_i && setup_free == SetupBits'(i);
+  end
+  assign req_ready_o = |setup_req_ready;
+
+  // Set-up rays to the lowest free slot.
+  logic                 give, give_any_free, start_arb_valid;
+  logic [SlotBits-1:0]  give_slot;
+  logic [StartBits-1:0] given;
+  logic [$clog2(Setups > 1 ? Setups : 2)-1:0] start_index;
+  always_comb begin
+    give_slot     = '0;
+    give_any_free = 1'b0;
+    for (int i = Slots - 1; i >= 0; i--) begin
+      if (phase_all[i*3 +: 3] == PhFree) begin
+        give_slot     = SlotBits'(i);
+        give_any_free = 1'b1;
+      end
+    end
+  end
+  rpu_rr_arbiter #(.Inputs(Setups), .Width(StartBits)) u_start_arb (
+    .clk_i, .rst_ni,
+    .valid_i(start_valid), .ready_o(start_ready), .data_i(start),
+    .valid_o(start_arb_valid), .ready_i(give_any_free), .data_o(given), .index_o(start_index)
+  );
+  assign give = start_arb_valid && give_any_free;
+
+  rpu_pkg::iu_req_t given_ray;
+  logic [3*32-1:0]  given_inv;
+  logic [31:0]      given_near, given_far;
+  logic             given_any_hit;
+  logic [2:0]       given_dir_le0;
+  assign {given_dir_le0, given_any_hit, given_far, given_near, given_inv, given_ray} = given;
+
+  // --- Events: each names its slot; at most one of a kind per cycle. ---
+  logic                 fetch, leaf_in, inner_in, pop_enter, ref_issue, test_issue, answer;
+  logic                 fin_take, fin_done, decide;
+  logic [SlotBits-1:0]  fetch_slot, line_slot, pop_slot, ref_slot, test_slot, answer_slot;
+  logic [SlotBits-1:0]  fin_take_slot, fin_slot_q, decide_slot;
+  logic [IndexBits-1:0] leaf_count, answer_k, decide_node;
+  logic [31:0]          leaf_first, answer_prim;
+  logic                 answer_wins;
+  logic                 decide_near_we, decide_far_we, decide_fault, decide_push, decide_pop;
+  logic [W-1:0]         decide_near, decide_far;
+  phase_e               decide_phase;
+
+  // --- Slots. ---
+  for (genvar i = 0; i < Slots; i++) begin : g_slot
+    localparam logic [SlotBits-1:0] Me = SlotBits'(i);
+    phase_e                phase_d, phase_q;
+    logic [rpu_pkg::RayTagBits-1:0] tag_d, tag_q;
+    logic                  any_hit_d, any_hit_q, hit_d, hit_q, fault_d, fault_q;
+    logic [3*W-1:0]        origin_d, origin_q, dir_d, dir_q, inv_d, inv_q;
+    logic [2:0]            dir_le0_d, dir_le0_q;
+    logic [5:0]            axes_d, axes_q;
+    logic [W-1:0]          t_min_d, t_min_q, near_d, near_q, far_d, far_q, best_d, best_q;
+    logic [W-1:0]          u_d, u_q, v_d, v_q, shear_x_d, shear_x_q, shear_y_d, shear_y_q;
+    logic [31:0]           hit_prim_d, hit_prim_q, first_d, first_q;
+    logic [31:0]           nodes_d, nodes_q, leaves_d, leaves_q, tests_d, tests_q;
+    logic [IndexBits-1:0]  node_d, node_q, count_d, count_q, k_d, k_q, best_k_d, best_k_q;
+    logic [SpBits-1:0]     sp_d, sp_q;
+    logic [PendingBits-1:0] pending_d, pending_q;
+    logic                  leaf_over;
+
+    // A leaf is over when its tests are answered: all of them, or an any-hit ray's hit.
+    assign leaf_over = phase_q == PhLeaf && pending_q == '0 && (k_q == count_q || (any_hit_q && hit_q));
+
+    always_comb begin
+      phase_d    = phase_q;
+      tag_d      = tag_q;
+      any_hit_d  = any_hit_q;
+      hit_d      = hit_q;
+      fault_d    = fault_q;
+      origin_d   = origin_q;
+      dir_d      = dir_q;
+      inv_d      = inv_q;
+      dir_le0_d  = dir_le0_q;
+      axes_d     = axes_q;
+      t_min_d    = t_min_q;
+      near_d     = near_q;
+      far_d      = far_q;
+      best_d     = best_q;
+      u_d        = u_q;
+      v_d        = v_q;
+      shear_x_d  = shear_x_q;
+      shear_y_d  = shear_y_q;
+      hit_prim_d = hit_prim_q;
+      first_d    = first_q;
+      nodes_d    = nodes_q;
+      leaves_d   = leaves_q;
+      tests_d    = tests_q;
+      node_d     = node_q;
+      count_d    = count_q;
+      k_d        = k_q;
+      best_k_d   = best_k_q;
+      sp_d       = sp_q;
+      pending_d  = pending_q + PendingBits'(ref_issue && ref_slot == Me)
+                             - PendingBits'(answer && answer_slot == Me);
+
+      if (give && give_slot == Me) begin
+        phase_d   = PhReady;
+        tag_d     = given_ray.tag;
+        any_hit_d = given_any_hit;
+        hit_d     = 1'b0;
+        fault_d   = 1'b0;
+        for (int a = 0; a < 3; a++) begin
+          origin_d[a*W +: W] = given_ray.origin[a*32 +: W];
+          dir_d[a*W +: W]    = given_ray.direction[a*32 +: W];
+          inv_d[a*W +: W]    = given_inv[a*32 +: W];
+        end
+        dir_le0_d = given_dir_le0;
+        axes_d    = {given_ray.kz, given_ray.ky, given_ray.kx};
+        t_min_d   = given_ray.t_min[W-1:0];
+        near_d    = given_near[W-1:0];
+        far_d     = given_far[W-1:0];
+        best_d    = given_ray.t_best[W-1:0];
+        shear_x_d = given_ray.shear_x[W-1:0];
+        shear_y_d = given_ray.shear_y[W-1:0];
+        nodes_d   = '0;
+        leaves_d  = '0;
+        tests_d   = '0;
+        node_d    = '0;
+        sp_d      = '0;
+      end
+      if (fetch && fetch_slot == Me) begin
+        phase_d = PhNode;
+        nodes_d = nodes_q + 32'd1;
+      end
+      if (leaf_in && line_slot == Me) begin
+        phase_d  = PhLeaf;
+        leaves_d = leaves_q + 32'd1;
+        first_d  = leaf_first;
+        count_d  = leaf_count;
+        k_d      = '0;
+      end
+      if (decide && decide_slot == Me) begin
+        phase_d = decide_phase;
+        node_d  = decide_node;
+        fault_d = fault_q || decide_fault;
+        if (decide_near_we) near_d = decide_near;
+        if (decide_far_we) far_d = decide_far;
+        if (decide_push) sp_d = sp_q + SpBits'(1);
+        if (decide_pop) sp_d = sp_q - SpBits'(1);
+      end
+      if (ref_issue && ref_slot == Me) k_d = k_q + IndexBits'(1);
+      if (test_issue && test_slot == Me) tests_d = tests_q + 32'd1;
+      if (answer && answer_slot == Me && answer_wins) begin
+        hit_d      = 1'b1;
+        best_d     = iu_rsp_i.t[W-1:0];
+        u_d        = iu_rsp_i.u[W-1:0];
+        v_d        = iu_rsp_i.v[W-1:0];
+        hit_prim_d = answer_prim;
+        best_k_d   = answer_k;
+      end
+      if (leaf_over) phase_d = PhLeafEnd;
+      if (pop_enter && pop_slot == Me) phase_d = PhPop;
+      if (fin_take && fin_take_slot == Me) phase_d = PhFinish;
+      if (fin_done && fin_slot_q == Me) phase_d = PhFree;
+    end
+
+    always_ff @(posedge clk_i or negedge rst_ni) begin
+      if (!rst_ni) begin
+        phase_q    <= PhFree;
+        tag_q      <= '0;
+        any_hit_q  <= 1'b0;
+        hit_q      <= 1'b0;
+        fault_q    <= 1'b0;
+        origin_q   <= '0;
+        dir_q      <= '0;
+        inv_q      <= '0;
+        dir_le0_q  <= '0;
+        axes_q     <= '0;
+        t_min_q    <= '0;
+        near_q     <= '0;
+        far_q      <= '0;
+        best_q     <= '0;
+        u_q        <= '0;
+        v_q        <= '0;
+        shear_x_q  <= '0;
+        shear_y_q  <= '0;
+        hit_prim_q <= '0;
+        first_q    <= '0;
+        nodes_q    <= '0;
+        leaves_q   <= '0;
+        tests_q    <= '0;
+        node_q     <= '0;
+        count_q    <= '0;
+        k_q        <= '0;
+        best_k_q   <= '0;
+        sp_q       <= '0;
+        pending_q  <= '0;
+      end else begin
+        phase_q    <= phase_d;
+        tag_q      <= tag_d;
+        any_hit_q  <= any_hit_d;
+        hit_q      <= hit_d;
+        fault_q    <= fault_d;
+        origin_q   <= origin_d;
+        dir_q      <= dir_d;
+        inv_q      <= inv_d;
+        dir_le0_q  <= dir_le0_d;
+        axes_q     <= axes_d;
+        t_min_q    <= t_min_d;
+        near_q     <= near_d;
+        far_q      <= far_d;
+        best_q     <= best_d;
+        u_q        <= u_d;
+        v_q        <= v_d;
+        shear_x_q  <= shear_x_d;
+        shear_y_q  <= shear_y_d;
+        hit_prim_q <= hit_prim_d;
+        first_q    <= first_d;
+        nodes_q    <= nodes_d;
+        leaves_q   <= leaves_d;
+        tests_q    <= tests_d;
+        node_q     <= node_d;
+        count_q    <= count_d;
+        k_q        <= k_d;
+        best_k_q   <= best_k_d;
+        sp_q       <= sp_d;
+        pending_q  <= pending_d;
+      end
+    end
+
+    assign phase_all[i*3 +: 3]                                   = phase_q;
+    assign tag_all[i*rpu_pkg::RayTagBits +: rpu_pkg::RayTagBits] = tag_q;
+    assign any_hit_all[i]                                        = any_hit_q;
+    assign hit_all[i]                                            = hit_q;
+    assign fault_all[i]                                          = fault_q;
+    assign origin_all[i*3*W +: 3*W]                              = origin_q;
+    assign dir_all[i*3*W +: 3*W]                                 = dir_q;
+    assign inv_all[i*3*W +: 3*W]                                 = inv_q;
+    assign dir_le0_all[i*3 +: 3]                                 = dir_le0_q;
+    assign axes_all[i*6 +: 6]                                    = axes_q;
+    assign t_min_all[i*W +: W]                                   = t_min_q;
+    assign near_all[i*W +: W]                                    = near_q;
+    assign far_all[i*W +: W]                                     = far_q;
+    assign best_all[i*W +: W]                                    = best_q;
+    assign u_all[i*W +: W]                                       = u_q;
+    assign v_all[i*W +: W]                                       = v_q;
+    assign shear_x_all[i*W +: W]                                 = shear_x_q;
+    assign shear_y_all[i*W +: W]                                 = shear_y_q;
+    assign hit_prim_all[i*32 +: 32]                              = hit_prim_q;
+    assign first_all[i*32 +: 32]                                 = first_q;
+    assign nodes_all[i*32 +: 32]                                 = nodes_q;
+    assign leaves_all[i*32 +: 32]                                = leaves_q;
+    assign tests_all[i*32 +: 32]                                 = tests_q;
+    assign node_all[i*IndexBits +: IndexBits]                    = node_q;
+    assign count_all[i*IndexBits +: IndexBits]                   = count_q;
+    assign k_all[i*IndexBits +: IndexBits]                       = k_q;
+    assign best_k_all[i*IndexBits +: IndexBits]                  = best_k_q;
+    assign sp_all[i*SpBits +: SpBits]                            = sp_q;
+    assign pending_all[i*PendingBits +: PendingBits]             = pending_q;
+  end
+
+  // Slot masks for the round-robin picks.
+  logic [Slots-1:0] ready_mask, leaf_end_mask, done_mask, ref_mask;
+  for (genvar i = 0; i < Slots; i++) begin : g_mask
+    logic [2:0] phase;
+    assign phase = phase_all[i*3 +: 3];
+    assign ready_mask[i]    = phase == PhReady;
+    assign leaf_end_mask[i] = phase == PhLeafEnd;
+    assign done_mask[i]     = phase == PhDone;
+    // A ref to fetch: any left in the list; an any-hit ray one at a time, until a hit.
+    assign ref_mask[i] = phase == PhLeaf
+                         && k_all[i*IndexBits +: IndexBits] != count_all[i*IndexBits +: IndexBits]
+                         && (!any_hit_all[i] || (pending_all[i*PendingBits +: PendingBits] == '0 && !hit_all[i]));
+  end
+
+  // --- Memory: record lines first, then refs, then nodes; answers in order. ---
+  logic                 fetch_valid, fetch_ready, ref_valid, ref_ready, order_ready, order_valid;
+  logic                 job_valid, job_ready, flight_ready, flight_valid;
+  logic [JobBits-1:0]   job, flight;
+  logic [WorkBits-1:0]  work_d, work_q;  // refs fetched whose test has not left
+  logic                 ref_credit, want_record, want_ref;
+  logic [GotBits-1:0]   sent_d, sent_q;
+  logic [OrderBits-1:0] order_in, order_out;
+  logic [1:0]           order_kind;
+  logic [SlotBits-1:0]  order_slot;
+  logic [WordSelBits-1:0] order_half;
+  logic [IndexBits-1:0] order_k;
+  logic [Slots-1:0]     fetch_grants, ref_grants;
+  logic [3:0]           unused_picks;
+
+  rpu_rr_arbiter #(.Inputs(Slots), .Width(1)) u_fetch_arb (
+    .clk_i, .rst_ni,
+    .valid_i(ready_mask), .ready_o(fetch_grants), .data_i('0),
+    .valid_o(fetch_valid), .ready_i(fetch_ready), .data_o(unused_picks[0]), .index_o(fetch_slot)
+  );
+  rpu_rr_arbiter #(.Inputs(Slots), .Width(1)) u_ref_arb (
+    .clk_i, .rst_ni,
+    .valid_i(ref_mask), .ready_o(ref_grants), .data_i('0),
+    .valid_o(ref_valid), .ready_i(ref_ready), .data_o(unused_picks[1]), .index_o(ref_slot)
+  );
+
+  logic [31:0] job_prim;
+  assign job_prim = job[31:0];
+
+  // The request presented: a record line, else a ref, else a node; one not taken is
+  // presented again (every source keeps its request until it is taken).
+  logic [1:0] source, held_d, held_q;
+  logic       hold_d, hold_q, go;
+  assign ref_credit  = work_q != WorkBits'(LeafDepth);
+  assign want_record = job_valid;
+  assign want_ref    = ref_valid && ref_credit;
+  assign source      = hold_q ? held_q : want_record ? KindRecord : want_ref ? KindRef : KindNode;
+  assign go          = mem_req_ready_i && order_ready;
+  assign fetch_ready = go && source == KindNode;
+  assign ref_ready   = go && source == KindRef;
+  assign ref_issue   = ref_valid && ref_ready;
+  assign fetch       = fetch_valid && fetch_ready;
+  assign hold_d      = mem_req_valid_o && !mem_req_ready_i;
+  assign held_d      = source;
+
+  logic [31:0] node_addr, ref_addr, record_addr;
+  assign node_addr   = cfg_i.kd_nodes + 32'(node_all[32'(fetch_slot)*IndexBits +: IndexBits]) * rpu_pkg::KdNodeBytes;
+  assign ref_addr    = cfg_i.prim_refs
+                       + (first_all[32'(ref_slot)*32 +: 32] + 32'(k_all[32'(ref_slot)*IndexBits +: IndexBits]))
+                         * rpu_pkg::PrimRefBytes;
+  assign record_addr = cfg_i.isect_records + job_prim * RecordBytes + 32'(sent_q) * rpu_pkg::MemLineBytes;
+
+  always_comb begin
+    unique case (source)
+      KindRecord: begin
+        mem_req_valid_o = want_record && order_ready;
+        mem_req_o.addr  = record_addr;
+        order_in        = {KindRecord, SlotBits'(0), WordSelBits'(0), IndexBits'(0)};
+      end
+      KindRef: begin
+        mem_req_valid_o = want_ref && order_ready;
+        mem_req_o.addr  = {ref_addr[31:OffsetBits], OffsetBits'(0)};
+        order_in        = {KindRef, ref_slot, ref_addr[OffsetBits-1:2], k_all[32'(ref_slot)*IndexBits +: IndexBits]};
+      end
+      default: begin
+        mem_req_valid_o = fetch_valid && order_ready;
+        mem_req_o.addr  = {node_addr[31:OffsetBits], OffsetBits'(0)};
+        order_in        = {KindNode, fetch_slot, node_addr[OffsetBits-1:2], IndexBits'(0)};
+      end
+    endcase
+  end
+
+  rpu_fifo #(.Width(OrderBits), .Depth(OrderDepth)) u_order (
+    .clk_i, .rst_ni,
+    .in_valid_i(mem_req_valid_o && mem_req_ready_i), .in_ready_o(order_ready), .in_data_i(order_in),
+    .out_valid_o(order_valid), .out_ready_i(mem_rsp_valid_i && mem_rsp_ready_o), .out_data_o(order_out)
+  );
+  assign {order_kind, order_slot, order_half, order_k} = order_out;
+
+  // The answered line: a node (kind, above or count; split or first), a ref, a record line.
+  logic [31:0]            line_word, next_word;
+  logic [WordSelBits-1:0] next_half;
+  logic                   line_taken, rec_full;
+  logic [GotBits-1:0]     got_d, got_q;
+  logic [RecordLines*LineBits-1:0] record_d, record_q;
+  assign next_half  = order_half + WordSelBits'(1);
+  assign line_word  = mem_rsp_i.data[32*order_half +: 32];
+  assign next_word  = mem_rsp_i.data[32*next_half +: 32];
+  assign rec_full   = got_q == GotBits'(RecordLines);
+  assign mem_rsp_ready_o = order_valid && (order_kind != KindRecord || !rec_full);
+  assign line_taken = mem_rsp_valid_i && mem_rsp_ready_o;
+  assign line_slot  = order_slot;
+  assign leaf_in    = line_taken && order_kind == KindNode && line_word[1:0] == 2'(rpu_pkg::KdNodeLeafKind);
+  assign inner_in   = line_taken && order_kind == KindNode && line_word[1:0] != 2'(rpu_pkg::KdNodeLeafKind);
+  assign leaf_count = line_word[31:2];
+  assign leaf_first = next_word;
+
+  // A ref's prim becomes a record job; the job's lines go out back to back, and the job
+  // waits in the flight FIFO until its record is whole and leaves for the IU. Both
+  // FIFOs hold LeafDepth jobs, as many as refs may be fetched ahead (work_q).
+  logic [1:0] unused_job_fifo;
+  rpu_fifo #(.Width(JobBits), .Depth(LeafDepth)) u_jobs (
+    .clk_i, .rst_ni,
+    .in_valid_i(line_taken && order_kind == KindRef), .in_ready_o(unused_job_fifo[0]),
+    .in_data_i({order_slot, order_k, line_word}),
+    .out_valid_o(job_valid), .out_ready_i(job_ready), .out_data_o(job)
+  );
+  logic record_go;
+  assign record_go = want_record && go && source == KindRecord;
+  assign job_ready = record_go && sent_q == GotBits'(RecordLines - 1);
+  assign sent_d    = !record_go ? sent_q : job_ready ? '0 : sent_q + GotBits'(1);
+  rpu_fifo #(.Width(JobBits), .Depth(LeafDepth)) u_flight (
+    .clk_i, .rst_ni,
+    .in_valid_i(job_ready), .in_ready_o(unused_job_fifo[1]), .in_data_i(job),
+    .out_valid_o(flight_valid), .out_ready_i(test_issue), .out_data_o(flight)
+  );
+  assign flight_ready = flight_valid;
+
+  for (genvar i = 0; i < RecordLines; i++) begin : g_record
+    assign record_d[i*LineBits +: LineBits] = line_taken && order_kind == KindRecord && got_q == GotBits'(i)
+                                              ? mem_rsp_i.data : record_q[i*LineBits +: LineBits];
+  end
+  assign got_d = test_issue ? '0
+               : line_taken && order_kind == KindRecord ? got_q + GotBits'(1) : got_q;
+
+  // --- The IU: a whole record leaves with an entry of the test table as its tag. ---
+  logic [Tests-1:0]        test_busy_d, test_busy_q;
+  logic [Tests*JobBits-1:0] table_d, table_q;
+  logic [TestBits-1:0]     test_free;
+  logic                    test_any_free;
+  logic [TestBits-1:0]     answer_entry;
+  always_comb begin
+    test_free     = '0;
+    test_any_free = 1'b0;
+    for (int i = Tests - 1; i >= 0; i--) begin
+      if (!test_busy_q[i]) begin
+        test_free     = TestBits'(i);
+        test_any_free = 1'b1;
+      end
+    end
+  end
+  assign test_slot      = flight[JobBits-1 -: SlotBits];
+  assign iu_req_valid_o = rec_full && flight_ready && test_any_free;
+  assign test_issue     = iu_req_valid_o && iu_req_ready_i;
+
+  logic [1:0] test_axis_kx, test_axis_ky, test_axis_kz;
+  assign {test_axis_kz, test_axis_ky, test_axis_kx} = axes_all[32'(test_slot)*6 +: 6];
+  always_comb begin
+    iu_req_o.tag       = rpu_pkg::RayTagBits'(test_free);
+    for (int a = 0; a < 3; a++) begin
+      iu_req_o.origin[a*32 +: 32]    = 32'(pick_axis(origin_all, test_slot, 2'(a)));
+      iu_req_o.direction[a*32 +: 32] = 32'(pick_axis(dir_all, test_slot, 2'(a)));
+    end
+    iu_req_o.t_min     = 32'(pick_w(t_min_all, test_slot));
+    iu_req_o.t_best    = 32'(pick_w(best_all, test_slot));
+    iu_req_o.kx        = test_axis_kx;
+    iu_req_o.ky        = test_axis_ky;
+    iu_req_o.kz        = test_axis_kz;
+    iu_req_o.shear_x   = 32'(pick_w(shear_x_all, test_slot));
+    iu_req_o.shear_y   = 32'(pick_w(shear_y_all, test_slot));
+    iu_req_o.record    = '0;
+    iu_req_o.record[RecordLines*LineBits-1:0] = record_q;
+  end
+
+  // Answers: always taken, folded into the slot's nearest hit.
+  assign iu_rsp_ready_o = 1'b1;
+  assign answer         = iu_rsp_valid_i;
+  assign answer_entry   = iu_rsp_i.tag[TestBits-1:0];
+  assign {answer_slot, answer_k, answer_prim} = table_q[32'(answer_entry)*JobBits +: JobBits];
+  logic [W-1:0] answer_t, answer_best;
+  assign answer_t    = iu_rsp_i.t[W-1:0];
+  assign answer_best = pick_w(best_all, answer_slot);
+  assign answer_wins = iu_rsp_i.hit
+                       && (!hit_all[answer_slot] || fp_lt(answer_t, answer_best)
+                           || (fp_eq(answer_t, answer_best)
+                               && answer_k < best_k_all[32'(answer_slot)*IndexBits +: IndexBits]));
+
+  for (genvar i = 0; i < Tests; i++) begin : g_test
+    logic alloc;
+    assign alloc = test_issue && test_free == TestBits'(i);
+    assign test_busy_d[i] = alloc || (test_busy_q[i] && !(answer && answer_entry == TestBits'(i)));
+    assign table_d[i*JobBits +: JobBits] = alloc ? flight : table_q[i*JobBits +: JobBits];
+  end
+  assign work_d = work_q + WorkBits'(ref_issue) - WorkBits'(test_issue);
+
+  // --- The node-step pipeline. ---
+  // Stage 0: an inner node's line, or else a leaf's end.
+  logic [Slots-1:0] pop_grants;
+  logic             pop_valid;
+  rpu_rr_arbiter #(.Inputs(Slots), .Width(1)) u_pop_arb (
+    .clk_i, .rst_ni,
+    .valid_i(leaf_end_mask), .ready_o(pop_grants), .data_i('0),
+    .valid_o(pop_valid), .ready_i(!inner_in), .data_o(unused_picks[2]), .index_o(pop_slot)
+  );
+  assign pop_enter = pop_valid && !inner_in;
+
+  // A stage's carried fields: {valid, pop, slot, axis, above}.
+  localparam int unsigned CarryBits = 2 + SlotBits + 2 + IndexBits;
+  logic [CarryBits-1:0] s0, s1, s2, s3, s4;
+  assign s0 = {inner_in || pop_enter, !inner_in, inner_in ? line_slot : pop_slot, line_word[1:0], line_word[31:2]};
+  rpu_en_reg #(.Width(CarryBits)) u_s1 (.clk_i, .rst_ni, .en_i(1'b1), .data_i(s0), .data_o(s1));
+  rpu_en_reg #(.Width(CarryBits)) u_s2 (.clk_i, .rst_ni, .en_i(1'b1), .data_i(s1), .data_o(s2));
+  rpu_en_reg #(.Width(CarryBits)) u_s3 (.clk_i, .rst_ni, .en_i(1'b1), .data_i(s2), .data_o(s3));
+  rpu_en_reg #(.Width(CarryBits)) u_s4 (.clk_i, .rst_ni, .en_i(1'b1), .data_i(s3), .data_o(s4));
+
+  logic                 s1_valid, s1_pop, s2_valid, s2_pop, s3_valid, s3_pop, s4_valid, s4_pop;
+  logic [SlotBits-1:0]  s1_slot, s2_slot, s3_slot, s4_slot;
+  logic [1:0]           s1_axis, s2_axis, s3_axis, s4_axis;
+  logic [IndexBits-1:0] s1_above, s2_above, s3_above, s4_above;
+  assign {s1_valid, s1_pop, s1_slot, s1_axis, s1_above} = s1;
+  assign {s2_valid, s2_pop, s2_slot, s2_axis, s2_above} = s2;
+  assign {s3_valid, s3_pop, s3_slot, s3_axis, s3_above} = s3;
+  assign {s4_valid, s4_pop, s4_slot, s4_axis, s4_above} = s4;
+
+  // Stage 1: the split into the format.
+  logic [W-1:0] split, o_axis, split_minus_o, t_split, best3, far3;
+  logic         o_lt, o_eq, o_lt3, o_eq3, o_lt4, o_eq4, le_far, le_zero, lt_near;
+  rpu_fp_pipe_op #(.ExpBits(ExpBits), .FracBits(FracBits), .Op(rpu_pkg::FpOpFromFp32)) u_split (
+    .clk_i, .rst_ni, .en_i(1'b1), .a_i(next_word), .b_i('0), .result_o(split)
+  );
+  // Stage 2: O < s, O == s, s - O.
+  logic [W-1:0] o_lt_bits, o_eq_bits, le_far_bits, le_zero_bits, lt_near_bits;
+  assign o_axis = pick_axis(origin_all, s1_slot, s1_axis);
+  rpu_fp_pipe_op #(.ExpBits(ExpBits), .FracBits(FracBits), .Op(rpu_pkg::FpOpLt)) u_o_lt (
+    .clk_i, .rst_ni, .en_i(1'b1), .a_i(32'(o_axis)), .b_i(32'(split)), .result_o(o_lt_bits)
+  );
+  rpu_fp_pipe_op #(.ExpBits(ExpBits), .FracBits(FracBits), .Op(rpu_pkg::FpOpEq)) u_o_eq (
+    .clk_i, .rst_ni, .en_i(1'b1), .a_i(32'(o_axis)), .b_i(32'(split)), .result_o(o_eq_bits)
+  );
+  rpu_fp_pipe_op #(.ExpBits(ExpBits), .FracBits(FracBits), .Op(rpu_pkg::FpOpSub)) u_sub (
+    .clk_i, .rst_ni, .en_i(1'b1), .a_i(32'(split)), .b_i(32'(o_axis)), .result_o(split_minus_o)
+  );
+  assign o_lt = o_lt_bits[0];
+  assign o_eq = o_eq_bits[0];
+  // Stage 3: t_split = (s - O) * inv; the stack's top is read for a leaf's end.
+  logic [SlotBits+DepthBits-1:0] stack_raddr, stack_waddr;
+  logic [EntryBits-1:0]          top3, top4, stack_wdata;
+  logic [SpBits-1:0]             sp2, sp4;
+  rpu_fp_pipe_op #(.ExpBits(ExpBits), .FracBits(FracBits), .Op(rpu_pkg::FpOpMul)) u_mul (
+    .clk_i, .rst_ni, .en_i(1'b1), .a_i(32'(split_minus_o)), .b_i(32'(pick_axis(inv_all, s2_slot, s2_axis))),
+    .result_o(t_split)
+  );
+  rpu_en_reg #(.Width(2)) u_o_flags3 (.clk_i, .rst_ni, .en_i(1'b1), .data_i({o_lt, o_eq}), .data_o({o_lt3, o_eq3}));
+  assign sp2         = sp_all[32'(s2_slot)*SpBits +: SpBits];
+  assign stack_raddr = {s2_slot, DepthBits'(sp2 - SpBits'(1))};
+  rpu_ram #(.Width(EntryBits), .Depth(Slots * StackDepth)) u_stack (
+    .clk_i, .we_i(decide_push), .waddr_i(stack_waddr), .wdata_i(stack_wdata), .raddr_i(stack_raddr), .rdata_o(top3)
+  );
+  // Stage 4: t_split <= t_far, t_split <= 0, t_split < t_near; for a leaf's end
+  // t_best <= t_far and t_best < the top entry's t_near.
+  logic [W-1:0] cmp_a, near_b;
+  assign best3  = pick_w(best_all, s3_slot);
+  assign far3   = pick_w(far_all, s3_slot);
+  assign cmp_a  = s3_pop ? best3 : t_split;
+  assign near_b = s3_pop ? top3[2*W-1:W] : pick_w(near_all, s3_slot);
+  rpu_fp_pipe_op #(.ExpBits(ExpBits), .FracBits(FracBits), .Op(rpu_pkg::FpOpLe)) u_le_far (
+    .clk_i, .rst_ni, .en_i(1'b1), .a_i(32'(cmp_a)), .b_i(32'(far3)), .result_o(le_far_bits)
+  );
+  rpu_fp_pipe_op #(.ExpBits(ExpBits), .FracBits(FracBits), .Op(rpu_pkg::FpOpLe)) u_le_zero (
+    .clk_i, .rst_ni, .en_i(1'b1), .a_i(32'(t_split)), .b_i(32'(Zero)), .result_o(le_zero_bits)
+  );
+  rpu_fp_pipe_op #(.ExpBits(ExpBits), .FracBits(FracBits), .Op(rpu_pkg::FpOpLt)) u_lt_near (
+    .clk_i, .rst_ni, .en_i(1'b1), .a_i(32'(cmp_a)), .b_i(32'(near_b)), .result_o(lt_near_bits)
+  );
+  logic [W-1:0] t_split4;
+  rpu_en_reg #(.Width(2 + W + EntryBits)) u_carry4 (
+    .clk_i, .rst_ni, .en_i(1'b1), .data_i({o_lt3, o_eq3, t_split, top3}), .data_o({o_lt4, o_eq4, t_split4, top4})
+  );
+  assign le_far  = le_far_bits[0];
+  assign le_zero = le_zero_bits[0];
+  assign lt_near = lt_near_bits[0];
+
+  // Decide (rpu_tu's StInnerEnd, StLeafDecide and StPopDecide).
+  logic                 below_first, hit4;
+  logic [IndexBits-1:0] node4, first_child, second_child;
+  assign decide       = s4_valid;
+  assign decide_slot  = s4_slot;
+  assign sp4          = sp_all[32'(s4_slot)*SpBits +: SpBits];
+  assign hit4         = hit_all[s4_slot];
+  assign node4        = node_all[32'(s4_slot)*IndexBits +: IndexBits];
+  assign below_first  = o_lt4 || (o_eq4 && dir_le0_all[32'(s4_slot)*3 + 32'(s4_axis)]);
+  assign first_child  = below_first ? node4 + IndexBits'(1) : s4_above;
+  assign second_child = below_first ? s4_above : node4 + IndexBits'(1);
+  assign stack_waddr  = {s4_slot, DepthBits'(sp4)};
+  assign stack_wdata  = {second_child, t_split4, pick_w(far_all, s4_slot)};
+
+  always_comb begin
+    decide_node    = node4;
+    decide_near_we = 1'b0;
+    decide_near    = top4[2*W-1:W];
+    decide_far_we  = 1'b0;
+    decide_far     = t_split4;
+    decide_fault   = 1'b0;
+    decide_push    = 1'b0;
+    decide_pop     = 1'b0;
+    decide_phase   = PhReady;
+    if (!s4_pop) begin
+      if (!le_far || le_zero) begin
+        decide_node = first_child;   // the plane is behind, beyond, or (NaN) holds the ray
+      end else if (lt_near) begin
+        decide_node = second_child;
+      end else if (sp4 == SpBits'(StackDepth)) begin
+        decide_fault = 1'b1;
+        decide_phase = PhDone;
+      end else begin
+        decide_push   = s4_valid;
+        decide_node   = first_child;
+        decide_far_we = 1'b1;
+      end
+    end else if ((hit4 && (any_hit_all[s4_slot] || le_far)) || sp4 == '0) begin
+      decide_phase = PhDone;
+    end else begin
+      // Pop: the entry's node and interval, unless the hit is nearer than its t_near.
+      decide_pop     = 1'b1;
+      decide_node    = top4[EntryBits-1 -: IndexBits];
+      decide_near_we = 1'b1;
+      decide_far_we  = 1'b1;
+      decide_far     = top4[W-1:0];
+      decide_phase   = hit4 && lt_near ? PhDone : PhReady;
+    end
+  end
+
+  // --- Finish: round robin among the finished slots. ---
+  logic fin_valid_d, fin_valid_q, fin_pick_valid, fin_ready, fin_rsp_taken;
+  logic [SlotBits-1:0] fin_slot_d;
+  logic [Slots-1:0]    fin_grants;
+  rpu_rr_arbiter #(.Inputs(Slots), .Width(1)) u_fin_arb (
+    .clk_i, .rst_ni,
+    .valid_i(done_mask), .ready_o(fin_grants), .data_i('0),
+    .valid_o(fin_pick_valid), .ready_i(fin_ready), .data_o(unused_picks[3]), .index_o(fin_take_slot)
+  );
+  assign fin_ready   = !fin_valid_q || fin_rsp_taken;
+  assign fin_take    = fin_pick_valid && fin_ready;
+  assign fin_done    = fin_rsp_taken;
+  assign fin_valid_d = fin_take || (fin_valid_q && !fin_rsp_taken);
+  assign fin_slot_d  = fin_take ? fin_take_slot : fin_slot_q;
+
+  // §6: t, u, v widened to fp32 (exact), t back to world space.
+  logic [31:0] wide_t, wide_u, wide_v, world_t;
+  rpu_fp_misc_core #(.ExpBits(ExpBits), .FracBits(FracBits)) u_wide_t (
+    .op_i(rpu_pkg::FpOpToFp32), .a_i(32'(pick_w(best_all, fin_slot_q))), .b_i('0), .result_o(wide_t)
+  );
+  rpu_fp_misc_core #(.ExpBits(ExpBits), .FracBits(FracBits)) u_wide_u (
+    .op_i(rpu_pkg::FpOpToFp32), .a_i(32'(pick_w(u_all, fin_slot_q))), .b_i('0), .result_o(wide_u)
+  );
+  rpu_fp_misc_core #(.ExpBits(ExpBits), .FracBits(FracBits)) u_wide_v (
+    .op_i(rpu_pkg::FpOpToFp32), .a_i(32'(pick_w(v_all, fin_slot_q))), .b_i('0), .result_o(wide_v)
+  );
+  logic signed [9:0] to_world_exp;
+  assign to_world_exp = {{2{cfg_i.kd_scale_exponent[7]}}, cfg_i.kd_scale_exponent};
+  rpu_fp32_scale u_t_out (.value_i(wide_t), .exp_i(to_world_exp), .value_o(world_t));
+
+  rpu_pkg::tu_rsp_t fin_rsp;
+  assign fin_rsp.tag    = tag_all[32'(fin_slot_q)*rpu_pkg::RayTagBits +: rpu_pkg::RayTagBits];
+  assign fin_rsp.hit    = hit_all[fin_slot_q];
+  assign fin_rsp.t      = world_t;
+  assign fin_rsp.u      = wide_u;
+  assign fin_rsp.v      = wide_v;
+  assign fin_rsp.prim   = hit_prim_all[32'(fin_slot_q)*32 +: 32];
+  assign fin_rsp.nodes  = nodes_all[32'(fin_slot_q)*32 +: 32];
+  assign fin_rsp.leaves = leaves_all[32'(fin_slot_q)*32 +: 32];
+  assign fin_rsp.tests  = tests_all[32'(fin_slot_q)*32 +: 32];
+  assign fin_rsp.fault  = fault_all[fin_slot_q];
+
+  // Responses: the finish stage's and the set-up engines' (rays that miss the box).
+  logic [Setups:0]                       out_valid, out_ready;
+  logic [(Setups+1)*rpu_pkg::TuRspBits-1:0] out_data;
+  logic [$clog2(Setups + 1)-1:0]         out_index;
+  assign out_valid = {setup_rsp_valid, fin_valid_q};
+  assign out_data  = {setup_rsp, fin_rsp};
+  assign {setup_rsp_ready, fin_rsp_taken} = out_ready;
+  rpu_rr_arbiter #(.Inputs(Setups + 1), .Width(rpu_pkg::TuRspBits)) u_rsp_arb (
+    .clk_i, .rst_ni,
+    .valid_i(out_valid), .ready_o(out_ready), .data_i(out_data),
+    .valid_o(rsp_valid_o), .ready_i(rsp_ready_i), .data_o(rsp_o), .index_o(out_index)
+  );
+
+  always_ff @(posedge clk_i or negedge rst_ni) begin
+    if (!rst_ni) begin
+      hold_q      <= 1'b0;
+      held_q      <= KindNode;
+      work_q      <= '0;
+      sent_q      <= '0;
+      got_q       <= '0;
+      record_q    <= '0;
+      test_busy_q <= '0;
+      table_q     <= '0;
+      fin_valid_q <= 1'b0;
+      fin_slot_q  <= '0;
+    end else begin
+      hold_q      <= hold_d;
+      held_q      <= held_d;
+      work_q      <= work_d;
+      sent_q      <= sent_d;
+      got_q       <= got_d;
+      record_q    <= record_d;
+      test_busy_q <= test_busy_d;
+      table_q     <= table_d;
+      fin_valid_q <= fin_valid_d;
+      fin_slot_q  <= fin_slot_d;
+    end
+  end
+
+  // Bits the unit does not read: the picks' grants (the index is what counts), the
+  // FIFOs' readiness (room is guaranteed by work_q), the set-up engines' idle ports,
+  // the start rays' records, address bits below a line, the IU tag above the table.
+  logic unused;
+  assign unused = ^{fetch_grants, ref_grants, pop_grants, fin_grants, unused_picks, unused_job_fifo,
+                    unused_setup_ports, start_index, out_index, given_ray.record, node_addr[1:0],
+                    ref_addr[1:0], s1_above, s2_above, s3_above, s1_pop, s2_pop, s1_valid, s2_valid,
+                    s3_valid, s3_axis, s4_above, o_lt_bits[W-1:1], o_eq_bits[W-1:1], le_far_bits[W-1:1],
+                    le_zero_bits[W-1:1], lt_near_bits[W-1:1]};
+  if (W < 32) begin : gen_unused_high
+    logic unused_high;
+    assign unused_high = ^{given_near[31:W], given_far[31:W]};
+  end
+
+`ifndef SYNTHESIS
+  initial begin
+    assert (Slots >= 2 && (1 << SlotBits) == Slots) else $error("rpu_tu_pipe: Slots %0d is not a power of two >= 2", Slots);
+    assert ((1 << DepthBits) == StackDepth) else $error("rpu_tu_pipe: StackDepth %0d is not a power of two", StackDepth);
+    assert (Tests <= (1 << rpu_pkg::RayTagBits) && (1 << TestBits) == Tests)
+      else $error("rpu_tu_pipe: Tests %0d is not a power of two the IU tag holds", Tests);
+  end
+  always_ff @(posedge clk_i) begin
+    if (rst_ni) begin
+      // A job FIFO never overflows (at most LeafDepth refs between request and test).
+      assert (!(line_taken && order_kind == KindRef) || unused_job_fifo[0])
+        else $error("rpu_tu_pipe: record job FIFO full");
+      assert (!job_ready || unused_job_fifo[1]) else $error("rpu_tu_pipe: flight FIFO full");
+      assert (!mem_rsp_valid_i || order_valid) else $error("rpu_tu_pipe: a memory response no one asked for");
+      assert (!iu_rsp_valid_i || test_busy_q[answer_entry])
+        else $error("rpu_tu_pipe: IU answer tag %0d names no test in flight", iu_rsp_i.tag);
+    end
+  end
+`endif
+
+endmodule
