@@ -349,15 +349,6 @@ def synth_ray_unit(args, formats: dict) -> int:
     stats.update(unit=unit, format=args.format, exponent_bits=f["exponent_bits"], fraction_bits=f["fraction_bits"])
     if args.unit == "tu":
         stats["slots"] = args.slots
-    if args.pipe:
-        # The netlist testbench checks each IU test against the walk's next one with its
-        # t_best, one test per slot in flight; rpu_tu_pipe streams a leaf's tests with the
-        # t_best of their time, so its netlist is not simulated (docs/area.md).
-        stats["design"] = f"{args.slots} ray slots sharing a node-step pipeline, {args.setups} set-up engines"
-        (out / f"{stem}.json").write_text(json.dumps(stats, indent=1) + "\n")
-        print(f"synth ok: {unit} {args.format}: {stats['cells']} cells ({stats['flops']} flops, "
-              f"{stats['ram_bits']} RAM bits); the netlist is not simulated")
-        return 0
     start = time.monotonic()
     layouts = stream_layouts()
     tb_params = {param: layouts[stream]["bits"] for param, stream in kind["streams"].items()}
@@ -366,6 +357,11 @@ def synth_ray_unit(args, formats: dict) -> int:
         tags = {stream: stream_field(layouts[stream], "tag") for stream in ("tu_rsp", "iu_req", "iu_rsp")}
         tb_params.update(TagBits=tags["tu_rsp"]["width"], RspTagLsb=tags["tu_rsp"]["lsb"],
                          IuReqTagLsb=tags["iu_req"]["lsb"], IuRspTagLsb=tags["iu_rsp"]["lsb"], Slots=args.slots)
+        if args.pipe:
+            # The testbench keeps the slots, the set-up engines and their buffers busy and
+            # finds each test's ray by its fields (t_best is the unit's of the time).
+            tb_params.update(Pipe=1, Slots=args.slots + 2 * args.setups + 2,
+                             IuReqTBestLsb=stream_field(layouts["iu_req"], "t_best")["lsb"])
     simulate = build_netlist_sim(args, out, stem, netlist, kind["tb"], kind["tb_top"], tb_params,
                                  kind.get("defines"))
     if simulate is None:
@@ -402,6 +398,8 @@ def synth_ray_unit(args, formats: dict) -> int:
         stats["design"] = kind["design"]
     if args.slots > 1:
         stats["design"] = f"{args.slots} ray slots, a walker each"
+    if args.pipe:
+        stats["design"] = f"{args.slots} ray slots sharing a node-step pipeline, {args.setups} set-up engines"
     (out / f"{stem}.json").write_text(json.dumps(stats, indent=1) + "\n")
     print(f"synth ok: {unit} {args.format}: {stats['cells']} cells ({stats['flops']} flops), "
           f"{stats.get('transistors', '?')} CMOS transistors; {m.group(0).removeprefix('netlist ok: ')} "
@@ -858,7 +856,7 @@ def main() -> int:
     p.add_argument("--slots", type=int, default=1,
                    help="with --unit tu: the ray slots (rpu_tu_slots); the netlist keeps that many rays in flight")
     p.add_argument("--pipe", action="store_true",
-                   help="with --unit tu: the slots share a node-step pipeline (rpu_tu_pipe); Yosys only")
+                   help="with --unit tu: the slots share a node-step pipeline (rpu_tu_pipe)")
     p.add_argument("--setups", type=int, default=2, help="with --pipe: the set-up engines")
     p.add_argument("--format", help="the number format (not for --unit mem)")
     p.add_argument("--config", default="tiny", help="with --unit mem or chip: the named configuration")
@@ -890,7 +888,7 @@ def main() -> int:
     p.add_argument("--results", default=str(ROOT / "bench" / "results" / "area.json"),
                    help="the result file to append to (default bench/results/area.json)")
     args = ap.parse_args()
-    if args.cmd == "synth" and args.unit != "chip" and not args.pipe and not args.cosim:
+    if args.cmd == "synth" and args.unit != "chip" and not args.cosim:
         ap.error("synth needs --cosim (the harness that writes the vectors)")
     return {"lint": lint, "synth": synth, "area": area}[args.cmd](args)
 

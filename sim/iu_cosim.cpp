@@ -31,6 +31,7 @@
 #include "functional/tracer.hpp"
 #include "harness_outputs.hpp"
 #include "iu_model.hpp"
+#include "iu_test_request.hpp"
 #include "rpu/spec.hpp"
 #include "scene/geometry.hpp"
 #include "scene/resolve.hpp"
@@ -159,24 +160,6 @@ class TransactionSource {
   std::int64_t rays_traced_ = 0;
 };
 
-streams::IuReq request_of(const IuTest& t, std::uint32_t tag) {
-  streams::IuReq q;
-  q.tag = tag;
-  for (int i = 0; i < 3; ++i) {
-    q.origin[i] = t.ray.origin[i];
-    q.direction[i] = t.ray.direction[i];
-  }
-  q.t_min = t.ray.t_min;
-  q.t_best = t.t_best;
-  q.kx = static_cast<std::uint32_t>(t.ray.kx);
-  q.ky = static_cast<std::uint32_t>(t.ray.ky);
-  q.kz = static_cast<std::uint32_t>(t.ray.kz);
-  q.shear_x = t.ray.shear_x;
-  q.shear_y = t.ray.shear_y;
-  q.record = t.record;
-  return q;
-}
-
 // What the unit must answer: the model's hit and, on a hit, t, u, v; zeros on a miss.
 streams::IuRsp expected_of(const IuTest& t, std::uint32_t tag) {
   return {tag, std::uint32_t{t.hit}, t.hit ? t.result.t : 0, t.hit ? t.result.u : 0, t.hit ? t.result.v : 0};
@@ -223,7 +206,7 @@ int write_vectors(const Options& o, TransactionSource& source) {
       const std::uint32_t tag = static_cast<std::uint32_t>(lines.size()) & tag_mask;
       std::string line;
       char word[16];
-      for (const std::uint32_t w : request_of(queue.front().test, tag).pack()) {
+      for (const std::uint32_t w : iu_request_of(queue.front().test, tag).pack()) {
         std::snprintf(word, sizeof word, "%08" PRIx32 " ", w);
         line += word;
       }
@@ -271,7 +254,7 @@ Timing measure_timing(IuModel& model, const std::vector<Transaction>& burst) {
   std::deque<std::uint64_t> accepted;
   for (; done < burst.size() && clock.cycle() < 100 * kBurstTests; clock.tick()) {
     const std::uint64_t cycle = clock.cycle();
-    if (next < burst.size()) in.req = request_of(burst[next].test, static_cast<std::uint32_t>(next));
+    if (next < burst.size()) in.req = iu_request_of(burst[next].test, static_cast<std::uint32_t>(next));
     in.req_valid = next < burst.size();
     const IuOutputs out = clock.settle(in);
     if (out.rsp_valid) {
@@ -339,7 +322,7 @@ int run(const Options& o, fp::Format f, TransactionSource& source, std::unique_p
         }
       }
       if (!have_current && pending.empty()) break;
-      if (have_current) in.req = request_of(current.test, current_tag);
+      if (have_current) in.req = iu_request_of(current.test, current_tag);
       in.req_valid = have_current && !stalled();
       in.rsp_ready = !stalled();
       const IuOutputs out = clock.settle(in);

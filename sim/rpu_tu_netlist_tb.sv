@@ -9,7 +9,12 @@
 // recorded one in the bits it records as compared. With more than one slot the IU tag
 // names the slot (rpu_tu_slots), so the testbench follows the unit's rule (a ray goes to
 // the lowest free slot; a slot is free from its response's hand-over) and checks the tag
-// against it instead of the ray's. Every response, matched to its ray by tag, is
+// against it instead of the ray's. With Pipe = 1 (rpu_tu_pipe) Slots is the rays the
+// testbench keeps in the unit, a ray may have several tests in flight and the IU tag
+// names an entry of the unit's test table: each request is matched to the ray whose next
+// test has its ray fields and record (t_best is the unit's of the time, not compared),
+// and answered with that test's recorded iu_rsp under the request's tag, the tests in
+// flight answered in random order. Every response, matched to its ray by tag, is
 // compared with the Tracer's in the bits the vectors mark (tu_cosim's expected_of). No
 // field is named here (spec/streams.toml): flow.py passes the stream widths and the tag
 // fields' low bits from the spec, and a mismatch prints the streams in hex, most
@@ -28,7 +33,9 @@ module rpu_tu_netlist_tb #(
   parameter integer RspTagLsb = 0,
   parameter integer IuReqTagLsb = 0,
   parameter integer IuRspTagLsb = 0,
-  parameter integer Slots = 1
+  parameter integer IuReqTBestLsb = 0,
+  parameter integer Slots = 1,
+  parameter integer Pipe = 0
 );
 
   localparam integer MaxWords = 1 << 20;
@@ -44,7 +51,8 @@ module rpu_tu_netlist_tb #(
   localparam integer TestFields = 2 * IuReqWords + IuRspWords;      // expected request, compared bits, answer
   localparam integer StallPercent = 8;
   localparam integer Timeout = 100000;
-  localparam integer MemSlots = 64;                                  // memory requests in flight at most
+  localparam integer MemSlots = 128;                                 // memory requests in flight at most
+  localparam integer Pool = 256;                                     // IU tests in flight at most (Pipe)
 
   reg                   clk = 1'b0;
   reg                   rst_n = 1'b0;
@@ -103,6 +111,12 @@ module rpu_tu_netlist_tb #(
   integer    tests_end [0:Slots-1];
   reg        iu_pending [0:Slots-1];
   integer    iu_due [0:Slots-1];
+  // Pipe: the IU tests in flight, each with its tag, its test in the file and when it
+  // may answer.
+  reg [TagBits-1:0] pool_tag [0:Pool-1];
+  integer    pool_test [0:Pool-1];
+  integer    pool_due [0:Pool-1];
+  integer    pool_n, pick, j;
   // Each ray's first IU test in the file.
   integer    first_test [0:MaxRays];
 
@@ -191,6 +205,7 @@ module rpu_tu_netlist_tb #(
     end
 
     reset_dut();
+    pool_n = 0;
 
     sent = 0;
     got = 0;
@@ -218,18 +233,32 @@ module rpu_tu_netlist_tb #(
         for (w = 0; w < LineWords; w = w + 1) line[w*32 +: 32] = mem[k + w];
         mem_rsp = line;
       end
-      // One due answer, from a random slot onwards.
+      // One due answer, from a random slot (Pipe: test in flight) onwards.
       answering = -1;
-      k = {$random(seed)} % Slots;
-      for (i = 0; i < Slots; i = i + 1) begin
-        s = (k + i) % Slots;
-        if (answering < 0 && iu_pending[s] && iu_due[s] <= cycle) answering = s;
+      pick = -1;
+      if (Pipe != 0) begin
+        k = pool_n > 0 ? {$random(seed)} % pool_n : 0;
+        for (i = 0; i < pool_n; i = i + 1) begin
+          j = (k + i) % pool_n;
+          if (pick < 0 && pool_due[j] <= cycle) pick = j;
+        end
+      end else begin
+        k = {$random(seed)} % Slots;
+        for (i = 0; i < Slots; i = i + 1) begin
+          s = (k + i) % Slots;
+          if (answering < 0 && iu_pending[s] && iu_due[s] <= cycle) answering = s;
+        end
       end
       iu_req_ready = ({$random(seed)} % 100) >= StallPercent;
-      iu_rsp_valid = answering >= 0 && ({$random(seed)} % 100) >= StallPercent;
+      iu_rsp_valid = (answering >= 0 || pick >= 0) && ({$random(seed)} % 100) >= StallPercent;
       if (iu_rsp_valid) begin
-        load_test(next_test[answering] - 1);
-        if (Slots > 1) answer[IuRspTagLsb +: TagBits] = TagBits'(answering);
+        if (Pipe != 0) begin
+          load_test(pool_test[pick]);
+          answer[IuRspTagLsb +: TagBits] = pool_tag[pick];
+        end else begin
+          load_test(next_test[answering] - 1);
+          if (Slots > 1) answer[IuRspTagLsb +: TagBits] = TagBits'(answering);
+        end
         iu_rsp = answer[IuRspBits-1:0];
       end
       #1;
@@ -266,7 +295,28 @@ module rpu_tu_netlist_tb #(
         mem_tail = mem_tail + 1;
       end
       if (mem_rsp_valid && mem_rsp_ready) mem_head = mem_head + 1;
-      if (iu_req_valid && iu_req_ready) begin
+      if (iu_req_valid && iu_req_ready && Pipe != 0) begin
+        // Whose test: the ray whose next test has these ray fields and this record.
+        s = -1;
+        for (j = 0; j < Slots; j = j + 1) begin
+          if (s < 0 && busy[j] && next_test[j] < tests_end[j]) begin
+            load_test(next_test[j]);
+            care_iu[IuReqTagLsb +: TagBits] = '0;
+            care_iu[IuReqTBestLsb +: 32] = '0;
+            if (((iu_req ^ want_iu[IuReqBits-1:0]) & care_iu[IuReqBits-1:0]) === '0) s = j;
+          end
+        end
+        if (s < 0 || pool_n == Pool) begin
+          $display("netlist FAIL: cycle %0d: IU request with tag %h is no ray's next test (or %0d in flight): iu_req %h",
+                   cycle, iu_req[IuReqTagLsb +: TagBits], Pool + 1, iu_req);
+          fail_in_flight();
+        end
+        pool_tag[pool_n] = iu_req[IuReqTagLsb +: TagBits];
+        pool_test[pool_n] = next_test[s];
+        pool_due[pool_n] = cycle + 1 + {$random(seed)} % 4;
+        pool_n = pool_n + 1;
+        next_test[s] = next_test[s] + 1;
+      end else if (iu_req_valid && iu_req_ready) begin
         // Whose test: the slot the tag names, or the one slot.
         s = Slots > 1 ? integer'(iu_req[IuReqTagLsb +: TagBits]) : 0;
         if (s >= Slots || !busy[s] || iu_pending[s]) begin
@@ -289,7 +339,16 @@ module rpu_tu_netlist_tb #(
         iu_pending[s] = 1'b1;
         iu_due[s] = cycle + 1 + {$random(seed)} % 4;
       end
-      if (iu_rsp_valid && iu_rsp_ready) iu_pending[answering] = 1'b0;
+      if (iu_rsp_valid && iu_rsp_ready) begin
+        if (Pipe != 0) begin
+          pool_n = pool_n - 1;
+          pool_tag[pick] = pool_tag[pool_n];
+          pool_test[pick] = pool_test[pool_n];
+          pool_due[pick] = pool_due[pool_n];
+        end else begin
+          iu_pending[answering] = 1'b0;
+        end
+      end
       if (req_valid && req_ready) begin
         busy[free] = 1'b1;
         slot_ray[free] = sent;

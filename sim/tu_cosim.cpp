@@ -50,6 +50,7 @@
 #include "functional/tracer.hpp"
 #include "harness_outputs.hpp"
 #include "host_setup.hpp"
+#include "iu_test_request.hpp"
 #include "kdtree/kdtree.hpp"
 #include "scene/geometry.hpp"
 #include "scene/resolve.hpp"
@@ -263,7 +264,7 @@ std::optional<std::array<std::int64_t, 3>> fit_timing(const std::vector<TimingSa
 // a header (image words, rays, IU tests), the tu_cfg, the image (little-endian words);
 // per ray the tu_req (tag = the ray's index), its number of IU tests, the tu_rsp
 // expected and the bits of it compared (expected_of); per IU test in walk order the
-// iu_req expected, the bits of it compared (tag, t_best, record) and the iu_rsp to
+// iu_req expected, the bits of it compared (tag, the ray, t_best, record) and the iu_rsp to
 // answer with (the Tracer's; random t, u, v on a miss). Rays the Tracer ends with a
 // stack overflow are left out (the counters are all that is defined).
 int write_vectors(const Options& o, const functional::SceneImage& si, const functional::Tracer& tracer,
@@ -291,12 +292,16 @@ int write_vectors(const Options& o, const functional::SceneImage& si, const func
     append(rays, want.rsp.pack());
     append(rays, want.care.pack());
     for (const functional::IuTest& t : walk) {
-      streams::IuReq q, care;
-      q.tag = tag;
-      q.t_best = t.t_best;
-      q.record = t.record;
-      care.tag = care.t_best = ~std::uint32_t{0};
-      care.record.fill(~std::uint32_t{0});
+      // Compared: the tag, the ray in the format (rpu_tu_pipe's testbench finds a test's
+      // ray by it), t_best, the record; the watertight set-up in that mode.
+      const streams::IuReq q = iu_request_of(t, tag);
+      streams::IuReq care;
+      constexpr std::uint32_t kAllBits = ~std::uint32_t{0};
+      care.tag = care.t_min = care.t_best = kAllBits;
+      care.origin.fill(kAllBits);
+      care.direction.fill(kAllBits);
+      care.record.fill(kAllBits);
+      if (o.isect == "watertight") care.kx = care.ky = care.kz = care.shear_x = care.shear_y = kAllBits;
       streams::IuRsp r{tag, std::uint32_t{t.hit}, t.result.t, t.result.u, t.result.v};
       if (!t.hit) {  // a miss carries random t, u, v: the unit must ignore them
         r.t = static_cast<std::uint32_t>(rng());
