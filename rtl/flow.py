@@ -119,13 +119,16 @@ def lint(args) -> int:
     # The ray unit (TU + IU) in every format and mode; the sim top with and without the IU.
     for name, f in formats.items():
         for isect in ISECT_MODES:
-            jobs.append((f"rpu_ray_unit {name} {isect}", ["rpu_ray_unit"],
-                         [f"-GExpBits={f['exponent_bits']}", f"-GFracBits={f['fraction_bits']}",
-                          f"-GIsectMode={isect_mode(isect)}"], []))
+            for pipe in (["-GTuPipe=0"], ["-GTuPipe=1", "-GTuSlots=4"]):
+                jobs.append((f"rpu_ray_unit {name} {isect} {' '.join(pipe)}", ["rpu_ray_unit"],
+                             [f"-GExpBits={f['exponent_bits']}", f"-GFracBits={f['fraction_bits']}",
+                              f"-GIsectMode={isect_mode(isect)}", *pipe], []))
     for with_iu in (0, 1):
         jobs.append((f"rpu_tu_cosim_top WithIu={with_iu}", ["rpu_tu_cosim_top"], [f"-GWithIu={with_iu}"],
                      [TU_SIM_TOP]))
-    jobs.append(("rpu_tu_cosim_top Pipe=1", ["rpu_tu_cosim_top"], ["-GPipe=1", "-GSlots=16"], [TU_SIM_TOP]))
+    for with_iu in (0, 1):
+        jobs.append((f"rpu_tu_cosim_top WithIu={with_iu} Pipe=1", ["rpu_tu_cosim_top"],
+                     [f"-GWithIu={with_iu}", "-GPipe=1", "-GSlots=16"], [TU_SIM_TOP]))
     for top in ("rpu_fifo", "rpu_skid_buf"):
         jobs.append((top, [top], ["-GWidth=8"], []))
     # The shader core as each named configuration builds it (its build-time parameters

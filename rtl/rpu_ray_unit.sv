@@ -1,14 +1,18 @@
 // A traversal unit with its intersection unit: what a `trace` instruction hands a ray
-// to. rpu_tu walks the kd tree over the memory port and sends each leaf triangle to
+// to. The TU walks the kd tree over the memory port and sends each leaf triangle to
 // rpu_iu; the ray's hit record comes back on the response port (docs/rtl.md, "Ray
-// unit"). Wiring, and the counters of its time and work (docs/chip.md "Statistics"):
-// both units are the ones co-simulated alone.
+// unit"). The TU is rpu_tu_slots (TuSlots walkers), or with TuPipe = 1 rpu_tu_pipe
+// (TuSlots slots sharing a node-step pipeline, TuSetups set-up engines). Wiring, and the
+// counters of its time and work (docs/chip.md "Statistics"): both units are the ones
+// co-simulated alone.
 module rpu_ray_unit #(
   parameter int unsigned ExpBits    = rpu_pkg::FormatFp32ExponentBits,
   parameter int unsigned FracBits   = rpu_pkg::FormatFp32FractionBits,
   parameter int unsigned IsectMode  = rpu_pkg::IsectModeWoop,
   parameter int unsigned StackDepth = rpu_pkg::ConfigDefaultStackDepth,
-  parameter int unsigned TuSlots    = 1
+  parameter int unsigned TuSlots    = 1,
+  parameter int unsigned TuPipe     = 0,
+  parameter int unsigned TuSetups   = 2
 ) (
   input  logic              clk_i,
   input  logic              rst_ni,
@@ -41,16 +45,29 @@ module rpu_ray_unit #(
   logic             iu_rsp_valid, iu_rsp_ready;
   rpu_pkg::iu_rsp_t iu_rsp;
 
-  rpu_tu_slots #(.ExpBits(ExpBits), .FracBits(FracBits), .IsectMode(IsectMode), .StackDepth(StackDepth),
-                 .Slots(TuSlots)) u_tu (
-    .clk_i, .rst_ni, .cfg_i,
-    .req_valid_i, .req_ready_o, .req_i,
-    .rsp_valid_o, .rsp_ready_i, .rsp_o,
-    .mem_req_valid_o, .mem_req_ready_i, .mem_req_o,
-    .mem_rsp_valid_i, .mem_rsp_ready_o, .mem_rsp_i,
-    .iu_req_valid_o(iu_req_valid), .iu_req_ready_i(iu_req_ready), .iu_req_o(iu_req),
-    .iu_rsp_valid_i(iu_rsp_valid), .iu_rsp_ready_o(iu_rsp_ready), .iu_rsp_i(iu_rsp)
-  );
+  if (TuPipe != 0) begin : g_tu_pipe
+    rpu_tu_pipe #(.ExpBits(ExpBits), .FracBits(FracBits), .IsectMode(IsectMode), .StackDepth(StackDepth),
+                  .Slots(TuSlots), .Setups(TuSetups)) u_tu (
+      .clk_i, .rst_ni, .cfg_i,
+      .req_valid_i, .req_ready_o, .req_i,
+      .rsp_valid_o, .rsp_ready_i, .rsp_o,
+      .mem_req_valid_o, .mem_req_ready_i, .mem_req_o,
+      .mem_rsp_valid_i, .mem_rsp_ready_o, .mem_rsp_i,
+      .iu_req_valid_o(iu_req_valid), .iu_req_ready_i(iu_req_ready), .iu_req_o(iu_req),
+      .iu_rsp_valid_i(iu_rsp_valid), .iu_rsp_ready_o(iu_rsp_ready), .iu_rsp_i(iu_rsp)
+    );
+  end else begin : g_tu_slots
+    rpu_tu_slots #(.ExpBits(ExpBits), .FracBits(FracBits), .IsectMode(IsectMode), .StackDepth(StackDepth),
+                   .Slots(TuSlots)) u_tu (
+      .clk_i, .rst_ni, .cfg_i,
+      .req_valid_i, .req_ready_o, .req_i,
+      .rsp_valid_o, .rsp_ready_i, .rsp_o,
+      .mem_req_valid_o, .mem_req_ready_i, .mem_req_o,
+      .mem_rsp_valid_i, .mem_rsp_ready_o, .mem_rsp_i,
+      .iu_req_valid_o(iu_req_valid), .iu_req_ready_i(iu_req_ready), .iu_req_o(iu_req),
+      .iu_rsp_valid_i(iu_rsp_valid), .iu_rsp_ready_o(iu_rsp_ready), .iu_rsp_i(iu_rsp)
+    );
+  end
 
   // A skid buffer between the TU's test requests and the IU: the IU's ready follows its
   // answer's (a test starts as the last one leaves) and rpu_tu decides all its outputs in
@@ -76,8 +93,9 @@ module rpu_ray_unit #(
   // test is, and is busy otherwise. The work is the answers' own counts, summed.
   // ---------------------------------------------------------------------------------
   // Rays in the unit (one walker with its skid buffer holds up to 3, Slots walkers one
-  // each), lines out (up to a record's 3 per walker) and tests out (one per walker).
-  localparam int unsigned CountBits = $clog2(3 * TuSlots + 4);
+  // each), lines out (up to a record's 3 per walker) and tests out (one per walker); the
+  // pipeline's memory-order FIFO and test table hold fewer than 2^10 of each.
+  localparam int unsigned CountBits = TuPipe != 0 ? 10 : $clog2(3 * TuSlots + 4);
   logic [CountBits-1:0] rays_in_d, rays_in_q;
   logic [CountBits-1:0] lines_out_d, lines_out_q;
   logic [CountBits-1:0] tests_out_d, tests_out_q;

@@ -4,8 +4,8 @@
 // answers the IU's tests with the C++ intersection unit; WithIu = 1 (tu_cosim --with-iu):
 // the ray unit (rpu_tu + rpu_iu), the IU port's pins tied off. Slots: the TU's ray
 // slots (rpu_tu_slots); Pipe = 1: the slots share a node-step pipeline and Setups set-up
-// engines (rpu_tu_pipe, TU alone). Only wiring: a synthesis of this top has the unit's
-// cells.
+// engines (rpu_tu_pipe), alone or in the ray unit. Only wiring: a synthesis of this top
+// has the unit's cells.
 module rpu_tu_cosim_top #(
   parameter int unsigned ExpBits    = rpu_pkg::FormatFp32ExponentBits,
   parameter int unsigned FracBits   = rpu_pkg::FormatFp32FractionBits,
@@ -64,7 +64,7 @@ module rpu_tu_cosim_top #(
     // The counters are the chip's (sim/chip_cosim reads them).
     rpu_pkg::ray_unit_counters_t counters;
     rpu_ray_unit #(.ExpBits(ExpBits), .FracBits(FracBits), .IsectMode(IsectMode), .StackDepth(StackDepth),
-                   .TuSlots(Slots)) u_ray_unit (
+                   .TuSlots(Slots), .TuPipe(Pipe), .TuSetups(Setups)) u_ray_unit (
       .clk_i, .rst_ni, .cfg_i(cfg),
       .req_valid_i, .req_ready_o, .req_i(req),
       .rsp_valid_o, .rsp_ready_i, .rsp_o(rsp),
