@@ -43,6 +43,7 @@
 #include "common/error.hpp"
 #include "cosim_core.hpp"
 #include "cycle/ray_unit_timing.hpp"
+#include "cycle/tu_pipe_timing.hpp"
 #include "fp/format.hpp"
 #include "functional/arith.hpp"
 #include "functional/intersection_unit.hpp"
@@ -416,6 +417,43 @@ cycle::Cycle model_cycles(const std::vector<Case>& cases, const cycle::WalkCosts
   return end;
 }
 
+// The harness's memory with no stalls or jitter: a line is answered `latency` cycles
+// after it is asked for, in order (the pipelined unit asks one a cycle at most).
+class FixedLatencyLines final : public cycle::LineSource {
+ public:
+  explicit FixedLatencyLines(cycle::Cycle latency) : latency_(latency) {}
+  cycle::Cycle read(cycle::Cycle now, std::uint32_t, std::uint32_t, bool) override { return now + latency_; }
+
+ private:
+  cycle::Cycle latency_;
+};
+
+// The cycles the cycle model's pipelined unit (one IU) takes for the cases, offered in
+// order with at most `in_flight` in the unit, as the harness offers them.
+cycle::Cycle model_pipe_cycles(const std::vector<Case>& cases, const cycle::PipeCosts& costs, int in_flight,
+                               cycle::Cycle mem_latency) {
+  FixedLatencyLines lines(mem_latency);
+  std::vector<cycle::IuTimer> ius(1);
+  cycle::PipeTraversalUnit unit(costs, lines, ius);
+  std::vector<std::uint32_t> answered;
+  std::size_t next = 0, done = 0, inside = 0;
+  cycle::Cycle now = 0, progress = 0;
+  for (; done < cases.size(); ++now) {
+    if (next < cases.size() && inside < static_cast<std::size_t>(in_flight) && unit.ready()) {
+      unit.take(static_cast<std::uint32_t>(next), cases[next].log);
+      ++next;
+      ++inside;
+    }
+    answered.clear();
+    unit.tick(now, answered);
+    inside -= answered.size();
+    done += answered.size();
+    if (!answered.empty()) progress = now;
+    if (now - progress > 1000000) throw Error("tu_cosim: the cycle model's pipelined unit answered nothing for 10^6 cycles");
+  }
+  return now;
+}
+
 // `model` outlives the run, so that its waveforms are kept whether the run passed or
 // failed.
 int run(const Options& o, std::unique_ptr<TuModel>& model) {
@@ -460,6 +498,13 @@ int run(const Options& o, std::unique_ptr<TuModel>& model) {
 
   const TuModelName name{o.format, o.isect, o.with_iu, o.slots, o.pipe};
   model = make_tu_model(name, o.seed, o.trace);
+  int setups = 0;  // the built pipelined unit's set-up engines
+  for (const TuModelName& n : tu_models()) {
+    if (n.format == name.format && n.isect == name.isect && n.with_iu == name.with_iu && n.slots == name.slots &&
+        n.pipe == name.pipe) {
+      setups = n.setups;
+    }
+  }
   if (!model) {
     std::string built;
     for (const TuModelName& n : tu_models()) {
@@ -647,7 +692,16 @@ int run(const Options& o, std::unique_ptr<TuModel>& model) {
     }
     const cycle::WalkCosts costs =
         cycle::WalkCosts::of(*config, watertight ? IsectMode::kWatertight : IsectMode::kWoop);
-    const cycle::Cycle modelled = model_cycles(cases, costs, o.slots, static_cast<cycle::Cycle>(o.mem_latency));
+    cycle::Cycle modelled = 0;
+    if (o.pipe) {
+      cycle::PipeCosts pipe = cycle::PipeCosts::of(*config, watertight ? IsectMode::kWatertight : IsectMode::kWoop);
+      pipe.slots = static_cast<std::uint32_t>(o.slots);
+      pipe.setups = static_cast<std::uint32_t>(setups);
+      pipe.memory_wait = 0;  // the harness answers the unit's port directly
+      modelled = model_pipe_cycles(cases, pipe, o.in_flight, static_cast<cycle::Cycle>(o.mem_latency));
+    } else {
+      modelled = model_cycles(cases, costs, o.slots, static_cast<cycle::Cycle>(o.mem_latency));
+    }
     const double error = 100.0 * (double(modelled) - double(cycle)) / double(cycle);
     std::printf("tu_cosim cycle model: '%s' step cycles, %d slots: %" PRIu64 " cycles against the RTL's %" PRIu64
                 " (%+.2f%%)\n",

@@ -60,6 +60,7 @@ struct TuModelName {
   bool with_iu;  // the RTL IU inside (rpu_ray_unit), else the IU port is open
   int slots = 1;  // ray slots of the TU (rpu_tu_slots)
   bool pipe = false;  // the slots share a node-step pipeline (rpu_tu_pipe)
+  int setups = 0;     // ... and its set-up engines (not part of the lookup: one build per pipe)
 };
 
 // The models built into this binary.

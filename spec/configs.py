@@ -16,7 +16,9 @@ import re
 # The groups whose values are measured on the RTL (latencies.toml), with their C++ structs.
 LATENCY_GROUPS = {
     "latency": ("LatencyConfig", ("fpu", "sfu", "rsq", "reissue", "result", "to_unit", "from_unit", "from_rays", "line_wait")),
-    "tu": ("TraversalUnitConfig", ("setup_woop", "setup_watertight", "inner", "leaf", "pop", "memory_wait", "iu_wait", "turnaround")),
+    "tu": ("TraversalUnitConfig", ("setup_woop", "setup_watertight", "inner", "leaf", "pop", "memory_wait", "iu_wait", "turnaround",
+                                  "pipe_handoff_woop", "pipe_handoff_watertight", "pipe_node", "pipe_iu_wait",
+                                  "pipe_memory_wait", "pipe_from_unit")),
     "iu": ("IntersectionUnitConfig", ("woop", "watertight", "interval_woop", "interval_watertight")),
 }
 # The widest fraction a format may have (spec/formats.toml's limit, rpu::fp::soft's).
@@ -477,6 +479,8 @@ def doc_tables(schema: Schema, resolved: list[dict]) -> dict[str, str]:
     row("registers", lambda v: str(v["registers"]))
     row("traversal units (ray slots each) / intersection units",
         lambda v: f"{v['traversal_units']} ({v['tu_slots']}) / {v['intersection_units']}")
+    row("traversal units' kind", lambda v: (f"pipelined, {v['tu_setups']} set-up engines" if v["tu_pipe"]
+                                            else "walkers"))
     row("dividers per core (sfu_units)", lambda v: str(v["sfu_units"]))
     row("stack depth, call depth, stack bytes", lambda v: f"{v['stack_depth']}, {v['call_depth']}, {v['stack_bytes']}")
     row("clock", lambda v: f"{v['clock_mhz']} MHz")

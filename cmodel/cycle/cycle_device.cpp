@@ -19,6 +19,7 @@
 #include "device/device_base.hpp"
 #include "fp/fast32.hpp"
 #include "cycle/ray_unit_timing.hpp"
+#include "cycle/tu_pipe_timing.hpp"
 #include "functional/tracer.hpp"
 #include "rpu/streams.hpp"
 
@@ -107,10 +108,21 @@ class CacheLines final : public LineSource {
   Cache& triangles_;
 };
 
+// A pipelined traversal unit (rpu_tu_pipe): stepped every cycle while it holds rays or
+// rays wait for it; its rays' destinations by the id the unit answers with.
+struct PipeTu {
+  std::optional<PipeTraversalUnit> unit;
+  Cycle scheduled = kNever;
+  std::deque<Ray> rays;  // grows at the back only: the unit holds pointers to their logs
+  std::vector<std::uint32_t> free_ids;
+};
+
+enum class EventKind : std::uint8_t { kCore, kTu, kPipe };
+
 struct Event {
   Cycle at;
   std::uint64_t seq;
-  bool core;  // a shader core's event, else a traversal unit's
+  EventKind kind;
   std::uint32_t unit;
   bool operator>(const Event& o) const { return at != o.at ? at > o.at : seq > o.seq; }
 };
@@ -128,6 +140,7 @@ class CycleDevice final : public device::DeviceBase {
 
   void schedule_core(std::uint32_t c, Cycle at);
   void schedule_tu(std::uint32_t u, Cycle at);
+  void schedule_pipe(std::uint32_t u, Cycle at);
   void account(Core& core, Cycle until);
   Cycle ready_time(const ChunkSlot& s) const;
   Cycle compute_ready_time(const ChunkSlot& s) const;
@@ -140,9 +153,12 @@ class CycleDevice final : public device::DeviceBase {
   void start_round(std::uint32_t c, std::uint32_t i, Cycle at);
   void dispatch(Ray&& ray, Cycle at);
   void start_ray(std::uint32_t u, Ray&& ray, Cycle at);
+  std::optional<Ray> next_queued_ray(Cycle at, Cycle arrived_by);
   bool take_queued_ray(std::uint32_t u, Cycle at);
   void tu_event(std::uint32_t u, Cycle now);
+  void pipe_event(std::uint32_t u, Cycle now);
   void finish_ray(std::uint32_t u, Cycle now);
+  void return_ray(Ray& ray, Cycle now);
   void slice(std::string track, std::string name, Cycle begin, Cycle end);
   void flush_timeline();
   void set_result(ChunkSlot& s, int reg, Cycle ready);
@@ -160,8 +176,12 @@ class CycleDevice final : public device::DeviceBase {
   std::vector<Core> cores_;
   std::vector<Tu> tus_;   // unit u's slots at u * slots_ ...
   std::uint32_t slots_ = 1;
+  std::vector<PipeTu> pipes_;  // with tu_pipe: one per unit, and tus_ is empty
+  Cycle pipe_took_ = kNever;    // a pipelined unit took a ray then: one a cycle (rpu_ray_dispatch)
+  std::vector<std::uint32_t> answered_;
   std::vector<IuTimer> ius_;
   WalkCosts costs_;
+  PipeCosts pipe_costs_;
   std::optional<CacheLines> lines_;
   std::uint32_t ray_core_ = 0;  // the core whose ray a traversal unit took last
   std::vector<TraceLog> spare_logs_;
@@ -182,12 +202,18 @@ class CycleDevice final : public device::DeviceBase {
 void CycleDevice::schedule_core(std::uint32_t c, Cycle at) {
   if (at >= cores_[c].scheduled) return;
   cores_[c].scheduled = at;
-  events_.push({at, seq_++, true, c});
+  events_.push({at, seq_++, EventKind::kCore, c});
 }
 
 void CycleDevice::schedule_tu(std::uint32_t u, Cycle at) {
   tus_[u].scheduled = at;
-  events_.push({at, seq_++, false, u});
+  events_.push({at, seq_++, EventKind::kTu, u});
+}
+
+void CycleDevice::schedule_pipe(std::uint32_t u, Cycle at) {
+  if (at >= pipes_[u].scheduled) return;
+  pipes_[u].scheduled = at;
+  events_.push({at, seq_++, EventKind::kPipe, u});
 }
 
 void CycleDevice::account(Core& core, Cycle until) {
@@ -475,6 +501,10 @@ void CycleDevice::start_round(std::uint32_t c, std::uint32_t i, Cycle at) {
 void CycleDevice::dispatch(Ray&& ray, Cycle at) {
   ray.arrived = at;
   cores_[ray.core].rays.push_back(std::move(ray));
+  if (!pipes_.empty()) {
+    for (std::uint32_t u = 0; u < pipes_.size(); ++u) schedule_pipe(u, at);
+    return;
+  }
   // The first free slot of each unit in turn: units fill evenly.
   const auto units = static_cast<std::uint32_t>(config_.traversal_units);
   for (std::uint32_t k = 0; k < tus_.size(); ++k) {
@@ -483,23 +513,30 @@ void CycleDevice::dispatch(Ray&& ray, Cycle at) {
   }
 }
 
-// A free traversal unit takes the first ray of the next core, round robin, that has
-// one (rpu_ray_dispatch); the core's queue has room again.
-bool CycleDevice::take_queued_ray(std::uint32_t u, Cycle at) {
+// The first ray of the next core, round robin, that has one arrived by `arrived_by`
+// (rpu_ray_dispatch); the core's queue has room again from `at`.
+std::optional<Ray> CycleDevice::next_queued_ray(Cycle at, Cycle arrived_by) {
   const auto n = static_cast<std::uint32_t>(cores_.size());
   for (std::uint32_t k = 1; k <= n; ++k) {
     const std::uint32_t c = (ray_core_ + k) % n;
     Core& core = cores_[c];
-    if (core.rays.empty()) continue;
+    if (core.rays.empty() || core.rays.front().arrived > arrived_by) continue;
     ray_core_ = c;
     Ray ray = std::move(core.rays.front());
     core.rays.pop_front();
-    start_ray(u, std::move(ray), at);
     for (ChunkSlot& s : core.chunks) s.ready_known = false;
     plan(c, at);
-    return true;
+    return ray;
   }
-  return false;
+  return std::nullopt;
+}
+
+// A free ray slot takes the next waiting ray.
+bool CycleDevice::take_queued_ray(std::uint32_t u, Cycle at) {
+  std::optional<Ray> ray = next_queued_ray(at, kNever);
+  if (!ray) return false;
+  start_ray(u, std::move(*ray), at);
+  return true;
 }
 
 void CycleDevice::start_ray(std::uint32_t u, Ray&& ray, Cycle at) {
@@ -524,16 +561,52 @@ void CycleDevice::tu_event(std::uint32_t u, Cycle now) {
   schedule_tu(u, step.next);
 }
 
+// A pipelined unit's cycle: it takes a waiting ray if a set-up engine has room, steps,
+// and returns the rays answered; it runs on while it holds rays or rays wait.
+void CycleDevice::pipe_event(std::uint32_t u, Cycle now) {
+  PipeTu& p = pipes_[u];
+  p.scheduled = kNever;
+  if (p.unit->ready() && pipe_took_ != now) {
+    if (std::optional<Ray> ray = next_queued_ray(now, now)) {
+      pipe_took_ = now;
+      if (p.free_ids.empty()) {
+        p.free_ids.push_back(static_cast<std::uint32_t>(p.rays.size()));
+        p.rays.emplace_back();
+      }
+      const std::uint32_t id = p.free_ids.back();
+      p.free_ids.pop_back();
+      p.rays[id] = std::move(*ray);
+      p.unit->take(id, p.rays[id].log);
+    }
+  }
+  answered_.clear();
+  p.unit->tick(now, answered_);
+  for (const std::uint32_t id : answered_) {
+    return_ray(p.rays[id], now);
+    p.free_ids.push_back(id);
+  }
+  bool waiting = false;
+  for (const Core& core : cores_) waiting |= !core.rays.empty();
+  if (!p.unit->idle() || waiting) schedule_pipe(u, now + 1);
+}
+
 // The ray's hit record reaches its register; the TU takes the next waiting ray.
 void CycleDevice::finish_ray(std::uint32_t u, Cycle now) {
   Tu& tu = tus_[u];
-  const std::uint32_t c = tu.ray.core, i = tu.ray.chunk;
+  return_ray(tu.ray, now);
+  tu.busy = false;
+  take_queued_ray(u, now + costs_.turnaround);
+}
+
+// The ray's answer enters its core's pipeline and is written like any result.
+void CycleDevice::return_ray(Ray& ray, Cycle now) {
+  const std::uint32_t c = ray.core, i = ray.chunk;
   Core& core = cores_[c];
   ChunkSlot& s = core.chunks[i];
-  const auto dst = static_cast<std::size_t>(tu.ray.dst);
+  const auto dst = static_cast<std::size_t>(ray.dst);
   s.ready_known = false;
-  // The answer enters the core's pipeline and is written like any result.
-  const Cycle back = take_return_slot(core, now + static_cast<Cycle>(config_.latency.from_rays)) +
+  const auto from_unit = static_cast<Cycle>(config_.tu_pipe ? config_.tu.pipe_from_unit : config_.latency.from_rays);
+  const Cycle back = take_return_slot(core, now + from_unit) +
                      static_cast<Cycle>(config_.latency.result);
   s.reg_ready[dst] = std::max(s.reg_ready[dst], back);
   --s.reg_rays[dst];
@@ -541,10 +614,7 @@ void CycleDevice::finish_ray(std::uint32_t u, Cycle now) {
   account(core, now);  // the wait so far had the old reason
   if (s.halted && !s.rays_in_flight) start_round(c, i, back);
   plan(c, now + 1);
-
-  tu.busy = false;
-  spare_logs_.push_back(std::move(tu.ray.log));
-  take_queued_ray(u, now + costs_.turnaround);
+  spare_logs_.push_back(std::move(ray.log));
 }
 
 void CycleDevice::slice(std::string track, std::string name, Cycle begin, Cycle end) {
@@ -602,6 +672,11 @@ void CycleDevice::run(const ProgressCallback& progress) {
   out_.pixel_cycles.assign(pixels(), 0);
   out_.dram_bytes_per_cycle = config_.dram.bytes_per_cycle;
   costs_ = WalkCosts::of(config_, layout_.isect_mode);
+  pipe_costs_ = PipeCosts::of(config_, layout_.isect_mode);
+  // rpu_top's in-order port per ray unit: a reorder buffer of what the cache arbiter
+  // leaves of the cache's tag.
+  const auto unit_bits = static_cast<std::uint32_t>(std::bit_width(static_cast<std::uint32_t>(config_.traversal_units) - 1));
+  pipe_costs_.port_lines = 1u << (streams::kCacheTagBits - std::min(unit_bits, streams::kCacheTagBits));
   lines_.emplace(*node_cache_, *triangle_cache_);
   progress_ = &progress;
   rounds_done_ = 0;
@@ -627,8 +702,16 @@ void CycleDevice::run(const ProgressCallback& progress) {
     plan(c, 0);
   }
   slots_ = static_cast<std::uint32_t>(config_.tu_slots);
-  tus_.assign(static_cast<std::size_t>(config_.traversal_units) * slots_, Tu{});
   ius_.assign(static_cast<std::size_t>(config_.intersection_units), IuTimer{});
+  tus_.clear();
+  pipes_.clear();
+  pipe_took_ = kNever;
+  if (config_.tu_pipe) {
+    pipes_.resize(static_cast<std::size_t>(config_.traversal_units));
+    for (PipeTu& p : pipes_) p.unit.emplace(pipe_costs_, *lines_, ius_);
+  } else {
+    tus_.assign(static_cast<std::size_t>(config_.traversal_units) * slots_, Tu{});
+  }
 
   Cycle now = 0;
   {
@@ -638,8 +721,10 @@ void CycleDevice::run(const ProgressCallback& progress) {
       const Event e = events_.top();
       events_.pop();
       now = e.at;
-      if (e.core) {
+      if (e.kind == EventKind::kCore) {
         core_event(e.unit, now);
+      } else if (e.kind == EventKind::kPipe) {
+        if (pipes_[e.unit].scheduled == now) pipe_event(e.unit, now);
       } else if (tus_[e.unit].scheduled == now) {
         tu_event(e.unit, now);
       }
@@ -695,6 +780,11 @@ void CycleDevice::finish(Cycle end) {
     t.idle = end - std::min(end, t.busy + t.wait_memory + t.wait_iu);
     out_.tus[i / slots_] += t;
   }
+  for (std::uint32_t u = 0; u < pipes_.size(); ++u) {
+    TraversalUnitTime t = pipes_[u].unit->time;  // slot-cycles
+    t.idle = end * slots_ - std::min(end * slots_, t.busy + t.wait_memory + t.wait_iu);
+    out_.tus[u] = t;
+  }
   for (const IuTimer& iu : ius_) out_.ius.push_back(iu.time);
   out_.node_cache = node_cache_->stats();
   out_.triangle_cache = triangle_cache_->stats();
@@ -711,7 +801,12 @@ void CycleDevice::finish(Cycle end) {
   const spec::TraversalUnitConfig& tc = config_.tu;
   const auto node_hit = static_cast<double>(config_.node_cache.hit_latency + config_.tu.memory_wait);
   const auto tri_hit = static_cast<double>(config_.triangle_cache.hit_latency + config_.tu.memory_wait);
-  const double tu_cycles = static_cast<double>(tu_work.rays) * static_cast<double>(costs_.setup) +
+  // A pipelined unit: its memory port moves a line a cycle (a node, a ref, a record's
+  // lines), its set-up engines take `handoff` cycles a ray.
+  const double pipe_cycles = std::max(
+      static_cast<double>(tu_work.inner + tu_work.leaves + tu_work.refs + tu_work.tests * pipe_costs_.record_lines),
+      static_cast<double>(tu_work.rays) * static_cast<double>(pipe_costs_.handoff) / config_.tu_setups);
+  const double walk_cycles = static_cast<double>(tu_work.rays) * static_cast<double>(costs_.setup) +
                            static_cast<double>(tu_work.inner) * (node_hit + tc.inner) +
                            static_cast<double>(tu_work.leaves) * (node_hit + tc.leaf) +
                            static_cast<double>(tu_work.refs) * tri_hit +
@@ -721,7 +816,8 @@ void CycleDevice::finish(Cycle end) {
   out_.bounds = {
       // One lane a cycle enters a core's pipeline.
       {"shader cores (issue)", static_cast<double>(out_.thread_instructions) / config_.shader_cores},
-      {"traversal units", tu_cycles / (config_.traversal_units * config_.tu_slots)},
+      {"traversal units", config_.tu_pipe ? pipe_cycles / config_.traversal_units
+                                          : walk_cycles / (config_.traversal_units * config_.tu_slots)},
       {"intersection units", static_cast<double>(tests) * static_cast<double>(costs_.iu_interval) / config_.intersection_units},
       {"DRAM bus", static_cast<double>(out_.dram.bus_cycles)},
   };

@@ -166,6 +166,7 @@ TEST(CycleModel, UnitTimeAddsUpToTheFrame) {
 TEST(CycleModel, RaySlotsShareTheFrameAndSpeedUpATraversalBoundOne) {
   const Cornell c;
   spec::HardwareConfig config = hardware_config("rpu2005");
+  config.tu_pipe = 0;  // walkers
   const functional::SceneImage si =
       functional::make_scene_image(c.scene, kd_build_config_for("rpu2005"), IsectMode::kWoop);
   std::uint64_t previous = std::numeric_limits<std::uint64_t>::max(), tests = 0;
@@ -181,6 +182,38 @@ TEST(CycleModel, RaySlotsShareTheFrameAndSpeedUpATraversalBoundOne) {
     previous = st.cycles;
     if (tests == 0) tests = f.stats.shader.tests;
     EXPECT_EQ(f.stats.shader.tests, tests) << slots << " slots";
+  }
+}
+
+// A pipelined unit (tu_pipe = 1, rpu_tu_pipe) walks the same rays as its walkers would:
+// the same image and work; its slot-cycles add up to cycles x slots; and on a frame bound
+// by the one traversal unit (rpu2005's with four shader cores) its shared pipeline takes
+// fewer cycles than as many walker slots, and more slots never cost cycles.
+TEST(CycleModel, APipelinedUnitWalksTheSameRaysFasterThanItsWalkers) {
+  const Cornell c;
+  spec::HardwareConfig config = hardware_config("rpu2005");
+  config.shader_cores = 4;
+  const functional::SceneImage si =
+      functional::make_scene_image(c.scene, kd_build_config_for("rpu2005"), IsectMode::kWoop);
+  config.tu_pipe = 0;
+  config.tu_slots = 8;
+  const Frame walkers = render_cycle(config, c.scene, si.image, c.firmware, settings(32, 24));
+  config.tu_pipe = 1;
+  std::uint64_t previous = std::numeric_limits<std::uint64_t>::max();
+  for (int slots : {2, 8, 16}) {
+    config.tu_slots = slots;
+    const Frame f = render_cycle(config, c.scene, si.image, c.firmware, settings(32, 24));
+    const CycleStats& st = f.cycle;
+    EXPECT_TRUE(same_bits(walkers.image, f.image)) << slots;
+    EXPECT_EQ(f.stats.shader.tests, walkers.stats.shader.tests) << slots;
+    ASSERT_EQ(st.tus.size(), 1u);
+    const TraversalUnitTime& t = st.tus[0];
+    EXPECT_EQ(t.busy + t.wait_memory + t.wait_iu + t.idle, st.cycles * static_cast<std::uint64_t>(slots)) << slots;
+    EXPECT_EQ(t.tests, f.stats.shader.tests) << slots;
+    EXPECT_EQ(t.rays, st.closest_rays + st.any_rays) << slots;
+    EXPECT_LE(st.cycles, previous) << slots << " slots";
+    previous = st.cycles;
+    if (slots == 8) EXPECT_LT(st.cycles, walkers.cycle.cycles) << "8 slots: the pipeline against 8 walkers";
   }
 }
 

@@ -1,0 +1,122 @@
+// The timing of a pipelined traversal unit (rtl/rpu_tu_pipe.sv, docs/cycle-model.md
+// "Traversal and intersection units"): its ray slots share one memory port and one
+// node-step pipeline, and its leaves stream tests to the IUs. Stepped cycle by cycle
+// like the RTL, with the rays' walks taken from the tracer's logs: set-up engines,
+// slot phases, the port's priority (record lines, then refs, then nodes), in-order
+// answers, the record and flight queues, the test table, the pop pass in cycles no
+// inner node enters, the finish stage and the response arbiter. The chip's cycle
+// model and tu_cosim's comparison with the RTL ray unit (--cycle-model) run this code.
+#pragma once
+
+#include <cstdint>
+#include <deque>
+#include <queue>
+#include <span>
+#include <vector>
+
+#include "cycle/ray_unit_timing.hpp"
+
+namespace rpu::cycle {
+
+// A configuration's pipelined unit (spec/config_keys.toml tu_*, spec/latencies.toml
+// [tu] pipe_*) in one intersection mode.
+struct PipeCosts {
+  std::uint32_t slots = 16, setups = 2;
+  std::uint32_t leaf_depth = 16;  // refs fetched ahead of their tests (rpu_tu_pipe LeafDepth)
+  std::uint32_t tests = 32;       // tests in flight to the IUs (rpu_tu_pipe Tests)
+  std::uint32_t port_lines = 0;   // lines in flight on the memory port, if fewer than the unit's own limit
+  Cycle handoff = 0;   // a set-up engine: from taking a ray to offering it to a slot
+  Cycle node = 5;      // a node's line taken to its slot's next fetch
+  Cycle memory_wait = 0;  // beyond the line source's answer (the chip's port registers)
+  Cycle iu_latency = 0, iu_interval = 1, iu_wait = 0;
+  std::uint32_t record_lines = 0;  // an intersection record's memory lines
+
+  static PipeCosts of(const spec::HardwareConfig& config, IsectMode mode);
+};
+
+class PipeTraversalUnit {
+ public:
+  PipeTraversalUnit(const PipeCosts& costs, LineSource& lines, std::span<IuTimer> ius);
+
+  // Whether a ray offered in the next cycle is taken (a set-up engine's buffer has room).
+  bool ready() const;
+  // A ray taken in the cycle the next tick() runs; `log` outlives its walk.
+  void take(std::uint32_t ray, const functional::TraceLog& log);
+  // Runs cycle `now` (each cycle once, in order); appends the rays answered in it.
+  void tick(Cycle now, std::vector<std::uint32_t>& answered);
+  bool idle() const { return rays_ == 0; }
+
+  // Slot-cycles: busy (a node in the pipeline, a leaf's end, the finish), waiting for
+  // memory (a node to fetch or on its way), waiting for the IU (a leaf's tests); and
+  // the walks' counts.
+  TraversalUnitTime time;
+
+ private:
+  enum class Phase : std::uint8_t { kFree, kReady, kNode, kLeaf, kLeafEnd, kPop, kDone, kFinish };
+  enum class Kind : std::uint8_t { kNode, kRef, kRecord };
+  struct Ray {
+    std::uint32_t id = 0;
+    const functional::TraceLog* log = nullptr;
+  };
+  struct Engine {
+    Ray out, skid;  // rpu_skid_buf's two registers
+    bool out_valid = false, skid_valid = false;
+    bool working = false;
+    Ray ray;
+    Cycle offer_at = 0;  // offers its ray (or answers a miss) from here
+  };
+  struct Slot {
+    Phase phase = Phase::kFree;
+    Ray ray;
+    std::size_t next = 0;  // the log's next event
+    std::size_t refs = 0;  // the leaf's first ref event
+    std::uint32_t count = 0, k = 0, pending = 0;
+    bool stepping = false;  // its node's line is in the pipeline
+  };
+  struct Line {
+    Cycle at;  // answered from here, in order
+    Kind kind;
+    bool leaf;
+    std::uint32_t slot, record;
+  };
+  struct Job {
+    std::uint32_t slot, record;
+  };
+  struct Step {
+    Cycle at;  // the decide stage
+    std::uint32_t slot;
+    bool pop;
+  };
+  struct Answer {
+    Cycle at;
+    std::uint32_t slot;
+    bool operator>(const Answer& o) const { return at > o.at; }
+  };
+  // rpu_rr_arbiter: the first valid input after the last granted; a grant presented
+  // and not taken is held.
+  struct RoundRobin {
+    std::uint32_t inputs = 1, last = 0, held = 0;
+    bool hold = false;
+    int grant(std::uint64_t valid) const;
+    void update(int grant, bool ready);
+  };
+
+  PipeCosts costs_;
+  LineSource& lines_;
+  std::span<IuTimer> ius_;
+  std::vector<Engine> engines_;
+  std::vector<Slot> slots_;
+  Ray incoming_;
+  bool has_incoming_ = false;
+  std::deque<Line> order_;
+  std::deque<Job> jobs_, flight_;
+  std::uint32_t sent_ = 0, got_ = 0, work_ = 0, tests_busy_ = 0;
+  std::priority_queue<Answer, std::vector<Answer>, std::greater<>> answers_;
+  std::deque<Step> steps_;
+  RoundRobin start_rr_, fetch_rr_, ref_rr_, pop_rr_, fin_rr_, rsp_rr_;
+  bool fin_valid_ = false;
+  std::uint32_t fin_slot_ = 0;
+  std::uint32_t rays_ = 0;  // taken and not answered
+};
+
+}  // namespace rpu::cycle
