@@ -137,7 +137,7 @@ def lint(args) -> int:
     for r in tables["resolved"]:
         params = gen.rtl_parameters(tables, r["values"])
         spu = {k: v for k, v in params.items()
-               if k not in ("StackDepth", "RayUnits") and k not in cache_parameters()}
+               if k not in ("StackDepth", "RayUnits", "TuSlots", "TuPipe", "TuSetups") and k not in cache_parameters()}
         jobs.append((f"rpu_spu {r['name']}", ["rpu_spu"], [f"-G{k}={v}" for k, v in spu.items()], []))
         # The chip takes every parameter of the configuration.
         jobs.append((f"rpu_top {r['name']}", ["rpu_top"], [f"-G{k}={v}" for k, v in params.items()], []))

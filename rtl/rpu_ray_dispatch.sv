@@ -1,14 +1,16 @@
 // The rays of the shader cores onto the ray units (docs/chip.md "Top"): a ray
-// (trace_req_t) from any core goes to an idle ray unit, which walks one ray at a time
-// (rpu_ray_unit); the unit's answer goes back to the core the ray's tag names, as a
-// trace_rsp_t with the request's tag and pc. Cores are served round robin, and so are
-// the units' answers to one core. A ray unit's tag is its slot here (one ray per unit
-// today; the multi-ray units of issue 17 take more behind the same streams).
+// (trace_req_t) from any core goes to the lowest ray unit that takes it and has room in
+// its table of UnitRays rays in flight; the ray's tag at the unit is its entry there, and
+// the unit's answer, by that tag, goes back to the core the entry's request names, as a
+// trace_rsp_t with the request's tag and pc. Cores are served round robin, and so are the
+// units' answers to one core. UnitRays = 1 gives a walker unit one ray at a time.
 module rpu_ray_dispatch #(
-  parameter int unsigned Cores = 1,
-  parameter int unsigned Units = 1,
+  parameter int unsigned Cores    = 1,
+  parameter int unsigned Units    = 1,
+  parameter int unsigned UnitRays = 1,
   localparam int unsigned CoreIdx = Cores > 1 ? $clog2(Cores) : 1,
-  localparam int unsigned UnitIdx = Units > 1 ? $clog2(Units) : 1
+  localparam int unsigned UnitIdx = Units > 1 ? $clog2(Units) : 1,
+  localparam int unsigned RayIdx  = UnitRays > 1 ? $clog2(UnitRays) : 1
 ) (
   input  logic                                  clk_i,
   input  logic                                  rst_ni,
@@ -36,10 +38,12 @@ module rpu_ray_dispatch #(
   // A ray's tag names its core in the high bits (spec/streams.toml trace_tag_bits).
   localparam int unsigned CoreLsb = TagBits - rpu_pkg::CoreBits;
 
-  // What each unit's ray must carry back: the request's tag and pc.
-  logic [Units-1:0]         busy_d, busy_q;
-  logic [Units*TagBits-1:0] tag_d, tag_q;
-  logic [Units*32-1:0]      pc_d, pc_q;
+  localparam int unsigned Entries = Units * UnitRays;
+
+  // What each unit's rays must carry back: the request's tag and pc, per entry.
+  logic [Entries-1:0]         busy_d, busy_q;
+  logic [Entries*TagBits-1:0] tag_d, tag_q;
+  logic [Entries*32-1:0]      pc_d, pc_q;
 
   // ---------------------------------------------------------------------------------
   // Requests: the next core after the last one served, to the lowest idle unit.
@@ -48,6 +52,7 @@ module rpu_ray_dispatch #(
   logic               have_core, have_unit;
   logic [CoreIdx-1:0] core;
   logic [UnitIdx-1:0] unit;
+  logic [RayIdx-1:0]  entry;  // the unit's lowest free entry
   always_comb begin
     have_core = 1'b0;
     core      = '0;
@@ -59,10 +64,14 @@ module rpu_ray_dispatch #(
     end
     have_unit = 1'b0;
     unit      = '0;
+    entry     = '0;
     for (int u = Units - 1; u >= 0; u--) begin
-      if (!busy_q[u] && unit_req_ready_i[u]) begin
-        have_unit = 1'b1;
-        unit      = UnitIdx'(u);
+      for (int r = UnitRays - 1; r >= 0; r--) begin
+        if (!busy_q[u*UnitRays + r] && unit_req_ready_i[u]) begin
+          have_unit = 1'b1;
+          unit      = UnitIdx'(u);
+          entry     = RayIdx'(r);
+        end
       end
     end
   end
@@ -79,6 +88,7 @@ module rpu_ray_dispatch #(
     unit_req.t_min     = req.t_min;
     unit_req.t_max     = req.t_max;
     unit_req.any_hit   = req.any_hit;
+    unit_req.tag       = rpu_pkg::RayTagBits'(entry);
   end
   always_comb begin
     core_req_ready_o = '0;
@@ -92,21 +102,30 @@ module rpu_ray_dispatch #(
   end
 
   // ---------------------------------------------------------------------------------
-  // Answers: each unit's as the core's stream {tag, pc, hit, t, u, v, prim, fault};
-  // per core, the next unit after the last one that answered it.
+  // Answers: each unit's as the core's stream {tag, pc, hit, t, u, v, prim, fault},
+  // from the entry its tag names; per core, the next unit after the last one that
+  // answered it.
   // ---------------------------------------------------------------------------------
   logic [Units*rpu_pkg::TraceRspBits-1:0] answer;
+  logic [Units*TagBits-1:0]               answer_tag;  // the answer's request tag
+  logic [Units*RayIdx-1:0]                answer_entry;
   rpu_pkg::tu_rsp_t                       a_rsp;
   rpu_pkg::trace_rsp_t                    a_out;
   always_comb begin
-    answer = '0;
-    a_rsp  = '0;
-    a_out  = '0;
+    answer       = '0;
+    answer_tag   = '0;
+    answer_entry = '0;
+    a_rsp        = '0;
+    a_out        = '0;
     for (int u = 0; u < Units; u++) begin
+      int unsigned e;
       a_rsp       = unit_rsp_i[rpu_pkg::TuRspBits*u +: rpu_pkg::TuRspBits];
+      answer_entry[RayIdx*u +: RayIdx] = RayIdx'(a_rsp.tag);
+      e           = u * UnitRays + (UnitRays > 1 ? 32'(RayIdx'(a_rsp.tag)) : 0);
       a_out       = '0;
-      a_out.tag   = tag_q[TagBits*u +: TagBits];
-      a_out.pc    = pc_q[32*u +: 32];
+      a_out.tag   = tag_q[TagBits*e +: TagBits];
+      a_out.pc    = pc_q[32*e +: 32];
+      answer_tag[TagBits*u +: TagBits] = a_out.tag;
       a_out.hit   = a_rsp.hit;
       a_out.t     = a_rsp.t;
       a_out.u     = a_rsp.u;
@@ -128,8 +147,8 @@ module rpu_ray_dispatch #(
     for (int c = 0; c < Cores; c++) begin
       for (int k = Units; k >= 1; k--) begin
         if (unit_rsp_valid_i[(32'(last_unit_q[UnitIdx*c +: UnitIdx]) + k) % Units]
-            && 32'(tag_q[TagBits*((32'(last_unit_q[UnitIdx*c +: UnitIdx]) + k) % Units) + CoreLsb +: rpu_pkg::CoreBits])
-               == c) begin
+            && 32'(answer_tag[TagBits*((32'(last_unit_q[UnitIdx*c +: UnitIdx]) + k) % Units) + CoreLsb +:
+                              rpu_pkg::CoreBits]) == c) begin
           found[c]                    = 1'b1;
           from[UnitIdx*c +: UnitIdx]  = UnitIdx'((32'(last_unit_q[UnitIdx*c +: UnitIdx]) + k) % Units);
         end
@@ -154,15 +173,18 @@ module rpu_ray_dispatch #(
   assign unit_rsp_ready_o = answered;
 
   always_comb begin
-    busy_d      = busy_q & ~answered;
+    busy_d      = busy_q;
     tag_d       = tag_q;
     pc_d        = pc_q;
     last_core_d = last_core_q;
+    for (int u = 0; u < Units; u++) begin
+      if (answered[u]) busy_d[u*UnitRays + 32'(answer_entry[RayIdx*u +: RayIdx])] = 1'b0;
+    end
     if (send) begin
-      busy_d[unit]                  = 1'b1;
-      tag_d[TagBits*unit +: TagBits] = req.tag;
-      pc_d[32*unit +: 32]           = req.pc;
-      last_core_d                   = core;
+      busy_d[32'(unit)*UnitRays + 32'(entry)]                 = 1'b1;
+      tag_d[TagBits*(32'(unit)*UnitRays + 32'(entry)) +: TagBits] = req.tag;
+      pc_d[32*(32'(unit)*UnitRays + 32'(entry)) +: 32]        = req.pc;
+      last_core_d                                             = core;
     end
   end
 
@@ -184,9 +206,25 @@ module rpu_ray_dispatch #(
 
   assign idle_o = busy_q == '0;
 
-  // A unit's own tag is its slot here, and its work counters are the traversal
-  // statistics' business, not the shader's.
+  // A unit's work counters are the traversal statistics' business, not the shader's.
+  // The answers' request tags are read for their core bits.
   logic unused;
-  assign unused = ^{a_rsp.tag, a_rsp.nodes, a_rsp.leaves, a_rsp.tests};
+  assign unused = ^{a_rsp.tag, a_rsp.nodes, a_rsp.leaves, a_rsp.tests, answer_tag};
+
+`ifndef SYNTHESIS
+  initial begin
+    assert (UnitRays <= (1 << rpu_pkg::RayTagBits) && (UnitRays == 1 || (1 << RayIdx) == UnitRays))
+      else $error("rpu_ray_dispatch: UnitRays %0d is not a power of two the ray tag holds", UnitRays);
+  end
+  always_ff @(posedge clk_i or negedge rst_ni) begin
+    if (rst_ni) begin
+      for (int u = 0; u < Units; u++) begin
+        assert (!unit_rsp_valid_i[u] || busy_q[u*UnitRays + 32'(answer_entry[RayIdx*u +: RayIdx])])
+          else $error("rpu_ray_dispatch: unit %0d answers tag %0d, no ray in flight there", u,
+                      answer_entry[RayIdx*u +: RayIdx]);
+      end
+    end
+  end
+`endif
 
 endmodule

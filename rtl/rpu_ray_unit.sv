@@ -45,29 +45,16 @@ module rpu_ray_unit #(
   logic             iu_rsp_valid, iu_rsp_ready;
   rpu_pkg::iu_rsp_t iu_rsp;
 
-  if (TuPipe != 0) begin : g_tu_pipe
-    rpu_tu_pipe #(.ExpBits(ExpBits), .FracBits(FracBits), .IsectMode(IsectMode), .StackDepth(StackDepth),
-                  .Slots(TuSlots), .Setups(TuSetups)) u_tu (
-      .clk_i, .rst_ni, .cfg_i,
-      .req_valid_i, .req_ready_o, .req_i,
-      .rsp_valid_o, .rsp_ready_i, .rsp_o,
-      .mem_req_valid_o, .mem_req_ready_i, .mem_req_o,
-      .mem_rsp_valid_i, .mem_rsp_ready_o, .mem_rsp_i,
-      .iu_req_valid_o(iu_req_valid), .iu_req_ready_i(iu_req_ready), .iu_req_o(iu_req),
-      .iu_rsp_valid_i(iu_rsp_valid), .iu_rsp_ready_o(iu_rsp_ready), .iu_rsp_i(iu_rsp)
-    );
-  end else begin : g_tu_slots
-    rpu_tu_slots #(.ExpBits(ExpBits), .FracBits(FracBits), .IsectMode(IsectMode), .StackDepth(StackDepth),
-                   .Slots(TuSlots)) u_tu (
-      .clk_i, .rst_ni, .cfg_i,
-      .req_valid_i, .req_ready_o, .req_i,
-      .rsp_valid_o, .rsp_ready_i, .rsp_o,
-      .mem_req_valid_o, .mem_req_ready_i, .mem_req_o,
-      .mem_rsp_valid_i, .mem_rsp_ready_o, .mem_rsp_i,
-      .iu_req_valid_o(iu_req_valid), .iu_req_ready_i(iu_req_ready), .iu_req_o(iu_req),
-      .iu_rsp_valid_i(iu_rsp_valid), .iu_rsp_ready_o(iu_rsp_ready), .iu_rsp_i(iu_rsp)
-    );
-  end
+  rpu_tu_slots #(.ExpBits(ExpBits), .FracBits(FracBits), .IsectMode(IsectMode), .StackDepth(StackDepth),
+                 .Slots(TuSlots), .Pipe(TuPipe), .Setups(TuSetups)) u_tu (
+    .clk_i, .rst_ni, .cfg_i,
+    .req_valid_i, .req_ready_o, .req_i,
+    .rsp_valid_o, .rsp_ready_i, .rsp_o,
+    .mem_req_valid_o, .mem_req_ready_i, .mem_req_o,
+    .mem_rsp_valid_i, .mem_rsp_ready_o, .mem_rsp_i,
+    .iu_req_valid_o(iu_req_valid), .iu_req_ready_i(iu_req_ready), .iu_req_o(iu_req),
+    .iu_rsp_valid_i(iu_rsp_valid), .iu_rsp_ready_o(iu_rsp_ready), .iu_rsp_i(iu_rsp)
+  );
 
   // A skid buffer between the TU's test requests and the IU: the IU's ready follows its
   // answer's (a test starts as the last one leaves) and rpu_tu decides all its outputs in

@@ -21,6 +21,9 @@ module rpu_top #(
   parameter int unsigned SfuUnits            = rpu_pkg::ConfigTinySfuUnits,
   parameter int unsigned StackDepth          = rpu_pkg::ConfigTinyStackDepth,
   parameter int unsigned RayUnits            = rpu_pkg::ConfigTinyTraversalUnits,
+  parameter int unsigned TuSlots             = rpu_pkg::ConfigTinyTuSlots,
+  parameter int unsigned TuPipe              = rpu_pkg::ConfigTinyTuPipe,
+  parameter int unsigned TuSetups            = rpu_pkg::ConfigTinyTuSetups,
   parameter int unsigned IsectMode           = rpu_pkg::IsectModeWoop,
   parameter int unsigned NodeBytes      = rpu_pkg::ConfigTinyNodeCacheBytes,
   parameter int unsigned NodeWays       = rpu_pkg::ConfigTinyNodeCacheWays,
@@ -190,7 +193,12 @@ module rpu_top #(
   logic [RayUnits*rpu_pkg::TuRspBits-1:0]   u_rsp;
   logic                                     dispatch_idle;
 
-  rpu_ray_dispatch #(.Cores(Cores), .Units(RayUnits)) u_dispatch (
+  // The rays a unit may hold: a walker's one per slot; a pipelined unit's slots, three
+  // per set-up engine (its input buffer's two and the one it works on) and the two of
+  // the answer's skid buffer below, to a power of two.
+  localparam int unsigned UnitRays = TuPipe != 0 ? 1 << $clog2(TuSlots + 3 * TuSetups + 2) : TuSlots;
+
+  rpu_ray_dispatch #(.Cores(Cores), .Units(RayUnits), .UnitRays(UnitRays)) u_dispatch (
     .clk_i, .rst_ni,
     .core_req_valid_i(t_req_valid), .core_req_ready_o(t_req_ready), .core_req_i(t_req),
     .core_rsp_valid_o(t_rsp_valid), .core_rsp_ready_i(t_rsp_ready), .core_rsp_o(t_rsp),
@@ -201,10 +209,11 @@ module rpu_top #(
 
   // Each unit's memory port, in order, on the node cache (the kd nodes, which the
   // image lays out before the leaf lists) or the triangle cache (the rest); which one
-  // decides only where a line is kept, never what is read. A unit waits for each of its
+  // decides only where a line is kept, never what is read. A walker waits for each of its
   // requests' answers before it asks the other cache, so answers from the two never
-  // meet at one port. Requests to cache k (NodeCache, TriangleCache) from unit u sit at
-  // index k * RayUnits + u.
+  // meet at one port; a pipelined unit's may, and the node cache's goes first (the
+  // in-order port reorders them). Requests to cache k (NodeCache, TriangleCache) from
+  // unit u sit at index k * RayUnits + u.
   logic [2*RayUnits-1:0]         k_req_valid, k_req_ready, k_rsp_valid, k_rsp_ready;
   logic [2*RayUnits*ReqBits-1:0] k_req;
   logic [2*RayUnits*RspBits-1:0] k_rsp;
@@ -227,7 +236,8 @@ module rpu_top #(
     logic [rpu_pkg::TuRspBits-1:0]    a;
     logic [rpu_pkg::MemReqBits-1:0]   q;
 
-    rpu_ray_unit #(.ExpBits(ExpBits), .FracBits(FracBits), .IsectMode(IsectMode), .StackDepth(StackDepth)) u_unit (
+    rpu_ray_unit #(.ExpBits(ExpBits), .FracBits(FracBits), .IsectMode(IsectMode), .StackDepth(StackDepth),
+                   .TuSlots(TuSlots), .TuPipe(TuPipe), .TuSetups(TuSetups)) u_unit (
       .clk_i, .rst_ni, .cfg_i(tu_cfg_q),
       .req_valid_i(u_req_valid[u]), .req_ready_o(u_req_ready[u]),
       .req_i(u_req[rpu_pkg::TuReqBits*u +: rpu_pkg::TuReqBits]),
@@ -274,7 +284,7 @@ module rpu_top #(
 
 `ifndef SYNTHESIS
     always_ff @(posedge clk_i or negedge rst_ni) begin
-      if (rst_ni) begin
+      if (rst_ni && TuPipe == 0) begin
         assert (!(k_rsp_valid[N] && k_rsp_valid[T]))
           else $error("rpu_top: ray unit %0d has answers from both caches at once", u);
       end

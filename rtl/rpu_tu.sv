@@ -305,6 +305,12 @@ module rpu_tu #(
   assign first_child  = below_first ? node_q + IndexBits'(1) : above_q;
   assign second_child = below_first ? above_q : node_q + IndexBits'(1);
 
+  // The answer's and the hand-off's valid follow the state alone, outside the process
+  // below that reads their readies: an arbiter that grants by them (rpu_tu_pipe's)
+  // closes no combinational loop through it.
+  assign rsp_valid_o   = state_q == StRsp && fm_busy_q == '0;
+  assign start_valid_o = state_q == StHandOff;
+
   always_comb begin
     state_d    = state_q;
     step_d     = step_q;
@@ -358,8 +364,6 @@ module rpu_tu #(
     mem_rsp_ready_o = 1'b0;
     iu_req_valid_o  = 1'b0;
     iu_rsp_ready_o  = 1'b0;
-    rsp_valid_o     = 1'b0;
-    start_valid_o   = 1'b0;
 
     unique case (state_q)
       StIdle: begin
@@ -824,17 +828,13 @@ module rpu_tu #(
       end
 
       StRsp: begin
-        if (fm_busy_q == '0) begin
-          rsp_valid_o = 1'b1;
-          if (rsp_ready_i) begin
-            step_d  = '0;
-            state_d = StIdle;
-          end
+        if (rsp_valid_o && rsp_ready_i) begin
+          step_d  = '0;
+          state_d = StIdle;
         end
       end
 
       StHandOff: begin
-        start_valid_o = 1'b1;
         if (start_ready_i) state_d = StIdle;
       end
 

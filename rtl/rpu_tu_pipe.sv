@@ -453,7 +453,7 @@ module rpu_tu_pipe #(
 
   // --- Memory: record lines first, then refs, then nodes; answers in order. ---
   logic                 fetch_valid, fetch_ready, ref_valid, ref_ready, order_ready, order_valid;
-  logic                 job_valid, job_ready, flight_ready, flight_valid;
+  logic                 job_valid, job_ready, flight_valid;
   logic [JobBits-1:0]   job, flight;
   logic [WorkBits-1:0]  work_d, work_q;  // refs fetched whose test has not left
   logic                 ref_credit, want_record, want_ref;
@@ -551,10 +551,10 @@ module rpu_tu_pipe #(
   // A ref's prim becomes a record job; the job's lines go out back to back, and the job
   // waits in the flight FIFO until its record is whole and leaves for the IU. Both
   // FIFOs hold LeafDepth jobs, as many as refs may be fetched ahead (work_q).
-  logic [1:0] unused_job_fifo;
+  logic [1:0] fifo_room;  // the two FIFOs' in_ready: the assertions' business
   rpu_fifo #(.Width(JobBits), .Depth(LeafDepth)) u_jobs (
     .clk_i, .rst_ni,
-    .in_valid_i(line_taken && order_kind == KindRef), .in_ready_o(unused_job_fifo[0]),
+    .in_valid_i(line_taken && order_kind == KindRef), .in_ready_o(fifo_room[0]),
     .in_data_i({order_slot, order_k, line_word}),
     .out_valid_o(job_valid), .out_ready_i(job_ready), .out_data_o(job)
   );
@@ -564,10 +564,9 @@ module rpu_tu_pipe #(
   assign sent_d    = !record_go ? sent_q : job_ready ? '0 : sent_q + GotBits'(1);
   rpu_fifo #(.Width(JobBits), .Depth(LeafDepth)) u_flight (
     .clk_i, .rst_ni,
-    .in_valid_i(job_ready), .in_ready_o(unused_job_fifo[1]), .in_data_i(job),
+    .in_valid_i(job_ready), .in_ready_o(fifo_room[1]), .in_data_i(job),
     .out_valid_o(flight_valid), .out_ready_i(test_issue), .out_data_o(flight)
   );
-  assign flight_ready = flight_valid;
 
   for (genvar i = 0; i < RecordLines; i++) begin : g_record
     assign record_d[i*LineBits +: LineBits] = line_taken && order_kind == KindRecord && got_q == GotBits'(i)
@@ -593,7 +592,7 @@ module rpu_tu_pipe #(
     end
   end
   assign test_slot      = flight[JobBits-1 -: SlotBits];
-  assign iu_req_valid_o = rec_full && flight_ready && test_any_free;
+  assign iu_req_valid_o = rec_full && flight_valid && test_any_free;
   assign test_issue     = iu_req_valid_o && iu_req_ready_i;
 
   logic [1:0] test_axis_kx, test_axis_ky, test_axis_kz;
@@ -858,7 +857,7 @@ module rpu_tu_pipe #(
   // FIFOs' readiness (room is guaranteed by work_q), the set-up engines' idle ports,
   // the start rays' records, address bits below a line, the IU tag above the table.
   logic unused;
-  assign unused = ^{fetch_grants, ref_grants, pop_grants, fin_grants, unused_picks, unused_job_fifo,
+  assign unused = ^{fetch_grants, ref_grants, pop_grants, fin_grants, unused_picks, fifo_room,
                     unused_setup_ports, start_index, out_index, given_ray.record, node_addr[1:0],
                     ref_addr[1:0], s1_above, s2_above, s3_above, s1_pop, s2_pop, s1_valid, s2_valid,
                     s3_valid, s3_axis, s4_above, o_lt_bits[W-1:1], o_eq_bits[W-1:1], le_far_bits[W-1:1],
@@ -878,9 +877,9 @@ module rpu_tu_pipe #(
   always_ff @(posedge clk_i) begin
     if (rst_ni) begin
       // A job FIFO never overflows (at most LeafDepth refs between request and test).
-      assert (!(line_taken && order_kind == KindRef) || unused_job_fifo[0])
+      assert (!(line_taken && order_kind == KindRef) || fifo_room[0])
         else $error("rpu_tu_pipe: record job FIFO full");
-      assert (!job_ready || unused_job_fifo[1]) else $error("rpu_tu_pipe: flight FIFO full");
+      assert (!job_ready || fifo_room[1]) else $error("rpu_tu_pipe: flight FIFO full");
       assert (!mem_rsp_valid_i || order_valid) else $error("rpu_tu_pipe: a memory response no one asked for");
       assert (!iu_rsp_valid_i || test_busy_q[answer_entry])
         else $error("rpu_tu_pipe: IU answer tag %0d names no test in flight", iu_rsp_i.tag);

@@ -13,13 +13,18 @@
 //                 goes to the slot its tag names, so answers may come in any order.
 //
 // Every slot's walk is rpu_tu's, so each ray's result, counters and fault are the
-// golden model's whatever the other slots do. Slots = 1 is rpu_tu itself.
+// golden model's whatever the other slots do. Slots = 1 is rpu_tu itself. Pipe = 1
+// makes the unit rpu_tu_pipe instead: the slots share one node-step pipeline, with
+// Setups set-up engines (docs/rtl.md "The node-step pipeline"); the ray unit and the
+// co-simulation top choose by these parameters alone.
 module rpu_tu_slots #(
   parameter int unsigned ExpBits    = rpu_pkg::FormatFp32ExponentBits,
   parameter int unsigned FracBits   = rpu_pkg::FormatFp32FractionBits,
   parameter int unsigned IsectMode  = rpu_pkg::IsectModeWoop,
   parameter int unsigned StackDepth = rpu_pkg::ConfigDefaultStackDepth,
-  parameter int unsigned Slots      = 1
+  parameter int unsigned Slots      = 1,
+  parameter int unsigned Pipe       = 0,
+  parameter int unsigned Setups     = 2
 ) (
   input  logic              clk_i,
   input  logic              rst_ni,
@@ -55,14 +60,25 @@ module rpu_tu_slots #(
   // cast inside a loop nested in that block.
   localparam int unsigned TagBits = rpu_pkg::RayTagBits;
 
-  // The walkers' start ports (rpu_tu's HandOff, which these walkers do not use): valid,
-  // ray, inv, t_near, t_far, any_hit, dir_le0, a flat vector for Yosys 0.23.
-  localparam int unsigned StartBits = 1 + rpu_pkg::IuReqBits + 5 * 32 + 1 + 3;
-  logic [Slots*StartBits-1:0] start;
-  logic                       unused_start;
-  assign unused_start = ^start;
-
-  if (Slots == 1) begin : g_one
+  if (Pipe != 0) begin : g_pipe
+    rpu_tu_pipe #(.ExpBits(ExpBits), .FracBits(FracBits), .IsectMode(IsectMode), .StackDepth(StackDepth),
+                  .Slots(Slots), .Setups(Setups)) u_pipe (
+      .clk_i, .rst_ni, .cfg_i,
+      .req_valid_i, .req_ready_o, .req_i,
+      .rsp_valid_o, .rsp_ready_i, .rsp_o,
+      .mem_req_valid_o, .mem_req_ready_i, .mem_req_o,
+      .mem_rsp_valid_i, .mem_rsp_ready_o, .mem_rsp_i,
+      .iu_req_valid_o, .iu_req_ready_i, .iu_req_o,
+      .iu_rsp_valid_i, .iu_rsp_ready_o, .iu_rsp_i
+    );
+  end else if (Slots == 1) begin : g_one
+    // The start port is rpu_tu's HandOff, which a walker does not use.
+    logic             start_valid, start_any_hit;
+    rpu_pkg::iu_req_t start_ray;
+    logic [95:0]      start_inv;
+    logic [31:0]      start_near, start_far;
+    logic [2:0]       start_dir_le0;
+    logic             unused_start;
     rpu_tu #(.ExpBits(ExpBits), .FracBits(FracBits), .IsectMode(IsectMode), .StackDepth(StackDepth)) u_walker (
       .clk_i, .rst_ni, .cfg_i,
       .req_valid_i, .req_ready_o, .req_i,
@@ -71,14 +87,11 @@ module rpu_tu_slots #(
       .mem_rsp_valid_i, .mem_rsp_ready_o, .mem_rsp_i,
       .iu_req_valid_o, .iu_req_ready_i, .iu_req_o,
       .iu_rsp_valid_i, .iu_rsp_ready_o, .iu_rsp_i,
-      .start_valid_o(start[0*StartBits]), .start_ready_i(1'b0),
-      .start_ray_o(start[0*StartBits + 1 +: rpu_pkg::IuReqBits]),
-      .start_inv_o(start[0*StartBits + 1 + rpu_pkg::IuReqBits +: 96]),
-      .start_t_near_o(start[0*StartBits + 97 + rpu_pkg::IuReqBits +: 32]),
-      .start_t_far_o(start[0*StartBits + 129 + rpu_pkg::IuReqBits +: 32]),
-      .start_any_hit_o(start[0*StartBits + 161 + rpu_pkg::IuReqBits]),
-      .start_dir_le0_o(start[0*StartBits + 162 + rpu_pkg::IuReqBits +: 3])
+      .start_valid_o(start_valid), .start_ready_i(1'b0), .start_ray_o(start_ray), .start_inv_o(start_inv),
+      .start_t_near_o(start_near), .start_t_far_o(start_far), .start_any_hit_o(start_any_hit),
+      .start_dir_le0_o(start_dir_le0)
     );
+    assign unused_start = ^{start_valid, start_ray, start_inv, start_near, start_far, start_any_hit, start_dir_le0};
   end else begin : g_slots
     localparam int unsigned SlotBits = $clog2(Slots);
     // A walker has at most one intersection record's lines in flight.
@@ -102,6 +115,13 @@ module rpu_tu_slots #(
       rpu_pkg::tu_rsp_t  walker_rsp;
       rpu_pkg::mem_req_t walker_mem_req;
       rpu_pkg::iu_req_t  walker_iu_req;
+      // The start port is rpu_tu's HandOff, which a walker does not use.
+      logic              start_valid, start_any_hit;
+      rpu_pkg::iu_req_t  start_ray;
+      logic [95:0]       start_inv;
+      logic [31:0]       start_near, start_far;
+      logic [2:0]        start_dir_le0;
+      logic              unused_start;
       rpu_tu #(.ExpBits(ExpBits), .FracBits(FracBits), .IsectMode(IsectMode), .StackDepth(StackDepth)) u_walker (
         .clk_i, .rst_ni, .cfg_i,
         .req_valid_i(req_valid[i]), .req_ready_o(req_ready[i]), .req_i,
@@ -110,14 +130,11 @@ module rpu_tu_slots #(
         .mem_rsp_valid_i(mem_rsp_valid[i]), .mem_rsp_ready_o(mem_rsp_ready[i]), .mem_rsp_i,
         .iu_req_valid_o(iu_req_valid[i]), .iu_req_ready_i(iu_req_ready[i]), .iu_req_o(walker_iu_req),
         .iu_rsp_valid_i(iu_rsp_valid[i]), .iu_rsp_ready_o(iu_rsp_ready[i]), .iu_rsp_i,
-        .start_valid_o(start[i*StartBits]), .start_ready_i(1'b0),
-        .start_ray_o(start[i*StartBits + 1 +: rpu_pkg::IuReqBits]),
-        .start_inv_o(start[i*StartBits + 1 + rpu_pkg::IuReqBits +: 96]),
-        .start_t_near_o(start[i*StartBits + 97 + rpu_pkg::IuReqBits +: 32]),
-        .start_t_far_o(start[i*StartBits + 129 + rpu_pkg::IuReqBits +: 32]),
-        .start_any_hit_o(start[i*StartBits + 161 + rpu_pkg::IuReqBits]),
-        .start_dir_le0_o(start[i*StartBits + 162 + rpu_pkg::IuReqBits +: 3])
+        .start_valid_o(start_valid), .start_ready_i(1'b0), .start_ray_o(start_ray), .start_inv_o(start_inv),
+        .start_t_near_o(start_near), .start_t_far_o(start_far), .start_any_hit_o(start_any_hit),
+        .start_dir_le0_o(start_dir_le0)
       );
+      assign unused_start = ^{start_valid, start_ray, start_inv, start_near, start_far, start_any_hit, start_dir_le0};
       assign rsp[i*rpu_pkg::TuRspBits +: rpu_pkg::TuRspBits]     = walker_rsp;
       assign mem_req[i*rpu_pkg::MemReqBits +: rpu_pkg::MemReqBits] = walker_mem_req;
       assign iu_req[i*rpu_pkg::IuReqBits +: rpu_pkg::IuReqBits]   = walker_iu_req;

@@ -9,6 +9,7 @@ set(RPU_CHIP_MODELS "" CACHE STRING
 set(RPU_CHIP_THREADS 1 CACHE STRING
     "Host threads a chip model's evaluation uses (Verilator --threads; docs/chip.md \"Simulation speed\")")
 set(rpu_chip_top_params Cores Threads ChunkSize Registers CallDepth StackBytes SfuUnits StackDepth RayUnits
+    TuSlots TuPipe TuSetups
     NodeBytes NodeWays NodeHitLatency NodeMshrs TriangleBytes TriangleWays TriangleHitLatency TriangleMshrs
     DataBytes DataWays DataHitLatency DataMshrs ExpBits FracBits)
 set(rpu_chip_model_includes "")

@@ -11,6 +11,9 @@ module rpu_chip_cosim_top #(
   parameter int unsigned SfuUnits                = rpu_pkg::ConfigTinySfuUnits,
   parameter int unsigned StackDepth              = rpu_pkg::ConfigTinyStackDepth,
   parameter int unsigned RayUnits                = rpu_pkg::ConfigTinyTraversalUnits,
+  parameter int unsigned TuSlots                 = rpu_pkg::ConfigTinyTuSlots,
+  parameter int unsigned TuPipe                  = rpu_pkg::ConfigTinyTuPipe,
+  parameter int unsigned TuSetups                = rpu_pkg::ConfigTinyTuSetups,
   parameter int unsigned IsectMode               = rpu_pkg::IsectModeWoop,
   parameter int unsigned NodeBytes          = rpu_pkg::ConfigTinyNodeCacheBytes,
   parameter int unsigned NodeWays           = rpu_pkg::ConfigTinyNodeCacheWays,
@@ -75,7 +78,7 @@ module rpu_chip_cosim_top #(
   rpu_top #(
     .Cores(Cores), .Threads(Threads), .ChunkSize(ChunkSize), .Registers(Registers), .CallDepth(CallDepth),
     .StackBytes(StackBytes), .SfuUnits(SfuUnits), .StackDepth(StackDepth), .RayUnits(RayUnits),
-    .IsectMode(IsectMode),
+    .TuSlots(TuSlots), .TuPipe(TuPipe), .TuSetups(TuSetups), .IsectMode(IsectMode),
     .NodeBytes(NodeBytes), .NodeWays(NodeWays), .NodeHitLatency(NodeHitLatency),
     .NodeMshrs(NodeMshrs),
     .TriangleBytes(TriangleBytes), .TriangleWays(TriangleWays),

@@ -79,20 +79,9 @@ module rpu_tu_cosim_top #(
     assign iu_rsp_ready_o = 1'b0;
     logic unused_iu_port;
     assign unused_iu_port = ^{iu_req_ready_i, iu_rsp_valid_i, iu_rsp};
-  end else if (Pipe != 0) begin : g_tu_pipe
-    rpu_tu_pipe #(.ExpBits(ExpBits), .FracBits(FracBits), .IsectMode(IsectMode), .StackDepth(StackDepth),
-                  .Slots(Slots), .Setups(Setups)) u_tu (
-      .clk_i, .rst_ni, .cfg_i(cfg),
-      .req_valid_i, .req_ready_o, .req_i(req),
-      .rsp_valid_o, .rsp_ready_i, .rsp_o(rsp),
-      .mem_req_valid_o, .mem_req_ready_i, .mem_req_o(mem_req),
-      .mem_rsp_valid_i, .mem_rsp_ready_o, .mem_rsp_i(mem_rsp),
-      .iu_req_valid_o, .iu_req_ready_i, .iu_req_o(iu_req),
-      .iu_rsp_valid_i, .iu_rsp_ready_o, .iu_rsp_i(iu_rsp)
-    );
   end else begin : g_tu
     rpu_tu_slots #(.ExpBits(ExpBits), .FracBits(FracBits), .IsectMode(IsectMode), .StackDepth(StackDepth),
-                   .Slots(Slots)) u_tu (
+                   .Slots(Slots), .Pipe(Pipe), .Setups(Setups)) u_tu (
       .clk_i, .rst_ni, .cfg_i(cfg),
       .req_valid_i, .req_ready_o, .req_i(req),
       .rsp_valid_o, .rsp_ready_i, .rsp_o(rsp),

@@ -202,10 +202,10 @@ std::unique_ptr<device::Device> make_rtl_device(const spec::HardwareConfig& conf
                             "or was changed with --set or a file",
                             rtl_models_built(), config.name));
   }
-  if (config.tu_slots != 1) {
-    throw Error(fmt::format("the rtl backend's chip walks one ray per ray unit; configuration '{}' has tu_slots = {} "
-                            "(its ray units are co-simulated alone by tu_cosim --slots; the cycle backend models the "
-                            "chip)",
+  if (config.tu_slots != 1 && !config.tu_pipe) {
+    throw Error(fmt::format("the rtl backend's chip has walker ray units of one slot or pipelined ones; configuration "
+                            "'{}' has tu_slots = {} walkers (its ray units are co-simulated alone by tu_cosim --slots; "
+                            "the cycle backend models the chip)",
                             config.name, config.tu_slots));
   }
   if (format != fp::format_by_name(std::string(config.format))) {

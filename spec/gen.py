@@ -429,6 +429,7 @@ RTL_CACHE_PARAMETERS = (("Bytes", "bytes"), ("Ways", "ways"), ("HitLatency", "hi
 RTL_PARAMETERS = {"Cores": "shader_cores", "Threads": "threads_per_core", "ChunkSize": "chunk_size",
                   "Registers": "registers", "CallDepth": "call_depth", "StackBytes": "stack_bytes",
                   "SfuUnits": "sfu_units", "StackDepth": "stack_depth", "RayUnits": "traversal_units",
+                  "TuSlots": "tu_slots", "TuPipe": "tu_pipe", "TuSetups": "tu_setups",
                   **{f"{unit}{param}": f"{cache}.{key}" for unit, cache in RTL_CACHES
                      for param, key in RTL_CACHE_PARAMETERS}}
 
@@ -568,10 +569,11 @@ def main() -> int:
             print(fmt, *(values[k] for k in configs.LATENCY_GROUPS["tu"][1]))
         return 0
     if args.list == "rtl-configs":
-        # The chip's ray units walk one ray each (rpu_top, docs/chip.md): configurations
-        # with more ray slots have no chip model, and the rtl backend says so.
+        # The chip's walker ray units walk one ray each (rpu_top, docs/chip.md): walkers
+        # with more ray slots have no chip model, and the rtl backend says so; pipelined
+        # units (tu_pipe) take any slot count.
         for r in spec["resolved"]:
-            if r["values"]["tu_slots"] != 1:
+            if r["values"]["tu_slots"] != 1 and not r["values"]["tu_pipe"]:
                 continue
             print(r["name"], *(f"-G{k}={v}" for k, v in rtl_parameters(spec, r["values"]).items()))
         return 0
