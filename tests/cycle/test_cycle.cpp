@@ -213,7 +213,9 @@ TEST(CycleModel, APipelinedUnitWalksTheSameRaysFasterThanItsWalkers) {
     EXPECT_EQ(t.rays, st.closest_rays + st.any_rays) << slots;
     EXPECT_LE(st.cycles, previous) << slots << " slots";
     previous = st.cycles;
-    if (slots == 8) EXPECT_LT(st.cycles, walkers.cycle.cycles) << "8 slots: the pipeline against 8 walkers";
+    if (slots == 8) {
+      EXPECT_LT(st.cycles, walkers.cycle.cycles) << "8 slots: the pipeline against 8 walkers";
+    }
   }
 }
 
