@@ -90,14 +90,28 @@ void ShaderCore::fault(const Thread& t, spec::isa::FaultKind kind, const std::st
                        std::uint32_t address) const {
   const std::string insn =
       t.pc < firmware_.code.size() ? isa::disassemble(firmware_.code[t.pc]) : std::string("past the end of the code");
+  // The code label the pc is at or after names the routine (compiled firmware's
+  // rpu_trace_recursion_limit, a shader's entry).
+  const isa::Symbol* nearest = nullptr;
+  std::string_view nearest_name;
+  for (const auto& [name, sym] : firmware_.symbols) {
+    if (sym.kind == isa::Symbol::Kind::kCode && sym.value <= t.pc && (nearest == nullptr || sym.value > nearest->value)) {
+      nearest = &sym;
+      nearest_name = name;
+    }
+  }
+  const std::string routine =
+      nearest == nullptr ? std::string()
+      : t.pc == nearest->value ? fmt::format(" (at code label {})", nearest_name)
+                               : fmt::format(" (code label {} + {})", nearest_name, t.pc - nearest->value);
   const std::uint32_t width = memory_.launch_block().size() >= 8
                                   ? memory_.load32(mm::kDeviceLaunchBase + mm::kLaunchWidthAt)
                                   : 1;
   const std::uint32_t p = t.lane.pixel;
   throw ShaderFault(fmt::format("shader fault in thread {} (core {}, chunk {}, lane {}; pixel {}, {}) at pc {} "
-                                "({}): {}",
+                                "({}): {}{}",
                                 t.lane.thread, t.lane.core, t.lane.chunk, t.lane.lane, p % width, p / width, t.pc,
-                                insn, what),
+                                insn, what, routine),
                     p, kind, t.pc, address);
 }
 

@@ -446,7 +446,7 @@ hit_whitted:
   for (const std::string& fault : faults_on_every_backend(firmware, 100'000, 16, 16)) {
     EXPECT_EQ(fault,
               "shader fault in thread 1 (core 0, chunk 0, lane 1; pixel 1, 0) at pc 6 (ld r3, [r2 + 16]): load of 16 "
-              "bytes at address 0x30000010 is outside the device memory");
+              "bytes at address 0x30000010 is outside the device memory (at code label odd)");
   }
 }
 
@@ -474,7 +474,7 @@ hit_whitted:
   for (const std::string& fault : faults_on_every_backend(firmware, 5'000, 8, 8)) {
     EXPECT_EQ(fault,
               "shader fault in thread 37 (core 1, chunk 1, lane 1; pixel 5, 4) at pc 5 (bra 5): watchdog: the thread "
-              "retired 5000 instructions for one pixel; a runaway shader?");
+              "retired 5000 instructions for one pixel; a runaway shader? (at code label spin)");
   }
 }
 
