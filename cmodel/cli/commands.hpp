@@ -29,6 +29,7 @@ Command add_tree_command(CLI::App& app);
 Command add_scenes_command(CLI::App& app);
 Command add_asm_command(CLI::App& app);
 Command add_disasm_command(CLI::App& app);
+Command add_cc_command(CLI::App& app);
 Command add_config_command(CLI::App& app);
 Command add_accel_command(CLI::App& app);
 

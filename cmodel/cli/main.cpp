@@ -19,7 +19,7 @@ int run(int argc, char** argv) {
   CLI::App app{"rpu: a programmable Ray Processing Unit, modelled (reference renderer, golden model)"};
   app.require_subcommand(1);
   const Command commands[] = {add_render_command(app), add_raycast_command(app), add_tree_command(app),
-                              add_scenes_command(app), add_asm_command(app), add_disasm_command(app),
+                              add_scenes_command(app), add_asm_command(app), add_disasm_command(app), add_cc_command(app),
                               add_config_command(app), add_accel_command(app)};
   CLI11_PARSE(app, argc, argv);
   for (const Command& command : commands) {

@@ -16,6 +16,7 @@
 
 #include "asm/builtin_firmware.hpp"
 #include "asm/firmware_file.hpp"
+#include "cc/compiler.hpp"
 #include "cli/chip_options.hpp"
 #include "cli/commands.hpp"
 #include "cli/output_paths.hpp"
@@ -47,7 +48,7 @@ struct RenderOptions {
   std::string scene;
   std::vector<std::filesystem::path> outputs{"render.png"};
   std::string backend = "reference";
-  std::filesystem::path firmware;  // empty: the built-in whitted.s
+  std::vector<std::filesystem::path> firmware;  // empty: the built-in whitted.s
   std::uint64_t watchdog = device::FunctionalOptions{}.watchdog;
   // device backend outputs
   std::vector<std::filesystem::path> stats;      // .json / .csv
@@ -144,6 +145,22 @@ void record_run(StatsTree& report, const RenderOptions& o, const std::string& sc
   }
 }
 
+// The built-in whitted.s, one assembly source or firmware file, or GLSL shaders
+// compiled on the fly (rpu cc, cached by content).
+isa::Firmware load_firmware(const std::vector<std::filesystem::path>& files) {
+  if (files.empty()) return isa::builtin_firmware("whitted.s");
+  const std::string ext = files[0].extension().string();
+  if (files.size() == 1 && ext != ".rgen") return isa::load_firmware_or_assemble(files[0]);
+  for (const auto& f : files) {
+    if (f.extension() == ".s" || f.extension() == ".rfw") {
+      throw Error(fmt::format("--firmware {}: give one assembly source or firmware file, or GLSL shaders "
+                              "(.rgen, .rchit, .rmiss) only",
+                              f.string()));
+    }
+  }
+  return cc::compile_cached(files, {});
+}
+
 // Firmware on a device: the functional golden model, or the cycle model (which also
 // writes its heatmap and timeline). Both write their statistics.
 Image render_device(const Scene& world, const RenderOptions& o, std::string& summary) {
@@ -151,8 +168,7 @@ Image render_device(const Scene& world, const RenderOptions& o, std::string& sum
   const Scene scene = functional::chip_space_scene(world, build.format);
   const functional::SceneImage si = functional::make_scene_image(scene, build, o.chip.isect_mode());
   if (o.firmware.empty()) check_builtin_firmware_format(build.format, o.settings);
-  const isa::Firmware firmware =
-      o.firmware.empty() ? isa::builtin_firmware("whitted.s") : isa::load_firmware_or_assemble(o.firmware);
+  const isa::Firmware firmware = load_firmware(o.firmware);
   std::optional<cycle::TimelineWriter> timeline;
   std::optional<cycle::CycleStats> cycle_stats;
   std::unique_ptr<device::Device> dev;
@@ -231,7 +247,7 @@ void check_render_outputs(const RenderOptions& o) {
   if (!o.waves.empty()) outputs.push_back({"--waves", o.waves, {".fst"}});
   std::vector<PlannedInput> inputs;
   if (std::filesystem::is_regular_file(o.scene)) inputs.push_back({"the scene", o.scene});
-  if (!o.firmware.empty()) inputs.push_back({"the firmware", o.firmware});
+  for (const auto& f : o.firmware) inputs.push_back({"the firmware", f});
   check_outputs(outputs, inputs);
 }
 
@@ -339,7 +355,9 @@ Command add_render_command(CLI::App& app) {
       ->capture_default_str();
 
   render_cmd->add_option("--firmware", render->firmware,
-                         "device backends: firmware (.s or .rfw) instead of the built-in whitted.s");
+                         "device backends: firmware (.s or .rfw), or GLSL shaders (.rgen .rchit .rmiss, compiled by "
+                         "`rpu cc` and cached), instead of the built-in whitted.s")
+      ->expected(1, -1);
   render_cmd->add_option("--watchdog", render->watchdog,
                          "device backends: instructions one thread may retire for one pixel before it "
                          "faults")

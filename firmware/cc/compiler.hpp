@@ -1,0 +1,37 @@
+// rpu cc: GLSL ray-tracing shaders to one firmware (docs/shaders.md).
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "isa/firmware.hpp"
+
+namespace rpu::cc {
+
+struct CompileOptions {
+  int opt_level = 2;   // 0: SPIRV-Tools' legalisation passes only; 2: its performance passes too
+  int registers = 16;  // the firmware uses r0..r(registers-1): 16 runs on every configuration
+};
+
+struct Compiled {
+  isa::Firmware firmware;
+  std::string assembly;  // what was assembled: every shader, the trace routines, the stack constants
+};
+
+struct ShaderSource {
+  std::filesystem::path file;  // its extension names the stage; its stem names a hit or miss shader
+  std::string text;
+};
+
+// One .rgen, any number of .rchit (a material's `shader` name binds to the stem),
+// .rmiss (miss index i = the i-th given). Throws rpu::Error with file:line.
+Compiled compile(const std::vector<ShaderSource>& sources, const CompileOptions& options);
+Compiled compile_files(const std::vector<std::filesystem::path>& files, const CompileOptions& options);
+
+// The firmware for `rpu render --firmware` with shader files: compiled, or read from the
+// cache directory (keyed by a hash of the sources, the options and this build).
+isa::Firmware compile_cached(const std::vector<std::filesystem::path>& files, const CompileOptions& options);
+
+}  // namespace rpu::cc

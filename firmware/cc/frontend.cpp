@@ -1,0 +1,194 @@
+#include "cc/frontend.hpp"
+
+#include <fstream>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <sstream>
+
+#include <fmt/format.h>
+#include <glslang/Public/ResourceLimits.h>
+#include <glslang/Public/ShaderLang.h>
+#include <glslang/SPIRV/GlslangToSpv.h>
+#include <spirv-tools/libspirv.hpp>
+#include <spirv-tools/optimizer.hpp>
+
+#include "cc/glsl_library.hpp"
+#include "common/error.hpp"
+
+namespace rpu::cc {
+
+namespace fs = std::filesystem;
+
+Stage stage_of(const fs::path& file) {
+  const std::string ext = file.extension().string();
+  if (ext == ".rgen") return Stage::kRaygen;
+  if (ext == ".rchit") return Stage::kClosestHit;
+  if (ext == ".rmiss") return Stage::kMiss;
+  if (ext == ".rahit") return Stage::kAnyHit;
+  throw Error(fmt::format("{}: unknown shader stage '{}', expected .rgen (ray generation), .rchit (closest hit), "
+                          ".rmiss (miss) or .rahit (any hit)",
+                          file.string(), ext));
+}
+
+const char* stage_name(Stage stage) {
+  switch (stage) {
+    case Stage::kRaygen: return "ray generation";
+    case Stage::kClosestHit: return "closest hit";
+    case Stage::kMiss: return "miss";
+    case Stage::kAnyHit: return "any hit";
+  }
+  return "?";
+}
+
+const std::string* library_header(const std::string& name) {
+  static const std::map<std::string, std::string> headers = [] {
+    std::map<std::string, std::string> h;
+    for (const auto& [n, text] : kGlslLibrary) h.emplace(std::string(n), std::string(text));
+    return h;
+  }();
+  const auto it = headers.find(name);
+  return it == headers.end() ? nullptr : &it->second;
+}
+
+namespace {
+
+// #include "x": beside the including file on disk, then the built-in library.
+class Includer : public glslang::TShader::Includer {
+ public:
+  IncludeResult* includeLocal(const char* requested, const char* requesting, size_t) override {
+    auto text = std::make_unique<std::string>();
+    std::string name;
+    const fs::path beside = fs::path(requesting).parent_path() / requested;
+    std::error_code ec;
+    if (fs::is_regular_file(beside, ec)) {
+      std::ifstream in(beside, std::ios::binary);
+      std::ostringstream s;
+      s << in.rdbuf();
+      name = beside.lexically_normal().string();
+      *text = s.str();
+    } else if (const std::string* lib = library_header(fs::path(requested).filename().string());
+               lib != nullptr && fs::path(requested).filename() == fs::path(requested)) {
+      name = requested;
+      *text = *lib;
+    } else {
+      return nullptr;  // glslang reports "cannot find or open include file"
+    }
+    std::string* kept = text.release();
+    return new IncludeResult(name, kept->data(), kept->size(), kept);
+  }
+  IncludeResult* includeSystem(const char* requested, const char* requesting, size_t depth) override {
+    return includeLocal(requested, requesting, depth);
+  }
+  void releaseInclude(IncludeResult* r) override {
+    if (r == nullptr) return;
+    delete static_cast<std::string*>(r->userData);
+    delete r;
+  }
+};
+
+EShLanguage language_of(Stage stage) {
+  switch (stage) {
+    case Stage::kRaygen: return EShLangRayGen;
+    case Stage::kClosestHit: return EShLangClosestHit;
+    case Stage::kMiss: return EShLangMiss;
+    case Stage::kAnyHit: return EShLangAnyHit;
+  }
+  return EShLangRayGen;
+}
+
+constexpr auto kMessages = static_cast<EShMessages>(EShMsgSpvRules | EShMsgVulkanRules);
+
+// glslang's process-wide tables, set up once and kept (the library is not reentrant
+// before InitializeProcess).
+void initialise() {
+  static std::once_flag once;
+  std::call_once(once, [] { glslang::InitializeProcess(); });
+}
+
+// One TShader set up for a file: Vulkan 1.2, SPIR-V 1.5, includes on.
+struct Shader {
+  Shader(const fs::path& file, const std::string& source, Stage stage)
+      : name(file.string()), text(source), shader(language_of(stage)) {
+    initialise();
+    // TShader keeps these pointers until it parses: members, not locals.
+    text_ptr = text.c_str();
+    name_ptr = name.c_str();
+    text_length = static_cast<int>(text.size());
+    shader.setStringsWithLengthsAndNames(&text_ptr, &text_length, &name_ptr, 1);
+    shader.setPreamble(
+        "#extension GL_GOOGLE_include_directive : require\n#extension GL_GOOGLE_cpp_style_line_directive : require\n");
+    shader.setEnvInput(glslang::EShSourceGlsl, language_of(stage), glslang::EShClientVulkan, 100);
+    shader.setEnvClient(glslang::EShClientVulkan, glslang::EShTargetVulkan_1_2);
+    shader.setEnvTarget(glslang::EShTargetSpv, glslang::EShTargetSpv_1_5);
+    shader.setEntryPoint("main");
+  }
+  // glslang's log, without its trailing blank lines; each message names file:line.
+  std::string log() {
+    std::string message = shader.getInfoLog();
+    while (!message.empty() && (message.back() == '\n' || message.back() == ' ')) message.pop_back();
+    return message.empty() ? fmt::format("{}: glslang failed without a message", name) : message;
+  }
+  std::string name, text;
+  const char* text_ptr = nullptr;
+  const char* name_ptr = nullptr;
+  int text_length = 0;
+  glslang::TShader shader;
+};
+
+}  // namespace
+
+std::string preprocess_glsl(const fs::path& file, const std::string& source) {
+  Shader s(file, source, stage_of(file));
+  Includer includer;
+  std::string out;
+  if (!s.shader.preprocess(GetDefaultResources(), 460, ENoProfile, false, false, kMessages, &out, includer)) {
+    throw Error(s.log());
+  }
+  return out;
+}
+
+SpirvShader compile_glsl(const fs::path& file, const std::string& source, int opt_level) {
+  SpirvShader out;
+  out.file = file;
+  out.stage = stage_of(file);
+  Shader s(file, source, out.stage);
+  Includer includer;
+  if (!s.shader.parse(GetDefaultResources(), 460, false, kMessages, includer)) throw Error(s.log());
+  glslang::TProgram program;
+  program.addShader(&s.shader);
+  if (!program.link(kMessages)) {
+    std::string message = program.getInfoLog();
+    while (!message.empty() && message.back() == '\n') message.pop_back();
+    throw Error(fmt::format("{}: {}", file.string(), message));
+  }
+  glslang::SpvOptions spv_options;
+  spv_options.generateDebugInfo = true;  // OpLine: the back end's messages name the source line
+  spv_options.disableOptimizer = true;   // SPIRV-Tools runs below, with our choice of passes
+  spv::SpvBuildLogger logger;
+  std::vector<std::uint32_t> words;
+  glslang::GlslangToSpv(*program.getIntermediate(language_of(out.stage)), words, &logger, &spv_options);
+
+
+  std::string messages;
+  const auto consumer = [&](spv_message_level_t level, const char*, const spv_position_t& at, const char* text) {
+    if (level <= SPV_MSG_ERROR) messages += fmt::format("{}: SPIR-V word {}: {}\n", file.string(), at.index, text);
+  };
+  spvtools::Optimizer optimizer(SPV_ENV_VULKAN_1_2);
+  optimizer.SetMessageConsumer(consumer);
+  optimizer.RegisterLegalizationPasses();
+  if (opt_level >= 2) optimizer.RegisterPerformancePasses();
+  std::vector<std::uint32_t> optimised;
+  if (!optimizer.Run(words.data(), words.size(), &optimised)) {
+    throw Error(fmt::format("{}: SPIRV-Tools' optimiser failed:\n{}", file.string(), messages));
+  }
+  spvtools::SpirvTools tools(SPV_ENV_VULKAN_1_2);
+  tools.SetMessageConsumer(consumer);
+  if (!tools.Validate(optimised)) {
+    throw Error(fmt::format("{}: the optimised SPIR-V does not validate:\n{}", file.string(), messages));
+  }
+  out.words = std::move(optimised);
+  return out;
+}
+
+}  // namespace rpu::cc

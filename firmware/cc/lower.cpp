@@ -1,0 +1,1746 @@
+#include "cc/lower.hpp"
+
+#include <bit>
+#include <functional>
+#include <map>
+#include <tuple>
+#include <unordered_map>
+
+#include <fmt/format.h>
+#include <spirv/unified1/GLSL.std.450.h>
+
+#include "cc/spirv_names.hpp"
+#include "common/error.hpp"
+#include "isa/instruction.hpp"
+#include "rpu/spec.hpp"
+
+namespace rpu::cc {
+
+namespace mm = spec::memory;
+
+std::string TraceForm::label() const {
+  return fmt::format("rpu_trace_{}{}{}", any_hit ? "any" : "closest", skip_closest ? "_skip" : "",
+                     miss < 0 ? std::string("_nomiss") : fmt::format("_miss{}", miss));
+}
+
+std::string shader_label(const SpirvShader& shader) {
+  const std::string stem = shader.file.stem().string();
+  switch (shader.stage) {
+    case Stage::kRaygen: return "raygen";
+    case Stage::kClosestHit: return "hit_" + stem;
+    case Stage::kMiss: return "miss_" + stem;
+    case Stage::kAnyHit: return "anyhit_" + stem;
+  }
+  return stem;
+}
+
+namespace {
+
+// Where a pointer points: device memory (a buffer), a variable kept in registers, a
+// built-in, or an opaque object (the framebuffer image, the acceleration structure).
+struct Pointer {
+  enum class Where { kMemory, kRegisters, kBuiltin, kHitAttribute, kOpaque } where = Where::kMemory;
+  int address = -1;           // memory: vreg with the base address (lane of `address_lane`), or -1
+  std::uint32_t offset = 0;   // memory: constant part of the address
+  Id variable = 0;            // registers, builtin, hit attribute: the variable
+  std::vector<std::uint32_t> path;  // registers/builtin: member or component indices
+  Id type = 0;                // pointee type
+};
+
+// A value of the shader: a scalar or vector (one source operand), or an aggregate.
+// An aggregate loaded from a buffer stays `lazy` (where it is and its type) until a
+// member is used: buffers are read-only, so a late load reads the same, and the members
+// a shader never uses cost neither a load nor a register.
+struct Value {
+  bool aggregate = false;
+  Src leaf;
+  std::vector<Value> members;
+  bool lazy = false;
+  Pointer at;
+  Id type = 0;
+};
+
+std::string hex(std::uint32_t bits) { return fmt::format("{:#x}", bits); }
+
+class Lowerer {
+ public:
+  Lowerer(const Module& m, const SpirvShader& shader, const LowerContext& ctx) : m_(m), shader_(shader), ctx_(ctx) {
+    fn_.label = shader_label(shader);
+    fn_.name = shader.file.string();
+    fn_.is_raygen = shader.stage == Stage::kRaygen;
+  }
+
+  Lowered run() {
+    const Function* f = nullptr;
+    for (const Function& fun : m_.functions) {
+      if (fun.id == m_.entry) f = &fun;
+    }
+    if (f == nullptr) throw Error(fmt::format("{}: the entry point's function is missing", shader_.file.string()));
+    if (m_.functions.size() > 1) {
+      for (const Function& fun : m_.functions) {
+        if (fun.id != m_.entry) {
+          fail(fun.blocks.empty() || fun.blocks[0].body.empty() ? SourceLocation{} : fun.blocks[0].body[0].where,
+               fmt::format("function '{}' was not inlined (recursion is not supported)", fun.name));
+        }
+      }
+    }
+    for (const Block& b : f->blocks) {
+      for (const Instruction& i : b.body) {
+        if (i.op == spv::Op::OpTraceRayKHR) has_calls_ = true;
+      }
+    }
+    entry();
+    for (std::size_t bi = 0; bi < f->blocks.size(); ++bi) {
+      const Block& b = f->blocks[bi];
+      blocks_[b.label] = &b;
+    }
+    for (std::size_t bi = 0; bi < f->blocks.size(); ++bi) {
+      const Block& b = f->blocks[bi];
+      next_block_ = bi + 1 < f->blocks.size() ? f->blocks[bi + 1].label : 0;
+      current_block_ = b.label;
+      label(block_label(b.label));
+      block_constants_.clear();
+      block_addresses_.clear();
+      block_loads_.clear();
+      for (const Instruction& i : b.body) {
+        where_ = i.where;
+        instruction(i);
+      }
+    }
+    return {std::move(fn_), traces_};
+  }
+
+ private:
+  [[noreturn]] void fail(const SourceLocation& at, const std::string& what) const {
+    const std::string file = at.file.empty() ? shader_.file.string() : at.file;
+    if (at.line > 0) throw Error(fmt::format("{}:{}: error: {}", file, at.line, what));
+    throw Error(fmt::format("{}: error: {}", file, what));
+  }
+  [[noreturn]] void unsupported(const std::string& what) const {
+    fail(where_, fmt::format("{} is not supported by the RPU back end (docs/shaders.md \"What compiles\")", what));
+  }
+
+  // ---- machine IR helpers -------------------------------------------------------------
+  int vreg(int width) {
+    fn_.vregs.push_back({width});
+    return static_cast<int>(fn_.vregs.size()) - 1;
+  }
+  int fixed(int width, int reg) {
+    fn_.vregs.push_back({width, reg});
+    return static_cast<int>(fn_.vregs.size()) - 1;
+  }
+  static Src whole(int v, int width) {
+    Src s;
+    s.v = v;
+    s.n = width;
+    return s;
+  }
+  Src whole(int v) const { return whole(v, fn_.vregs[static_cast<std::size_t>(v)].width); }
+  static Src component(const Src& s, int j) {
+    Src c = s;
+    c.comp[0] = s.comp[static_cast<std::size_t>(j)];
+    c.n = 1;
+    return c;
+  }
+  MInst& push(MInst i) {
+    i.where = where_;
+    // neg and abs are free only on instructions whose spec allows them (and never abs on
+    // a third source): elsewhere the value is made first.
+    if (i.kind == Kind::kOp || i.kind == Kind::kCondBranch) {
+      const spec::isa::InsnSpec* insn = isa::find_insn(i.mn);
+      const bool mods = insn != nullptr && insn->float_modifiers;
+      for (std::size_t k = 0; k < i.srcs.size(); ++k) {
+        Src& s = i.srcs[k];
+        if (!(s.neg || s.abs) || (mods && !(k == 2 && s.abs))) continue;
+        MInst m;
+        m.mn = "mov";
+        m.dst = vreg(s.n);
+        m.srcs = {s};
+        m.where = where_;
+        fn_.code.push_back(m);
+        s = whole(m.dst, s.n);
+      }
+    }
+    fn_.code.push_back(std::move(i));
+    return fn_.code.back();
+  }
+  void label(const std::string& name) {
+    MInst i;
+    i.kind = Kind::kLabel;
+    i.target = name;
+    push(std::move(i));
+  }
+  // dst = mn srcs (lane-wise), a new vreg of `width` lanes.
+  Src op(const std::string& mn, int width, std::vector<Src> srcs, std::string imm = {}) {
+    const int d = vreg(width);
+    MInst i;
+    i.mn = mn;
+    i.dst = d;
+    i.srcs = std::move(srcs);
+    i.imm = std::move(imm);
+    push(std::move(i));
+    return whole(d, width);
+  }
+  // dst[comps] = mn srcs: a partial write into an existing vreg.
+  // fresh: the first write of a vreg whose other lanes are never read (not a use of it).
+  void op_into(int dst, std::uint8_t comps, const std::string& mn, std::vector<Src> srcs, std::string imm = {},
+               bool fresh = false) {
+    MInst i;
+    i.mn = mn;
+    i.dst = dst;
+    i.dst_comps = comps;
+    i.fresh = fresh;
+    i.srcs = std::move(srcs);
+    i.imm = std::move(imm);
+    push(std::move(i));
+  }
+  Src positional(const std::string& mn, int width, std::vector<Src> srcs) {
+    const int d = vreg(width);
+    MInst i;
+    i.mn = mn;
+    i.dst = d;
+    i.srcs = std::move(srcs);
+    i.shape = Shape::kPositional;
+    push(std::move(i));
+    return whole(d, width);
+  }
+  void copy_into(int dst, const Src& from) {
+    MInst i;
+    i.mn = "mov";
+    i.dst = dst;
+    i.srcs = {from};
+    push(std::move(i));
+  }
+  Src constant_bits(std::uint32_t bits, bool is_float, int width = 1) {
+    return op(is_float ? "lif" : "li", width, {}, hex(bits));
+  }
+  Src fconst(float f, int width = 1) { return constant_bits(std::bit_cast<std::uint32_t>(f), true, width); }
+  static Src neg(Src s) {
+    s.neg = !s.neg;
+    return s;
+  }
+  static Src abs(Src s) {
+    s.abs = true;
+    s.neg = false;
+    return s;
+  }
+  static Src broadcast(const Src& s, int n) {
+    Src b = s;
+    for (int j = 1; j < 4; ++j) b.comp[static_cast<std::size_t>(j)] = s.comp[0];
+    b.n = n;
+    return b;
+  }
+
+  // ---- values ---------------------------------------------------------------------------
+  int width_of(Id type) const {
+    const std::uint32_t n = m_.components(type);
+    if (n == 0 || n > 4) return 0;
+    return static_cast<int>(n);
+  }
+
+  Value constant(Id id) {
+    const Constant& c = m_.constants.at(id);
+    const Type& t = m_.type(c.type);
+    if (t.op == spv::Op::OpTypeVector || t.op == spv::Op::OpTypeBool || t.op == spv::Op::OpTypeInt ||
+        t.op == spv::Op::OpTypeFloat) {
+      if (const auto it = block_constants_.find(id); it != block_constants_.end()) return it->second;
+      const int n = width_of(c.type);
+      std::array<std::uint32_t, 4> bits{};
+      for (int j = 0; j < n; ++j) {
+        std::uint32_t b = 0;
+        if (c.null) {
+          b = 0;
+        } else if (c.composite) {
+          const Constant& e = m_.constants.at(c.constituents.at(static_cast<std::size_t>(j)));
+          b = e.null ? 0 : e.bits;
+        } else {
+          b = c.bits;
+        }
+        bits[static_cast<std::size_t>(j)] = b;
+      }
+      const bool is_bool = m_.is_bool(c.type), is_float = m_.is_float(c.type);
+      if (is_bool) {
+        for (auto& b : bits) b = b ? 0xffffffffu : 0u;
+      }
+      const int d = vreg(n);
+      // One instruction per distinct value, with the lanes that hold it.
+      std::uint8_t done = 0;
+      for (int j = 0; j < n; ++j) {
+        if (done & (1u << j)) continue;
+        std::uint8_t mask = 0;
+        for (int k = j; k < n; ++k) {
+          if (bits[static_cast<std::size_t>(k)] == bits[static_cast<std::size_t>(j)]) mask |= static_cast<std::uint8_t>(1u << k);
+        }
+        op_into(d, mask == (1u << n) - 1 ? 0 : mask, is_float ? "lif" : "li", {}, hex(bits[static_cast<std::size_t>(j)]),
+                done == 0);
+        done |= mask;
+      }
+      Value v;
+      v.leaf = whole(d, n);
+      block_constants_[id] = v;
+      return v;
+    }
+    Value v;
+    v.aggregate = true;
+    const std::size_t members = t.op == spv::Op::OpTypeStruct ? t.members.size() : t.count;
+    for (std::size_t k = 0; k < members; ++k) {
+      if (c.null) {
+        v.members.push_back(zero(t.op == spv::Op::OpTypeStruct ? t.members[k] : t.element));
+      } else {
+        v.members.push_back(value(c.constituents.at(k)));
+      }
+    }
+    return v;
+  }
+  Value zero(Id type) {
+    const Type& t = m_.type(type);
+    Value v;
+    if (const int n = width_of(type); n > 0) {
+      v.leaf = op("li", n, {}, "0");
+      return v;
+    }
+    v.aggregate = true;
+    if (t.op == spv::Op::OpTypeStruct) {
+      for (Id member : t.members) v.members.push_back(zero(member));
+    } else {
+      for (std::uint32_t k = 0; k < t.count; ++k) v.members.push_back(zero(t.element));
+    }
+    return v;
+  }
+  Value value(Id id) {
+    if (const auto it = values_.find(id); it != values_.end()) return it->second;
+    if (m_.constants.count(id)) return constant(id);
+    if (const auto it = phis_.find(id); it != phis_.end()) return it->second;
+    unsupported(fmt::format("the value %{} (an operand the back end has no value for)", id));
+  }
+  Src scalar_or_vector(Id id) {
+    const Value v = concrete(value(id));
+    if (v.aggregate) unsupported("an aggregate where a scalar or vector belongs");
+    return v.leaf;
+  }
+  std::optional<std::uint32_t> constant_scalar(Id id) const {
+    const auto it = m_.constants.find(id);
+    if (it == m_.constants.end()) return std::nullopt;
+    const Constant& c = it->second;
+    if (c.null) return 0u;
+    if (!c.composite) return c.bits;
+    // A splat vector counts as its scalar.
+    std::optional<std::uint32_t> first;
+    for (Id e : c.constituents) {
+      const auto b = constant_scalar(e);
+      if (!b || (first && *first != *b)) return std::nullopt;
+      first = b;
+    }
+    return first;
+  }
+  // A value shaped like `type` in fresh vregs (phis, register-resident variables).
+  Value fresh(Id type) {
+    Value v;
+    if (const int n = width_of(type); n > 0) {
+      v.leaf = whole(vreg(n), n);
+      return v;
+    }
+    const Type& t = m_.type(type);
+    v.aggregate = true;
+    if (t.op == spv::Op::OpTypeStruct) {
+      for (Id member : t.members) v.members.push_back(fresh(member));
+    } else if (t.op == spv::Op::OpTypeArray || t.op == spv::Op::OpTypeMatrix) {
+      for (std::uint32_t k = 0; k < t.count; ++k) v.members.push_back(fresh(t.element));
+    } else {
+      unsupported(fmt::format("a value of type {}", op_name(t.op)));
+    }
+    return v;
+  }
+  Value concrete(const Value& v) { return v.lazy ? load_memory(v.at, v.type, true) : v; }
+  void leaves(const Value& lazy_or_not, std::vector<Src>& out) {
+    const Value v = lazy_or_not.lazy ? load_memory(lazy_or_not.at, lazy_or_not.type, true) : lazy_or_not;
+    if (!v.aggregate) {
+      out.push_back(v.leaf);
+      return;
+    }
+    for (const Value& m : v.members) leaves(m, out);
+  }
+  void assign(const Value& to, const Value& from) {
+    std::vector<Src> a, b;
+    leaves(to, a);
+    leaves(from, b);
+    for (std::size_t k = 0; k < a.size() && k < b.size(); ++k) copy_into(a[k].v, b[k]);
+  }
+  Value copy_of(const Value& lazy_or_not) {
+    if (lazy_or_not.lazy) return load_memory(lazy_or_not.at, lazy_or_not.type, true);  // a fresh load is a copy
+    const Value& from = lazy_or_not;
+    if (!from.aggregate) {
+      Value v;
+      v.leaf = op("mov", from.leaf.n, {from.leaf});
+      return v;
+    }
+    Value v;
+    v.aggregate = true;
+    for (const Value& m : from.members) v.members.push_back(copy_of(m));
+    return v;
+  }
+
+  // ---- entry and exit -------------------------------------------------------------------
+  void entry() {
+    label(fn_.label);
+    const bool hit = shader_.stage == Stage::kClosestHit, miss = shader_.stage == Stage::kMiss;
+    if (shader_.stage == Stage::kAnyHit) unsupported("an any-hit shader (the traversal unit decides hits itself)");
+    if (!hit && !miss) return;
+    MInst e;
+    e.kind = Kind::kEntry;
+    origin_ = fixed(4, kRegOrigin);
+    direction_ = fixed(4, kRegDirection);
+    e.defs = {origin_, direction_};
+    if (hit) {
+      hit_ = fixed(4, kRegHit);
+      e.defs.push_back(hit_);
+    }
+    info_ = fixed(4, kRegInfo);
+    e.defs.push_back(info_);
+    // The incoming payload, one register per leaf.
+    for (const auto& [id, var] : m_.variables) {
+      if (var.storage != spv::StorageClass::IncomingRayPayloadKHR) continue;
+      if (incoming_payload_) unsupported("more than one rayPayloadInEXT variable");
+      incoming_payload_ = id;
+    }
+    std::vector<int> payload_in;
+    if (incoming_payload_) {
+      const Id type = m_.type(m_.variables.at(incoming_payload_).type).element;
+      payload_in = payload_registers(type, e.defs);
+    }
+    push(std::move(e));
+    // Copies out of the ABI's registers, so that a nested trace may reuse them; the
+    // allocator gives a copy its source's place where it can, and the mov disappears.
+    origin_ = op("mov", 4, {whole(origin_, 4)}).v;
+    direction_ = op("mov", 4, {whole(direction_, 4)}).v;
+    if (hit) hit_ = op("mov", 4, {whole(hit_, 4)}).v;
+    info_ = op("mov", 4, {whole(info_, 4)}).v;
+    if (incoming_payload_) {
+      const Id type = m_.type(m_.variables.at(incoming_payload_).type).element;
+      Value home = fresh(type);
+      std::vector<Src> dst;
+      leaves(home, dst);
+      for (std::size_t k = 0; k < dst.size(); ++k) copy_into(dst[k].v, whole(payload_in[k]));
+      homes_[incoming_payload_] = home;
+    }
+    if (has_calls_) return_address_ = op("mfra", 1, {}).v;
+  }
+  std::vector<int> payload_registers(Id type, std::vector<int>& defs) {
+    std::vector<int> regs;
+    std::function<void(Id)> walk = [&](Id t) {
+      if (const int n = width_of(t); n > 0) {
+        const int reg = kRegPayload + static_cast<int>(regs.size());
+        if (reg >= ctx_.registers) {
+          unsupported(fmt::format("a ray payload of more than {} scalar or vector members (one register each)",
+                                  ctx_.registers - kRegPayload));
+        }
+        regs.push_back(fixed(n, reg));
+        defs.push_back(regs.back());
+        return;
+      }
+      const Type& ty = m_.type(t);
+      if (ty.op == spv::Op::OpTypeStruct) {
+        for (Id member : ty.members) walk(member);
+      } else if (ty.op == spv::Op::OpTypeArray || ty.op == spv::Op::OpTypeMatrix) {
+        for (std::uint32_t k = 0; k < ty.count; ++k) walk(ty.element);
+      } else {
+        unsupported(fmt::format("a ray payload member of type {}", op_name(ty.op)));
+      }
+    };
+    walk(type);
+    return regs;
+  }
+  void function_return() {
+    if (fn_.is_raygen) {
+      MInst h;
+      h.kind = Kind::kHalt;
+      push(std::move(h));
+      return;
+    }
+    MInst r;
+    r.kind = Kind::kRet;
+    if (incoming_payload_) {
+      const Id type = m_.type(m_.variables.at(incoming_payload_).type).element;
+      std::vector<int> regs = payload_registers(type, r.uses);
+      std::vector<Src> home;
+      leaves(homes_.at(incoming_payload_), home);
+      for (std::size_t k = 0; k < regs.size(); ++k) copy_into(regs[k], home[k]);
+    }
+    if (return_address_ >= 0) {
+      MInst t;
+      t.mn = "mtra";
+      t.srcs = {whole(return_address_, 1)};
+      t.shape = Shape::kPositional;
+      push(std::move(t));
+    }
+    push(std::move(r));
+  }
+
+  // ---- control flow ---------------------------------------------------------------------
+  std::string block_label(Id id) const { return fmt::format(".{}_b{}", fn_.label, id); }
+
+  // The copies an edge from the current block to `to` needs for `to`'s phis.
+  std::vector<std::pair<Value, Id>> edge_copies(Id from, Id to) {
+    std::vector<std::pair<Value, Id>> copies;
+    const Block& b = *blocks_.at(to);
+    for (const Instruction& i : b.body) {
+      if (i.op != spv::Op::OpPhi) break;
+      for (std::size_t k = 0; k + 1 < i.operands.size(); k += 2) {
+        if (i.operands[k + 1] == from) copies.push_back({phi(i), i.operands[k]});
+      }
+    }
+    return copies;
+  }
+  Value phi(const Instruction& i) {
+    if (const auto it = phis_.find(i.result); it != phis_.end()) return it->second;
+    return phis_[i.result] = fresh(i.type);
+  }
+  bool is_phi_of(Id value, Id block) const {
+    const Block& b = *blocks_.at(block);
+    for (const Instruction& i : b.body) {
+      if (i.op != spv::Op::OpPhi) break;
+      if (i.result == value) return true;
+    }
+    return false;
+  }
+  // Phi copies are parallel: a source that is itself a phi of the target goes through a
+  // temporary first, so no copy reads a phi another copy already wrote.
+  void emit_edge_copies(Id from, Id to) {
+    const auto copies = edge_copies(from, to);
+    std::vector<std::pair<Value, Value>> staged;
+    for (const auto& [dst, src] : copies) {
+      if (is_phi_of(src, to) && phis_.count(src) && &phis_.at(src) != nullptr) {
+        // self-copy x = phi(.., x) needs nothing
+        std::vector<Src> a, b;
+        leaves(dst, a);
+        leaves(phis_.at(src), b);
+        if (!a.empty() && a[0].v == b[0].v) continue;
+        staged.push_back({dst, copy_of(phis_.at(src))});
+      } else {
+        staged.push_back({dst, value(src)});
+      }
+    }
+    for (const auto& [dst, src] : staged) assign(dst, src);
+  }
+  void branch(const std::string& target) {
+    MInst b;
+    b.kind = Kind::kBranch;
+    b.target = target;
+    push(std::move(b));
+  }
+  void cond_branch(bool if_nonzero, const Src& cond, const std::string& target) {
+    MInst b;
+    b.kind = Kind::kCondBranch;
+    b.mn = if_nonzero ? "bnz" : "bz";
+    b.srcs = {component(cond, 0)};
+    b.shape = Shape::kPositional;
+    b.target = target;
+    push(std::move(b));
+  }
+  void jump_to(Id from, Id to) {
+    emit_edge_copies(from, to);
+    branch(block_label(to));
+  }
+  void conditional(Id from, const Src& cond, Id on_true, Id on_false) {
+    const bool copies_true = !edge_copies(from, on_true).empty();
+    if (on_true == next_block_ && edge_copies(from, on_false).empty()) {
+      // falls through into the true block: one branch around it
+      cond_branch(false, cond, block_label(on_false));
+      jump_to(from, on_true);
+      return;
+    }
+    const std::string tramp = fmt::format(".{}_e{}_{}", fn_.label, from, on_true);
+    cond_branch(true, cond, copies_true ? tramp : block_label(on_true));
+    jump_to(from, on_false);
+    if (copies_true) {
+      label(tramp);
+      block_constants_.clear();
+      block_addresses_.clear();
+      block_loads_.clear();
+      jump_to(from, on_true);
+    }
+  }
+
+  // ---- memory -----------------------------------------------------------------------------
+  Src launch_base() { return op("li", 1, {}, hex(mm::kDeviceLaunchBase)); }
+  Pointer buffer_pointer(Id var_id, const Variable& var) {
+    const Decorations& d = m_.decoration(var_id);
+    const Id block_type = m_.type(var.type).element;
+    const std::uint32_t binding = d.binding.value_or(~0u);
+    if (d.set.value_or(0) != 0) unsupported(fmt::format("descriptor set {} (the chip has set 0)", *d.set));
+    for (const spec::ShaderBuffer& b : spec::kShaderBuffers) {
+      if (b.binding != binding) continue;
+      Pointer p;
+      p.type = block_type;
+      if (const auto it = block_addresses_.find(binding); it != block_addresses_.end()) {
+        p.address = it->second;
+        return p;
+      }
+      Src base = launch_base();
+      if (b.in_launch_block) {
+        MInst l;
+        l.mn = "ld1";
+        l.dst = vreg(1);
+        l.srcs = {base};
+        l.mem = true;
+        l.imm = fmt::format("{}", b.launch_word_at);
+        const int d2 = l.dst;
+        push(std::move(l));
+        base = whole(d2, 1);
+      }
+      block_addresses_[binding] = base.v;
+      p.address = base.v;
+      return p;
+    }
+    fail(where_, fmt::format("storage buffer '{}' at binding {}: the chip's buffers are at bindings 0-{} "
+                             "(spec/shaders.toml, docs/shaders.md)",
+                             m_.names.count(var_id) ? m_.names.at(var_id) : "", binding,
+                             spec::kShaderBuffers.size() - 1));
+  }
+  Pointer pointer(Id id) {
+    if (const auto it = pointers_.find(id); it != pointers_.end()) return it->second;
+    const auto v = m_.variables.find(id);
+    if (v == m_.variables.end()) unsupported(fmt::format("the pointer %{}", id));
+    const Variable& var = v->second;
+    const Id pointee = m_.type(var.type).element;
+    Pointer p;
+    p.variable = id;
+    p.type = pointee;
+    switch (var.storage) {
+      case spv::StorageClass::StorageBuffer:
+      case spv::StorageClass::Uniform:
+        return buffer_pointer(id, var);
+      case spv::StorageClass::Input:
+        if (!m_.decoration(id).builtin) unsupported("an input variable that is not a built-in");
+        p.where = Pointer::Where::kBuiltin;
+        return p;
+      case spv::StorageClass::HitAttributeKHR:
+        p.where = Pointer::Where::kHitAttribute;
+        return p;
+      case spv::StorageClass::UniformConstant:
+        p.where = Pointer::Where::kOpaque;
+        return p;
+      case spv::StorageClass::Private:
+      case spv::StorageClass::Function:
+        if (m_.type(pointee).op == spv::Op::OpTypeRayQueryKHR) {
+          p.where = Pointer::Where::kOpaque;
+          return p;
+        }
+        [[fallthrough]];
+      case spv::StorageClass::RayPayloadKHR:
+      case spv::StorageClass::IncomingRayPayloadKHR:
+        p.where = Pointer::Where::kRegisters;
+        if (!homes_.count(id)) {
+          homes_[id] = fresh(pointee);
+          if (var.initializer) assign(homes_[id], value(*var.initializer));
+        }
+        return p;
+      default:
+        unsupported(fmt::format("a variable in storage class {}", static_cast<int>(var.storage)));
+    }
+  }
+  void access_chain(const Instruction& i) {
+    Pointer p = pointer(i.operands[0]);
+    for (std::size_t k = 1; k < i.operands.size(); ++k) {
+      const Id index = i.operands[k];
+      const Type& t = m_.type(p.type);
+      const auto c = constant_scalar(index);
+      if (p.where != Pointer::Where::kMemory) {
+        if (!c) unsupported("a dynamic index into a variable kept in registers (a local array indexed by a variable)");
+        p.path.push_back(*c);
+        p.type = t.op == spv::Op::OpTypeStruct ? t.members.at(*c) : t.element;
+        continue;
+      }
+      if (t.op == spv::Op::OpTypeStruct) {
+        p.offset += m_.member_decoration(p.type, *c).offset.value_or(0);
+        p.type = t.members.at(*c);
+        continue;
+      }
+      std::uint32_t stride = 4;
+      if (t.op == spv::Op::OpTypeArray || t.op == spv::Op::OpTypeRuntimeArray) {
+        stride = m_.decoration(p.type).array_stride.value_or(0);
+        if (stride == 0) unsupported("an array without an ArrayStride in a buffer");
+      } else if (t.op != spv::Op::OpTypeVector) {
+        unsupported(fmt::format("indexing a {} in a buffer", op_name(t.op)));
+      }
+      p.type = t.element;
+      if (c) {
+        p.offset += *c * stride;
+        continue;
+      }
+      const Src idx = scalar_or_vector(index);
+      const Src scaled = std::has_single_bit(stride)
+                             ? op("shli", 1, {idx}, fmt::format("{}", std::countr_zero(stride)))
+                             : op("imuli", 1, {idx}, fmt::format("{}", stride));
+      p.address = op("iadd", 1, {whole(p.address, 1), scaled}).v;
+    }
+    pointers_[i.result] = p;
+  }
+  Value load_memory(const Pointer& p, Id type, bool eager = false) {
+    const Type& t = m_.type(type);
+    {
+      if (!eager) {
+        Value v;
+        v.lazy = true;
+        v.at = p;
+        v.type = type;
+        return v;
+      }
+    }
+    if (const int n = width_of(type); n > 0) {
+      const auto key = std::make_tuple(p.address, p.offset, type);
+      if (const auto it = block_loads_.find(key); it != block_loads_.end()) {
+        Value v;
+        v.leaf = it->second;
+        return v;
+      }
+      const bool f = m_.is_float(type);
+      if (m_.is_bool(type)) unsupported("a bool in a buffer");
+      MInst l;
+      l.mn = n == 1 ? (f ? "ld1f" : "ld1") : (f ? "ldf" : "ld");
+      l.dst = vreg(n);
+      l.srcs = {whole(p.address, 1)};
+      l.mem = true;
+      l.imm = fmt::format("{}", static_cast<std::int32_t>(p.offset));
+      Value v;
+      v.leaf = whole(l.dst, n);
+      push(std::move(l));
+      block_loads_[key] = v.leaf;
+      return v;
+    }
+    Value v;
+    v.aggregate = true;
+    if (t.op == spv::Op::OpTypeStruct) {
+      for (std::size_t k = 0; k < t.members.size(); ++k) {
+        Pointer q = p;
+        q.offset += m_.member_decoration(type, static_cast<std::uint32_t>(k)).offset.value_or(0);
+        v.members.push_back(load_memory(q, t.members[k], eager));
+      }
+    } else if (t.op == spv::Op::OpTypeArray) {
+      const std::uint32_t stride = m_.decoration(type).array_stride.value_or(0);
+      for (std::uint32_t k = 0; k < t.count; ++k) {
+        Pointer q = p;
+        q.offset += k * stride;
+        v.members.push_back(load_memory(q, t.element, eager));
+      }
+    } else {
+      unsupported(fmt::format("loading a {} from a buffer", op_name(t.op)));
+    }
+    return v;
+  }
+  // The part of a register-resident variable a path names: a sub-value, or one component.
+  struct Place {
+    Value* value = nullptr;
+    int component = -1;
+  };
+  Place place(const Pointer& p) {
+    Place pl{&homes_.at(p.variable), -1};
+    for (const std::uint32_t k : p.path) {
+      if (pl.value->aggregate) {
+        pl.value = &pl.value->members.at(k);
+      } else {
+        pl.component = static_cast<int>(k);
+      }
+    }
+    return pl;
+  }
+  Value builtin(const Pointer& p, Id type) {
+    const spv::BuiltIn b = *m_.decoration(p.variable).builtin;
+    const auto view = [&](int v, std::array<std::uint8_t, 4> comps, int n) {
+      Src s;
+      s.v = v;
+      s.comp = comps;
+      s.n = n;
+      return s;
+    };
+    Src s;
+    switch (b) {
+      case spv::BuiltIn::LaunchIdKHR:
+      case spv::BuiltIn::LaunchSizeKHR: {
+        MInst r;
+        r.mn = "rdsr";
+        r.dst = vreg(3);
+        r.dst_comps = 0b011;
+        r.fresh = true;
+        r.imm = b == spv::BuiltIn::LaunchIdKHR ? "pixel" : "launch";
+        const int d = r.dst;
+        push(std::move(r));
+        op_into(d, 0b100, "li", {}, b == spv::BuiltIn::LaunchIdKHR ? "0" : "1");
+        small_.insert(d);  // pixel coordinates and sizes are far below 2^31
+        s = whole(d, 3);
+        break;
+      }
+      case spv::BuiltIn::WorldRayOriginKHR:
+      case spv::BuiltIn::ObjectRayOriginKHR: s = view(need(origin_), {0, 1, 2, 0}, 3); break;
+      case spv::BuiltIn::WorldRayDirectionKHR:
+      case spv::BuiltIn::ObjectRayDirectionKHR: s = view(need(direction_), {0, 1, 2, 0}, 3); break;
+      case spv::BuiltIn::RayTminKHR: s = view(need(origin_), {3}, 1); break;
+      case spv::BuiltIn::RayTmaxKHR:
+      case spv::BuiltIn::HitTNV:
+        s = hit_ >= 0 ? view(hit_, {0}, 1) : view(need(direction_), {3}, 1);
+        break;
+      case spv::BuiltIn::PrimitiveId: s = view(need(hit_), {3}, 1); break;
+      case spv::BuiltIn::InstanceCustomIndexKHR: s = view(need(info_), {0}, 1); break;
+      case spv::BuiltIn::InstanceId:
+      case spv::BuiltIn::RayGeometryIndexKHR: s = op("li", 1, {}, "0"); break;
+      default:
+        unsupported(fmt::format("the built-in {} (the chip provides launch id and size, world ray origin and "
+                                "direction, t min and max, hit t, primitive id and instance custom index)",
+                                static_cast<int>(b)));
+    }
+    for (const std::uint32_t k : p.path) s = component(s, static_cast<int>(k));
+    Value v;
+    v.leaf = s;
+    (void)type;
+    return v;
+  }
+  int need(int v) const {
+    if (v < 0) unsupported("this built-in in this stage");
+    return v;
+  }
+  void load(const Instruction& i) {
+    const Pointer p = pointer(i.operands[0]);
+    switch (p.where) {
+      case Pointer::Where::kMemory: values_[i.result] = load_memory(p, i.type); return;
+      case Pointer::Where::kBuiltin: values_[i.result] = builtin(p, i.type); return;
+      case Pointer::Where::kHitAttribute: {
+        if (shader_.stage != Stage::kClosestHit) unsupported("hit attributes outside a closest-hit shader");
+        const Id var_type = m_.type(m_.variables.at(p.variable).type).element;
+        if (width_of(var_type) != 2 || !m_.is_float(var_type)) {
+          unsupported("a hit attribute that is not a vec2 (the chip's hit attributes are the barycentrics)");
+        }
+        Src s;
+        s.v = hit_;
+        s.comp = {1, 2, 0, 0};
+        s.n = 2;
+        for (const std::uint32_t k : p.path) s = component(s, static_cast<int>(k));
+        Value v;
+        v.leaf = s;
+        values_[i.result] = v;
+        return;
+      }
+      case Pointer::Where::kOpaque: opaque_[i.result] = p.variable; return;
+      case Pointer::Where::kRegisters: {
+        const Place pl = place(p);
+        if (pl.component >= 0) {
+          Value v;
+          v.leaf = op("mov", 1, {component(pl.value->leaf, pl.component)});
+          values_[i.result] = v;
+        } else {
+          values_[i.result] = copy_of(*pl.value);
+        }
+        return;
+      }
+    }
+  }
+  void store(const Instruction& i) {
+    const Pointer p = pointer(i.operands[0]);
+    if (p.where != Pointer::Where::kRegisters) {
+      unsupported("a store to a buffer (the scene's buffers are read-only; write the framebuffer with imageStore)");
+    }
+    const Value from = value(i.operands[1]);
+    const Place pl = place(p);
+    if (pl.component >= 0) {
+      op_into(pl.value->leaf.v, static_cast<std::uint8_t>(1u << pl.value->leaf.comp[static_cast<std::size_t>(pl.component)]),
+              "mov", {from.leaf});
+      return;
+    }
+    assign(*pl.value, from);
+  }
+
+  // ---- instructions -------------------------------------------------------------------------
+  void instruction(const Instruction& i);
+  void ext_inst(const Instruction& i);
+  void trace(const Instruction& i);
+  void image_store(const Instruction& i);
+  Src binary(const Instruction& i, const std::string& mn, bool swap = false) {
+    Src a = scalar_or_vector(i.operands[0]), b = scalar_or_vector(i.operands[1]);
+    if (swap) std::swap(a, b);
+    return op(mn, width_of(i.type), {a, b});
+  }
+  Src not_of(const Src& s) { return op("xori", s.n, {s}, "0xffffffff"); }
+  // Integer op with an immediate form when the second operand is a constant.
+  Src int_binary(const Instruction& i, const std::string& mn, const std::string& imm_mn) {
+    const int n = width_of(i.type);
+    if (const auto c = constant_scalar(i.operands[1]); c && !imm_mn.empty()) {
+      const std::uint32_t v = *c;
+      const bool shift = imm_mn == "shli" || imm_mn == "shri" || imm_mn == "srai";
+      return op(imm_mn, n, {scalar_or_vector(i.operands[0])},
+                shift ? fmt::format("{}", v & 31) : fmt::format("{}", static_cast<std::int32_t>(v)));
+    }
+    return op(mn, n, {scalar_or_vector(i.operands[0]), scalar_or_vector(i.operands[1])});
+  }
+  Src select(const Src& cond, const Src& a, const Src& b, int n) {
+    return op("sel", n, {cond.n == 1 ? broadcast(cond, n) : cond, a.n == 1 && n > 1 ? broadcast(a, n) : a,
+                         b.n == 1 && n > 1 ? broadcast(b, n) : b});
+  }
+  Src dot(const Src& a, const Src& b) {
+    if (a.n == 3) return positional("dp3", 1, {a, b});
+    if (a.n == 4) return positional("dp4", 1, {a, b});
+    if (a.n == 1) return op("mul", 1, {a, b});
+    const Src p = op("mul", 2, {a, b});
+    return op("add", 1, {component(p, 0), component(p, 1)});
+  }
+  Src exp2(const Src& y, int n);
+  Src log2(const Src& x, int n);
+  Src divide(const Src& a, const Src& b, int n) {
+    const Src r = op("rcp", b.n, {b});
+    return op("mul", n, {a, r.n == 1 && n > 1 ? broadcast(r, n) : r});
+  }
+
+  const Module& m_;
+  const SpirvShader& shader_;
+  const LowerContext& ctx_;
+  MFunction fn_;
+  std::set<TraceForm> traces_;
+  std::unordered_map<Id, Value> values_, phis_, homes_;
+  std::unordered_map<Id, Pointer> pointers_;
+  std::set<int> small_;  // vregs known to hold integers in [0, 2^31)
+  // A ray query: its ray (a = origin, t_min; b = direction, t_max) and, once
+  // rayQueryProceedEXT traced it, the hit record.
+  struct Query {
+    bool any_hit = false;
+    int a = -1, b = -1, hit = -1;
+  };
+  std::unordered_map<Id, Query> queries_;
+  std::unordered_map<Id, Src> query_types_;
+  Query& query(Id pointer_id) {
+    const auto it = queries_.find(pointer(pointer_id).variable);
+    if (it == queries_.end()) unsupported("a ray query used before rayQueryInitializeEXT in the code's order");
+    return it->second;
+  }
+  const Query& traced(Id pointer_id) {
+    const Query& q = query(pointer_id);
+    if (q.hit < 0) unsupported("a ray query's intersection read before rayQueryProceedEXT in the code's order");
+    return q;
+  }
+  std::unordered_map<Id, Id> opaque_;
+  std::unordered_map<Id, const Block*> blocks_;
+  std::unordered_map<Id, Value> block_constants_;
+  std::map<std::tuple<int, std::uint32_t, Id>, Src> block_loads_;  // (address, offset, type) loaded in this block
+  std::unordered_map<std::uint32_t, int> block_addresses_;
+  SourceLocation where_;
+  Id next_block_ = 0;
+  Id current_block_ = 0;
+  Id incoming_payload_ = 0;
+  bool has_calls_ = false;
+  int origin_ = -1, direction_ = -1, hit_ = -1, info_ = -1, return_address_ = -1;
+};
+
+// exp2 as firmware/whitted.s's pow computes it: 2^i 2^(g) sqrt(2) with g = y - i - 1/2,
+// the Taylor series of 2^g to g^6 (relative error < 2e-7); y clamped to [-126, 128].
+Src Lowerer::exp2(const Src& y_in, int n) {
+  Src y = op("max", n, {y_in, fconst(-126.0f, n)});
+  y = op("min", n, {y, fconst(128.0f, n)});
+  const Src i = op("flr", n, {y});
+  Src g = op("add", n, {y, neg(i)});
+  g = op("add", n, {g, neg(fconst(0.5f, n))});
+  static constexpr float kCoefficients[] = {0.00015403530393381606f, 0.0013333558146428443f, 0.009618129107628477f,
+                                            0.05550410866482158f,    0.2402265069591007f,    0.6931471805599453f,
+                                            1.0f};
+  Src p = fconst(kCoefficients[0], n);
+  for (std::size_t k = 1; k < std::size(kCoefficients); ++k) p = op("mad", n, {p, g, fconst(kCoefficients[k], n)});
+  Src e = op("f2i", n, {i});
+  e = op("iaddi", n, {e}, "127");
+  e = op("shli", n, {e}, "23");  // 2^i as fp32 bits
+  p = op("mul", n, {p, e});
+  return op("mul", n, {p, fconst(1.41421356f, n)});
+}
+
+// log2 as firmware/whitted.s's pow computes it: x = m 2^e with m in [sqrt(1/2), sqrt(2)),
+// log2 m = (2/ln 2) atanh((m-1)/(m+1)) to t^9. For x > 0; 0 gives -126.something, so
+// exp2 of a product with it still flushes to 0.
+Src Lowerer::log2(const Src& x, int n) {
+  Src e = op("shri", n, {x}, "23");
+  e = op("iaddi", n, {e}, "-127");
+  Src m = op("andi", n, {x}, "0x007fffff");
+  m = op("ori", n, {m}, "0x3f800000");
+  const Src big = op("fle", n, {fconst(1.41421356f, n), m});
+  m = select(big, op("mul", n, {m, fconst(0.5f, n)}), m, n);
+  e = select(big, op("iaddi", n, {e}, "1"), e, n);
+  const Src ef = op("i2f", n, {e});
+  const Src one = fconst(1.0f, n);
+  Src t = op("add", n, {m, neg(one)});
+  t = op("mul", n, {t, op("rcp", n, {op("add", n, {m, one})})});
+  const Src t2 = op("mul", n, {t, t});
+  static constexpr float kCoefficients[] = {0.3205988979753252f, 0.41219858311113244f, 0.5770780163555854f,
+                                            0.9617966939259756f, 2.8853900817779268f};
+  Src p = fconst(kCoefficients[0], n);
+  for (std::size_t k = 1; k < std::size(kCoefficients); ++k) p = op("mad", n, {p, t2, fconst(kCoefficients[k], n)});
+  p = op("mul", n, {p, t});
+  return op("add", n, {ef, p});
+}
+
+void Lowerer::trace(const Instruction& i) {
+  // OpTraceRayKHR accel flags cullmask sbt_offset sbt_stride miss origin tmin direction tmax payload
+  const auto flags = constant_scalar(i.operands[1]);
+  const auto sbt_offset = constant_scalar(i.operands[3]);
+  const auto miss = constant_scalar(i.operands[5]);
+  if (!flags) unsupported("traceRayEXT with ray flags that are not a constant");
+  if (!miss) unsupported("traceRayEXT with a miss index that is not a constant");
+  TraceForm form;
+  form.any_hit = (*flags & static_cast<std::uint32_t>(spv::RayFlagsMask::TerminateOnFirstHitKHR)) != 0;
+  form.skip_closest = (*flags & static_cast<std::uint32_t>(spv::RayFlagsMask::SkipClosestHitShaderKHR)) != 0;
+  const std::uint32_t unsupported_flags =
+      static_cast<std::uint32_t>(spv::RayFlagsMask::CullBackFacingTrianglesKHR) |
+      static_cast<std::uint32_t>(spv::RayFlagsMask::CullFrontFacingTrianglesKHR) |
+      static_cast<std::uint32_t>(spv::RayFlagsMask::CullOpaqueKHR) |
+      static_cast<std::uint32_t>(spv::RayFlagsMask::CullNoOpaqueKHR);
+  if (*flags & unsupported_flags) unsupported("traceRayEXT with a face or opacity culling flag");
+  if (!form.skip_closest && (!sbt_offset || *sbt_offset != 0)) {
+    unsupported("traceRayEXT with an sbtRecordOffset other than 0 (the hit shader is the material's)");
+  }
+  if (static_cast<int>(*miss) >= ctx_.miss_shaders) {
+    if (ctx_.miss_shaders > 0 || *miss != 0) {
+      fail(where_, fmt::format("traceRayEXT names miss shader {}, but the firmware has {} (the .rmiss files in "
+                               "the order given)",
+                               *miss, ctx_.miss_shaders));
+    }
+    form.miss = -1;
+  } else {
+    form.miss = static_cast<int>(*miss);
+  }
+  traces_.insert(form);
+
+  const Src origin = scalar_or_vector(i.operands[6]), tmin = scalar_or_vector(i.operands[7]);
+  const Src direction = scalar_or_vector(i.operands[8]), tmax = scalar_or_vector(i.operands[9]);
+  MInst call;
+  call.kind = Kind::kCall;
+  call.target = form.label();
+  const int a = fixed(4, kRegOrigin), b = fixed(4, kRegDirection), info = fixed(4, kRegInfo);
+  op_into(a, 0b0111, "mov", {origin}, {}, true);
+  op_into(a, 0b1000, "mov", {tmin});
+  op_into(b, 0b0111, "mov", {direction}, {}, true);
+  op_into(b, 0b1000, "mov", {tmax});
+  // The new ray's nesting level: 0 from ray generation, the shader's own + 1 elsewhere.
+  if (info_ >= 0) {
+    op_into(info, 0b0010, "iaddi", {component(whole(info_, 4), 1)}, "1", true);
+  } else {
+    op_into(info, 0b0010, "li", {}, "0", true);
+  }
+  call.uses = {a, b, info};
+  // The payload: copied into its registers, and back after the call.
+  const Id payload_var = i.operands[10];
+  const Pointer p = pointer(payload_var);
+  if (p.where != Pointer::Where::kRegisters) unsupported("a payload that is not a rayPayloadEXT variable");
+  std::vector<int> in_regs = payload_registers(p.type, call.uses);
+  std::vector<Src> home;
+  leaves(homes_.at(payload_var), home);
+  for (std::size_t k = 0; k < in_regs.size(); ++k) copy_into(in_regs[k], home[k]);
+  std::vector<int> out_regs = payload_registers(p.type, call.defs);
+  push(std::move(call));
+  for (std::size_t k = 0; k < out_regs.size(); ++k) copy_into(home[k].v, whole(out_regs[k]));
+}
+
+void Lowerer::image_store(const Instruction& i) {
+  // OpImageWrite image coordinate texel: the framebuffer at (x, y).
+  const auto img = opaque_.find(i.operands[0]);
+  const Id var = img == opaque_.end() ? 0 : img->second;
+  if (m_.decoration(var).binding.value_or(~0u) != spec::kShaderFramebufferBinding) {
+    fail(where_, fmt::format("imageStore to an image that is not the framebuffer (binding {})",
+                             spec::kShaderFramebufferBinding));
+  }
+  const Src coord = scalar_or_vector(i.operands[1]);
+  Src texel = scalar_or_vector(i.operands[2]);
+  if (texel.n != 4) unsupported("an imageStore of other than 4 components");
+  // address = framebuffer + (y * width + x) * 16; the device faults on another pixel.
+  const Src base = launch_base();
+  MInst l;
+  l.mn = "ld1";
+  l.dst = vreg(2);
+  l.dst_comps = 0b01;
+  l.fresh = true;
+  l.srcs = {base};
+  l.mem = true;
+  l.imm = fmt::format("{}", mm::kLaunchFramebufferAt);
+  const int fbw = l.dst;
+  push(std::move(l));
+  op_into(fbw, 0b10, "ld1", {base}, fmt::format("{}", mm::kLaunchWidthAt));  // lane x is written above
+  fn_.code.back().mem = true;
+  Src index = op("imul", 1, {component(coord, 1), component(whole(fbw, 2), 1)});
+  index = op("iadd", 1, {index, component(coord, 0)});
+  index = op("shli", 1, {index}, fmt::format("{}", std::countr_zero(mm::kFramebufferBytesPerPixel)));
+  const Src address = op("iadd", 1, {index, component(whole(fbw, 2), 0)});
+  // st stores lanes in place: the texel must sit in lanes x..w in order.
+  if (texel.comp != std::array<std::uint8_t, 4>{0, 1, 2, 3} || texel.neg || texel.abs) texel = op("mov", 4, {texel});
+  MInst s;
+  s.mn = "st";
+  s.srcs = {address, texel};
+  s.mem = true;
+  s.store = true;
+  s.imm = "0";
+  push(std::move(s));
+}
+
+void Lowerer::instruction(const Instruction& i) {
+  using spv::Op;
+  const auto& o = i.operands;
+  const int n = i.type ? width_of(i.type) : 0;
+  const auto set = [&](const Src& s) {
+    Value v;
+    v.leaf = s;
+    values_[i.result] = v;
+  };
+  switch (i.op) {
+    case Op::OpPhi: {
+      values_[i.result] = phi(i);
+      return;
+    }
+    case Op::OpLine:
+    case Op::OpNoLine:
+    case Op::OpSelectionMerge:
+    case Op::OpLoopMerge:
+    case Op::OpExtInst:
+      if (i.op == Op::OpExtInst) {
+        ext_inst(i);
+      }
+      return;
+    case Op::OpVariable: {
+      // A function variable SPIRV-Tools did not turn into SSA values: kept in registers.
+      if (m_.type(m_.type(i.type).element).op == spv::Op::OpTypeRayQueryKHR) {
+        Pointer q;
+        q.where = Pointer::Where::kOpaque;
+        q.variable = i.result;
+        pointers_[i.result] = q;
+        return;
+      }
+      Pointer p;
+      p.where = Pointer::Where::kRegisters;
+      p.variable = i.result;
+      p.type = m_.type(i.type).element;
+      homes_[i.result] = fresh(p.type);
+      if (o.size() > 1) assign(homes_[i.result], value(o[1]));
+      pointers_[i.result] = p;
+      return;
+    }
+    case Op::OpLoad: load(i); return;
+    case Op::OpStore: store(i); return;
+    case Op::OpAccessChain:
+    case Op::OpInBoundsAccessChain: access_chain(i); return;
+    case Op::OpTraceRayKHR: trace(i); return;
+    case Op::OpRayQueryInitializeKHR: {
+      // query accel flags cullmask origin tmin direction tmax: the ray, traced at Proceed.
+      Query& q = queries_[pointer(o[0]).variable];
+      const auto flags = constant_scalar(o[2]);
+      if (!flags) unsupported("rayQueryInitializeEXT with ray flags that are not a constant");
+      q.any_hit = (*flags & static_cast<std::uint32_t>(spv::RayFlagsMask::TerminateOnFirstHitKHR)) != 0;
+      q.a = vreg(4);
+      q.b = vreg(4);
+      op_into(q.a, 0b0111, "mov", {scalar_or_vector(o[4])}, {}, true);
+      op_into(q.a, 0b1000, "mov", {scalar_or_vector(o[5])});
+      op_into(q.b, 0b0111, "mov", {scalar_or_vector(o[6])}, {}, true);
+      op_into(q.b, 0b1000, "mov", {scalar_or_vector(o[7])});
+      q.hit = -1;
+      return;
+    }
+    case Op::OpRayQueryProceedKHR: {
+      // The traversal unit commits the closest (or first) opaque triangle: nothing is
+      // left to proceed with afterwards.
+      Query& q = query(o[0]);
+      if (q.hit < 0) q.hit = vreg(4);
+      MInst t;
+      t.mn = q.any_hit ? "tracea" : "trace";
+      t.dst = q.hit;
+      t.srcs = {whole(q.a, 4), whole(q.b, 4)};
+      t.shape = Shape::kPositional;
+      push(std::move(t));
+      Value v;
+      v.leaf = op("li", 1, {}, "0");
+      values_[i.result] = v;
+      return;
+    }
+    case Op::OpRayQueryGetIntersectionTypeKHR: {
+      // Committed: 0 none, 1 triangle. A miss's primitive is 0xffffffff, a hit's below 2^31.
+      const Query& q = traced(o[0]);
+      if (constant_scalar(o[1]).value_or(0) != 1) unsupported("a ray query's candidate intersection");
+      const Src w = component(whole(q.hit, 4), 3);
+      set(op("xori", 1, {op("shri", 1, {w}, "31")}, "1"));
+      query_types_[i.result] = w;
+      return;
+    }
+    case Op::OpRayQueryGetIntersectionTKHR: set(component(whole(traced(o[0]).hit, 4), 0)); return;
+    case Op::OpRayQueryGetIntersectionPrimitiveIndexKHR: set(component(whole(traced(o[0]).hit, 4), 3)); return;
+    case Op::OpRayQueryGetIntersectionBarycentricsKHR: {
+      Src s = whole(traced(o[0]).hit, 4);
+      s.comp = {1, 2, 0, 0};
+      s.n = 2;
+      set(s);
+      return;
+    }
+    case Op::OpRayQueryGetWorldRayOriginKHR: {
+      Src s = whole(query(o[0]).a, 4);
+      s.n = 3;
+      set(s);
+      return;
+    }
+    case Op::OpRayQueryGetWorldRayDirectionKHR: {
+      Src s = whole(query(o[0]).b, 4);
+      s.n = 3;
+      set(s);
+      return;
+    }
+    case Op::OpRayQueryGetRayTMinKHR: set(component(whole(query(o[0]).a, 4), 3)); return;
+    case Op::OpRayQueryTerminateKHR: return;
+    case Op::OpImageWrite: image_store(i); return;
+    case Op::OpBranch: {
+      const Id from = current_block_;
+      jump_to(from, o[0]);
+      return;
+    }
+    case Op::OpBranchConditional: {
+      const Id from = current_block_;
+      conditional(from, scalar_or_vector(o[0]), o[1], o[2]);
+      return;
+    }
+    case Op::OpSwitch: {
+      const Id from = current_block_;
+      const Src sel = scalar_or_vector(o[0]);
+      for (std::size_t k = 2; k + 1 < o.size(); k += 2) {
+        const Src c = op("li", 1, {}, hex(o[k]));
+        const Src eq = op("ieq", 1, {sel, c});
+        const std::string tramp = fmt::format(".{}_s{}_{}", fn_.label, from, k);
+        // not this case: on to the next test; this case: through its own copies
+        cond_branch(false, eq, tramp);
+        jump_to(from, o[k + 1]);
+        label(tramp);
+        block_constants_.clear();
+        block_addresses_.clear();
+      block_loads_.clear();
+      }
+      jump_to(from, o[1]);
+      return;
+    }
+    case Op::OpReturn: function_return(); return;
+    case Op::OpUnreachable: {
+      MInst h;
+      h.kind = fn_.is_raygen ? Kind::kHalt : Kind::kRet;
+      if (!fn_.is_raygen) {
+        function_return();
+      } else {
+        push(std::move(h));
+      }
+      return;
+    }
+    case Op::OpReturnValue: unsupported("a function returning a value outside the entry point");
+    case Op::OpKill:
+    case Op::OpTerminateRayKHR:
+    case Op::OpIgnoreIntersectionKHR: unsupported(op_name(i.op));
+    // ---- composites
+    case Op::OpCompositeExtract: {
+      Value v = value(o[0]);
+      std::size_t k = 1;
+      if (v.lazy) {
+        // into the buffer's record: the member's own place, loaded if it is a scalar or vector
+        Pointer p = v.at;
+        Id type = v.type;
+        for (; k < o.size(); ++k) {
+          const Type& t = m_.type(type);
+          if (t.op == spv::Op::OpTypeStruct) {
+            p.offset += m_.member_decoration(type, o[k]).offset.value_or(0);
+            type = t.members.at(o[k]);
+          } else if (t.op == spv::Op::OpTypeArray) {
+            p.offset += o[k] * m_.decoration(type).array_stride.value_or(0);
+            type = t.element;
+          } else {
+            break;
+          }
+        }
+        v = load_memory(p, type);  // still lazy: loaded where it is used
+        if (k < o.size()) v = concrete(v);
+      }
+      while (k < o.size() && v.aggregate) v = v.members.at(o[k++]);
+      if (k < o.size()) v.leaf = component(v.leaf, static_cast<int>(o[k]));
+      values_[i.result] = v;
+      return;
+    }
+    case Op::OpCompositeInsert: {
+      // object composite indexes...
+      Value v = copy_of(value(o[1]));
+      Value* at = &v;
+      std::size_t k = 2;
+      while (k < o.size() && at->aggregate) at = &at->members.at(o[k++]);
+      const Value obj = value(o[0]);
+      if (k < o.size()) {
+        op_into(at->leaf.v, static_cast<std::uint8_t>(1u << at->leaf.comp[o[k]]), "mov", {obj.leaf});
+      } else {
+        assign(*at, obj);
+      }
+      values_[i.result] = v;
+      return;
+    }
+    case Op::OpCompositeConstruct: {
+      if (n > 0) {
+        // Components of one vreg (a splat, a reordering) are a view of it: no instruction.
+        {
+          Src view;
+          bool ok = true;
+          int at = 0;
+          for (const Id part : o) {
+            if (constant_scalar(part) && m_.constants.count(part)) {
+              ok = false;
+              break;
+            }
+            const Src t = scalar_or_vector(part);
+            if (at == 0) view = t;
+            if (t.v != view.v || t.neg != view.neg || t.abs != view.abs || at + t.n > 4) {
+              ok = false;
+              break;
+            }
+            for (int j = 0; j < t.n; ++j) view.comp[static_cast<std::size_t>(at + j)] = t.comp[static_cast<std::size_t>(j)];
+            at += t.n;
+          }
+          if (ok && at == n) {
+            view.n = n;
+            set(view);
+            return;
+          }
+        }
+        const int d = vreg(n);
+        int at = 0;
+        bool first = true;
+        for (std::size_t k = 0; k < o.size();) {
+          const std::uint8_t full = static_cast<std::uint8_t>((1u << n) - 1);
+          if (const auto c = constant_scalar(o[k]); c && width_of(m_.constants.at(o[k]).type) == 1) {
+            // a constant goes straight into its lane
+            std::uint32_t bits = *c;
+            if (m_.is_bool(m_.constants.at(o[k]).type)) bits = bits ? 0xffffffffu : 0u;
+            const std::uint8_t mask = static_cast<std::uint8_t>(1u << at);
+            op_into(d, mask == full ? 0 : mask, m_.is_float(m_.constants.at(o[k]).type) ? "lif" : "li", {}, hex(bits),
+                    first);
+            first = false;
+            ++at;
+            ++k;
+            continue;
+          }
+          Src s = scalar_or_vector(o[k]);
+          ++k;
+          // consecutive scalars from one vreg move together
+          while (k < o.size() && s.n < 4 && !constant_scalar(o[k])) {
+            const Src t = scalar_or_vector(o[k]);
+            if (t.n != 1 || t.v != s.v || t.neg != s.neg || t.abs != s.abs) break;
+            s.comp[static_cast<std::size_t>(s.n)] = t.comp[0];
+            ++s.n;
+            ++k;
+          }
+          const std::uint8_t mask = static_cast<std::uint8_t>(((1u << s.n) - 1) << at);
+          op_into(d, mask == full ? 0 : mask, "mov", {s}, {}, first);
+          first = false;
+          at += s.n;
+        }
+        set(whole(d, n));
+        return;
+      }
+      Value v;
+      v.aggregate = true;
+      for (const Id part : o) v.members.push_back(value(part));
+      values_[i.result] = v;
+      return;
+    }
+    case Op::OpVectorShuffle: {
+      const Src a = scalar_or_vector(o[0]), b = scalar_or_vector(o[1]);
+      bool only_a = true;
+      for (std::size_t k = 2; k < o.size(); ++k) {
+        if (o[k] != 0xffffffffu && static_cast<int>(o[k]) >= a.n) only_a = false;
+      }
+      if (only_a) {
+        Src s = a;
+        for (std::size_t k = 2; k < o.size(); ++k) {
+          s.comp[k - 2] = a.comp[o[k] == 0xffffffffu ? 0 : o[k]];
+        }
+        s.n = n;
+        set(s);
+        return;
+      }
+      const int d = vreg(n);
+      for (std::size_t k = 2; k < o.size(); ++k) {
+        const std::uint32_t c = o[k] == 0xffffffffu ? 0 : o[k];
+        const Src from = static_cast<int>(c) < a.n ? component(a, static_cast<int>(c)) : component(b, static_cast<int>(c) - a.n);
+        op_into(d, static_cast<std::uint8_t>(1u << (k - 2)), "mov", {from}, {}, k == 2);
+      }
+      set(whole(d, n));
+      return;
+    }
+    case Op::OpCopyObject:
+    case Op::OpCopyLogical:  // a buffer's struct as a plain one: the same values
+    case Op::OpBitcast: {
+      if (i.op == Op::OpBitcast && width_of(i.type) != scalar_or_vector(o[0]).n) {
+        unsupported("a bitcast between types of different component counts");
+      }
+      values_[i.result] = value(o[0]);
+      return;
+    }
+    case Op::OpUndef: values_[i.result] = zero(i.type); return;
+    case Op::OpVectorExtractDynamic: {
+      const Src v = scalar_or_vector(o[0]);
+      const Src idx = scalar_or_vector(o[1]);
+      Src r = component(v, 0);
+      for (int k = 1; k < v.n; ++k) {
+        const Src is_k = op("ieq", 1, {idx, op("li", 1, {}, fmt::format("{}", k))});
+        r = select(is_k, component(v, k), r, 1);
+      }
+      set(r);
+      return;
+    }
+    // ---- float arithmetic
+    case Op::OpFAdd: set(binary(i, "add")); return;
+    case Op::OpFSub: set(op("add", n, {scalar_or_vector(o[0]), neg(scalar_or_vector(o[1]))})); return;
+    case Op::OpFMul: set(binary(i, "mul")); return;
+    case Op::OpFDiv: {
+      if (const auto c = constant_scalar(o[0]); c && *c == 0x3f800000u && n == width_of(m_.constants.at(o[0]).type)) {
+        const Src b = scalar_or_vector(o[1]);
+        set(op("rcp", n, {b.n == 1 && n > 1 ? broadcast(b, n) : b}));  // 1 / x
+        return;
+      }
+      set(divide(scalar_or_vector(o[0]), scalar_or_vector(o[1]), n));
+      return;
+    }
+    case Op::OpFNegate: set(neg(scalar_or_vector(o[0]))); return;  // a modifier on its uses
+    case Op::OpFMod: {
+      // x - y floor(x / y)
+      const Src x = scalar_or_vector(o[0]), y = scalar_or_vector(o[1]);
+      const Src q = op("flr", n, {divide(x, y, n)});
+      set(op("mad", n, {neg(y.n == 1 && n > 1 ? broadcast(y, n) : y), q, x}));
+      return;
+    }
+    case Op::OpVectorTimesScalar: set(op("mul", n, {scalar_or_vector(o[0]), broadcast(scalar_or_vector(o[1]), n)})); return;
+    case Op::OpDot: set(dot(scalar_or_vector(o[0]), scalar_or_vector(o[1]))); return;
+    case Op::OpMatrixTimesScalar: {
+      Value m = concrete(value(o[0]));
+      const Src s = scalar_or_vector(o[1]);
+      Value r;
+      r.aggregate = true;
+      for (const Value& col : m.members) {
+        Value c;
+        c.leaf = op("mul", col.leaf.n, {col.leaf, broadcast(s, col.leaf.n)});
+        r.members.push_back(c);
+      }
+      values_[i.result] = r;
+      return;
+    }
+    case Op::OpMatrixTimesVector: {
+      const Value m = concrete(value(o[0]));
+      const Src v = scalar_or_vector(o[1]);
+      Src acc = op("mul", n, {m.members.at(0).leaf, broadcast(component(v, 0), n)});
+      for (std::size_t k = 1; k < m.members.size(); ++k) {
+        acc = op("mad", n, {m.members[k].leaf, broadcast(component(v, static_cast<int>(k)), n), acc});
+      }
+      set(acc);
+      return;
+    }
+    case Op::OpVectorTimesMatrix: {
+      const Src v = scalar_or_vector(o[0]);
+      const Value m = concrete(value(o[1]));
+      const int d = vreg(n);
+      for (int k = 0; k < n; ++k) {
+        const Src dk = dot(v, m.members.at(static_cast<std::size_t>(k)).leaf);
+        op_into(d, static_cast<std::uint8_t>(1u << k), "mov", {dk}, {}, k == 0);
+      }
+      set(whole(d, n));
+      return;
+    }
+    // ---- comparisons (masks: all ones or zero)
+    case Op::OpFOrdEqual: set(binary(i, "feq")); return;
+    case Op::OpFUnordNotEqual: set(binary(i, "fne")); return;
+    case Op::OpFOrdLessThan: set(binary(i, "flt")); return;
+    case Op::OpFOrdGreaterThan: set(binary(i, "flt", true)); return;
+    case Op::OpFOrdLessThanEqual: set(binary(i, "fle")); return;
+    case Op::OpFOrdGreaterThanEqual: set(binary(i, "fle", true)); return;
+    case Op::OpFOrdNotEqual: set(op("or", n, {binary(i, "flt"), binary(i, "flt", true)})); return;
+    case Op::OpFUnordEqual: set(not_of(op("or", n, {binary(i, "flt"), binary(i, "flt", true)}))); return;
+    case Op::OpFUnordLessThan: set(not_of(binary(i, "fle", true))); return;
+    case Op::OpFUnordGreaterThan: set(not_of(binary(i, "fle"))); return;
+    case Op::OpFUnordLessThanEqual: set(not_of(binary(i, "flt", true))); return;
+    case Op::OpFUnordGreaterThanEqual: set(not_of(binary(i, "flt"))); return;
+    case Op::OpIsNan: {
+      const Src a = scalar_or_vector(o[0]);
+      set(op("fne", n, {a, a}));
+      return;
+    }
+    case Op::OpIsInf: set(op("feq", n, {abs(scalar_or_vector(o[0])), fconst(INFINITY, n)})); return;
+    case Op::OpIEqual:
+    case Op::OpINotEqual: {
+      // A ray query's committed type against 0 (none): the miss mask straight from the
+      // primitive's top bit.
+      for (int k = 0; k < 2; ++k) {
+        const auto t = query_types_.find(o[static_cast<std::size_t>(k)]);
+        const auto c = constant_scalar(o[static_cast<std::size_t>(1 - k)]);
+        if (t == query_types_.end() || !c || *c > 1) continue;
+        const bool miss_mask = (i.op == Op::OpIEqual) == (*c == 0);
+        const Src m = op("srai", 1, {t->second}, "31");
+        set(miss_mask ? m : not_of(m));
+        return;
+      }
+      set(i.op == Op::OpIEqual ? binary(i, "ieq") : not_of(binary(i, "ieq")));
+      return;
+    }
+    case Op::OpLogicalEqual: set(binary(i, "ieq")); return;
+    case Op::OpLogicalNotEqual: set(binary(i, "xor")); return;
+    case Op::OpSLessThan: set(int_binary(i, "ilt", "ilti")); return;
+    case Op::OpSGreaterThan: set(binary(i, "ilt", true)); return;
+    case Op::OpSLessThanEqual: set(not_of(binary(i, "ilt", true))); return;
+    case Op::OpSGreaterThanEqual: set(not_of(binary(i, "ilt"))); return;
+    case Op::OpULessThan: set(binary(i, "iltu")); return;
+    case Op::OpUGreaterThan: set(binary(i, "iltu", true)); return;
+    case Op::OpULessThanEqual: set(not_of(binary(i, "iltu", true))); return;
+    case Op::OpUGreaterThanEqual: set(not_of(binary(i, "iltu"))); return;
+    case Op::OpLogicalAnd: set(binary(i, "and")); return;
+    case Op::OpLogicalOr: set(binary(i, "or")); return;
+    case Op::OpLogicalNot:
+    case Op::OpNot: set(not_of(scalar_or_vector(o[0]))); return;
+    case Op::OpAny:
+    case Op::OpAll: {
+      const Src v = scalar_or_vector(o[0]);
+      Src r = component(v, 0);
+      for (int k = 1; k < v.n; ++k) r = op(i.op == Op::OpAny ? "or" : "and", 1, {r, component(v, k)});
+      set(r.v == v.v && v.n == 1 ? op("mov", 1, {r}) : r);
+      return;
+    }
+    case Op::OpSelect: set(select(scalar_or_vector(o[0]), scalar_or_vector(o[1]), scalar_or_vector(o[2]), n)); return;
+    // ---- integers
+    case Op::OpIAdd: set(int_binary(i, "iadd", "iaddi")); return;
+    case Op::OpISub: {
+      if (const auto c = constant_scalar(o[1])) {
+        set(op("iaddi", n, {scalar_or_vector(o[0])}, fmt::format("{}", -static_cast<std::int64_t>(static_cast<std::int32_t>(*c)))));
+        return;
+      }
+      set(binary(i, "isub"));
+      return;
+    }
+    case Op::OpIMul: set(int_binary(i, "imul", "imuli")); return;
+    case Op::OpBitwiseAnd: set(int_binary(i, "and", "andi")); return;
+    case Op::OpBitwiseOr: set(int_binary(i, "or", "ori")); return;
+    case Op::OpBitwiseXor: set(int_binary(i, "xor", "xori")); return;
+    case Op::OpShiftLeftLogical: set(int_binary(i, "shl", "shli")); return;
+    case Op::OpShiftRightLogical: set(int_binary(i, "shr", "shri")); return;
+    case Op::OpShiftRightArithmetic: set(int_binary(i, "sra", "srai")); return;
+    case Op::OpSNegate: set(op("isub", n, {op("li", n, {}, "0"), scalar_or_vector(o[0])})); return;
+    case Op::OpUDiv:
+    case Op::OpUMod:
+    case Op::OpSDiv:
+    case Op::OpSMod:
+    case Op::OpSRem: {
+      const auto c = constant_scalar(o[1]);
+      const bool is_signed = i.op != Op::OpUDiv && i.op != Op::OpUMod;
+      if (!c || !std::has_single_bit(*c) || (is_signed && static_cast<std::int32_t>(*c) <= 0)) {
+        unsupported(fmt::format("{} by other than a constant power of two (the RPU has no integer divider)",
+                                op_name(i.op)));
+      }
+      const int k = std::countr_zero(*c);
+      const Src x = scalar_or_vector(o[0]);
+      if (i.op == Op::OpUDiv) {
+        set(op("shri", n, {x}, fmt::format("{}", k)));
+      } else if (i.op == Op::OpUMod) {
+        set(op("andi", n, {x}, fmt::format("{}", *c - 1)));
+      } else {
+        // Round toward zero: add 2^k - 1 to negative x first.
+        Src bias = op("srai", n, {x}, "31");
+        bias = op("shri", n, {bias}, fmt::format("{}", (32 - k) & 31));
+        if (k == 0) bias = op("li", n, {}, "0");
+        const Src q = op("srai", n, {op("iadd", n, {x, bias})}, fmt::format("{}", k));
+        if (i.op == Op::OpSDiv) {
+          set(q);
+        } else {
+          // remainder with x's sign (SRem); SMod takes the divisor's, positive here
+          const Src r = op("isub", n, {x, op("shli", n, {q}, fmt::format("{}", k))});
+          if (i.op == Op::OpSRem) {
+            set(r);
+          } else {
+            set(op("andi", n, {x}, fmt::format("{}", *c - 1)));
+          }
+        }
+      }
+      return;
+    }
+    // ---- conversions
+    case Op::OpConvertSToF: set(op("i2f", n, {scalar_or_vector(o[0])})); return;
+    case Op::OpConvertFToS: set(op("f2i", n, {scalar_or_vector(o[0])})); return;
+    case Op::OpConvertUToF: {
+      const Src u = scalar_or_vector(o[0]);
+      if (small_.count(u.v)) {
+        set(op("i2f", n, {u}));  // below 2^31: as a signed integer
+        return;
+      }
+      // Values with the top bit set: halve (keeping the low bit sticky), convert, double.
+      const Src direct = op("i2f", n, {u});
+      Src half = op("shri", n, {u}, "1");
+      half = op("or", n, {half, op("andi", n, {u}, "1")});
+      Src big = op("i2f", n, {half});
+      big = op("add", n, {big, big});
+      set(select(op("ilti", n, {u}, "0"), big, direct, n));
+      return;
+    }
+    case Op::OpConvertFToU: {
+      // [0, 2^31) directly, [2^31, 2^32) through f - 2^31; negatives give 0 (f2i saturates).
+      const Src f = scalar_or_vector(o[0]);
+      const Src two31 = fconst(2147483648.0f, n);
+      const Src low = op("f2i", n, {op("max", n, {f, fconst(0.0f, n)})});
+      Src high = op("f2i", n, {op("add", n, {f, neg(two31)})});
+      high = op("xori", n, {high}, "0x80000000");
+      set(select(op("fle", n, {two31, f}), high, low, n));
+      return;
+    }
+    case Op::OpSConvert:
+    case Op::OpUConvert:
+    case Op::OpFConvert: {
+      if (m_.type(m_.scalar_of(i.type)).count != 32) unsupported("a conversion to other than 32 bits");
+      values_[i.result] = value(o[0]);
+      return;
+    }
+    default: unsupported(op_name(i.op));
+  }
+}
+
+void Lowerer::ext_inst(const Instruction& i) {
+  const auto& o = i.operands;
+  if (o.size() < 2 || o[0] != m_.glsl_std_450) unsupported("an extended instruction set other than GLSL.std.450");
+  const std::uint32_t e = o[1];
+  const int n = width_of(i.type);
+  const auto arg = [&](std::size_t k) { return scalar_or_vector(o.at(2 + k)); };
+  const auto set = [&](const Src& s) {
+    Value v;
+    v.leaf = s;
+    values_[i.result] = v;
+  };
+  const auto bcast = [&](const Src& s) { return s.n == 1 && n > 1 ? broadcast(s, n) : s; };
+  switch (e) {
+    case GLSLstd450FAbs: set(abs(arg(0))); return;  // a modifier on its uses
+    case GLSLstd450SAbs: {
+      const Src x = arg(0);
+      set(select(op("ilti", n, {x}, "0"), op("isub", n, {op("li", n, {}, "0"), x}), x, n));
+      return;
+    }
+    case GLSLstd450FSign: {
+      const Src x = arg(0);
+      const Src pos = op("flt", n, {fconst(0.0f, n), x});
+      const Src negative = op("flt", n, {x, fconst(0.0f, n)});
+      set(select(pos, fconst(1.0f, n), select(negative, fconst(-1.0f, n), fconst(0.0f, n), n), n));
+      return;
+    }
+    case GLSLstd450Floor: set(op("flr", n, {arg(0)})); return;
+    case GLSLstd450Ceil: set(op("mov", n, {neg(op("flr", n, {neg(arg(0))}))})); return;
+    case GLSLstd450Trunc: {
+      const Src x = arg(0);
+      const Src down = op("flr", n, {abs(x)});
+      set(select(op("flt", n, {x, fconst(0.0f, n)}), op("mov", n, {neg(down)}), down, n));
+      return;
+    }
+    case GLSLstd450Round: set(op("flr", n, {op("add", n, {arg(0), fconst(0.5f, n)})})); return;
+    case GLSLstd450Fract: set(op("frc", n, {arg(0)})); return;
+    case GLSLstd450Sqrt: set(op("sqrt", n, {arg(0)})); return;
+    case GLSLstd450InverseSqrt: set(op("rsq", n, {arg(0)})); return;
+    case GLSLstd450FMin:
+    case GLSLstd450NMin: set(op("min", n, {arg(0), bcast(arg(1))})); return;
+    case GLSLstd450FMax:
+    case GLSLstd450NMax: set(op("max", n, {arg(0), bcast(arg(1))})); return;
+    case GLSLstd450FClamp:
+    case GLSLstd450NClamp: set(op("min", n, {op("max", n, {arg(0), bcast(arg(1))}), bcast(arg(2))})); return;
+    case GLSLstd450SMin:
+    case GLSLstd450SMax:
+    case GLSLstd450UMin:
+    case GLSLstd450UMax: {
+      const Src a = arg(0), b = bcast(arg(1));
+      const bool u = e == GLSLstd450UMin || e == GLSLstd450UMax;
+      const Src lt = op(u ? "iltu" : "ilt", n, {a, b});
+      const bool min = e == GLSLstd450SMin || e == GLSLstd450UMin;
+      set(select(lt, min ? a : b, min ? b : a, n));
+      return;
+    }
+    case GLSLstd450SClamp:
+    case GLSLstd450UClamp: {
+      const bool u = e == GLSLstd450UClamp;
+      const Src x = arg(0), lo = bcast(arg(1)), hi = bcast(arg(2));
+      const Src a = select(op(u ? "iltu" : "ilt", n, {x, lo}), lo, x, n);
+      set(select(op(u ? "iltu" : "ilt", n, {hi, a}), hi, a, n));
+      return;
+    }
+    case GLSLstd450FMix: {
+      const Src x = arg(0), y = arg(1), a = bcast(arg(2));
+      set(op("mad", n, {op("add", n, {y, neg(x)}), a, x}));
+      return;
+    }
+    case GLSLstd450Step: {
+      const Src edge = bcast(arg(0)), x = arg(1);
+      set(select(op("flt", n, {x, edge}), fconst(0.0f, n), fconst(1.0f, n), n));
+      return;
+    }
+    case GLSLstd450SmoothStep: {
+      const Src e0 = bcast(arg(0)), e1 = bcast(arg(1)), x = arg(2);
+      Src t = divide(op("add", n, {x, neg(e0)}), op("add", n, {e1, neg(e0)}), n);
+      t = op("min", n, {op("max", n, {t, fconst(0.0f, n)}), fconst(1.0f, n)});
+      const Src k = op("mad", n, {t, fconst(-2.0f, n), fconst(3.0f, n)});
+      set(op("mul", n, {op("mul", n, {t, t}), k}));
+      return;
+    }
+    case GLSLstd450Fma: set(op("mad", n, {arg(0), arg(1), arg(2)})); return;
+    case GLSLstd450Exp2: set(exp2(arg(0), n)); return;
+    case GLSLstd450Log2: set(log2(arg(0), n)); return;
+    case GLSLstd450Exp: set(exp2(op("mul", n, {arg(0), fconst(1.44269504f, n)}), n)); return;
+    case GLSLstd450Log: set(op("mul", n, {log2(arg(0), n), fconst(0.693147181f, n)})); return;
+    case GLSLstd450Pow: set(exp2(op("mul", n, {log2(arg(0), n), arg(1)}), n)); return;
+    case GLSLstd450Length: {
+      const Src v = arg(0);
+      set(v.n == 1 ? op("mov", 1, {abs(v)}) : op("sqrt", 1, {dot(v, v)}));
+      return;
+    }
+    case GLSLstd450Distance: {
+      const Src a = arg(0), b = arg(1);
+      const Src d = op("add", a.n, {a, neg(b)});
+      set(d.n == 1 ? op("mov", 1, {abs(d)}) : op("sqrt", 1, {dot(d, d)}));
+      return;
+    }
+    case GLSLstd450Normalize: {
+      const Src v = arg(0);
+      const Src r = op("rsq", 1, {dot(v, v)});
+      set(op("mul", n, {v, broadcast(r, n)}));
+      return;
+    }
+    case GLSLstd450Cross: {
+      const Src a = arg(0), b = arg(1);
+      const auto perm = [](Src s, std::uint8_t x, std::uint8_t y, std::uint8_t z) {
+        const auto c = s.comp;
+        s.comp = {c[x], c[y], c[z], c[x]};
+        s.n = 3;
+        return s;
+      };
+      const Src t = op("mul", 3, {perm(a, 2, 0, 1), perm(b, 1, 2, 0)});
+      set(op("mad", 3, {perm(a, 1, 2, 0), perm(b, 2, 0, 1), neg(t)}));
+      return;
+    }
+    case GLSLstd450Reflect: {
+      // I - 2 dot(N, I) N
+      const Src in = arg(0), nrm = arg(1);
+      Src d = dot(nrm, in);
+      d = op("add", 1, {d, d});
+      set(op("mad", n, {nrm, broadcast(neg(d), n), in}));
+      return;
+    }
+    case GLSLstd450Refract: {
+      // k = 1 - eta^2 (1 - dot(N,I)^2); k < 0 ? 0 : eta I - (eta dot(N,I) + sqrt(k)) N
+      const Src in = arg(0), nrm = arg(1), eta = arg(2);
+      const Src d = dot(nrm, in);
+      const Src one = fconst(1.0f);
+      Src k = op("mad", 1, {neg(d), d, one});
+      k = op("mul", 1, {op("mul", 1, {eta, eta}), k});
+      k = op("add", 1, {one, neg(k)});
+      const Src s = op("mad", 1, {eta, d, op("sqrt", 1, {op("max", 1, {k, fconst(0.0f)})})});
+      const Src r = op("mad", n, {broadcast(eta, n), in, op("mul", n, {nrm, broadcast(neg(s), n)})});
+      set(select(op("flt", 1, {k, fconst(0.0f)}), fconst(0.0f, n), r, n));
+      return;
+    }
+    case GLSLstd450FaceForward: {
+      // dot(Nref, I) < 0 ? N : -N
+      const Src nn = arg(0), in = arg(1), nref = arg(2);
+      set(select(op("flt", 1, {dot(nref, in), fconst(0.0f)}), nn, op("mov", n, {neg(nn)}), n));
+      return;
+    }
+    default: unsupported(glsl_std_450_name(e));
+  }
+}
+
+}  // namespace
+
+Lowered lower(const Module& module, const SpirvShader& shader, const LowerContext& context) {
+  return Lowerer(module, shader, context).run();
+}
+
+}  // namespace rpu::cc

@@ -1,0 +1,36 @@
+// Register allocation: every virtual register gets lanes of one machine register for the
+// whole span in which it is live (liveness by data flow over the code, so loops and
+// branches are exact); values live across a trace call are pushed before it and popped
+// after it, lane by lane.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "cc/mir.hpp"
+
+namespace rpu::cc {
+
+struct Location {
+  int reg = -1;
+  std::array<std::uint8_t, 4> lane{0, 1, 2, 3};  // lane of component j
+};
+
+struct SavedRegister {
+  int reg = 0;
+  std::uint8_t lanes = 0;  // the lanes live across the call (restored by pop with this mask)
+};
+
+struct Allocation {
+  std::vector<Location> location;                 // per vreg
+  std::vector<std::vector<SavedRegister>> saves;  // per instruction (kCall only)
+  int registers_used = 0;
+  int max_save_bytes = 0;  // the most bytes pushed at one call
+};
+
+// Throws rpu::Error when the function needs more than `registers` registers, naming the
+// source line where the most values are live.
+Allocation allocate(const MFunction& function, int registers);
+
+}  // namespace rpu::cc
