@@ -101,6 +101,17 @@ if(RPU_IDIFF)
                        --config ${config} --isect ${isect} --width 64 --height 48 --spp 2 --max-depth 3)
       set_tests_properties(slow.cosim.${name} PROPERTIES LABELS slow TIMEOUT 14400)
     endforeach()
+    # The compiled GLSL Whitted (docs/shaders.md) on the chip: the same frame as the
+    # functional model's (which equals firmware/whitted.s's: tests/glsl).
+    set(glsl ${PROJECT_SOURCE_DIR}/firmware/glsl)
+    set(name frame_glsl.${config}.${isect}.cornell)
+    add_test(NAME cosim.${name}
+             COMMAND Python3::Interpreter ${CMAKE_CURRENT_SOURCE_DIR}/rtl_frames.py ${CMAKE_CURRENT_BINARY_DIR}/${name}
+                     ${RPU_IDIFF} -- $<TARGET_FILE:rpu> cornell --config ${config} --isect ${isect}
+                     --width 8 --height 6 --spp 2 --max-depth 2
+                     --firmware ${glsl}/whitted.rgen ${glsl}/whitted.rchit ${glsl}/background.rmiss)
+    set_tests_properties(cosim.${name} PROPERTIES LABELS cosim TIMEOUT 900
+                         ENVIRONMENT RPU_CACHE_DIR=${CMAKE_CURRENT_BINARY_DIR}/cc-cache)
   endforeach()
 endif()
 

@@ -1,0 +1,6 @@
+struct Probe {
+  vec3 color;
+  uint count;
+  float t;
+  bool hit;
+};

@@ -1,0 +1,228 @@
+// GLSL programs with stated outcomes, like tests/isa's: each tests/glsl/programs/NAME/
+// holds the shaders of one firmware (raygen.rgen, and any .rchit and .rmiss) and an
+// `expect` file. The firmware is compiled at -O0 and at -O2 and run on the functional
+// device; both must meet every expectation.
+//
+// expect lines (# starts a comment):
+//   scene ARG              scene, as `rpu render` takes it (default tetra:1)
+//   launch W H             image size (default 1 1)
+//   max-depth N            launch max depth (default 2)
+//   config NAME            hardware configuration (default default)
+//   registers N            compile for N registers (default 16)
+//   fb X Y = r g b         the pixel's colour: numbers (a '.', exponent, inf, nan) or 0x raw bits
+//   fb X Y ~ r g b tol     the same within tol
+//   error "text"           compiling fails with a message containing text
+//   fault "text"           the run faults with a message containing text
+// A program without whitted.rchit gets an empty one (the test scenes' materials name it).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <optional>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "cc/compiler.hpp"
+#include "common/error.hpp"
+#include "common/hardware_config.hpp"
+#include "device/device.hpp"
+#include "device/render_frame.hpp"
+#include "functional/scene_image.hpp"
+#include "kdtree/kdtree.hpp"
+#include "scene/resolve.hpp"
+
+namespace rpu {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct PixelCheck {
+  int x = 0, y = 0;
+  std::array<float, 3> rgb{};
+  std::optional<float> tolerance;
+  int line = 0;
+};
+
+struct Expectation {
+  std::string scene = "tetra:1";
+  std::string config = "default";
+  int width = 1, height = 1, max_depth = 2, registers = 16;
+  std::vector<PixelCheck> pixels;
+  std::optional<std::string> error, fault;
+};
+
+float parse_number(const std::string& token) {
+  if (token.rfind("0x", 0) == 0) return std::bit_cast<float>(static_cast<std::uint32_t>(std::stoul(token, nullptr, 16)));
+  if (token == "nan") return std::numeric_limits<float>::quiet_NaN();
+  return std::stof(token);
+}
+
+std::string quoted(const std::string& line, const std::string& where) {
+  const auto a = line.find('"'), b = line.rfind('"');
+  EXPECT_NE(a, b) << where << ": expected \"text\"";
+  return a == b ? std::string() : line.substr(a + 1, b - a - 1);
+}
+
+Expectation parse_expectation(const fs::path& file) {
+  Expectation e;
+  std::ifstream in(file);
+  EXPECT_TRUE(in) << file << " is missing";
+  std::string line;
+  for (int n = 1; std::getline(in, line); ++n) {
+    if (const auto hash = line.find('#'); hash != std::string::npos) line.erase(hash);
+    std::istringstream words(line);
+    std::string key;
+    if (!(words >> key)) continue;
+    const std::string where = fmt::format("{}:{}", file.string(), n);
+    if (key == "scene") {
+      words >> e.scene;
+    } else if (key == "config") {
+      words >> e.config;
+    } else if (key == "launch") {
+      words >> e.width >> e.height;
+    } else if (key == "max-depth") {
+      words >> e.max_depth;
+    } else if (key == "registers") {
+      words >> e.registers;
+    } else if (key == "error") {
+      e.error = quoted(line, where);
+    } else if (key == "fault") {
+      e.fault = quoted(line, where);
+    } else if (key == "fb") {
+      PixelCheck c;
+      c.line = n;
+      std::string op;
+      words >> c.x >> c.y >> op;
+      for (float& v : c.rgb) {
+        std::string t;
+        words >> t;
+        v = parse_number(t);
+      }
+      if (op == "~") {
+        std::string t;
+        words >> t;
+        c.tolerance = parse_number(t);
+      } else {
+        EXPECT_EQ(op, "=") << where;
+      }
+      e.pixels.push_back(c);
+    } else {
+      ADD_FAILURE() << where << ": unknown key '" << key << "'";
+    }
+  }
+  return e;
+}
+
+std::vector<std::string> program_names() {
+  std::vector<std::string> names;
+  for (const auto& entry : fs::directory_iterator(RPU_GLSL_PROGRAM_DIR)) {
+    if (entry.is_directory()) names.push_back(entry.path().filename().string());
+  }
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+class GlslProgram : public testing::TestWithParam<std::string> {};
+
+TEST_P(GlslProgram, MeetsItsExpectations) {
+  const fs::path dir = fs::path(RPU_GLSL_PROGRAM_DIR) / GetParam();
+  const fs::path expect_file = dir / "expect";
+  const Expectation e = parse_expectation(expect_file);
+  // raygen first, then hit shaders, then miss shaders in name order (miss index order).
+  std::vector<fs::path> files;
+  for (const auto& entry : fs::directory_iterator(dir)) {
+    const std::string ext = entry.path().extension().string();
+    if (ext == ".rgen" || ext == ".rchit" || ext == ".rmiss" || ext == ".rahit") files.push_back(entry.path());
+  }
+  const auto rank = [](const fs::path& p) {
+    const std::string ext = p.extension().string();
+    return ext == ".rgen" ? 0 : ext == ".rchit" ? 1 : 2;
+  };
+  std::sort(files.begin(), files.end(), [&](const fs::path& a, const fs::path& b) {
+    return std::make_pair(rank(a), a.filename()) < std::make_pair(rank(b), b.filename());
+  });
+
+  // The test scenes' materials use the shader 'whitted': a program that does not trace
+  // gets an empty one.
+  std::vector<cc::ShaderSource> sources;
+  bool has_whitted = false;
+  for (const fs::path& f : files) {
+    std::ifstream in(f, std::ios::binary);
+    std::ostringstream text;
+    text << in.rdbuf();
+    sources.push_back({f, text.str()});
+    has_whitted |= f.filename() == "whitted.rchit";
+  }
+  if (!has_whitted) {
+    sources.push_back({dir / "whitted.rchit", "#version 460\n#extension GL_EXT_ray_tracing : require\nvoid main() {}\n"});
+  }
+
+  const spec::HardwareConfig& config = hardware_config(e.config);
+  const fp::Format format = fp::format_by_name(std::string(config.format));
+  const Scene scene = resolve_scene(e.scene);
+  KdBuildConfig build = kd_build_config_for(std::string(config.name));
+  build.format = format;
+  const functional::SceneImage si = functional::make_scene_image(scene, build, IsectMode::kWoop);
+
+  for (const int level : {0, 2}) {
+    SCOPED_TRACE(fmt::format("-O{}", level));
+    cc::CompileOptions options;
+    options.opt_level = level;
+    options.registers = e.registers;
+    isa::Firmware firmware;
+    try {
+      firmware = cc::compile(sources, options).firmware;
+      if (e.error) {
+        ADD_FAILURE() << dir.string() << ": expected a compile error containing \"" << *e.error
+                      << "\", but it compiled";
+        continue;
+      }
+    } catch (const Error& err) {
+      if (!e.error) throw;
+      EXPECT_NE(std::string(err.what()).find(*e.error), std::string::npos)
+          << dir.string() << ": the message\n  " << err.what() << "\ndoes not contain\n  " << *e.error;
+      continue;
+    }
+    RenderSettings settings;
+    settings.width = e.width;
+    settings.height = e.height;
+    settings.spp = 1;
+    settings.max_depth = e.max_depth;
+    settings.threads = 1;
+    const auto dev = device::make_functional_device(config, format);
+    Image image;
+    try {
+      image = device::render_frame(*dev, scene, si.image, firmware, settings);
+      if (e.fault) {
+        ADD_FAILURE() << dir.string() << ": expected a fault containing \"" << *e.fault << "\", but it ran";
+        continue;
+      }
+    } catch (const std::exception& err) {
+      if (!e.fault) throw;
+      EXPECT_NE(std::string(err.what()).find(*e.fault), std::string::npos)
+          << dir.string() << ": the fault\n  " << err.what() << "\ndoes not contain\n  " << *e.fault;
+      continue;
+    }
+    for (const PixelCheck& c : e.pixels) {
+      const glm::vec3 have = image.at(c.x, c.y);
+      for (int k = 0; k < 3; ++k) {
+        const float got = have[k], want = c.rgb[static_cast<std::size_t>(k)];
+        const bool ok = c.tolerance ? std::abs(got - want) <= *c.tolerance
+                                    : std::bit_cast<std::uint32_t>(got) == std::bit_cast<std::uint32_t>(want);
+        EXPECT_TRUE(ok) << fmt::format("{}:{}: pixel ({}, {}) {} is {} ({:#010x}), expected {}{}", expect_file.string(),
+                                       c.line, c.x, c.y, "rgb"[k], got, std::bit_cast<std::uint32_t>(got), want,
+                                       c.tolerance ? fmt::format(" within {}", *c.tolerance) : "");
+      }
+    }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Programs, GlslProgram, testing::ValuesIn(program_names()),
+                         [](const testing::TestParamInfo<std::string>& i) { return i.param; });
+
+}  // namespace
+}  // namespace rpu
