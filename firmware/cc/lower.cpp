@@ -509,7 +509,7 @@ class Lowerer {
     const auto copies = edge_copies(from, to);
     std::vector<std::pair<Value, Value>> staged;
     for (const auto& [dst, src] : copies) {
-      if (is_phi_of(src, to) && phis_.count(src) && &phis_.at(src) != nullptr) {
+      if (is_phi_of(src, to) && phis_.count(src)) {
         // self-copy x = phi(.., x) needs nothing
         std::vector<Src> a, b;
         leaves(dst, a);
