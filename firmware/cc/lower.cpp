@@ -87,6 +87,7 @@ class Lowerer {
     for (const Block& b : f->blocks) {
       for (const Instruction& i : b.body) {
         if (i.op == spv::Op::OpTraceRayKHR) has_calls_ = true;
+        if (i.result != 0) defined_by_[i.result] = i.op;
       }
     }
     entry();
@@ -311,7 +312,10 @@ class Lowerer {
     if (const auto it = values_.find(id); it != values_.end()) return it->second;
     if (m_.constants.count(id)) return constant(id);
     if (const auto it = phis_.find(id); it != phis_.end()) return it->second;
-    unsupported(fmt::format("the value %{} (an operand the back end has no value for)", id));
+    const auto def = defined_by_.find(id);
+    unsupported(def == defined_by_.end()
+                    ? fmt::format("the value %{} (an operand the back end has no value for)", id)
+                    : fmt::format("using the result of {} as a value", op_name(def->second)));
   }
   Src scalar_or_vector(Id id) {
     const Value v = concrete(value(id));
@@ -352,6 +356,29 @@ class Lowerer {
     return v;
   }
   Value concrete(const Value& v) { return v.lazy ? load_memory(v.at, v.type, true) : v; }
+  // A lazy aggregate as its members, each still lazy; a lazy scalar or vector loaded.
+  Value expand(const Value& v) {
+    if (!v.lazy) return v;
+    if (width_of(v.type) > 0) return load_memory(v.at, v.type, true);
+    const Type& t = m_.type(v.type);
+    Value r;
+    r.aggregate = true;
+    const std::size_t count = t.op == spv::Op::OpTypeStruct ? t.members.size() : t.count;
+    for (std::size_t k = 0; k < count; ++k) {
+      Value m;
+      m.lazy = true;
+      m.at = v.at;
+      if (t.op == spv::Op::OpTypeStruct) {
+        m.at.offset += m_.member_decoration(v.type, static_cast<std::uint32_t>(k)).offset.value_or(0);
+        m.type = t.members[k];
+      } else {
+        m.at.offset += static_cast<std::uint32_t>(k) * m_.decoration(v.type).array_stride.value_or(0);
+        m.type = t.element;
+      }
+      r.members.push_back(m);
+    }
+    return r;
+  }
   void leaves(const Value& lazy_or_not, std::vector<Src>& out) {
     const Value v = lazy_or_not.lazy ? load_memory(lazy_or_not.at, lazy_or_not.type, true) : lazy_or_not;
     if (!v.aggregate) {
@@ -411,10 +438,25 @@ class Lowerer {
     push(std::move(e));
     // Copies out of the ABI's registers, so that a nested trace may reuse them; the
     // allocator gives a copy its source's place where it can, and the mov disappears.
-    origin_ = op("mov", 4, {whole(origin_, 4)}).v;
-    direction_ = op("mov", 4, {whole(direction_, 4)}).v;
-    if (hit) hit_ = op("mov", 4, {whole(hit_, 4)}).v;
-    info_ = op("mov", 4, {whole(info_, 4)}).v;
+    // Each built-in its own value, so that one no longer used frees its lanes.
+    const auto part = [&](int reg, std::array<std::uint8_t, 4> comps, int n) {
+      Src s = whole(reg, 4);
+      s.comp = comps;
+      s.n = n;
+      return op("mov", n, {s}).v;
+    };
+    const int origin = origin_, direction = direction_, hit_record = hit_, info = info_;
+    origin_ = part(origin, {0, 1, 2, 0}, 3);
+    tmin_ = part(origin, {3, 0, 0, 0}, 1);
+    direction_ = part(direction, {0, 1, 2, 0}, 3);
+    tmax_ = part(direction, {3, 0, 0, 0}, 1);
+    if (hit) {
+      hit_ = part(hit_record, {0, 0, 0, 0}, 1);
+      barycentrics_ = part(hit_record, {1, 2, 0, 0}, 2);
+      primitive_ = part(hit_record, {3, 0, 0, 0}, 1);
+    }
+    material_ = part(info, {0, 0, 0, 0}, 1);
+    info_ = part(info, {1, 0, 0, 0}, 1);  // the nesting level
     if (incoming_payload_) {
       const Id type = m_.type(m_.variables.at(incoming_payload_).type).element;
       Value home = fresh(type);
@@ -636,7 +678,7 @@ class Lowerer {
         }
         return p;
       default:
-        unsupported(fmt::format("a variable in storage class {}", static_cast<int>(var.storage)));
+        unsupported(fmt::format("a variable in storage class {}", storage_class_name(static_cast<std::uint32_t>(var.storage))));
     }
   }
   void access_chain(const Instruction& i) {
@@ -746,13 +788,6 @@ class Lowerer {
   }
   Value builtin(const Pointer& p, Id type) {
     const spv::BuiltIn b = *m_.decoration(p.variable).builtin;
-    const auto view = [&](int v, std::array<std::uint8_t, 4> comps, int n) {
-      Src s;
-      s.v = v;
-      s.comp = comps;
-      s.n = n;
-      return s;
-    };
     Src s;
     switch (b) {
       case spv::BuiltIn::LaunchIdKHR:
@@ -771,22 +806,22 @@ class Lowerer {
         break;
       }
       case spv::BuiltIn::WorldRayOriginKHR:
-      case spv::BuiltIn::ObjectRayOriginKHR: s = view(need(origin_), {0, 1, 2, 0}, 3); break;
+      case spv::BuiltIn::ObjectRayOriginKHR: s = whole(need(origin_), 3); break;
       case spv::BuiltIn::WorldRayDirectionKHR:
-      case spv::BuiltIn::ObjectRayDirectionKHR: s = view(need(direction_), {0, 1, 2, 0}, 3); break;
-      case spv::BuiltIn::RayTminKHR: s = view(need(origin_), {3}, 1); break;
+      case spv::BuiltIn::ObjectRayDirectionKHR: s = whole(need(direction_), 3); break;
+      case spv::BuiltIn::RayTminKHR: s = whole(need(tmin_), 1); break;
       case spv::BuiltIn::RayTmaxKHR:
       case spv::BuiltIn::HitTNV:
-        s = hit_ >= 0 ? view(hit_, {0}, 1) : view(need(direction_), {3}, 1);
+        s = hit_ >= 0 ? whole(hit_, 1) : whole(need(tmax_), 1);
         break;
-      case spv::BuiltIn::PrimitiveId: s = view(need(hit_), {3}, 1); break;
-      case spv::BuiltIn::InstanceCustomIndexKHR: s = view(need(info_), {0}, 1); break;
+      case spv::BuiltIn::PrimitiveId: s = whole(need(primitive_), 1); break;
+      case spv::BuiltIn::InstanceCustomIndexKHR: s = whole(need(material_), 1); break;
       case spv::BuiltIn::InstanceId:
       case spv::BuiltIn::RayGeometryIndexKHR: s = op("li", 1, {}, "0"); break;
       default:
         unsupported(fmt::format("the built-in {} (the chip provides launch id and size, world ray origin and "
                                 "direction, t min and max, hit t, primitive id and instance custom index)",
-                                static_cast<int>(b)));
+                                builtin_name(static_cast<std::uint32_t>(b))));
     }
     for (const std::uint32_t k : p.path) s = component(s, static_cast<int>(k));
     Value v;
@@ -809,10 +844,7 @@ class Lowerer {
         if (width_of(var_type) != 2 || !m_.is_float(var_type)) {
           unsupported("a hit attribute that is not a vec2 (the chip's hit attributes are the barycentrics)");
         }
-        Src s;
-        s.v = hit_;
-        s.comp = {1, 2, 0, 0};
-        s.n = 2;
+        Src s = whole(barycentrics_, 2);
         for (const std::uint32_t k : p.path) s = component(s, static_cast<int>(k));
         Value v;
         v.leaf = s;
@@ -895,6 +927,7 @@ class Lowerer {
   std::set<TraceForm> traces_;
   std::unordered_map<Id, Value> values_, phis_, homes_;
   std::unordered_map<Id, Pointer> pointers_;
+  std::unordered_map<Id, spv::Op> defined_by_;  // for messages
   std::set<int> small_;  // vregs known to hold integers in [0, 2^31)
   // A ray query: its ray (a = origin, t_min; b = direction, t_max) and, once
   // rayQueryProceedEXT traced it, the hit record.
@@ -924,7 +957,9 @@ class Lowerer {
   Id current_block_ = 0;
   Id incoming_payload_ = 0;
   bool has_calls_ = false;
+  // Hit and miss shaders' built-ins: the entry registers' parts, one vreg each.
   int origin_ = -1, direction_ = -1, hit_ = -1, info_ = -1, return_address_ = -1;
+  int tmin_ = -1, tmax_ = -1, barycentrics_ = -1, primitive_ = -1, material_ = -1;
 };
 
 // exp2 as firmware/whitted.s's pow computes it: 2^i 2^(g) sqrt(2) with g = y - i - 1/2,
@@ -1014,7 +1049,7 @@ void Lowerer::trace(const Instruction& i) {
   op_into(b, 0b1000, "mov", {tmax});
   // The new ray's nesting level: 0 from ray generation, the shader's own + 1 elsewhere.
   if (info_ >= 0) {
-    op_into(info, 0b0010, "iaddi", {component(whole(info_, 4), 1)}, "1", true);
+    op_into(info, 0b0010, "iaddi", {whole(info_, 1)}, "1", true);
   } else {
     op_into(info, 0b0010, "li", {}, "0", true);
   }
@@ -1227,43 +1262,40 @@ void Lowerer::instruction(const Instruction& i) {
     case Op::OpIgnoreIntersectionKHR: unsupported(op_name(i.op));
     // ---- composites
     case Op::OpCompositeExtract: {
+      // Into a buffer's record the member stays lazy: loaded where it is used.
       Value v = value(o[0]);
-      std::size_t k = 1;
-      if (v.lazy) {
-        // into the buffer's record: the member's own place, loaded if it is a scalar or vector
-        Pointer p = v.at;
-        Id type = v.type;
-        for (; k < o.size(); ++k) {
-          const Type& t = m_.type(type);
-          if (t.op == spv::Op::OpTypeStruct) {
-            p.offset += m_.member_decoration(type, o[k]).offset.value_or(0);
-            type = t.members.at(o[k]);
-          } else if (t.op == spv::Op::OpTypeArray) {
-            p.offset += o[k] * m_.decoration(type).array_stride.value_or(0);
-            type = t.element;
-          } else {
-            break;
-          }
+      for (std::size_t k = 1; k < o.size(); ++k) {
+        if (v.lazy) v = expand(v);
+        if (v.aggregate) {
+          v = v.members.at(o[k]);
+        } else {
+          v.leaf = component(v.leaf, static_cast<int>(o[k]));
         }
-        v = load_memory(p, type);  // still lazy: loaded where it is used
-        if (k < o.size()) v = concrete(v);
       }
-      while (k < o.size() && v.aggregate) v = v.members.at(o[k++]);
-      if (k < o.size()) v.leaf = component(v.leaf, static_cast<int>(o[k]));
       values_[i.result] = v;
       return;
     }
     case Op::OpCompositeInsert: {
-      // object composite indexes...
-      Value v = copy_of(value(o[1]));
+      // object composite indexes...: values are SSA, so the members an insert leaves
+      // alone are shared; only the changed leaf is new.
+      Value v = expand(value(o[1]));
       Value* at = &v;
       std::size_t k = 2;
-      while (k < o.size() && at->aggregate) at = &at->members.at(o[k++]);
+      for (; k < o.size(); ++k) {
+        *at = expand(*at);
+        if (!at->aggregate) break;
+        at = &at->members.at(o[k]);
+      }
       const Value obj = value(o[0]);
       if (k < o.size()) {
-        op_into(at->leaf.v, static_cast<std::uint8_t>(1u << at->leaf.comp[o[k]]), "mov", {obj.leaf});
+        *at = expand(*at);
+        const Src old = at->leaf;
+        const int d = vreg(old.n);
+        op_into(d, 0, "mov", {old});
+        op_into(d, static_cast<std::uint8_t>(1u << o[k]), "mov", {concrete(obj).leaf});
+        at->leaf = whole(d, old.n);
       } else {
-        assign(*at, obj);
+        *at = obj;
       }
       values_[i.result] = v;
       return;

@@ -179,6 +179,15 @@ Module Module::parse(std::span<const std::uint32_t> words, const std::string& fi
       case spv::Op::OpSpecConstantComposite:
         m.constants[inst.result] = {inst.type, true, 0, o, false};
         break;
+      case spv::Op::OpUndef:
+        if (function != nullptr) {
+          if (block != nullptr) {
+            inst.where = where;
+            block->body.push_back(inst);
+          }
+          break;
+        }
+        [[fallthrough]];  // a module-level undefined value: any value will do, zero it is
       case spv::Op::OpConstantNull: {
         m.constants[inst.result] = {inst.type, false, 0, {}, true};
         break;

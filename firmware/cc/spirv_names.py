@@ -20,8 +20,19 @@ lines += ['    default: return "Op" + std::to_string(static_cast<std::uint32_t>(
           "inline std::string glsl_std_450_name(std::uint32_t op) {", "  switch (op) {"]
 for i in glsl["instructions"]:
     lines.append(f'    case {i["opcode"]}: return "{i["opname"]}";')
-lines += ['    default: return "GLSL.std.450 instruction " + std::to_string(op);', "  }", "}",
-          "}  // namespace rpu::cc", ""]
+lines += ['    default: return "GLSL.std.450 instruction " + std::to_string(op);', "  }", "}"]
+for kind, fn in (("StorageClass", "storage_class_name"), ("BuiltIn", "builtin_name")):
+    lines += [f"inline std::string {fn}(std::uint32_t value) {{", "  switch (value) {"]
+    names = {}  # value: the KHR name where an NV one shares its value
+    for k in core["operand_kinds"]:
+        if k["kind"] != kind:
+            continue
+        for e in k["enumerants"]:
+            if e["value"] not in names or e["enumerant"].endswith("KHR"):
+                names[e["value"]] = e["enumerant"]
+    lines += [f'    case {v}: return "{n}";' for v, n in names.items()]
+    lines += [f'    default: return "{kind} " + std::to_string(value);', "  }", "}"]
+lines += ["}  // namespace rpu::cc", ""]
 text = "\n".join(lines)
 if not out.exists() or out.read_text() != text:
     out.parent.mkdir(parents=True, exist_ok=True)

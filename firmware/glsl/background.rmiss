@@ -2,8 +2,8 @@
 #version 460
 #extension GL_EXT_ray_tracing : require
 #include "rpu.glsl"
-#include "whitted_payload.glsl"
+#include "payload.glsl"
 
-layout(location = 0) rayPayloadInEXT WhittedRay ray;
+layout(location = 0) rayPayloadInEXT RpuRay ray;
 
 void main() { ray.color = scene_record.background.xyz; }
