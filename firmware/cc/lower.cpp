@@ -914,6 +914,7 @@ class Lowerer {
     return op("add", 1, {component(p, 0), component(p, 1)});
   }
   Src exp2(const Src& y, int n);
+  Src sine(const Src& x, int n);
   Src log2(const Src& x, int n);
   Src divide(const Src& a, const Src& b, int n) {
     const Src r = op("rcp", b.n, {b});
@@ -980,6 +981,23 @@ Src Lowerer::exp2(const Src& y_in, int n) {
   e = op("shli", n, {e}, "23");  // 2^i as fp32 bits
   p = op("mul", n, {p, e});
   return op("mul", n, {p, fconst(1.41421356f, n)});
+}
+
+// sin: x reduced to y in [-pi, pi) through the fraction of x / 2pi, then the Taylor
+// series to y^17 (absolute error below 3e-8 on the interval, plus the reduction's
+// rounding, which grows with |x|).
+Src Lowerer::sine(const Src& x, int n) {
+  Src f = op("mad", n, {x, fconst(0.159154943f, n), fconst(0.5f, n)});  // x / 2pi + 1/2
+  f = op("frc", n, {f});
+  const Src y = op("mul", n, {op("add", n, {f, neg(fconst(0.5f, n))}), fconst(6.28318531f, n)});
+  const Src y2 = op("mul", n, {y, y});
+  // sin y = y (1 - y^2/3! (1 - y^2/(4 5) (1 - ...))): Horner in y^2 with 1/k! coefficients
+  static constexpr float kCoefficients[] = {2.81145725e-15f, -7.64716373e-13f, 1.60590438e-10f, -2.50521084e-8f,
+                                            2.75573192e-6f,  -1.98412698e-4f,  8.33333333e-3f,  -1.66666667e-1f,
+                                            1.0f};
+  Src p = fconst(kCoefficients[0], n);
+  for (std::size_t k = 1; k < std::size(kCoefficients); ++k) p = op("mad", n, {p, y2, fconst(kCoefficients[k], n)});
+  return op("mul", n, {p, y});
 }
 
 // log2 as firmware/whitted.s's pow computes it: x = m 2^e with m in [sqrt(1/2), sqrt(2)),
@@ -1704,6 +1722,8 @@ void Lowerer::ext_inst(const Instruction& i) {
       return;
     }
     case GLSLstd450Fma: set(op("mad", n, {arg(0), arg(1), arg(2)})); return;
+    case GLSLstd450Sin: set(sine(arg(0), n)); return;
+    case GLSLstd450Cos: set(sine(op("add", n, {arg(0), fconst(1.57079632679f, n)}), n)); return;
     case GLSLstd450Exp2: set(exp2(arg(0), n)); return;
     case GLSLstd450Log2: set(log2(arg(0), n)); return;
     case GLSLstd450Exp: set(exp2(op("mul", n, {arg(0), fconst(1.44269504f, n)}), n)); return;

@@ -376,7 +376,8 @@ void smaller_bodies(const std::vector<Stmt>& body, const std::function<void(cons
   }
 }
 
-Program shrink(Program p, const Runner& runner) {
+// The smallest program reachable by one-step reductions that still `fails`.
+Program shrink(Program p, const std::function<bool(const Program&)>& fails) {
   for (bool progress = true; progress;) {
     progress = false;
     std::vector<std::vector<Stmt>> candidates;
@@ -384,7 +385,7 @@ Program shrink(Program p, const Runner& runner) {
     for (const auto& c : candidates) {
       Program q = p;
       q.body = c;
-      if (!runner.mismatch(q).empty()) {
+      if (fails(q)) {
         p = q;
         progress = true;
         break;
@@ -400,7 +401,7 @@ TEST(GlslRandomPrograms, TheDeviceComputesWhatTheHostComputes) {
     const Program p = Generator(seed).program();
     const std::string why = runner.mismatch(p);
     if (why.empty()) continue;
-    const Program small = shrink(p, runner);
+    const Program small = shrink(p, [&](const Program& q) { return !runner.mismatch(q).empty(); });
     ADD_FAILURE() << fmt::format("seed {}: {}\nshrunk to ({}):\n{}", seed, why, runner.mismatch(small), glsl(small));
     return;
   }
@@ -443,20 +444,7 @@ TEST(GlslRandomPrograms, TheShrinkerKeepsTheFailure) {
     return false;
   };
   ASSERT_TRUE(fails(p));
-  for (bool progress = true; progress;) {
-    progress = false;
-    std::vector<std::vector<Stmt>> candidates;
-    smaller_bodies(p.body, [&](const std::vector<Stmt>& b) { candidates.push_back(b); });
-    for (const auto& c : candidates) {
-      Program q = p;
-      q.body = c;
-      if (fails(q)) {
-        p = q;
-        progress = true;
-        break;
-      }
-    }
-  }
+  p = shrink(p, fails);
   ASSERT_EQ(p.body.size(), 1u) << glsl(p);
   EXPECT_EQ(p.body[0].value.op, Expr::kDiv) << glsl(p);
 }
