@@ -75,9 +75,7 @@ def gen_glsl(spec: dict, memory_map_text: str, banner: str) -> str:
             elem = camel(b["record"])
         else:
             elem = b["element"]
-        member = f"{elem} {b['name']}" + ("" if b.get("single") else "[]")
-        if b.get("single"):
-            member = f"{elem} {'scene_record' if b['name'] == 'scene' else b['name'] + '_record'}"
+        member = f"{elem} {b['name']}_record" if b.get("single") else f"{elem} {b['name']}[]"
         out.append(f"layout(set = 0, binding = {b['binding']}, std430) readonly buffer {block} {{ {member}; }};")
     out += ["",
             f"layout(set = 0, binding = {shaders['framebuffer']['binding']}, rgba32f) uniform image2D framebuffer;",

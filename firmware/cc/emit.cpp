@@ -153,18 +153,13 @@ class Emitter {
       if (!m.imm.empty()) operands.push_back(m.imm);
     }
     // A copy onto itself is no instruction.
-    if (m.mn == "mov" && operands.size() == 2 && !m.srcs[0].neg && !m.srcs[0].abs) {
-      const std::string& d = operands[0];
-      const std::string dreg = d.substr(0, d.find('.'));
-      const std::string s = operands[1];
-      if (s.substr(0, s.find('.')) == dreg) {
-        bool same = true;
-        for (std::size_t k = 0; k < lanes.size(); ++k) {
-          const int e = std::min(static_cast<int>(k), m.srcs[0].n - 1);
-          if (loc(m.srcs[0].v).lane[m.srcs[0].comp[static_cast<std::size_t>(e)]] != lanes[k]) same = false;
-        }
-        if (same) return;
+    if (m.mn == "mov" && m.dst >= 0 && !m.srcs[0].neg && !m.srcs[0].abs && loc(m.srcs[0].v).reg == loc(m.dst).reg) {
+      bool same = true;
+      for (std::size_t k = 0; k < lanes.size(); ++k) {
+        const int e = std::min(static_cast<int>(k), m.srcs[0].n - 1);
+        same = same && loc(m.srcs[0].v).lane[m.srcs[0].comp[static_cast<std::size_t>(e)]] == lanes[k];
       }
+      if (same) return;
     }
     std::string text = fmt::format("{:<7}", m.mn);
     for (std::size_t k = 0; k < operands.size(); ++k) text += (k ? ", " : " ") + operands[k];

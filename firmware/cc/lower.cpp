@@ -1579,25 +1579,17 @@ void Lowerer::instruction(const Instruction& i) {
       const Src x = scalar_or_vector(o[0]);
       if (i.op == Op::OpUDiv) {
         set(op("shri", n, {x}, fmt::format("{}", k)));
-      } else if (i.op == Op::OpUMod) {
+      } else if (i.op == Op::OpUMod || i.op == Op::OpSMod) {
+        // SMod takes the divisor's sign, positive here: the low bits
         set(op("andi", n, {x}, fmt::format("{}", *c - 1)));
+      } else if (k == 0) {
+        set(i.op == Op::OpSDiv ? x : op("li", n, {}, "0"));  // by 1
       } else {
         // Round toward zero: add 2^k - 1 to negative x first.
-        Src bias = op("srai", n, {x}, "31");
-        bias = op("shri", n, {bias}, fmt::format("{}", (32 - k) & 31));
-        if (k == 0) bias = op("li", n, {}, "0");
+        const Src bias = op("shri", n, {op("srai", n, {x}, "31")}, fmt::format("{}", 32 - k));
         const Src q = op("srai", n, {op("iadd", n, {x, bias})}, fmt::format("{}", k));
-        if (i.op == Op::OpSDiv) {
-          set(q);
-        } else {
-          // remainder with x's sign (SRem); SMod takes the divisor's, positive here
-          const Src r = op("isub", n, {x, op("shli", n, {q}, fmt::format("{}", k))});
-          if (i.op == Op::OpSRem) {
-            set(r);
-          } else {
-            set(op("andi", n, {x}, fmt::format("{}", *c - 1)));
-          }
-        }
+        // SRem: the remainder with x's sign
+        set(i.op == Op::OpSDiv ? q : op("isub", n, {x, op("shli", n, {q}, fmt::format("{}", k))}));
       }
       return;
     }

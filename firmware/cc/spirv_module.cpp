@@ -60,14 +60,9 @@ Module Module::parse(std::span<const std::uint32_t> words, const std::string& fi
       }
     };
     switch (op) {
-      case spv::Op::OpCapability:
-        need(1);
-        m.capabilities.push_back(fmt::format("{}", o[0]));
-        break;
       case spv::Op::OpExtInstImport: {
         std::size_t used = 0;
-        m.ext_imports[inst.result] = literal_string(o, used);
-        if (m.ext_imports[inst.result] == "GLSL.std.450") m.glsl_std_450 = inst.result;
+        if (literal_string(o, used) == "GLSL.std.450") m.glsl_std_450 = inst.result;
         break;
       }
       case spv::Op::OpEntryPoint:
@@ -107,7 +102,6 @@ Module Module::parse(std::span<const std::uint32_t> words, const std::string& fi
           case spv::Decoration::BuiltIn: d.builtin = static_cast<spv::BuiltIn>(value()); break;
           case spv::Decoration::Binding: d.binding = value(); break;
           case spv::Decoration::DescriptorSet: d.set = value(); break;
-          case spv::Decoration::Location: d.location = value(); break;
           case spv::Decoration::Offset: d.offset = value(); break;
           case spv::Decoration::ArrayStride: d.array_stride = value(); break;
           default: break;
@@ -208,9 +202,6 @@ Module Module::parse(std::span<const std::uint32_t> words, const std::string& fi
         function->id = inst.result;
         function->name = m.names.count(inst.result) ? m.names[inst.result] : "";
         block = nullptr;
-        break;
-      case spv::Op::OpFunctionParameter:
-        if (function) function->parameters.push_back(inst);
         break;
       case spv::Op::OpFunctionEnd:
         function = nullptr;

@@ -38,7 +38,6 @@ struct Block {
 struct Function {
   Id id = 0;
   std::string name;
-  std::vector<Instruction> parameters;
   std::vector<Block> blocks;  // in the module's order: every block after its dominator
 };
 
@@ -67,7 +66,7 @@ struct Variable {
 
 struct Decorations {
   std::optional<spv::BuiltIn> builtin;
-  std::optional<std::uint32_t> binding, set, location, offset, array_stride;
+  std::optional<std::uint32_t> binding, set, offset, array_stride;
 };
 
 class Module {
@@ -83,9 +82,8 @@ class Module {
   std::unordered_map<Id, Variable> variables;
   std::unordered_map<Id, Decorations> decorations;
   std::map<std::pair<Id, std::uint32_t>, Decorations> member_decorations;
-  std::unordered_map<Id, std::string> names, strings, ext_imports;
+  std::unordered_map<Id, std::string> names, strings;
   std::vector<Function> functions;
-  std::vector<std::string> capabilities;
 
   const Type& type(Id id) const;
   const Decorations& decoration(Id id) const;
