@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "common/error.hpp"
+#include "memory/little_endian.hpp"
 
 namespace rpu::device {
 
@@ -65,22 +66,30 @@ void DeviceBase::launch(const Launch& launch, ProgressCallback progress) {
     throw Error(fmt::format("a {}x{} framebuffer does not fit the device's address space", launch.width,
                             launch.height));
   }
-  check_stacks(launch.max_depth);
+  check_firmware_needs(launch);
   memory_.emplace(image_, make_launch_block(image_, layout_, launch, shader_table_), firmware_.data,
                   static_cast<std::uint32_t>(n));
   launch_ = launch;
   frame_ = std::async(std::launch::async, [this, progress] { run(progress); });
 }
 
-// Firmware that recurses per bounce declares what it needs (docs/shader-core.md "The
-// shader ABI"), so that a launch too deep for the configuration's stacks is refused
-// before it runs instead of faulting in the middle of the frame.
-void DeviceBase::check_stacks(int max_depth) const {
+// Firmware declares what it needs (docs/shader-core.md "The shader ABI"), so that a
+// launch too deep for the configuration's stacks is refused before it runs instead of
+// faulting in the middle of the frame, and a camera the firmware does not model is
+// refused instead of rendered as a pinhole.
+void DeviceBase::check_firmware_needs(const Launch& launch) const {
   const auto constant = [&](std::string_view name) -> std::optional<std::uint64_t> {
     const auto s = firmware_.symbols.find(name);
     if (s == firmware_.symbols.end() || s->second.kind != isa::Symbol::Kind::kConstant) return std::nullopt;
     return s->second.value;
   };
+  if (const float aperture = load_f32(image_, layout_.camera.offset + mm::kCameraApertureAt);
+      aperture > 0.0f && constant("FIRMWARE_THIN_LENS").value_or(0) == 0) {
+    throw Error("the camera has a lens (aperture > 0) but the firmware renders a pinhole camera (it does not "
+                "declare FIRMWARE_THIN_LENS): set the aperture to 0 or use firmware with a thin lens "
+                "(firmware/glsl/thin_lens.rgen)");
+  }
+  const int max_depth = launch.max_depth;
   const auto depth = static_cast<std::uint64_t>(max_depth);
   if (const auto entries = constant("FIRMWARE_RETURN_STACK_ENTRIES");
       entries && *entries > static_cast<std::uint64_t>(config_.call_depth)) {

@@ -53,7 +53,7 @@ class DeviceBase : public Device {
 
  private:
   void idle();
-  void check_stacks(int max_depth) const;
+  void check_firmware_needs(const Launch& launch) const;
 
   std::vector<std::uint32_t> shader_table_;
   bool has_firmware_ = false;

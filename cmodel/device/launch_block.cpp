@@ -1,4 +1,3 @@
-#include "common/error.hpp"
 #include "device/device.hpp"
 #include "memory/little_endian.hpp"
 #include "render/sampling.hpp"
@@ -17,9 +16,6 @@ std::vector<std::uint8_t> make_launch_block(std::span<const std::uint8_t> image,
   camera.look_at = glm::dvec3(load_float4(image, cam + mm::kCameraLookAtAt));
   camera.up = glm::dvec3(load_float4(image, cam + mm::kCameraUpAt));
   camera.vfov_degrees = load_f32(image, cam + mm::kCameraVfovAt);
-  if (load_f32(image, cam + mm::kCameraApertureAt) > 0.0f) {
-    throw Error("the firmware renders pinhole cameras only: set the camera's aperture to 0");
-  }
   const CameraModel frame(camera, launch.width, launch.height);
 
   std::vector<std::uint8_t> block(mm::kLaunchBytes + 4 * shader_table.size(), 0);
@@ -45,6 +41,7 @@ std::vector<std::uint8_t> make_launch_block(std::span<const std::uint8_t> image,
   u32(mm::kLaunchPositionsAt, section(layout.vertex_positions));
   u32(mm::kLaunchNormalsAt, section(layout.vertex_normals));
   u32(mm::kLaunchUvsAt, section(layout.vertex_uvs));
+  u32(mm::kLaunchCameraAt, section(layout.camera));
   for (std::size_t i = 0; i < shader_table.size(); ++i) u32(static_cast<std::uint32_t>(mm::kLaunchBytes + 4 * i), shader_table[i]);
   return block;
 }

@@ -237,6 +237,7 @@ MemoryImage build_memory_image(const Scene& scene, const KdTree& tree, IsectMode
     store_f32(out, o + mm::kMaterialReflectanceAt, to_fp32(m.reflectance, src, what + " reflectance"));
     store_f32(out, o + mm::kMaterialTransmittanceAt, to_fp32(m.transmittance, src, what + " transmittance"));
     store_f32(out, o + mm::kMaterialIorAt, to_fp32(m.ior, src, what + " ior"));
+    store_f32(out, o + mm::kMaterialRoughnessAt, to_fp32(m.roughness, src, what + " roughness"));
     const auto shader = std::find(shaders.begin(), shaders.end(), m.shader) - shaders.begin();
     store_u32(out, o + mm::kMaterialShaderAt, static_cast<std::uint32_t>(shader));
   }

@@ -44,6 +44,7 @@ struct Material {
   double reflectance = 0.0;    // weight of the mirror ray
   double transmittance = 0.0;  // weight of the refracted ray
   double ior = 1.0;            // index of refraction of the inside
+  double roughness = 0.0;      // glossy lobe's spread about the mirror ray (glossy shader); 0 = mirror
   std::string shader = "whitted";  // the firmware hit shader that renders it
 };
 

@@ -292,7 +292,7 @@ Light read_light(const Reader& r, const Node& n) {
 
 Material read_material(const Reader& r, const Node& n) {
   r.allow_keys(n, {"name", "ambient", "diffuse", "specular", "shininess", "reflectance",
-                   "transmittance", "ior", "shader"});
+                   "transmittance", "ior", "roughness", "shader"});
   Material m;
   m.name = r.string(r.get(n, "name"));
   if (const auto v = Reader::find(n, "ambient")) m.ambient = r.color(*v);
@@ -305,6 +305,7 @@ Material read_material(const Reader& r, const Node& n) {
     m.ior = r.number(*v);
     if (!(m.ior > 0.0)) r.fail(*v, fmt::format("expected an index of refraction > 0, got {}", m.ior));
   }
+  if (const auto v = Reader::find(n, "roughness")) m.roughness = r.fraction(*v);
   if (const auto v = Reader::find(n, "shader")) m.shader = r.string(*v);
   return m;
 }

@@ -111,11 +111,13 @@ Compiled compile(const std::vector<ShaderSource>& sources, const CompileOptions&
   std::string body;
   std::set<TraceForm> traces;
   int raygen_saves = 0, shader_saves = 0;
+  bool thin_lens = false;
   for (const SpirvShader& shader : shaders) {
     const Module module = Module::parse(shader.words, shader.file.string());
     Lowered lowered = lower(module, shader, context);
     const Allocation allocation = allocate(lowered.function, options.registers);
     traces.insert(lowered.traces.begin(), lowered.traces.end());
+    thin_lens = thin_lens || lowered.reads_aperture;
     (shader.stage == Stage::kRaygen ? raygen_saves : shader_saves) =
         std::max(shader.stage == Stage::kRaygen ? raygen_saves : shader_saves, allocation.max_save_bytes);
     body += fmt::format("\n; {} shader {} ({} registers)\n", stage_name(shader.stage), shader.file.string(),
@@ -131,8 +133,12 @@ Compiled compile(const std::vector<ShaderSource>& sources, const CompileOptions&
       ".equ FIRMWARE_RETURN_STACK_ENTRIES, 1\n"
       ".equ FIRMWARE_STACK_BYTES, {}\n"
       ".equ FIRMWARE_STACK_BYTES_PER_DEPTH, {}\n"
+      "{}"
       ".text\n",
-      shaders.size(), raygen_saves + 2 * per_level, per_level);
+      shaders.size(), raygen_saves + 2 * per_level, per_level,
+      thin_lens ? "; a shader reads the camera's aperture: the firmware models the thin lens\n"
+                  ".equ FIRMWARE_THIN_LENS, 1\n"
+                : "");
   // Ray generation first: pc 0 is where a listing starts reading.
   text += body;
   text += "\n; traceRayEXT, one routine per form used\n";

@@ -42,6 +42,7 @@ struct Pointer {
   enum class Where { kMemory, kRegisters, kBuiltin, kHitAttribute, kOpaque } where = Where::kMemory;
   int address = -1;           // memory: vreg with the base address (lane of `address_lane`), or -1
   std::uint32_t offset = 0;   // memory: constant part of the address
+  std::uint32_t binding = ~0u;  // memory: the buffer's binding
   Id variable = 0;            // registers, builtin, hit attribute: the variable
   std::vector<std::uint32_t> path;  // registers/builtin: member or component indices
   Id type = 0;                // pointee type
@@ -108,7 +109,7 @@ class Lowerer {
         instruction(i);
       }
     }
-    return {std::move(fn_), traces_};
+    return {std::move(fn_), traces_, reads_aperture_};
   }
 
  private:
@@ -604,6 +605,12 @@ class Lowerer {
   }
 
   // ---- memory -----------------------------------------------------------------------------
+  static std::uint32_t camera_binding() {
+    for (const spec::ShaderBuffer& b : spec::kShaderBuffers) {
+      if (b.name == "camera") return b.binding;
+    }
+    return ~0u;
+  }
   Src launch_base() { return op("li", 1, {}, hex(mm::kDeviceLaunchBase)); }
   Pointer buffer_pointer(Id var_id, const Variable& var) {
     const Decorations& d = m_.decoration(var_id);
@@ -614,6 +621,7 @@ class Lowerer {
       if (b.binding != binding) continue;
       Pointer p;
       p.type = block_type;
+      p.binding = binding;
       if (const auto it = block_addresses_.find(binding); it != block_addresses_.end()) {
         p.address = it->second;
         return p;
@@ -738,6 +746,10 @@ class Lowerer {
       }
       const bool f = m_.is_float(type);
       if (m_.is_bool(type)) unsupported("a bool in a buffer");
+      if (p.binding == camera_binding() && p.offset <= mm::kCameraApertureAt &&
+          mm::kCameraApertureAt < p.offset + 4u * static_cast<std::uint32_t>(n)) {
+        reads_aperture_ = true;
+      }
       MInst l;
       l.mn = n == 1 ? (f ? "ld1f" : "ld1") : (f ? "ldf" : "ld");
       l.dst = vreg(n);
@@ -926,6 +938,7 @@ class Lowerer {
   const LowerContext& ctx_;
   MFunction fn_;
   std::set<TraceForm> traces_;
+  bool reads_aperture_ = false;
   std::unordered_map<Id, Value> values_, phis_, homes_;
   std::unordered_map<Id, Pointer> pointers_;
   std::unordered_map<Id, spv::Op> defined_by_;  // for messages

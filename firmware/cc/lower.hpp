@@ -35,6 +35,7 @@ struct LowerContext {
 struct Lowered {
   MFunction function;
   std::set<TraceForm> traces;  // the forms this shader calls
+  bool reads_aperture = false;  // reads the camera's lens aperture: the firmware models a thin lens
 };
 
 // The code label of a shader: raygen, hit_<stem>, miss_<stem>.

@@ -130,6 +130,7 @@ TEST_F(MemoryImageRoundTrip, SaveLoadValidateAndReadBackEveryField) {
     EXPECT_EQ(load_f32(in, at + mm::kMaterialReflectanceAt), static_cast<float>(m.reflectance));
     EXPECT_EQ(load_f32(in, at + mm::kMaterialTransmittanceAt), static_cast<float>(m.transmittance));
     EXPECT_EQ(load_f32(in, at + mm::kMaterialIorAt), static_cast<float>(m.ior));
+    EXPECT_EQ(load_f32(in, at + mm::kMaterialRoughnessAt), static_cast<float>(m.roughness));
     EXPECT_EQ(load_u32(in, at + mm::kMaterialShaderAt), shader_ids[i]);
   }
   EXPECT_EQ(shader_names(scene), (std::vector<std::string>{"whitted", "mirror"}));

@@ -36,6 +36,7 @@ inline Scene tiny_scene() {
   b.name = "mirror";
   b.shader = "mirror";
   b.reflectance = 0.9;
+  b.roughness = 0.125;
   Material c = a;
   c.name = "glass";
   c.ior = 1.33;

@@ -175,6 +175,9 @@ TEST_F(SceneFile, OutOfRangeNumbersAreErrors) {
   write("refl.json", scene_with(R"("materials": [{"name": "m", "reflectance": 1.5}])"));
   EXPECT_EQ(error_of("refl.json"),
             file("refl.json") + ": /materials/0/reflectance: expected a number in [0, 1], got 1.5");
+  write("rough.json", scene_with(R"("materials": [{"name": "m", "roughness": -0.1}])"));
+  EXPECT_EQ(error_of("rough.json"),
+            file("rough.json") + ": /materials/0/roughness: expected a number in [0, 1], got -0.1");
   write("up.json", scene_with(R"("camera": {"position": [0, 0, 5], "look_at": [0, 0, 0], "up": [0, 0, 2]})"));
   EXPECT_EQ(error_of("up.json"),
             file("up.json") + ": /camera/up: up is parallel to the view direction");
@@ -258,13 +261,16 @@ TEST_F(SceneFile, MirroringTransformKeepsTheWindingOutward) {
 
 TEST_F(SceneFile, ProceduralKeepsItsCameraAndLightsAndMaterialsCanBeRestyled) {
   write("x.json", R"({"procedural": {"generator": "tetra", "size": 2},
-                      "materials": [{"name": "tetra", "diffuse": [0, 0, 1]}]})");
+                      "materials": [{"name": "tetra", "diffuse": [0, 0, 1], "roughness": 0.25,
+                                     "shader": "glossy"}]})");
   const Scene s = resolve_scene(file("x.json"));
   EXPECT_EQ(s.triangles.size(), 16u);
   EXPECT_EQ(s.camera.position, make_builtin_scene("tetra").camera.position);
   EXPECT_EQ(s.lights.size(), 1u);
   ASSERT_EQ(s.materials.size(), 1u);
   EXPECT_EQ(s.materials[0].diffuse, glm::dvec3(0.0, 0.0, 1.0));
+  EXPECT_EQ(s.materials[0].roughness, 0.25);
+  EXPECT_EQ(s.materials[0].shader, "glossy");
   write("bad.json", R"({"procedural": {"generator": "teapot"}})");
   EXPECT_EQ(error_of("bad.json"), file("bad.json") +
                                       ": /procedural/generator: unknown generator \"teapot\" "
