@@ -14,6 +14,8 @@
 #include "functional/scene_image.hpp"
 #include "image/image.hpp"
 #include "kdtree/kdtree.hpp"
+#include "reference/renderer.hpp"
+#include "scene/resolve.hpp"
 #include "scene/scene.hpp"
 
 namespace rpu {
@@ -128,25 +130,33 @@ TEST(GlslEffects, AntiAliasingLowersTheErrorAgainstA256SampleReference) {
 }
 
 // ---- the library's materials -------------------------------------------------------------
-isa::Firmware library(std::initializer_list<const char*> hit_shaders) {
+isa::Firmware library(std::initializer_list<const char*> hit_shaders, const char* raygen = "whitted") {
   const std::filesystem::path dir = RPU_GLSL_LIBRARY_DIR;
-  std::vector<std::filesystem::path> files{dir / "whitted.rgen"};
+  std::vector<std::filesystem::path> files{dir / (std::string(raygen) + ".rgen")};
   for (const char* h : hit_shaders) files.push_back(dir / (std::string(h) + ".rchit"));
   files.push_back(dir / "background.rmiss");
   return cc::compile_files(files, {}).firmware;
 }
 
-Image render_with(const Scene& scene, const isa::Firmware& fw, int width, int height) {
+RenderSettings settings_of(int width, int height, int spp) {
+  RenderSettings settings;
+  settings.width = width;
+  settings.height = height;
+  settings.spp = spp;
+  settings.max_depth = 2;
+  return settings;
+}
+
+Image render_with(const Scene& scene, const isa::Firmware& fw, const RenderSettings& settings) {
   const spec::HardwareConfig& config = hardware_config("default");
   KdBuildConfig build = kd_build_config_for(std::string(config.name));
   const functional::SceneImage si = functional::make_scene_image(scene, build, IsectMode::kWoop);
   const auto dev = device::make_functional_device(config, fp::kFp32);
-  RenderSettings settings;
-  settings.width = width;
-  settings.height = height;
-  settings.spp = 1;
-  settings.max_depth = 2;
   return device::render_frame(*dev, scene, si.image, fw, settings);
+}
+
+Image render_with(const Scene& scene, const isa::Firmware& fw, int width, int height) {
+  return render_with(scene, fw, settings_of(width, height, 1));
 }
 
 Scene with_floor_shader(const std::string& shader) {
@@ -230,6 +240,147 @@ TEST(GlslLibrary, GlassReflectsTheFresnelFraction) {
   };
   EXPECT_NEAR(reflected(0.0), 0.04, 1e-4);
   EXPECT_NEAR(reflected(75.0), 0.04 + 0.96 * std::pow(1.0 - std::cos(75.0 * 3.14159265358979 / 180.0), 5.0), 1e-3);
+}
+
+// ---- glossy reflection ------------------------------------------------------------------
+Material emitter(const std::string& name, glm::dvec3 color) {
+  Material m;
+  m.name = name;
+  m.ambient = color;
+  m.diffuse = glm::dvec3(0.0);
+  m.shader = "phong";
+  return m;
+}
+
+// A glossy floor seen from straight above, reflecting a small bright square that hangs
+// over it behind the camera (so only its reflection is in the picture); no lights.
+Scene glossy_scene(double roughness, const std::string& shader) {
+  Scene s;
+  s.source = "glossy floor";
+  Material floor;
+  floor.name = "floor";
+  floor.diffuse = glm::dvec3(0.0);
+  floor.reflectance = 1.0;
+  floor.roughness = roughness;
+  floor.shader = shader;
+  s.materials = {floor, emitter("lamp", glm::dvec3(1.0))};
+  quad(s, {-20, 0, 20}, {20, 0, 20}, {20, 0, -20}, {-20, 0, -20}, 0);
+  quad(s, {-0.15f, 2, -0.15f}, {0.15f, 2, -0.15f}, {0.15f, 2, 0.15f}, {-0.15f, 2, 0.15f}, 1);
+  s.camera.position = {0.0, 1.0, 0.0};
+  s.camera.look_at = {0.0, 0.0, 0.0};
+  s.camera.up = {0.0, 0.0, -1.0};
+  s.camera.vfov_degrees = 60.0;
+  return s;
+}
+
+// The reflected square's spread: the brightness-weighted RMS distance of the pixels from
+// the image centre, in pixels.
+double spread(const Image& image) {
+  double weight = 0.0, moment = 0.0;
+  for (int y = 0; y < image.height; ++y) {
+    for (int x = 0; x < image.width; ++x) {
+      const double v = image.pixels[static_cast<std::size_t>(y * image.width + x)].r;
+      const double dx = x + 0.5 - image.width / 2.0, dy = y + 0.5 - image.height / 2.0;
+      weight += v;
+      moment += v * (dx * dx + dy * dy);
+    }
+  }
+  return std::sqrt(moment / weight);
+}
+
+// Glossy highlights widen with roughness: the reflection of the square spreads further
+// from its mirror image the rougher the floor; at roughness 0 it is the mirror's image.
+TEST(GlslEffects, GlossyHighlightsWidenWithRoughness) {
+  const isa::Firmware glossy = library({"glossy", "phong"});
+  const RenderSettings settings = settings_of(48, 48, 16);
+  const Image sharp = render_with(glossy_scene(0.0, "glossy"), glossy, settings);
+  const double r0 = spread(sharp);
+  const double r1 = spread(render_with(glossy_scene(0.1, "glossy"), glossy, settings));
+  const double r2 = spread(render_with(glossy_scene(0.4, "glossy"), glossy, settings));
+  RecordProperty("spread_pixels", fmt::format("roughness 0: {:.2f}, 0.1: {:.2f}, 0.4: {:.2f}", r0, r1, r2));
+  EXPECT_GT(r1, 1.3 * r0) << r0 << " " << r1;
+  EXPECT_GT(r2, 2.0 * r1) << r1 << " " << r2;
+  const Image mirror = render_with(glossy_scene(0.0, "whitted"), library({"whitted", "phong"}), settings);
+  EXPECT_LT(rms(sharp, mirror), 1e-3);
+}
+
+// ---- depth of field ---------------------------------------------------------------------
+// A red square on the focal plane (5 from the camera) on the left, a green one three
+// times as large and three times as far on the right, over black.
+Scene lens_scene(double aperture) {
+  Scene s;
+  s.source = "two squares";
+  s.materials = {emitter("red", {1.0, 0.0, 0.0}), emitter("green", {0.0, 1.0, 0.0})};
+  quad(s, {-1.5f, -0.5f, 0}, {-0.5f, -0.5f, 0}, {-0.5f, 0.5f, 0}, {-1.5f, 0.5f, 0}, 0);
+  quad(s, {1.5f, -1.5f, -10}, {4.5f, -1.5f, -10}, {4.5f, 1.5f, -10}, {1.5f, 1.5f, -10}, 1);
+  s.camera.position = {0.0, 0.0, 5.0};
+  s.camera.look_at = {0.0, 0.0, 0.0};
+  s.camera.up = {0.0, 1.0, 0.0};
+  s.camera.vfov_degrees = 40.0;
+  s.camera.aperture_radius = aperture;
+  return s;
+}
+
+struct Blur {
+  int focal = 0;  // pixels of the red square's (focal plane) colour that moved by more than 0.05
+  int far = 0;    // the same for the green square's
+};
+
+Blur blur(const Image& lens, const Image& pinhole) {
+  Blur b;
+  for (std::size_t i = 0; i < lens.pixels.size(); ++i) {
+    b.focal += std::abs(lens.pixels[i].r - pinhole.pixels[i].r) > 0.05f;
+    b.far += std::abs(lens.pixels[i].g - pinhole.pixels[i].g) > 0.05f;
+  }
+  return b;
+}
+
+// Depth of field: the far square blurs more the larger the aperture, the square on the
+// focal plane stays sharp, and at aperture 0 the thin lens is the pinhole, bit for bit.
+TEST(GlslEffects, DepthOfFieldBlurGrowsWithApertureAndVanishesAtTheFocalPlane) {
+  const isa::Firmware lens = library({"phong"}, "thin_lens");
+  const RenderSettings settings = settings_of(64, 48, 16);
+  const Image pinhole = render_with(lens_scene(0.0), library({"phong"}), settings);
+  EXPECT_EQ(rms(render_with(lens_scene(0.0), lens, settings), pinhole), 0.0);
+  const Blur small = blur(render_with(lens_scene(0.2), lens, settings), pinhole);
+  const Blur large = blur(render_with(lens_scene(0.8), lens, settings), pinhole);
+  RecordProperty("blurred_pixels", fmt::format("aperture 0.2: far {} focal {}, aperture 0.8: far {} focal {}",
+                                                small.far, small.focal, large.far, large.focal));
+  EXPECT_GT(small.far, 20);
+  EXPECT_GT(large.far, 2 * small.far) << small.far << " " << large.far;
+  EXPECT_LE(large.focal, 2) << "the square on the focal plane blurred";
+}
+
+// The thin lens follows the reference renderer's (same stream, same lens mapping).
+TEST(GlslEffects, TheThinLensRendersTheReferencesImage) {
+  Scene scene = resolve_scene("cornell");
+  scene.camera.aperture_radius = 15.0;   // the box is 555 wide
+  scene.camera.focus_distance = 1080.0;  // the middle of the box
+  RenderSettings settings = settings_of(48, 36, 4);
+  const Image reference = ReferenceRenderer(scene).render(settings);
+  const Image lens = render_with(scene, library({"whitted"}, "thin_lens"), settings);
+  const double psnr = psnr_srgb(reference, lens);
+  Scene without_lens = scene;
+  without_lens.camera.aperture_radius = 0.0;
+  const double pinhole = psnr_srgb(reference, render_with(without_lens, library({"whitted"}, "thin_lens"), settings));
+  RecordProperty("psnr_db", fmt::format("{:.1f}", psnr));
+  RecordProperty("psnr_db_of_a_pinhole", fmt::format("{:.1f}", pinhole));
+  EXPECT_GE(psnr, 40.0);
+  EXPECT_LT(pinhole, 30.0) << "the lens made no difference";
+}
+
+// A pinhole firmware refuses a lens it would not model; the thin lens declares it models one.
+TEST(GlslEffects, OnlyFirmwareWithAThinLensAcceptsAnAperture) {
+  EXPECT_TRUE(library({"phong"}, "thin_lens").symbols.contains("FIRMWARE_THIN_LENS"));
+  EXPECT_FALSE(library({"phong"}).symbols.contains("FIRMWARE_THIN_LENS"));
+  try {
+    render_with(lens_scene(0.2), library({"phong"}), settings_of(8, 6, 1));
+    ADD_FAILURE() << "a pinhole firmware rendered a camera with an aperture";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("the camera has a lens (aperture > 0) but the firmware renders a pinhole camera"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 }  // namespace
