@@ -129,6 +129,15 @@ class Emitter {
         }
         return;
       }
+      case Kind::kSpill:
+        // A vector lives in lanes x.. wherever it is; a scalar may come back in another
+        // lane than it left from, so it is pushed to all four.
+        line(m, fmt::format("{:<39} ; spill", "push    " + (width(m.srcs[0].v) == 1 ? positional(m.srcs[0])
+                                                                      : fmt::format("r{}", loc(m.srcs[0].v).reg))));
+        return;
+      case Kind::kReload:
+        line(m, fmt::format("{:<39} ; reload", fmt::format("pop     r{}{}", loc(m.dst).reg, mask_text(dst_lanes(m)))));
+        return;
       case Kind::kOp: break;
     }
     if (m.store) {

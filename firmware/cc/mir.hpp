@@ -39,6 +39,8 @@ enum class Kind : std::uint8_t {
   kRet,      // ret; uses fixed vregs (the payload it returns)
   kHalt,
   kEntry,    // defines the fixed vregs a shader is entered with
+  kSpill,    // push the register of srcs[0] (a whole vreg) on the memory stack
+  kReload,   // pop the lanes of dst from the memory stack (its kSpill's value)
 };
 
 // How a lane-wise instruction's source elements map to swizzle positions: element j of

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <map>
+#include <optional>
 #include <string>
 #include <unordered_map>
 
@@ -12,6 +13,10 @@
 namespace rpu::cc {
 
 namespace {
+
+// Values pushed at most before a function is refused: each spill frees lanes at one
+// point, so this bounds the work on a function that cannot fit.
+constexpr int kMaxSpills = 256;
 
 // A set of vregs as bits.
 class Bits {
@@ -60,90 +65,120 @@ void defs_of(const MInst& i, std::vector<int>& out) {
   for (int d : i.defs) out.push_back(d);
 }
 
-}  // namespace
-
-Allocation allocate(const MFunction& f, int registers) {
-  const std::size_t n = f.code.size(), nv = f.vregs.size();
+std::unordered_map<std::string, std::size_t> label_positions(const MFunction& f) {
   std::unordered_map<std::string, std::size_t> labels;
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t i = 0; i < f.code.size(); ++i) {
     if (f.code[i].kind == Kind::kLabel) labels[f.code[i].target] = i;
   }
+  return labels;
+}
+
+std::size_t target_of(const MFunction& f, const std::unordered_map<std::string, std::size_t>& labels, const MInst& m) {
+  const auto it = labels.find(m.target);
+  if (it == labels.end()) throw Error(fmt::format("{}: internal error: no label {}", f.name, m.target));
+  return it->second;
+}
+
+struct Liveness {
+  std::vector<Bits> live_in, live_out;
+  std::vector<std::vector<int>> uses, defs;
+};
+
+// Liveness by data flow, backwards to a fixed point.
+Liveness liveness(const MFunction& f) {
+  const std::size_t n = f.code.size(), nv = f.vregs.size();
+  const auto labels = label_positions(f);
   std::vector<std::vector<std::size_t>> succ(n);
   for (std::size_t i = 0; i < n; ++i) {
     const MInst& m = f.code[i];
-    const auto target = [&] {
-      const auto it = labels.find(m.target);
-      if (it == labels.end()) throw Error(fmt::format("{}: internal error: no label {}", f.name, m.target));
-      return it->second;
-    };
     switch (m.kind) {
       case Kind::kRet:
       case Kind::kHalt: break;
-      case Kind::kBranch: succ[i].push_back(target()); break;
+      case Kind::kBranch: succ[i].push_back(target_of(f, labels, m)); break;
       case Kind::kCondBranch:
-        succ[i].push_back(target());
+        succ[i].push_back(target_of(f, labels, m));
         if (i + 1 < n) succ[i].push_back(i + 1);
         break;
       default:
         if (i + 1 < n) succ[i].push_back(i + 1);
     }
   }
-  // Liveness to a fixed point, backwards.
-  std::vector<Bits> live_in(n, Bits(nv)), live_out(n, Bits(nv));
-  std::vector<std::vector<int>> uses(n), defs(n);
+  Liveness l;
+  l.live_in.assign(n, Bits(nv));
+  l.live_out.assign(n, Bits(nv));
+  l.uses.resize(n);
+  l.defs.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
-    uses_of(f.code[i], f, uses[i]);
-    defs_of(f.code[i], defs[i]);
+    uses_of(f.code[i], f, l.uses[i]);
+    defs_of(f.code[i], l.defs[i]);
   }
   for (bool changed = true; changed;) {
     changed = false;
     for (std::size_t k = n; k-- > 0;) {
       Bits out(nv);
-      for (std::size_t s : succ[k]) out.merge(live_in[s]);
+      for (std::size_t s : succ[k]) out.merge(l.live_in[s]);
       Bits in = out;
-      for (int d : defs[k]) in.reset(d);
-      for (int u : uses[k]) in.set(u);
-      if (!(in == live_in[k]) || !(out == live_out[k])) {
+      for (int d : l.defs[k]) in.reset(d);
+      for (int u : l.uses[k]) in.set(u);
+      if (!(in == l.live_in[k]) || !(out == l.live_out[k])) {
         changed = true;
-        live_in[k] = std::move(in);
-        live_out[k] = std::move(out);
+        l.live_in[k] = std::move(in);
+        l.live_out[k] = std::move(out);
       }
     }
   }
-  // Live segments over points: 2i = instruction i reads, 2i + 1 = it writes. Two vregs
-  // may share a lane when no point has both live (a def always takes its write point).
-  std::vector<std::vector<std::pair<int, int>>> segments(nv);
-  const auto touch = [&](int v, int point) {
-    auto& segs = segments[static_cast<std::size_t>(v)];
-    if (!segs.empty() && segs.back().second >= point - 1) {
-      segs.back().second = std::max(segs.back().second, point);
-    } else {
-      segs.push_back({point, point});
-    }
-  };
-  for (std::size_t i = 0; i < n; ++i) {
-    const int p = static_cast<int>(2 * i);
-    live_in[i].for_each([&](int v) { touch(v, p); });
-    Bits written = live_out[i];
-    for (int d : defs[i]) written.set(d);
-    written.for_each([&](int v) { touch(v, p + 1); });
+  return l;
+}
+
+// What is live at a point: 2i = instruction i reads, 2i + 1 = it writes.
+Bits live_at(const Liveness& l, int point) {
+  const auto i = static_cast<std::size_t>(point / 2);
+  if (point % 2 == 0) return l.live_in[i];
+  Bits written = l.live_out[i];
+  for (int d : l.defs[i]) written.set(d);
+  return written;
+}
+
+// Live segments over points. Two vregs may share a lane when no point has both live (a
+// def always takes its write point).
+std::vector<std::vector<std::pair<int, int>>> segments_of(const MFunction& f, const Liveness& l) {
+  std::vector<std::vector<std::pair<int, int>>> segments(f.vregs.size());
+  for (int p = 0; p < 2 * static_cast<int>(f.code.size()); ++p) {
+    live_at(l, p).for_each([&](int v) {
+      auto& segs = segments[static_cast<std::size_t>(v)];
+      if (!segs.empty() && segs.back().second >= p - 1) {
+        segs.back().second = p;
+      } else {
+        segs.push_back({p, p});
+      }
+    });
   }
+  return segments;
+}
+
+// Per machine lane (register x 4 + lane), the points taken: segment start -> end.
+using LaneBusy = std::vector<std::map<int, int>>;
+
+bool overlaps(const std::map<int, int>& busy, int s, int e) {
+  auto it = busy.upper_bound(e);  // the first segment starting after e
+  if (it == busy.begin()) return false;
+  --it;                           // the last segment starting at or before e
+  return it->second >= s;
+}
+
+// Every vreg in lanes of one register, fixed ones first, the rest by start point (with
+// `vectors_first`, the vectors before the scalars, which then fill the lanes vectors
+// leave); -1 and the allocation, or the vreg that did not fit (and the lanes taken).
+int place(const MFunction& f, const std::vector<std::vector<std::pair<int, int>>>& segments, int registers,
+          bool vectors_first, Allocation& a, LaneBusy& lane_busy) {
+  const std::size_t nv = f.vregs.size();
   std::vector<int> start(nv, -1);
   for (std::size_t v = 0; v < nv; ++v) {
     if (!segments[v].empty()) start[v] = segments[v].front().first;
   }
-
-  Allocation a;
   a.location.assign(nv, {});
-  a.saves.assign(n, {});
-  // Per lane, the points taken: a sorted map from segment start to end.
-  std::vector<std::map<int, int>> lane_busy(static_cast<std::size_t>(registers) * 4);
-  const auto overlaps = [](const std::map<int, int>& busy, int s, int e) {
-    auto it = busy.upper_bound(e);  // the first segment starting after e
-    if (it == busy.begin()) return false;
-    --it;                           // the last segment starting at or before e
-    return it->second >= s;
-  };
+  a.registers_used = 0;
+  lane_busy.assign(static_cast<std::size_t>(registers) * 4, {});
   const auto free_for = [&](int reg, const std::array<std::uint8_t, 4>& lanes, int width, std::size_t v) {
     for (int j = 0; j < width; ++j) {
       const auto& busy = lane_busy[static_cast<std::size_t>(reg * 4 + lanes[static_cast<std::size_t>(j)])];
@@ -193,20 +228,21 @@ Allocation allocate(const MFunction& f, int registers) {
   for (std::size_t v = 0; v < nv; ++v) {
     if (f.vregs[v].fixed < 0 && start[v] >= 0) order.push_back(v);
   }
-  std::stable_sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) { return start[x] < start[y]; });
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) {
+    if (vectors_first && (f.vregs[x].width >= 2) != (f.vregs[y].width >= 2)) return f.vregs[x].width >= 2;
+    return start[x] < start[y];
+  });
   for (const std::size_t v : order) {
     const int w = f.vregs[v].width;
-    bool coalesced = false;
+    bool placed = false;
     for (const int p : partners[v]) {
       const Location& l = a.location[static_cast<std::size_t>(p)];
       if (l.reg >= 0 && free_for(l.reg, l.lane, w, v)) {
         take(v, l.reg, l.lane);
-        coalesced = true;
+        placed = true;
         break;
       }
     }
-    if (coalesced) continue;
-    bool placed = false;
     for (int reg = 0; reg < registers && !placed; ++reg) {
       if (w >= 2) {
         const std::array<std::uint8_t, 4> lanes{0, 1, 2, 3};
@@ -224,37 +260,382 @@ Allocation allocate(const MFunction& f, int registers) {
         }
       }
     }
-    if (!placed) {
-      // Name the source line where the value that did not fit is made.
-      const std::size_t at = static_cast<std::size_t>(start[v] / 2);
-      SourceLocation where;
-      for (std::size_t k = at + 1; k-- > 0;) {
-        if (f.code[k].where.line > 0) {
-          where = f.code[k].where;
-          break;
-        }
+    if (!placed) return static_cast<int>(v);
+  }
+  return -1;
+}
+
+// Spans [first, last] of the code that control enters only by falling into `first` and
+// leaves only by falling out of `last`, so that a push before the span and a pop after it
+// pair up on every path: the memory stack is last in, first out. Spans of earlier spills
+// nest in them or lie outside them.
+class Spans {
+ public:
+  explicit Spans(const MFunction& f) : f_(f), partner_(f.code.size(), 0), preds_(f.code.size()) {
+    const auto labels = label_positions(f);
+    std::vector<std::size_t> open;
+    for (std::size_t i = 0; i < f.code.size(); ++i) {
+      const MInst& m = f.code[i];
+      if (m.kind == Kind::kBranch || m.kind == Kind::kCondBranch) preds_[target_of(f, labels, m)].push_back(i);
+      if (m.kind == Kind::kBranch || m.kind == Kind::kCondBranch) branch_target_.emplace(i, target_of(f, labels, m));
+      if (m.kind == Kind::kSpill) open.push_back(i);
+      if (m.kind == Kind::kReload) {
+        partner_[i] = open.back();
+        partner_[open.back()] = i;
+        open.pop_back();
       }
-      int live = 0;
-      live_out[at].for_each([&](int x) { live += f.vregs[static_cast<std::size_t>(x)].width; });
-      throw Error(fmt::format("{}:{}: error: the shader needs more than {} registers here ({} lanes live); simplify "
-                              "the code or compile for more registers (--registers)",
-                              where.file.empty() ? f.name : where.file, where.line, registers, live));
     }
   }
-  // What each call must keep: the values live across it.
+
+  // The smallest span holding instructions [a, b], if there is one.
+  std::optional<std::pair<std::size_t, std::size_t>> close(std::size_t a, std::size_t b) const {
+    const auto reach = [&](std::size_t k, bool& changed) {
+      if (k < a) a = k, changed = true;
+      if (k > b) b = k, changed = true;
+    };
+    for (bool changed = true; changed;) {
+      changed = false;
+      for (std::size_t k = a; k <= b; ++k) {
+        const MInst& m = f_.code[k];
+        switch (m.kind) {
+          case Kind::kRet:
+          case Kind::kHalt:
+          case Kind::kEntry: return std::nullopt;
+          case Kind::kBranch:
+          case Kind::kCondBranch: reach(branch_target_.at(k), changed); break;
+          case Kind::kLabel:
+            for (const std::size_t s : preds_[k]) reach(s, changed);
+            break;
+          case Kind::kSpill:
+          case Kind::kReload: reach(partner_[k], changed); break;
+          default: break;
+        }
+      }
+    }
+    const auto falls_through = [&](std::size_t k) {
+      const Kind kind = f_.code[k].kind;
+      return kind != Kind::kBranch && kind != Kind::kRet && kind != Kind::kHalt;
+    };
+    if (a == 0 || !falls_through(a - 1) || !falls_through(b)) return std::nullopt;
+    return std::make_pair(a, b);
+  }
+
+ private:
+  const MFunction& f_;
+  std::vector<std::size_t> partner_;            // kSpill <-> kReload
+  std::vector<std::vector<std::size_t>> preds_;  // per label: the branches to it
+  std::unordered_map<std::size_t, std::size_t> branch_target_;
+};
+
+// Gives each web of `u` (its definitions joined by the uses they reach together) a vreg of
+// its own, so that the value a spill pops can live in another register than the one it
+// was pushed from.
+void split_webs(MFunction& f, int u) {
+  const std::size_t n = f.code.size();
+  const auto labels = label_positions(f);
+  std::vector<std::vector<std::size_t>> preds(n);
   for (std::size_t i = 0; i < n; ++i) {
+    const MInst& m = f.code[i];
+    if (m.kind == Kind::kBranch || m.kind == Kind::kCondBranch) preds[target_of(f, labels, m)].push_back(i);
+    const bool falls = m.kind != Kind::kBranch && m.kind != Kind::kRet && m.kind != Kind::kHalt;
+    if (falls && i + 1 < n) preds[i + 1].push_back(i);
+  }
+  std::vector<int> uses, defs;
+  const auto reads = [&](std::size_t i) {
+    uses_of(f.code[i], f, uses);
+    return std::find(uses.begin(), uses.end(), u) != uses.end();
+  };
+  const auto writes = [&](std::size_t i) {
+    defs_of(f.code[i], defs);
+    return std::find(defs.begin(), defs.end(), u) != defs.end();
+  };
+  // Reaching definitions of u, forwards to a fixed point: the sets are small.
+  std::vector<std::vector<std::size_t>> in(n), out(n);
+  for (bool changed = true; changed;) {
+    changed = false;
+    for (std::size_t i = 0; i < n; ++i) {
+      std::vector<std::size_t> r;
+      for (const std::size_t p : preds[i]) r.insert(r.end(), out[p].begin(), out[p].end());
+      std::sort(r.begin(), r.end());
+      r.erase(std::unique(r.begin(), r.end()), r.end());
+      std::vector<std::size_t> o = writes(i) ? std::vector<std::size_t>{i} : r;
+      if (r != in[i] || o != out[i]) {
+        changed = true;
+        in[i] = std::move(r);
+        out[i] = std::move(o);
+      }
+    }
+  }
+  // Union the definitions that reach one use.
+  std::vector<std::size_t> parent(n);
+  for (std::size_t i = 0; i < n; ++i) parent[i] = i;
+  const auto find = [&](std::size_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!reads(i)) continue;
+    for (const std::size_t d : in[i]) parent[find(d)] = find(in[i].front());
+  }
+  // The web of the first definition keeps u; the others get new vregs.
+  std::unordered_map<std::size_t, int> web_vreg;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!writes(i)) continue;
+    const std::size_t root = find(i);
+    if (web_vreg.count(root)) continue;
+    if (web_vreg.empty()) {
+      web_vreg[root] = u;
+    } else {
+      web_vreg[root] = static_cast<int>(f.vregs.size());
+      f.vregs.push_back(f.vregs[static_cast<std::size_t>(u)]);
+    }
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    MInst& m = f.code[i];
+    if (reads(i) && !in[i].empty()) {
+      const int w = web_vreg.at(find(in[i].front()));
+      for (Src& s : m.srcs) {
+        if (s.v == u) s.v = w;
+      }
+      for (int& x : m.uses) {
+        if (x == u) x = w;
+      }
+    }
+    if (writes(i)) {
+      const int w = web_vreg.at(find(i));
+      if (m.dst == u) m.dst = w;
+      for (int& x : m.defs) {
+        if (x == u) x = w;
+      }
+    }
+  }
+}
+
+// Per vreg, the instructions that read or write it, in order.
+class References {
+ public:
+  References(const MFunction& f, const Liveness& l) : refs_(f.vregs.size()) {
+    for (std::size_t i = 0; i < f.code.size(); ++i) {
+      for (int u : l.uses[i]) refs_[static_cast<std::size_t>(u)].push_back(i);
+      for (int d : l.defs[i]) refs_[static_cast<std::size_t>(d)].push_back(i);
+    }
+  }
+  bool touch(int u, std::pair<std::size_t, std::size_t> span) const {
+    const auto& r = refs_[static_cast<std::size_t>(u)];
+    const auto it = std::lower_bound(r.begin(), r.end(), span.first);
+    return it != r.end() && *it <= span.second;
+  }
+  // The first instruction after i that touches u, or `none`.
+  std::size_t next_after(int u, std::size_t i, std::size_t none) const {
+    const auto& r = refs_[static_cast<std::size_t>(u)];
+    const auto it = std::upper_bound(r.begin(), r.end(), i);
+    return it == r.end() ? none : *it;
+  }
+
+ private:
+  std::vector<std::vector<std::size_t>> refs_;
+};
+
+// Pushes u before the span and pops it after.
+void insert_spill(MFunction& f, int u, std::pair<std::size_t, std::size_t> span) {
+  MInst reload;
+  reload.kind = Kind::kReload;
+  reload.dst = u;
+  reload.where = f.code[span.second].where;
+  MInst spill;
+  spill.kind = Kind::kSpill;
+  spill.srcs = {Src{.v = u, .n = f.vregs[static_cast<std::size_t>(u)].width}};
+  spill.where = f.code[span.first].where;
+  f.code.insert(f.code.begin() + static_cast<std::ptrdiff_t>(span.second + 1), std::move(reload));
+  f.code.insert(f.code.begin() + static_cast<std::ptrdiff_t>(span.first), std::move(spill));
+  if (f.vregs[static_cast<std::size_t>(u)].fixed < 0) split_webs(f, u);
+}
+
+// Where the code is read from top to bottom, values wanted more than `registers`
+// registers at once (a register per vector, 4 lanes per register): the value needed
+// again last is pushed there and popped just before it is (Belady's choice; the spans of
+// later spills start later, so they nest in the earlier ones or follow them). Returns
+// the spills made.
+int relieve_pressure(MFunction& f, int registers, int budget) {
+  int spills = 0;
+  for (std::size_t from = 0; spills < budget;) {
+    const Liveness l = liveness(f);
+    const References refs(f, l);
+    const Spans spans(f);
+    bool spilled = false;
+    for (std::size_t i = from; i < f.code.size() && !spilled; ++i) {
+      for (const int point : {static_cast<int>(2 * i), static_cast<int>(2 * i + 1)}) {
+        const Bits live = live_at(l, point);
+        int vectors = 0, lanes = 0;
+        live.for_each([&](int x) {
+          const int w = f.vregs[static_cast<std::size_t>(x)].width;
+          vectors += w >= 2;
+          lanes += w;
+        });
+        if (std::max(vectors, (lanes + 3) / 4) <= registers) continue;
+        // (next touched, a vector, vreg), the value needed again last first
+        std::vector<std::tuple<std::size_t, bool, int>> candidates;
+        live.for_each([&](int u) {
+          if (refs.touch(u, {i, i})) return;
+          candidates.emplace_back(refs.next_after(u, i, f.code.size()), f.vregs[static_cast<std::size_t>(u)].width >= 2,
+                                  u);
+        });
+        std::sort(candidates.rbegin(), candidates.rend());
+        for (const auto& [next, vector, u] : candidates) {
+          for (std::size_t end = next; end-- > i;) {
+            const auto span = spans.close(i, end);
+            if (!span || refs.touch(u, *span)) continue;
+            insert_spill(f, u, *span);
+            from = span->first;
+            spilled = true;
+            break;
+          }
+          if (spilled) break;
+        }
+        if (spilled) break;
+      }
+      if (!spilled) from = i + 1;
+    }
+    if (!spilled) break;
+    ++spills;
+  }
+  return spills;
+}
+
+// Makes room where `v` did not fit: at the point of its span where no register has room
+// for it (or, if each point has some but no one register has room for all of it, at the
+// point where the most lanes are live; failing that, the next), the value untouched
+// furthest on from there is pushed and popped before it is touched again. False if no
+// value can be.
+bool spill_for(MFunction& f, const Liveness& l, const std::vector<std::vector<std::pair<int, int>>>& segments,
+               const LaneBusy& lane_busy, int v) {
+  const int need = f.vregs[static_cast<std::size_t>(v)].width;
+  const auto room_at = [&](int p) {
+    for (std::size_t reg = 0; reg < lane_busy.size() / 4; ++reg) {
+      int free = 0;
+      for (std::size_t lane = 0; lane < 4; ++lane) free += !overlaps(lane_busy[reg * 4 + lane], p, p);
+      if (need == 1 ? free > 0 : free == 4) return true;
+    }
+    return false;
+  };
+  // The points of v's span, the most pressing first: (no room, live lanes, point).
+  std::vector<std::tuple<bool, int, int>> points;
+  for (const auto& [s, e] : segments[static_cast<std::size_t>(v)]) {
+    for (int p = s; p <= e; ++p) {
+      // a spill's own push or pop is no place for another: a span holding it holds its pair
+      const Kind kind = f.code[static_cast<std::size_t>(p / 2)].kind;
+      if (kind == Kind::kSpill || kind == Kind::kReload) continue;
+      int lanes = 0;
+      live_at(l, p).for_each([&](int x) { lanes += f.vregs[static_cast<std::size_t>(x)].width; });
+      points.emplace_back(!room_at(p), lanes, -p);
+    }
+  }
+  std::sort(points.rbegin(), points.rend());
+  const References refs(f, l);
+  const Spans spans(f);
+  int best = -1;
+  std::pair<std::size_t, std::size_t> best_span;
+  std::pair<bool, std::size_t> best_score{false, 0};
+  for (std::size_t k = 0; k < points.size() && best < 0; ++k) {
+    const int peak = -std::get<2>(points[k]);
+    const auto at = static_cast<std::size_t>(peak / 2);
+    live_at(l, peak).for_each([&](int u) {
+      auto span = spans.close(at, at);
+      if (!span || refs.touch(u, *span)) return;
+      // from the point on to just before u is next touched
+      for (std::size_t end = span->second + 1; end < f.code.size(); ++end) {
+        const auto wider = spans.close(span->first, end);
+        if (!wider || refs.touch(u, *wider)) break;
+        span = wider;
+        end = span->second;
+      }
+      const std::pair<bool, std::size_t> score{f.vregs[static_cast<std::size_t>(u)].width >= need, span->second};
+      if (best < 0 || score > best_score) best = u, best_span = *span, best_score = score;
+    });
+  }
+  if (best < 0) return false;
+  insert_spill(f, best, best_span);
+  return true;
+}
+
+// The spills' pushes and pops pair up on every path: the depth of the stack they make is
+// the same on every edge into an instruction and 0 where the function leaves.
+void check_spills(const MFunction& f) {
+  const std::size_t n = f.code.size();
+  const auto labels = label_positions(f);
+  std::vector<int> depth(n, -1);
+  std::vector<std::size_t> work{0};
+  depth[0] = 0;
+  const auto reach = [&](std::size_t to, int d, std::size_t from) {
+    if (depth[to] == -1) {
+      depth[to] = d;
+      work.push_back(to);
+    } else if (depth[to] != d) {
+      throw Error(fmt::format("{}: internal error: spills unbalanced at instruction {} (from {}: {} and {})", f.name,
+                              to, from, depth[to], d));
+    }
+  };
+  while (!work.empty()) {
+    const std::size_t i = work.back();
+    work.pop_back();
+    const MInst& m = f.code[i];
+    const int d = depth[i] + (m.kind == Kind::kSpill) - (m.kind == Kind::kReload);
+    if (d < 0 || ((m.kind == Kind::kRet || m.kind == Kind::kHalt) && d != 0)) {
+      throw Error(fmt::format("{}: internal error: spills unbalanced at instruction {}", f.name, i));
+    }
+    if (m.kind == Kind::kBranch || m.kind == Kind::kCondBranch) reach(target_of(f, labels, m), d, i);
+    if (m.kind != Kind::kBranch && m.kind != Kind::kRet && m.kind != Kind::kHalt && i + 1 < n) reach(i + 1, d, i);
+  }
+}
+
+}  // namespace
+
+Allocation allocate(MFunction& f, int registers) {
+  Allocation a;
+  Liveness l;
+  LaneBusy lane_busy;
+  for (int spills = relieve_pressure(f, registers, kMaxSpills);; ++spills) {
+    l = liveness(f);
+    const auto segments = segments_of(f, l);
+    int v = place(f, segments, registers, false, a, lane_busy);
+    if (v >= 0 && place(f, segments, registers, true, a, lane_busy) < 0) v = -1;
+    if (v < 0) break;
+    if (spills < kMaxSpills && spill_for(f, l, segments, lane_busy, v)) continue;
+    // Name the source line where the value that did not fit is made.
+    const auto at = static_cast<std::size_t>(segments[static_cast<std::size_t>(v)].front().first / 2);
+    SourceLocation where;
+    for (std::size_t k = at + 1; k-- > 0;) {
+      if (f.code[k].where.line > 0) {
+        where = f.code[k].where;
+        break;
+      }
+    }
+    int live = 0;
+    l.live_out[at].for_each([&](int x) { live += f.vregs[static_cast<std::size_t>(x)].width; });
+    throw Error(fmt::format("{}:{}: error: the shader needs more than {} registers here ({} lanes live, {} values "
+                            "spilled); simplify the code or compile for more registers (--registers)",
+                            where.file.empty() ? f.name : where.file, where.line, registers, live, spills));
+  }
+  check_spills(f);
+  // What each call must keep: the values live across it; and the stack bytes in use at
+  // once (spills, and the saves at a call inside them).
+  a.saves.assign(f.code.size(), {});
+  int depth = 0;
+  for (std::size_t i = 0; i < f.code.size(); ++i) {
+    if (f.code[i].kind == Kind::kSpill) a.max_save_bytes = std::max(a.max_save_bytes, 16 * ++depth);
+    if (f.code[i].kind == Kind::kReload) --depth;
     if (f.code[i].kind != Kind::kCall) continue;
-    Bits across = live_out[i];
-    for (int d : defs[i]) across.reset(d);
+    Bits across = l.live_out[i];
+    for (int d : l.defs[i]) across.reset(d);
     std::map<int, std::uint8_t> regs;
     across.for_each([&](int v) {
-      const Location& l = a.location[static_cast<std::size_t>(v)];
+      const Location& loc = a.location[static_cast<std::size_t>(v)];
       for (int j = 0; j < f.vregs[static_cast<std::size_t>(v)].width; ++j) {
-        regs[l.reg] |= static_cast<std::uint8_t>(1u << l.lane[static_cast<std::size_t>(j)]);
+        regs[loc.reg] |= static_cast<std::uint8_t>(1u << loc.lane[static_cast<std::size_t>(j)]);
       }
     });
     for (const auto& [reg, lanes] : regs) a.saves[i].push_back({reg, lanes});
-    a.max_save_bytes = std::max(a.max_save_bytes, 16 * static_cast<int>(regs.size()));
+    a.max_save_bytes = std::max(a.max_save_bytes, 16 * (depth + static_cast<int>(regs.size())));
   }
   return a;
 }

@@ -1,7 +1,9 @@
 // Register allocation: every virtual register gets lanes of one machine register for the
 // whole span in which it is live (liveness by data flow over the code, so loops and
 // branches are exact); values live across a trace call are pushed before it and popped
-// after it, lane by lane.
+// after it, lane by lane. Where the values do not fit, one not used over a span of code
+// that is entered and left at its ends is pushed before the span and popped after it
+// (a spill: the memory stack is push/pop only), until they fit.
 #pragma once
 
 #include <array>
@@ -26,11 +28,11 @@ struct Allocation {
   std::vector<Location> location;                 // per vreg
   std::vector<std::vector<SavedRegister>> saves;  // per instruction (kCall only)
   int registers_used = 0;
-  int max_save_bytes = 0;  // the most bytes pushed at one call
+  int max_save_bytes = 0;  // the most stack bytes in use at once: spills, and saves at a call
 };
 
-// Throws rpu::Error when the function needs more than `registers` registers, naming the
-// source line where the most values are live.
-Allocation allocate(const MFunction& function, int registers);
+// Inserts the spills (kSpill, kReload) into `function`. Throws rpu::Error when it cannot
+// fit even so, naming the source line of the value that did not fit.
+Allocation allocate(MFunction& function, int registers);
 
 }  // namespace rpu::cc

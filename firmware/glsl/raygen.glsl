@@ -46,9 +46,9 @@ void main() {
     const float x = p.x - 1.0, y = 1.0 - p.y;
     vec3 d = fma(launch_record.right.xyz, vec3(x), launch_record.forward.xyz);
     d = fma(launch_record.up.xyz, vec3(y), d);
-    vec3 origin = launch_record.origin.xyz;
 #ifdef RPU_THIN_LENS
     // every ray through the lens disk meets the pinhole ray on the focal plane
+    vec3 origin = launch_record.origin.xyz;
     if (camera_record.aperture > 0.0) {
       const vec3 focus = fma(d, vec3(focus_distance), origin);
       const float r = camera_record.aperture * sqrt(lens.x);
@@ -61,6 +61,9 @@ void main() {
     d = d * inversesqrt(dot(d, d));
     ray.depth = 0u;
     ray.stream = stream;
+#ifndef RPU_THIN_LENS
+    const vec3 origin = launch_record.origin.xyz;
+#endif
     traceRayEXT(scene_bvh, gl_RayFlagsOpaqueEXT, 0xff, 0, 0, 0, origin, 0.0, d, RPU_INFINITY, 0);
     sum += ray.color;
     if (++column == n) {
