@@ -112,6 +112,17 @@ if(RPU_IDIFF)
                      --firmware ${glsl}/whitted.rgen ${glsl}/whitted.rchit ${glsl}/background.rmiss)
     set_tests_properties(cosim.${name} PROPERTIES LABELS cosim TIMEOUT 900
                          ENVIRONMENT RPU_CACHE_DIR=${CMAKE_CURRENT_BINARY_DIR}/cc-cache)
+    # The library's distributed effects (thin lens, glossy lobe): the camera record and
+    # the material's roughness as the chip reads them.
+    set(name frame_glsl_distributed.${config}.${isect})
+    add_test(NAME cosim.${name}
+             COMMAND Python3::Interpreter ${CMAKE_CURRENT_SOURCE_DIR}/rtl_frames.py ${CMAKE_CURRENT_BINARY_DIR}/${name}
+                     ${RPU_IDIFF} -- $<TARGET_FILE:rpu> ${PROJECT_SOURCE_DIR}/scenes/cornell_distributed.json
+                     --config ${config} --isect ${isect} --width 8 --height 6 --spp 2 --max-depth 2
+                     --firmware ${glsl}/thin_lens.rgen ${glsl}/whitted.rchit ${glsl}/glossy.rchit
+                     ${glsl}/background.rmiss)
+    set_tests_properties(cosim.${name} PROPERTIES LABELS cosim TIMEOUT 900
+                         ENVIRONMENT RPU_CACHE_DIR=${CMAKE_CURRENT_BINARY_DIR}/cc-cache)
   endforeach()
 endif()
 

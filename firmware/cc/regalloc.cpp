@@ -17,6 +17,10 @@ namespace {
 // Values pushed at most before a function is refused: each spill frees lanes at one
 // point, so this bounds the work on a function that cannot fit.
 constexpr int kMaxSpills = 256;
+// Choices looked at for one spill (values, points, steps of a span), so that a function with
+// hundreds of values live compiles in bounded time (or is refused in it).
+constexpr std::size_t kMaxTries = 16;
+constexpr std::size_t kMaxGrowth = 512;
 
 // A set of vregs as bits.
 class Bits {
@@ -436,6 +440,25 @@ class References {
   std::vector<std::vector<std::size_t>> refs_;
 };
 
+// A span that holds instruction i and reaches as far as it can towards the next
+// instruction to touch u without holding it: all the way if it can, else grown from i one
+// instruction at a time (a bounded number of steps).
+std::optional<std::pair<std::size_t, std::size_t>> span_to_next_use(const MFunction& f, const Spans& spans,
+                                                                    const References& refs, int u, std::size_t i) {
+  const std::size_t next = refs.next_after(u, i, f.code.size());
+  if (next > i + 1) {
+    if (const auto whole = spans.close(i, next - 1); whole && !refs.touch(u, *whole)) return whole;
+  }
+  auto span = spans.close(i, i);
+  if (!span || refs.touch(u, *span)) return std::nullopt;
+  for (std::size_t steps = 0; span->second + 1 < next && steps < kMaxGrowth; ++steps) {
+    const auto wider = spans.close(span->first, span->second + 1);
+    if (!wider || refs.touch(u, *wider)) break;
+    span = wider;
+  }
+  return span;
+}
+
 // Pushes u before the span and pops it after.
 void insert_spill(MFunction& f, int u, std::pair<std::size_t, std::size_t> span) {
   MInst reload;
@@ -481,16 +504,14 @@ int relieve_pressure(MFunction& f, int registers, int budget) {
                                   u);
         });
         std::sort(candidates.rbegin(), candidates.rend());
+        if (candidates.size() > kMaxTries) candidates.resize(kMaxTries);
         for (const auto& [next, vector, u] : candidates) {
-          for (std::size_t end = next; end-- > i;) {
-            const auto span = spans.close(i, end);
-            if (!span || refs.touch(u, *span)) continue;
+          if (const auto span = span_to_next_use(f, spans, refs, u, i)) {
             insert_spill(f, u, *span);
             from = span->first;
             spilled = true;
             break;
           }
-          if (spilled) break;
         }
         if (spilled) break;
       }
@@ -531,6 +552,7 @@ bool spill_for(MFunction& f, const Liveness& l, const std::vector<std::vector<st
     }
   }
   std::sort(points.rbegin(), points.rend());
+  if (points.size() > kMaxTries) points.resize(kMaxTries);
   const References refs(f, l);
   const Spans spans(f);
   int best = -1;
@@ -540,15 +562,8 @@ bool spill_for(MFunction& f, const Liveness& l, const std::vector<std::vector<st
     const int peak = -std::get<2>(points[k]);
     const auto at = static_cast<std::size_t>(peak / 2);
     live_at(l, peak).for_each([&](int u) {
-      auto span = spans.close(at, at);
-      if (!span || refs.touch(u, *span)) return;
-      // from the point on to just before u is next touched
-      for (std::size_t end = span->second + 1; end < f.code.size(); ++end) {
-        const auto wider = spans.close(span->first, end);
-        if (!wider || refs.touch(u, *wider)) break;
-        span = wider;
-        end = span->second;
-      }
+      const auto span = span_to_next_use(f, spans, refs, u, at);
+      if (!span) return;
       const std::pair<bool, std::size_t> score{f.vregs[static_cast<std::size_t>(u)].width >= need, span->second};
       if (best < 0 || score > best_score) best = u, best_span = *span, best_score = score;
     });
