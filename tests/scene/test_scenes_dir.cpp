@@ -39,12 +39,25 @@ TEST(ScenesDir, EveryJsonFileLoads) {
     if (entry.path().extension() == ".json") names.push_back(entry.path().filename().string());
   }
   std::sort(names.begin(), names.end());
-  EXPECT_EQ(names, (std::vector<std::string>{"balls.json", "bunny.json", "cornell.json", "dragon.json",
-                                             "dragon_203k.json", "spider.json", "tetra.json"}));
+  EXPECT_EQ(names, (std::vector<std::string>{"balls.json", "bunny.json", "cornell.json", "cornell_distributed.json",
+                                             "dragon.json", "dragon_203k.json", "spider.json", "tetra.json"}));
   for (const std::string& name : names) {
     SCOPED_TRACE(name);
     expect_valid(load(name));
   }
+}
+
+// The distributed effects' scene: the Cornell box with a lens and a glossy block.
+TEST(ScenesDir, TheDistributedCornellBoxHasALensAndAGlossyBlock) {
+  const Scene s = load("cornell_distributed.json");
+  EXPECT_EQ(s.triangles.size(), resolve_scene("cornell").triangles.size());
+  EXPECT_EQ(s.camera.aperture_radius, 15.0);
+  EXPECT_EQ(s.camera.focus_distance, 1080.0);
+  const auto glossy = std::find_if(s.materials.begin(), s.materials.end(), [](const Material& m) {
+    return m.shader == "glossy";
+  });
+  ASSERT_NE(glossy, s.materials.end());
+  EXPECT_EQ(glossy->roughness, 0.15);
 }
 
 TEST(ScenesDir, BuiltinTwinsMatchTheBuiltins) {
