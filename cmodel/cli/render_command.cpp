@@ -49,6 +49,7 @@ struct RenderOptions {
   std::vector<std::filesystem::path> outputs{"render.png"};
   std::string backend = "reference";
   std::vector<std::filesystem::path> firmware;  // empty: the built-in whitted.s
+  std::filesystem::path compare;                // .exr to measure the image against
   std::uint64_t watchdog = device::FunctionalOptions{}.watchdog;
   // device backend outputs
   std::vector<std::filesystem::path> stats;      // .json / .csv
@@ -161,9 +162,58 @@ isa::Firmware load_firmware(const std::vector<std::filesystem::path>& files) {
   return cc::compile_cached(files, {});
 }
 
+// The --compare image: linear (.exr), the render's size, every value finite.
+Image read_compare_image(const RenderOptions& o) {
+  const std::string name = o.compare.string();
+  if (o.compare.extension() != ".exr") {
+    throw Error(fmt::format("--compare {}: give a linear .exr (a .png holds 8-bit sRGB, too coarse to measure "
+                            "against)",
+                            name));
+  }
+  Image reference = read_image(o.compare);
+  if (reference.width != o.settings.width || reference.height != o.settings.height) {
+    throw Error(fmt::format("--compare {}: the image is {}x{} pixels, the render {}x{}", name, reference.width,
+                            reference.height, o.settings.width, o.settings.height));
+  }
+  for (int y = 0; y < reference.height; ++y) {
+    for (int x = 0; x < reference.width; ++x) {
+      const glm::vec3& p = reference.at(x, y);
+      if (!std::isfinite(p.r) || !std::isfinite(p.g) || !std::isfinite(p.b)) {
+        throw Error(fmt::format("--compare {}: pixel ({}, {}) is not finite", name, x, y));
+      }
+    }
+  }
+  return reference;
+}
+
+// The image against the --compare image: PSNR as psnr_srgb measures it, and the largest
+// difference of one channel of one pixel in linear values.
+struct Comparison {
+  double psnr_db = 0.0;
+  double max_error = 0.0;
+};
+
+Comparison compare_images(const Image& reference, const Image& image) {
+  Comparison c;
+  c.psnr_db = psnr_srgb(reference, image);
+  for (std::size_t i = 0; i < image.pixels.size(); ++i) {
+    for (int k = 0; k < 3; ++k) {
+      const double d = std::abs(static_cast<double>(image.pixels[i][k]) - reference.pixels[i][k]);
+      if (std::isnan(d)) {  // a NaN in the image: the error is NaN
+        c.max_error = d;
+        return c;
+      }
+      c.max_error = std::max(c.max_error, d);
+    }
+  }
+  return c;
+}
+
 // Firmware on a device: the functional golden model, or the cycle model (which also
-// writes its heatmap and timeline). Both write their statistics.
-Image render_device(const Scene& world, const RenderOptions& o, std::string& summary) {
+// writes its heatmap and timeline). Both write their statistics, with the comparison
+// against `reference` if there is one.
+Image render_device(const Scene& world, const RenderOptions& o, const std::optional<Image>& reference,
+                    std::optional<Comparison>& comparison, std::string& summary) {
   const KdBuildConfig build = o.chip.build_config();
   const Scene scene = functional::chip_space_scene(world, build.format);
   const functional::SceneImage si = functional::make_scene_image(scene, build, o.chip.isect_mode());
@@ -232,6 +282,13 @@ Image render_device(const Scene& world, const RenderOptions& o, std::string& sum
       }
     }
   }
+  if (reference) {
+    comparison = compare_images(*reference, image);
+    st.report.group("compare")
+        .set("image", o.compare.string())
+        .set("psnr_db", comparison->psnr_db)
+        .set("max_error", comparison->max_error);
+  }
   if (!o.stats.empty()) record_run(st.report, o, world.source, st.host_threads);
   for (const std::filesystem::path& f : o.stats) write_stats(st.report, f);
   return image;
@@ -248,6 +305,7 @@ void check_render_outputs(const RenderOptions& o) {
   std::vector<PlannedInput> inputs;
   if (std::filesystem::is_regular_file(o.scene)) inputs.push_back({"the scene", o.scene});
   for (const auto& f : o.firmware) inputs.push_back({"the firmware", f});
+  if (!o.compare.empty()) inputs.push_back({"the --compare image", o.compare});
   check_outputs(outputs, inputs);
 }
 
@@ -295,17 +353,27 @@ int run_render(const RenderOptions& options, const CLI::App& command) {
   for (const std::string& warning : scene.warnings) fmt::print(stderr, "rpu: warning: {}\n", warning);
   if (options.backend == "reference") check_reference_options(command, scene);
 
+  std::optional<Image> reference;
+  if (!options.compare.empty()) reference = read_compare_image(options);
+
   const auto start = std::chrono::steady_clock::now();
   RayCounts counts;
   std::string device_summary;
-  const Image image = options.backend == "reference" ? render_reference(scene, options.settings, counts)
-                                                     : render_device(scene, options, device_summary);
+  std::optional<Comparison> comparison;
+  const Image image = options.backend == "reference"
+                          ? render_reference(scene, options.settings, counts)
+                          : render_device(scene, options, reference, comparison, device_summary);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   warn_if_constant(image, options.backend, options.chip.number_format().name());
   std::vector<std::string> written;
   for (const std::filesystem::path& out : options.outputs) {
     write_image(image, out);
     written.push_back(out.string());
+  }
+  if (reference) {
+    if (!comparison) comparison = compare_images(*reference, image);
+    fmt::print(stderr, "rpu: against {}: PSNR {:.2f} dB, max error {:.6g}\n", options.compare.string(),
+               comparison->psnr_db, comparison->max_error);
   }
   const RenderSettings& s = options.settings;
   if (!device_summary.empty()) {
@@ -369,6 +437,10 @@ Command add_render_command(CLI::App& app) {
           },
           "INSTRUCTIONS>=1"))
       ->capture_default_str();
+  render_cmd->add_option("--compare", render->compare,
+                         "Measure the image against this linear .exr of the same size (e.g. the reference "
+                         "backend's): PSNR (sRGB, peak 1) and the largest linear difference, printed and in --stats "
+                         "as compare.psnr_db and compare.max_error");
   render_cmd->add_option("--stats", render->stats,
                          "device backends: statistics and the facts of the run, .json and/or .csv "
                          "(one wide row under a header of metric names)");
