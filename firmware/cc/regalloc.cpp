@@ -69,18 +69,40 @@ void defs_of(const MInst& i, std::vector<int>& out) {
   for (int d : i.defs) out.push_back(d);
 }
 
-std::unordered_map<std::string, std::size_t> label_positions(const MFunction& f) {
-  std::unordered_map<std::string, std::size_t> labels;
-  for (std::size_t i = 0; i < f.code.size(); ++i) {
-    if (f.code[i].kind == Kind::kLabel) labels[f.code[i].target] = i;
-  }
-  return labels;
+bool falls_through(const MInst& m) {
+  return m.kind != Kind::kBranch && m.kind != Kind::kRet && m.kind != Kind::kHalt;
 }
 
-std::size_t target_of(const MFunction& f, const std::unordered_map<std::string, std::size_t>& labels, const MInst& m) {
-  const auto it = labels.find(m.target);
-  if (it == labels.end()) throw Error(fmt::format("{}: internal error: no label {}", f.name, m.target));
-  return it->second;
+// The control flow between instructions: where a branch goes, and each instruction's
+// successors and predecessors.
+struct Cfg {
+  static constexpr std::size_t kNone = ~std::size_t{0};
+  std::vector<std::size_t> target;  // a branch's label, else kNone
+  std::vector<std::vector<std::size_t>> succ, preds;
+};
+
+Cfg cfg_of(const MFunction& f) {
+  const std::size_t n = f.code.size();
+  std::unordered_map<std::string, std::size_t> labels;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (f.code[i].kind == Kind::kLabel) labels[f.code[i].target] = i;
+  }
+  Cfg c;
+  c.target.assign(n, Cfg::kNone);
+  c.succ.resize(n);
+  c.preds.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const MInst& m = f.code[i];
+    if (m.kind == Kind::kBranch || m.kind == Kind::kCondBranch) {
+      const auto it = labels.find(m.target);
+      if (it == labels.end()) throw Error(fmt::format("{}: internal error: no label {}", f.name, m.target));
+      c.target[i] = it->second;
+      c.succ[i].push_back(it->second);
+    }
+    if (falls_through(m) && i + 1 < n) c.succ[i].push_back(i + 1);
+    for (const std::size_t s : c.succ[i]) c.preds[s].push_back(i);
+  }
+  return c;
 }
 
 struct Liveness {
@@ -91,22 +113,7 @@ struct Liveness {
 // Liveness by data flow, backwards to a fixed point.
 Liveness liveness(const MFunction& f) {
   const std::size_t n = f.code.size(), nv = f.vregs.size();
-  const auto labels = label_positions(f);
-  std::vector<std::vector<std::size_t>> succ(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    const MInst& m = f.code[i];
-    switch (m.kind) {
-      case Kind::kRet:
-      case Kind::kHalt: break;
-      case Kind::kBranch: succ[i].push_back(target_of(f, labels, m)); break;
-      case Kind::kCondBranch:
-        succ[i].push_back(target_of(f, labels, m));
-        if (i + 1 < n) succ[i].push_back(i + 1);
-        break;
-      default:
-        if (i + 1 < n) succ[i].push_back(i + 1);
-    }
-  }
+  const std::vector<std::vector<std::size_t>> succ = cfg_of(f).succ;
   Liveness l;
   l.live_in.assign(n, Bits(nv));
   l.live_out.assign(n, Bits(nv));
@@ -275,13 +282,12 @@ int place(const MFunction& f, const std::vector<std::vector<std::pair<int, int>>
 // nest in them or lie outside them.
 class Spans {
  public:
-  explicit Spans(const MFunction& f) : f_(f), partner_(f.code.size(), 0), preds_(f.code.size()) {
-    const auto labels = label_positions(f);
+  explicit Spans(const MFunction& f)
+      : f_(f), target_(cfg_of(f).target), partner_(f.code.size(), 0), branches_to_(f.code.size()) {
     std::vector<std::size_t> open;
     for (std::size_t i = 0; i < f.code.size(); ++i) {
       const MInst& m = f.code[i];
-      if (m.kind == Kind::kBranch || m.kind == Kind::kCondBranch) preds_[target_of(f, labels, m)].push_back(i);
-      if (m.kind == Kind::kBranch || m.kind == Kind::kCondBranch) branch_target_.emplace(i, target_of(f, labels, m));
+      if (target_[i] != Cfg::kNone) branches_to_[target_[i]].push_back(i);
       if (m.kind == Kind::kSpill) open.push_back(i);
       if (m.kind == Kind::kReload) {
         partner_[i] = open.back();
@@ -306,9 +312,9 @@ class Spans {
           case Kind::kHalt:
           case Kind::kEntry: return std::nullopt;
           case Kind::kBranch:
-          case Kind::kCondBranch: reach(branch_target_.at(k), changed); break;
+          case Kind::kCondBranch: reach(target_[k], changed); break;
           case Kind::kLabel:
-            for (const std::size_t s : preds_[k]) reach(s, changed);
+            for (const std::size_t s : branches_to_[k]) reach(s, changed);
             break;
           case Kind::kSpill:
           case Kind::kReload: reach(partner_[k], changed); break;
@@ -316,19 +322,15 @@ class Spans {
         }
       }
     }
-    const auto falls_through = [&](std::size_t k) {
-      const Kind kind = f_.code[k].kind;
-      return kind != Kind::kBranch && kind != Kind::kRet && kind != Kind::kHalt;
-    };
-    if (a == 0 || !falls_through(a - 1) || !falls_through(b)) return std::nullopt;
+    if (a == 0 || !falls_through(f_.code[a - 1]) || !falls_through(f_.code[b])) return std::nullopt;
     return std::make_pair(a, b);
   }
 
  private:
   const MFunction& f_;
-  std::vector<std::size_t> partner_;            // kSpill <-> kReload
-  std::vector<std::vector<std::size_t>> preds_;  // per label: the branches to it
-  std::unordered_map<std::size_t, std::size_t> branch_target_;
+  std::vector<std::size_t> target_;                   // Cfg::target
+  std::vector<std::size_t> partner_;                  // kSpill <-> kReload
+  std::vector<std::vector<std::size_t>> branches_to_;  // per label: the branches to it
 };
 
 // Gives each web of `u` (its definitions joined by the uses they reach together) a vreg of
@@ -336,14 +338,7 @@ class Spans {
 // was pushed from.
 void split_webs(MFunction& f, int u) {
   const std::size_t n = f.code.size();
-  const auto labels = label_positions(f);
-  std::vector<std::vector<std::size_t>> preds(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    const MInst& m = f.code[i];
-    if (m.kind == Kind::kBranch || m.kind == Kind::kCondBranch) preds[target_of(f, labels, m)].push_back(i);
-    const bool falls = m.kind != Kind::kBranch && m.kind != Kind::kRet && m.kind != Kind::kHalt;
-    if (falls && i + 1 < n) preds[i + 1].push_back(i);
-  }
+  const std::vector<std::vector<std::size_t>> preds = cfg_of(f).preds;
   std::vector<int> uses, defs;
   const auto reads = [&](std::size_t i) {
     uses_of(f.code[i], f, uses);
@@ -370,7 +365,8 @@ void split_webs(MFunction& f, int u) {
       }
     }
   }
-  // Union the definitions that reach one use.
+  // Union the definitions that reach one use, and a partial write with the definitions
+  // it keeps the other lanes of.
   std::vector<std::size_t> parent(n);
   for (std::size_t i = 0; i < n; ++i) parent[i] = i;
   const auto find = [&](std::size_t x) {
@@ -380,6 +376,8 @@ void split_webs(MFunction& f, int u) {
   for (std::size_t i = 0; i < n; ++i) {
     if (!reads(i)) continue;
     for (const std::size_t d : in[i]) parent[find(d)] = find(in[i].front());
+    const MInst& m = f.code[i];
+    if (m.dst == u && partial(m, f) && !m.fresh && !in[i].empty()) parent[find(i)] = find(in[i].front());
   }
   // The web of the first definition keeps u; the others get new vregs.
   std::unordered_map<std::size_t, int> web_vreg;
@@ -577,7 +575,7 @@ bool spill_for(MFunction& f, const Liveness& l, const std::vector<std::vector<st
 // the same on every edge into an instruction and 0 where the function leaves.
 void check_spills(const MFunction& f) {
   const std::size_t n = f.code.size();
-  const auto labels = label_positions(f);
+  const Cfg cfg = cfg_of(f);
   std::vector<int> depth(n, -1);
   std::vector<std::size_t> work{0};
   depth[0] = 0;
@@ -598,8 +596,7 @@ void check_spills(const MFunction& f) {
     if (d < 0 || ((m.kind == Kind::kRet || m.kind == Kind::kHalt) && d != 0)) {
       throw Error(fmt::format("{}: internal error: spills unbalanced at instruction {}", f.name, i));
     }
-    if (m.kind == Kind::kBranch || m.kind == Kind::kCondBranch) reach(target_of(f, labels, m), d, i);
-    if (m.kind != Kind::kBranch && m.kind != Kind::kRet && m.kind != Kind::kHalt && i + 1 < n) reach(i + 1, d, i);
+    for (const std::size_t s : cfg.succ[i]) reach(s, d, i);
   }
 }
 

@@ -68,19 +68,34 @@ Scene shadow_scene(double light_size, bool occluder) {
   return s;
 }
 
-Image render(const Scene& scene, int spp, std::uint32_t seed = 1) {
+RenderSettings settings_of(int width, int height, int spp) {
+  RenderSettings settings;
+  settings.width = width;
+  settings.height = height;
+  settings.spp = spp;
+  settings.max_depth = 2;
+  return settings;
+}
+
+Image render_with(const Scene& scene, const isa::Firmware& fw, const RenderSettings& settings) {
   const spec::HardwareConfig& config = hardware_config("default");
   KdBuildConfig build = kd_build_config_for(std::string(config.name));
   build.format = fp::kFp32;
   const functional::SceneImage si = functional::make_scene_image(scene, build, IsectMode::kWoop);
   const auto dev = device::make_functional_device(config, fp::kFp32);
-  RenderSettings settings;
-  settings.width = 64;
-  settings.height = 48;
-  settings.spp = spp;
+  return device::render_frame(*dev, scene, si.image, fw, settings);
+}
+
+Image render_with(const Scene& scene, const isa::Firmware& fw, int width, int height) {
+  return render_with(scene, fw, settings_of(width, height, 1));
+}
+
+// The library's Whitted at 64x48, one bounce.
+Image render(const Scene& scene, int spp, std::uint32_t seed = 1) {
+  RenderSettings settings = settings_of(64, 48, spp);
   settings.max_depth = 1;
   settings.seed = seed;
-  return device::render_frame(*dev, scene, si.image, firmware(), settings);
+  return render_with(scene, firmware(), settings);
 }
 
 // Pixels of the floor in partial shadow: lit by more than 5% and less than 95% of the
@@ -138,26 +153,6 @@ isa::Firmware library(std::initializer_list<const char*> hit_shaders, const char
   return cc::compile_files(files, {}).firmware;
 }
 
-RenderSettings settings_of(int width, int height, int spp) {
-  RenderSettings settings;
-  settings.width = width;
-  settings.height = height;
-  settings.spp = spp;
-  settings.max_depth = 2;
-  return settings;
-}
-
-Image render_with(const Scene& scene, const isa::Firmware& fw, const RenderSettings& settings) {
-  const spec::HardwareConfig& config = hardware_config("default");
-  KdBuildConfig build = kd_build_config_for(std::string(config.name));
-  const functional::SceneImage si = functional::make_scene_image(scene, build, IsectMode::kWoop);
-  const auto dev = device::make_functional_device(config, fp::kFp32);
-  return device::render_frame(*dev, scene, si.image, fw, settings);
-}
-
-Image render_with(const Scene& scene, const isa::Firmware& fw, int width, int height) {
-  return render_with(scene, fw, settings_of(width, height, 1));
-}
 
 Scene with_floor_shader(const std::string& shader) {
   Scene s = shadow_scene(0.0, true);
