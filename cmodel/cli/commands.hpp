@@ -32,5 +32,8 @@ Command add_disasm_command(CLI::App& app);
 Command add_cc_command(CLI::App& app);
 Command add_config_command(CLI::App& app);
 Command add_accel_command(CLI::App& app);
+Command add_sweep_command(CLI::App& app);
+Command add_sweep_point_command(CLI::App& app);
+Command add_report_command(CLI::App& app);
 
 }  // namespace rpu::cli

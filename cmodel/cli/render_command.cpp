@@ -127,11 +127,12 @@ void record_run(StatsTree& report, const RenderOptions& o, const std::string& sc
   const RenderSettings& s = o.settings;
   run.set("command_line", invocation().command_line).set("backend", o.backend).set("scene", scene);
   run.set("width", s.width).set("height", s.height).set("spp", s.spp).set("max_depth", s.max_depth).set("seed", s.seed);
-  run.set("format", o.chip.number_format().name()).set("isect", o.chip.isect);
   run.set("version", std::string(kVersion)).set("commit", std::string(kCommit));
   run.set("host_seconds",
           std::chrono::duration<double>(std::chrono::steady_clock::now() - invocation().start).count());
   run.set("host_threads", host_threads);
+  if (o.backend == "reference") return;  // no configuration: double precision, no chip
+  run.set("format", o.chip.number_format().name()).set("isect", o.chip.isect);
   const spec::HardwareConfig& c = o.chip.hardware_config();
   StatsTree& cfg = report.group("config");
   cfg.set("name", c.name).set("doc", c.doc);
@@ -342,9 +343,6 @@ int run_render(const RenderOptions& options, const CLI::App& command) {
   if ((!options.waves.empty() || options.lockstep) && options.backend != "rtl") {
     throw Error("--waves and --lockstep need --backend rtl");
   }
-  if (!options.stats.empty() && options.backend == "reference") {
-    throw Error("--stats needs a device backend (functional, cycle or rtl): the reference renderer keeps no statistics");
-  }
   if (options.trace_window[0] >= options.trace_window[1]) {
     throw Error(fmt::format("--trace-window {} {}: the window is empty", options.trace_window[0], options.trace_window[1]));
   }
@@ -374,6 +372,24 @@ int run_render(const RenderOptions& options, const CLI::App& command) {
     if (!comparison) comparison = compare_images(*reference, image);
     fmt::print(stderr, "rpu: against {}: PSNR {:.2f} dB, max error {:.6g}\n", options.compare.string(),
                comparison->psnr_db, comparison->max_error);
+  }
+  if (options.backend == "reference" && !options.stats.empty()) {
+    // The reference keeps only its rays by type and the facts of the run.
+    StatsTree report;
+    report.group("rays")
+        .set("total", counts.total())
+        .set("primary", counts.primary)
+        .set("shadow", counts.shadow)
+        .set("reflection", counts.reflection)
+        .set("refraction", counts.refraction);
+    if (comparison) {
+      report.group("compare")
+          .set("image", options.compare.string())
+          .set("psnr_db", comparison->psnr_db)
+          .set("max_error", comparison->max_error);
+    }
+    record_run(report, options, scene.source, options.settings.threads);
+    for (const std::filesystem::path& f : options.stats) write_stats(report, f);
   }
   const RenderSettings& s = options.settings;
   if (!device_summary.empty()) {
@@ -442,8 +458,8 @@ Command add_render_command(CLI::App& app) {
                          "backend's): PSNR (sRGB, peak 1) and the largest linear difference, printed and in --stats "
                          "as compare.psnr_db and compare.max_error");
   render_cmd->add_option("--stats", render->stats,
-                         "device backends: statistics and the facts of the run, .json and/or .csv "
-                         "(one wide row under a header of metric names)");
+                         "statistics and the facts of the run, .json and/or .csv (one wide row under a header of "
+                         "metric names); the reference backend records its rays by type");
   render_cmd->add_option("--heatmap", render->heatmap,
                          "cycle backend: per-pixel cycle cost, .png (false colour) and/or .exr (cycles, linear)");
   render_cmd->add_option("--trace", render->trace,

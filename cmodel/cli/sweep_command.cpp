@@ -1,0 +1,472 @@
+// rpu sweep: a sweep file expanded into points, each one `rpu render` run measured
+// against its reference, run here with a job limit or handed to GNU parallel or Slurm;
+// rpu sweep-point: one point, the line every job list holds (docs/sweeps.md).
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <cmath>
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+#include <nlohmann/json.hpp>
+
+#include "cli/chip_options.hpp"
+#include "cli/commands.hpp"
+#include "cli/process.hpp"
+#include "common/error.hpp"
+#include "common/output_file.hpp"
+#include "config/config.hpp"
+#include "fp/format.hpp"
+#include "image/image.hpp"
+#include "scene/resolve.hpp"
+#include "sweep/area.hpp"
+#include "sweep/ray_checks.hpp"
+#include "sweep/sweep_spec.hpp"
+
+namespace rpu::cli {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+// The columns of a point's CSV row and of sweep.csv, in order (docs/sweeps.md).
+constexpr const char* kColumns[] = {
+    "id",          "scene",          "triangles",     "fidelity",  "config",    "set",         "format",
+    "isect",       "firmware",       "width",         "height",    "spp",       "psnr_db",     "max_error",
+    "primary_rays", "hit_mismatches", "closed_meshes", "leak_rays", "leaks",     "cycles",      "fps",
+    "rays",        "rays_per_second", "host_seconds", "datapath_cells", "chip_cells"};
+
+// A POSIX shell word (the job lists are shell lines).
+std::string quoted(const std::string& word) {
+  if (!word.empty() && word.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789@%+=:,./-_") ==
+                           std::string::npos) {
+    return word;
+  }
+  std::string out = "'";
+  for (const char c : word) out += c == '\'' ? std::string("'\"'\"'") : std::string(1, c);
+  return out + "'";
+}
+
+json point_json(const sweep::Point& p) {
+  return {{"id", p.id},         {"scene", p.scene},       {"fidelity", p.fidelity}, {"config", p.config},
+          {"set", p.sets},      {"format", p.format},     {"isect", p.isect},       {"firmware", p.firmware},
+          {"width", p.width},   {"height", p.height},     {"spp", p.spp},           {"max_depth", p.max_depth},
+          {"seed", p.seed},     {"reference", p.reference}};
+}
+
+sweep::Point point_from_json(const json& j) {
+  sweep::Point p;
+  p.id = j.at("id");
+  p.scene = j.at("scene");
+  p.fidelity = j.at("fidelity");
+  p.config = j.at("config");
+  p.sets = j.at("set").get<std::vector<std::string>>();
+  p.format = j.at("format");
+  p.isect = j.at("isect");
+  p.firmware = j.at("firmware").get<std::vector<std::string>>();
+  p.width = j.at("width");
+  p.height = j.at("height");
+  p.spp = j.at("spp");
+  p.max_depth = j.at("max_depth");
+  p.seed = j.at("seed");
+  p.reference = j.at("reference");
+  return p;
+}
+
+void write_text(const fs::path& file, const std::string& text) {
+  OutputFile out(file);
+  out.stream() << text;
+  out.commit();
+}
+
+json read_json(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw Error(fmt::format("{}: cannot read the file", file.string()));
+  try {
+    return json::parse(in);
+  } catch (const json::exception& e) {
+    throw Error(fmt::format("{}: not JSON: {}", file.string(), e.what()));
+  }
+}
+
+// The sweep directory's files.
+struct Layout {
+  fs::path dir;
+  fs::path plan() const { return dir / "plan.json"; }
+  fs::path record(const std::string& id) const { return dir / "points" / (id + ".json"); }
+  fs::path row(const std::string& id) const { return dir / "points" / (id + ".csv"); }
+  fs::path image(const std::string& id, std::string_view ext) const {
+    return dir / "images" / fmt::format("{}{}", id, ext);
+  }
+  fs::path log(const std::string& id) const { return dir / "logs" / (id + ".log"); }
+};
+
+// A point is done when its record exists and is its own: records are written whole
+// (OutputFile), so a killed run leaves either none or a complete one.
+bool done(const Layout& layout, const std::string& id) {
+  std::error_code ec;
+  if (!fs::is_regular_file(layout.record(id), ec)) return false;
+  try {
+    return read_json(layout.record(id)).value("id", "") == id;
+  } catch (const Error&) {
+    return false;
+  }
+}
+
+std::string tail(const fs::path& file, std::size_t lines) {
+  std::ifstream in(file);
+  std::vector<std::string> all;
+  for (std::string line; std::getline(in, line);) all.push_back(line);
+  const std::size_t from = all.size() > lines ? all.size() - lines : 0;
+  std::string out;
+  for (std::size_t i = from; i < all.size(); ++i) out += "  " + all[i] + "\n";
+  return out;
+}
+
+// The PNG beside each EXR, and where the point differs from its reference: the largest
+// linear difference of a pixel's channels in false colour, full scale at 1/8.
+void write_pictures(const Layout& layout, const sweep::Point& p) {
+  const Image image = read_image(layout.image(p.id, ".exr"));
+  write_image(image, layout.image(p.id, ".png"));
+  if (p.reference.empty()) return;
+  const Image reference = read_image(layout.image(p.reference, ".exr"));
+  Image diff(image.width, image.height);
+  for (std::size_t i = 0; i < diff.pixels.size(); ++i) {
+    const glm::vec3 d = glm::abs(image.pixels[i] - reference.pixels[i]);
+    const double e = std::max({d.r, d.g, d.b});
+    diff.pixels[i] = std::isfinite(e) ? false_colour(std::min(1.0, e * 8.0)) : glm::vec3(1.0f, 0.0f, 1.0f);
+  }
+  write_image(diff, layout.image(p.id, ".diff.png"));
+}
+
+json value_at(const json& tree, std::string_view dotted) {
+  const json* node = &tree;
+  for (std::size_t start = 0; start <= dotted.size();) {
+    const std::size_t dot = std::min(dotted.find('.', start), dotted.size());
+    const std::string key(dotted.substr(start, dot - start));
+    if (!node->is_object() || !node->contains(key)) return nullptr;
+    node = &(*node)[key];
+    start = dot + 1;
+  }
+  return *node;
+}
+
+std::string csv_cell(const json& v) {
+  if (v.is_null()) return "";
+  if (v.is_string()) {
+    const std::string s = v.get<std::string>();
+    if (s.find_first_of(",\"\n") == std::string::npos) return s;
+    std::string out = "\"";
+    for (const char c : s) out += c == '"' ? std::string("\"\"") : std::string(1, c);
+    return out + "\"";
+  }
+  if (v.is_number_float()) return fmt::format("{}", v.get<double>());
+  return v.dump();
+}
+
+std::string csv_header() { return fmt::format("{}\n", fmt::join(kColumns, ",")); }
+
+std::string csv_line(const json& row) {
+  std::vector<std::string> cells;
+  for (const char* c : kColumns) cells.push_back(csv_cell(row.value(c, json(nullptr))));
+  return fmt::format("{}\n", fmt::join(cells, ","));
+}
+
+// --- rpu sweep-point -------------------------------------------------------------------
+
+struct PointOptions {
+  fs::path dir;
+  std::string id;
+};
+
+int run_sweep_point(const PointOptions& o) {
+  const Layout layout{fs::absolute(o.dir)};
+  const json plan = read_json(layout.plan());
+  std::optional<sweep::Point> found;
+  for (const char* list : {"references", "points"}) {
+    for (const json& j : plan.at(list)) {
+      if (j.at("id") == o.id) found = point_from_json(j);
+    }
+  }
+  if (!found) throw Error(fmt::format("{}: no point '{}' in the sweep", layout.plan().string(), o.id));
+  const sweep::Point& p = *found;
+  if (done(layout, p.id)) {
+    fmt::print("{}: done already\n", p.id);
+    return 0;
+  }
+  if (!p.reference.empty() && !done(layout, p.reference)) {
+    throw Error(fmt::format("{}: its reference {} is not rendered yet; run the references first "
+                            "(jobs/references.txt)",
+                            p.id, p.reference));
+  }
+  const fs::path render_stats = layout.dir / "logs" / (p.id + ".stats.json");  // merged into the record
+  std::vector<std::string> args = {self_executable().string(), "render"};
+  for (const std::string& a : p.render_args()) args.push_back(a);
+  args.insert(args.end(), {"--threads", "1", "-o", layout.image(p.id, ".exr").string(), "--stats",
+                           render_stats.string()});
+  if (!p.reference.empty()) args.insert(args.end(), {"--compare", layout.image(p.reference, ".exr").string()});
+  const int status = wait_process(start_process(args, layout.log(p.id)));
+  if (status != 0) {
+    throw Error(fmt::format("{}: `rpu render` exited with status {}; the end of {}:\n{}", p.id, status,
+                            layout.log(p.id).string(), tail(layout.log(p.id), 8)));
+  }
+  const json render = read_json(render_stats);
+  write_pictures(layout, p);
+
+  const Scene scene = resolve_scene(p.scene);
+  json row = {{"id", p.id},
+              {"scene", p.scene},
+              {"triangles", scene.triangles.size()},
+              {"fidelity", p.fidelity},
+              {"config", p.config},
+              {"set", fmt::format("{}", fmt::join(p.sets, " "))},
+              {"format", p.format},
+              {"isect", p.isect},
+              {"firmware", fmt::format("{}", fmt::join(p.firmware, " "))},
+              {"width", p.width},
+              {"height", p.height},
+              {"spp", p.spp},
+              {"psnr_db", value_at(render, "compare.psnr_db")},
+              {"max_error", value_at(render, "compare.max_error")},
+              {"cycles", value_at(render, "cycles")},
+              {"fps", value_at(render, "fps")},
+              {"rays", value_at(render, "rays.total")},
+              {"rays_per_second", value_at(render, "rates.rays_per_second")},
+              {"host_seconds", value_at(render, "run.host_seconds")}};
+  json checks = nullptr, area = nullptr;
+  if (!p.reference.empty()) {
+    ChipOptions chip;
+    chip.config = p.config;
+    chip.sets = p.sets;
+    chip.format = p.format;
+    chip.isect = p.isect;
+    const KdBuildConfig build = chip.build_config();
+    const bool hit_check = plan.at("hit_check");
+    const std::uint32_t leak_rays = plan.at("leak_rays");
+    const sweep::RayChecks c =
+        sweep::check_rays(scene, build, chip.isect_mode(), p.width, p.height, hit_check, leak_rays, p.seed);
+    checks = {{"primary_rays", c.primary_rays},
+              {"hit_mismatches", c.hit_mismatches},
+              {"closed_meshes", c.closed_meshes},
+              {"leak_rays", c.leak_rays},
+              {"leaks", c.leaks}};
+    for (const auto& [key, value] : checks.items()) row[key] = value;
+    if (!hit_check) row["primary_rays"] = row["hit_mismatches"] = nullptr;
+    if (c.closed_meshes == 0) row["leak_rays"] = row["leaks"] = nullptr;
+    const std::optional<std::uint64_t> datapath = sweep::datapath_cells(build.format, chip.isect_mode());
+    const std::optional<std::uint64_t> whole = sweep::chip_cells(p.config, chip.isect_mode());
+    row["datapath_cells"] = datapath ? json(*datapath) : json(nullptr);
+    // The chip's cells hold for the configuration as named, in its own format, unchanged.
+    const bool as_named = p.sets.empty() && fp::format_by_name(config::resolve(p.config).format) == build.format;
+    row["chip_cells"] = whole && as_named ? json(*whole) : json(nullptr);
+    area = {{"datapath_cells", row["datapath_cells"]}, {"chip_cells", row["chip_cells"]}};
+  }
+  const json record = {{"id", p.id},
+                       {"sweep", plan.at("sweep")},
+                       {"point", point_json(p)},
+                       {"row", row},
+                       {"checks", checks},
+                       {"area", area},
+                       {"images",
+                        {{"exr", fmt::format("images/{}.exr", p.id)},
+                         {"png", fmt::format("images/{}.png", p.id)},
+                         {"diff", p.reference.empty() ? json(nullptr) : json(fmt::format("images/{}.diff.png", p.id))}}},
+                       {"render", render}};
+  write_text(layout.row(p.id), csv_header() + csv_line(row));
+  write_text(layout.record(p.id), record.dump(1) + "\n");  // last: the record marks the point done
+  fs::remove(render_stats);
+  const json psnr = row["psnr_db"];
+  fmt::print("{}: {}{}\n", p.id,
+             p.reference.empty() ? "reference"
+             : psnr.is_null()    ? "identical to the reference"
+                                 : fmt::format("{:.2f} dB", psnr.get<double>()),
+             row.value("leaks", json(nullptr)).is_null() ? "" : fmt::format(", {} leaks", row["leaks"].dump()));
+  return 0;
+}
+
+// --- rpu sweep -------------------------------------------------------------------------
+
+struct SweepOptions {
+  fs::path spec;
+  fs::path dir;
+  int jobs = 1;
+  bool plan_only = false;
+};
+
+std::string job_line(const fs::path& exe, const Layout& layout, const std::string& id) {
+  return fmt::format("{} sweep-point {} {}\n", quoted(exe.string()), quoted(layout.dir.string()), quoted(id));
+}
+
+// The GNU parallel and Slurm files of the job lists.
+void write_cluster_files(const Layout& layout, const sweep::Spec& spec, std::size_t references, std::size_t points) {
+  write_text(layout.dir / "run-parallel.sh",
+             "#!/bin/sh\n"
+             "# The sweep through GNU parallel: the references, then the points; JOBS at a time\n"
+             "# (default: one per core). Finished points are skipped, so a rerun resumes.\n"
+             "set -e\n"
+             "cd \"$(dirname \"$0\")\"\n"
+             "parallel --jobs \"${JOBS:-100%}\" < jobs/references.txt\n"
+             "parallel --jobs \"${JOBS:-100%}\" < jobs/points.txt\n");
+  fs::permissions(layout.dir / "run-parallel.sh", fs::perms::owner_exec | fs::perms::group_exec | fs::perms::others_exec,
+                  fs::perm_options::add);
+  // Slurm's default MaxArraySize is 1001: an array of at most 1000 tasks, each taking
+  // every 1000th line.
+  for (const auto& [phase, lines] : {std::pair<std::string, std::size_t>{"references", references}, {"points", points}}) {
+    if (lines == 0) continue;
+    const std::size_t tasks = std::min<std::size_t>(lines, 1000);
+    write_text(layout.dir / "slurm" / (phase + ".sbatch"),
+               fmt::format("#!/bin/bash\n"
+                           "#SBATCH --job-name=rpu-{name}-{phase}\n"
+                           "#SBATCH --array=0-{last}\n"
+                           "#SBATCH --cpus-per-task=1\n"
+                           "#SBATCH --output={dir}/slurm/logs/{phase}-%A_%a.out\n"
+                           "# Task i runs lines i+1, i+1+{tasks}, ... of jobs/{phase}.txt.\n"
+                           "status=0\n"
+                           "for ((i = SLURM_ARRAY_TASK_ID; i < {lines}; i += {tasks})); do\n"
+                           "  sed -n \"$((i + 1))p\" {dir}/jobs/{phase}.txt | bash || status=1\n"
+                           "done\n"
+                           "exit $status\n",
+                           fmt::arg("name", spec.name), fmt::arg("phase", phase), fmt::arg("last", tasks - 1),
+                           fmt::arg("dir", quoted(layout.dir.string())), fmt::arg("tasks", tasks),
+                           fmt::arg("lines", lines)));
+  }
+  write_text(layout.dir / "slurm" / "submit.sh",
+             "#!/bin/sh\n"
+             "# Submits the references, then the points once every reference is done. Arguments go\n"
+             "# to both sbatch calls (--partition=..., --wait).\n"
+             "set -e\n"
+             "cd \"$(dirname \"$0\")\"\n"
+             "ref=$(sbatch --parsable \"$@\" references.sbatch)\n"
+             + std::string(points == 0 ? "" : "sbatch --parsable --dependency=afterok:\"${ref%%;*}\" \"$@\" points.sbatch\n"));
+  fs::permissions(layout.dir / "slurm" / "submit.sh", fs::perms::owner_exec | fs::perms::group_exec | fs::perms::others_exec,
+                  fs::perm_options::add);
+}
+
+// Runs the phase's points not done yet, `jobs` at a time; returns the ids that failed.
+std::vector<std::string> run_phase(const Layout& layout, const std::vector<sweep::Point>& phase, int jobs,
+                                   std::size_t& finished, std::size_t total) {
+  const fs::path exe = self_executable();
+  std::map<pid_t, std::pair<std::string, std::chrono::steady_clock::time_point>> running;
+  std::vector<std::string> failed;
+  auto reap = [&] {
+    int status = 0;
+    pid_t pid;
+    while ((pid = waitpid(-1, &status, 0)) < 0 && errno == EINTR) {
+    }
+    if (pid < 0) throw Error(fmt::format("waiting for a point: {}", std::strerror(errno)));
+    const auto [id, start] = running.at(pid);
+    running.erase(pid);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    ++finished;
+    const fs::path log = layout.dir / "logs" / (id + ".point.log");
+    if (WIFEXITED(status) && WEXITSTATUS(status) == 0) {
+      std::ifstream in(log);
+      std::string line;
+      std::getline(in, line);
+      fmt::print(stderr, "[{}/{}] {} ({:.1f} s)\n", finished, total, line, seconds);
+    } else {
+      failed.push_back(id);
+      fmt::print(stderr, "[{}/{}] {}: FAILED; {}:\n{}", finished, total, id, log.string(), tail(log, 12));
+    }
+  };
+  for (const sweep::Point& p : phase) {
+    if (done(layout, p.id)) continue;
+    while (static_cast<int>(running.size()) >= jobs) reap();
+    const pid_t pid =
+        start_process({exe.string(), "sweep-point", layout.dir.string(), p.id}, layout.dir / "logs" / (p.id + ".point.log"));
+    running.emplace(pid, std::make_pair(p.id, std::chrono::steady_clock::now()));
+  }
+  while (!running.empty()) reap();
+  return failed;
+}
+
+int run_sweep(const SweepOptions& o) {
+  const sweep::Spec spec = sweep::read_spec(o.spec);
+  const Layout layout{fs::absolute(o.dir)};
+  for (const char* sub : {"points", "images", "logs", "jobs", "slurm", "slurm/logs"}) {
+    std::error_code ec;
+    fs::create_directories(layout.dir / sub, ec);
+    if (ec) throw Error(fmt::format("-o {}: cannot create {}: {}", o.dir.string(), (layout.dir / sub).string(), ec.message()));
+  }
+  json plan = {{"sweep", spec.name},         {"spec", fs::absolute(o.spec).string()},
+               {"leak_rays", spec.leak_rays}, {"hit_check", spec.hit_check},
+               {"references", json::array()}, {"points", json::array()}};
+  const fs::path exe = self_executable();
+  std::string reference_jobs, point_jobs;
+  for (const sweep::Point& p : spec.references) {
+    plan["references"].push_back(point_json(p));
+    reference_jobs += job_line(exe, layout, p.id);
+  }
+  for (const sweep::Point& p : spec.points) {
+    plan["points"].push_back(point_json(p));
+    point_jobs += job_line(exe, layout, p.id);
+  }
+  write_text(layout.plan(), plan.dump(1) + "\n");
+  write_text(layout.dir / "jobs" / "references.txt", reference_jobs);
+  write_text(layout.dir / "jobs" / "points.txt", point_jobs);
+  write_cluster_files(layout, spec, spec.references.size(), spec.points.size());
+
+  const std::size_t total = spec.references.size() + spec.points.size();
+  std::size_t already = 0;
+  for (const auto* list : {&spec.references, &spec.points}) {
+    for (const sweep::Point& p : *list) already += done(layout, p.id) ? 1 : 0;
+  }
+  fmt::print(stderr, "rpu: sweep {}: {} points ({} references), {} done already{}\n", spec.name, total,
+             spec.references.size(), already,
+             o.plan_only ? fmt::format("; job lists in {} (run-parallel.sh, slurm/submit.sh)", layout.dir.string())
+                         : fmt::format("; running {} with -j {}", total - already, o.jobs));
+  if (o.plan_only) return 0;
+
+  std::size_t finished = already;
+  std::vector<std::string> failed = run_phase(layout, spec.references, o.jobs, finished, total);
+  if (!failed.empty()) {
+    throw Error(fmt::format("{} reference{} failed ({}); the points need them", failed.size(),
+                            failed.size() == 1 ? "" : "s", fmt::join(failed, ", ")));
+  }
+  failed = run_phase(layout, spec.points, o.jobs, finished, total);
+  if (!failed.empty()) {
+    throw Error(fmt::format("{} of {} points failed: {}; their logs are in {}", failed.size(), total,
+                            fmt::join(failed, ", "), (layout.dir / "logs").string()));
+  }
+  // Every point's row, in the plan's order.
+  std::string table = csv_header();
+  for (const auto* list : {&spec.references, &spec.points}) {
+    for (const sweep::Point& p : *list) table += csv_line(read_json(layout.record(p.id)).at("row"));
+  }
+  write_text(layout.dir / "sweep.csv", table);
+  fmt::print(stderr, "rpu: sweep {}: {} points -> {}\n", spec.name, total, (layout.dir / "sweep.csv").string());
+  return 0;
+}
+
+}  // namespace
+
+Command add_sweep_command(CLI::App& app) {
+  auto options = std::make_shared<SweepOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "sweep", "Run a sweep file's grid of renders (docs/sweeps.md): each point measured against the reference");
+  cmd->add_option("spec", options->spec, "The sweep file (TOML)")->required();
+  cmd->add_option("-o,--output", options->dir, "The sweep directory: plan, job lists, points, images, sweep.csv")
+      ->required();
+  cmd->add_option("-j,--jobs", options->jobs, "Points run at once")->check(CLI::Range(1, 1024))->capture_default_str();
+  cmd->add_flag("--plan", options->plan_only,
+                "Write the plan and the job lists (GNU parallel, Slurm) only; run nothing");
+  return {cmd, [options] { return run_sweep(*options); }};
+}
+
+Command add_sweep_point_command(CLI::App& app) {
+  auto options = std::make_shared<PointOptions>();
+  CLI::App* cmd = app.add_subcommand("sweep-point", "Run one point of a planned sweep (the job lists' lines)");
+  cmd->add_option("dir", options->dir, "The sweep directory (rpu sweep -o)")->required();
+  cmd->add_option("id", options->id, "The point's id (plan.json)")->required();
+  return {cmd, [options] { return run_sweep_point(*options); }};
+}
+
+}  // namespace rpu::cli

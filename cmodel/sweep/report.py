@@ -1,0 +1,320 @@
+"""rpu report: a sweep directory (rpu sweep -o DIR) as one page of tables and plots.
+
+Built into the rpu binary and run by `rpu report` with Debian's /usr/bin/python3 and
+python3-matplotlib (docs/sweeps.md, "Reports"):
+
+    report.py DIR html                -> the self-contained HTML page on stdout
+    report.py DIR md PICTURES_DIR REL  -> the Markdown block on stdout, its pictures as PNG
+                                         files in PICTURES_DIR, linked as REL/NAME.png
+
+Reads DIR/plan.json and each point's record DIR/points/ID.json; every number shown is a
+field of a record. Points not run yet are left out and counted.
+"""
+import base64
+import html
+import io
+import json
+import math
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.image as mpimg  # noqa: E402
+import matplotlib.pyplot as plt  # noqa: E402
+from matplotlib.ticker import EngFormatter, NullFormatter  # noqa: E402
+
+FIDELITIES = ["reference", "functional", "cycle", "rtl"]
+# Plots read in print too: one colour per format, one marker per intersection test.
+MARKERS = {"woop": "o", "watertight": "s"}
+
+
+def load(directory):
+    with open(os.path.join(directory, "plan.json")) as f:
+        plan = json.load(f)
+    records, missing = [], 0
+    for point in plan["references"] + plan["points"]:
+        path = os.path.join(directory, "points", point["id"] + ".json")
+        if not os.path.exists(path):
+            missing += 1
+            continue
+        with open(path) as f:
+            records.append(json.load(f))
+    return plan, records, missing
+
+
+def scene_name(scene):
+    return os.path.basename(scene) if os.path.isabs(scene) else scene
+
+
+def number(value, digits=1):
+    if value is None:
+        return "—"
+    if isinstance(value, float):
+        return f"{value:.{digits}f}"
+    return f"{value:,}"
+
+
+def format_order(rows):
+    """Formats from the widest fraction to the narrowest, as the rows name them."""
+    seen = {}
+    for r in rows:
+        if r["format"]:
+            seen[r["format"]] = r
+    return sorted(seen, key=lambda f: (-fraction_bits(f), f))
+
+
+def fraction_bits(name):
+    known = {"fp32": 23, "e8m15": 15, "rpu24": 16, "bf16": 7, "fp16": 10}
+    if name in known:
+        return known[name]
+    if name.upper().startswith("E") and "M" in name.upper():
+        return int(name.upper().split("M")[1])
+    return 0
+
+
+def colours(formats):
+    cmap = plt.get_cmap("viridis")
+    return {f: cmap(i / max(1, len(formats) - 1)) for i, f in enumerate(formats)}
+
+
+def psnr_value(r):
+    """PSNR for plotting: identical images (null) as 160 dB, above every measured value."""
+    return 160.0 if r["psnr_db"] is None else r["psnr_db"]
+
+
+def pareto(points):
+    """The (cycles, psnr) points no other beats on both: fewer cycles and more PSNR."""
+    front, best = [], -math.inf
+    for c, p in sorted(points, key=lambda x: (x[0], -x[1])):
+        if p > best:
+            front.append((c, p))
+            best = p
+    return front
+
+
+def figure_psnr_cycles(rows, scenes, formats, colour):
+    timed = [r for r in rows if r["cycles"] is not None]
+    if not timed:
+        return None
+    fig, axes = plt.subplots(1, len(scenes), figsize=(4 * len(scenes), 3.4), squeeze=False)
+    for ax, scene in zip(axes[0], scenes):
+        mine = [r for r in timed if r["scene"] == scene]
+        for r in mine:
+            ax.scatter(r["cycles"], psnr_value(r), color=colour[r["format"]], marker=MARKERS.get(r["isect"], "x"),
+                       s=30, zorder=3)
+        front = pareto([(r["cycles"], psnr_value(r)) for r in mine])
+        if front:
+            ax.step([c for c, _ in front], [p for _, p in front], where="post", color="crimson", lw=1,
+                    label="Pareto front", zorder=2)
+        ax.set_xscale("log")
+        ax.xaxis.set_major_formatter(EngFormatter())
+        ax.xaxis.set_minor_formatter(NullFormatter())
+        ax.set_title(scene_name(scene), fontsize=9)
+        ax.set_xlabel("cycles per frame")
+        ax.grid(alpha=0.3)
+    axes[0][0].set_ylabel("PSNR against the reference (dB)")
+    legend(axes[0][-1], formats, colour, extra_front=True)
+    fig.tight_layout()
+    return fig
+
+
+def legend(ax, formats, colour, extra_front=False):
+    handles = [plt.Line2D([], [], color=colour[f], marker="o", ls="", label=f) for f in formats]
+    handles += [plt.Line2D([], [], color="grey", marker=m, ls="", label=k) for k, m in MARKERS.items()]
+    if extra_front:
+        handles.append(plt.Line2D([], [], color="crimson", lw=1, label="Pareto front"))
+    ax.legend(handles=handles, fontsize=7, loc="best")
+
+
+def figure_area_psnr(rows, scenes, formats, colour):
+    sized = [r for r in rows if r["datapath_cells"] is not None and r["fidelity"] == "functional"]
+    if not sized:
+        return None
+    fig, ax = plt.subplots(figsize=(6, 3.6))
+    for scene in scenes:
+        mine = sorted((r for r in sized if r["scene"] == scene), key=lambda r: r["datapath_cells"])
+        for isect, marker in MARKERS.items():
+            line = [r for r in mine if r["isect"] == isect]
+            if line:
+                ax.plot([r["datapath_cells"] for r in line], [psnr_value(r) for r in line], color="grey", lw=0.6)
+        for r in mine:
+            ax.scatter(r["datapath_cells"], psnr_value(r), color=colour[r["format"]], marker=MARKERS.get(r["isect"], "x"),
+                       s=30, zorder=3)
+            ax.annotate(scene_name(scene), (r["datapath_cells"], psnr_value(r)), fontsize=6, alpha=0.6,
+                        xytext=(3, 2), textcoords="offset points")
+    ax.set_xlabel("datapath cells (Yosys: FP units + IU + TU)")
+    ax.set_ylabel("PSNR (dB)")
+    ax.grid(alpha=0.3)
+    legend(ax, [f for f in formats if any(r["format"] == f for r in sized)], colour)
+    fig.tight_layout()
+    return fig
+
+
+def figure_host_seconds(rows, scenes):
+    levels = [f for f in FIDELITIES if any(r["fidelity"] == f and r["host_seconds"] is not None for r in rows)]
+    if not levels:
+        return None
+    fig, ax = plt.subplots(figsize=(6, 3.6))
+    cmap = plt.get_cmap("tab10")
+    for i, scene in enumerate(scenes):
+        xs, ys = [], []
+        for j, level in enumerate(levels):
+            for r in rows:
+                if r["scene"] == scene and r["fidelity"] == level and r["host_seconds"] is not None:
+                    xs.append(j + (i - len(scenes) / 2) * 0.06)
+                    ys.append(r["host_seconds"])
+        ax.scatter(xs, ys, color=cmap(i % 10), s=14, label=scene_name(scene))
+    ax.set_xticks(range(len(levels)), levels)
+    ax.set_yscale("log")
+    ax.set_ylabel("host seconds per point")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    return fig
+
+
+def figure_leaks(rows, formats):
+    checked = [r for r in rows if r["leak_rays"]]
+    if not checked:
+        return None
+    fig, ax = plt.subplots(figsize=(6, 3.2))
+    width = 0.38
+    shown = [f for f in formats if any(r["format"] == f for r in checked)]
+    for k, isect in enumerate(MARKERS):
+        rates = []
+        for f in shown:
+            mine = [r for r in checked if r["format"] == f and r["isect"] == isect]
+            rays = sum(r["leak_rays"] for r in mine)
+            rates.append(100.0 * sum(r["leaks"] for r in mine) / rays if rays else float("nan"))
+        ax.bar([i + (k - 0.5) * width for i in range(len(shown))], rates, width, label=isect)
+    ax.set_xticks(range(len(shown)), shown)
+    ax.set_ylabel("leaked rays (%)")
+    ax.legend(fontsize=7)
+    ax.grid(alpha=0.3, axis="y")
+    fig.tight_layout()
+    return fig
+
+
+def figure_images(directory, scene, rows, references, formats):
+    """The reference, then each format's image (functional where there is one) over its
+    difference map."""
+    reference = next((r for r in references if r["scene"] == scene), None)
+    shown = []
+    for f in formats:
+        for isect in MARKERS:
+            cands = [r for r in rows if r["scene"] == scene and r["format"] == f and r["isect"] == isect]
+            cands.sort(key=lambda r: FIDELITIES.index(r["fidelity"]))
+            if cands:
+                shown.append(cands[0])
+    if reference is None or not shown:
+        return None
+    cols = len(shown) + 1
+    fig, axes = plt.subplots(2, cols, figsize=(1.9 * cols, 3.6), squeeze=False)
+    for ax in axes.flat:
+        ax.axis("off")
+    axes[0][0].imshow(mpimg.imread(os.path.join(directory, "images", reference["id"] + ".png")))
+    axes[0][0].set_title("reference", fontsize=7)
+    for k, r in enumerate(shown, start=1):
+        axes[0][k].imshow(mpimg.imread(os.path.join(directory, "images", r["id"] + ".png")))
+        axes[0][k].set_title(f"{r['format']} {r['isect']}\n{number(r['psnr_db'])} dB", fontsize=7)
+        axes[1][k].imshow(mpimg.imread(os.path.join(directory, "images", r["id"] + ".diff.png")))
+    axes[1][0].text(0.5, 0.5, "difference\n(false colour,\nfull at 1/8)", ha="center", va="center", fontsize=7)
+    fig.suptitle(scene_name(scene), fontsize=9)
+    fig.tight_layout()
+    return fig
+
+
+def table(rows):
+    head = ["scene", "triangles", "fidelity", "config", "format", "isect", "PSNR dB", "max error", "hit mismatches",
+            "leaks", "cycles", "fps", "datapath cells", "host s"]
+    out = [head]
+    for r in rows:
+        leaks = "—" if r["leak_rays"] is None else f"{r['leaks']} / {r['leak_rays']}"
+        hits = "—" if r["primary_rays"] is None else f"{r['hit_mismatches']} / {r['primary_rays']}"
+        config = r["config"] + (f" ({r['set']})" if r["set"] else "")
+        out.append([scene_name(r["scene"]), number(r["triangles"]), r["fidelity"], config, r["format"], r["isect"],
+                    "identical" if r["psnr_db"] is None else number(r["psnr_db"]), number(r["max_error"], 4),
+                    hits, leaks, number(r["cycles"]), number(r["fps"]), number(r["datapath_cells"]),
+                    number(r["host_seconds"], 2)])
+    return out
+
+
+def png_bytes(fig):
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=110, metadata={"Software": None})
+    plt.close(fig)
+    return buf.getvalue()
+
+
+def main():
+    directory, mode = sys.argv[1], sys.argv[2]
+    plan, records, missing = load(directory)
+    rows = [r["row"] for r in records if r["point"]["fidelity"] != "reference"]
+    references = [r["row"] for r in records if r["point"]["fidelity"] == "reference"]
+    scenes = list(dict.fromkeys(r["scene"] for r in references + rows))
+    formats = format_order(rows)
+    colour = colours(formats)
+    commits = sorted({r["render"]["run"]["commit"] for r in records if r.get("render", {}).get("run")})
+    order = {s: i for i, s in enumerate(scenes)}
+    rows.sort(key=lambda r: (order[r["scene"]], formats.index(r["format"]), r["isect"], r["config"], r["set"],
+                             FIDELITIES.index(r["fidelity"]), r["spp"]))
+
+    figures = [
+        ("psnr-cycles", "PSNR against cycles per frame, by format (cycle and rtl points; the Pareto front in red)",
+         figure_psnr_cycles(rows, scenes, formats, colour)),
+        ("area-psnr", "Datapath area against PSNR (functional points; formats without a synthesis are left out)",
+         figure_area_psnr(rows, scenes, formats, colour)),
+        ("host-seconds", "Host seconds per point by fidelity level", figure_host_seconds(references + rows, scenes)),
+        ("leaks", "Rays leaking out of the scenes' closed meshes, by format and intersection test",
+         figure_leaks(rows, formats)),
+    ]
+    for scene in scenes:
+        figures.append((f"images-{len(figures) - 3}", f"{scene_name(scene)}: images and difference maps",
+                        figure_images(directory, scene, rows, references, formats)))
+    figures = [(name, title, png_bytes(fig)) for name, title, fig in figures if fig is not None]
+
+    summary = (f"{len(records)} points of sweep '{plan['sweep']}' ({len(references)} references)"
+               + (f", {missing} not run yet" if missing else "")
+               + f"; rpu at {', '.join(c[:12] for c in commits)}")
+    cells = table(rows)
+    if mode == "html":
+        out = ["<!DOCTYPE html>", "<html><head><meta charset='utf-8'>",
+               f"<title>rpu sweep {html.escape(plan['sweep'])}</title>",
+               "<style>body{font-family:sans-serif;margin:2em;max-width:80em}table{border-collapse:collapse;"
+               "font-size:80%}td,th{border:1px solid #ccc;padding:2px 6px;text-align:right}"
+               "td:nth-child(-n+6),th{text-align:left}img{max-width:100%}</style></head><body>",
+               f"<h1>Sweep {html.escape(plan['sweep'])}</h1>", f"<p>{html.escape(summary)}</p>"]
+        for name, title, data in figures:
+            out.append(f"<h2>{html.escape(title)}</h2>")
+            out.append(f"<img alt='{name}' src='data:image/png;base64,{base64.b64encode(data).decode()}'>")
+        out.append("<h2>Every point</h2><table>")
+        out.append("<tr>" + "".join(f"<th>{html.escape(c)}</th>" for c in cells[0]) + "</tr>")
+        for row in cells[1:]:
+            out.append("<tr>" + "".join(f"<td>{html.escape(c)}</td>" for c in row) + "</tr>")
+        out.append("</table></body></html>")
+        sys.stdout.write("\n".join(out) + "\n")
+        return
+    pictures, rel = sys.argv[3], sys.argv[4]
+    os.makedirs(pictures, exist_ok=True)
+    out = [summary + ".", ""]
+    # The measured rows beside the pictures: the data the table is made of.
+    with open(os.path.join(pictures, "rows.json.tmp"), "w") as f:
+        json.dump({"sweep": plan["sweep"], "commits": commits, "rows": references + rows}, f, indent=1)
+        f.write("\n")
+    os.replace(os.path.join(pictures, "rows.json.tmp"), os.path.join(pictures, "rows.json"))
+    for name, title, data in figures:
+        path = os.path.join(pictures, name + ".png")
+        with open(path + ".tmp", "wb") as f:
+            f.write(data)
+        os.replace(path + ".tmp", path)
+        out += [f"**{title}**", "", f"![{title}]({rel}/{name}.png)", ""]
+    out.append("| " + " | ".join(cells[0]) + " |")
+    out.append("|" + "|".join("---" if i < 6 else "--:" for i in range(len(cells[0]))) + "|")
+    for row in cells[1:]:
+        out.append("| " + " | ".join(row) + " |")
+    sys.stdout.write("\n".join(out) + "\n")
+
+
+main()
