@@ -35,5 +35,6 @@ Command add_accel_command(CLI::App& app);
 Command add_sweep_command(CLI::App& app);
 Command add_sweep_point_command(CLI::App& app);
 Command add_report_command(CLI::App& app);
+Command add_fit_command(CLI::App& app);
 
 }  // namespace rpu::cli

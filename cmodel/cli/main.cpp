@@ -21,7 +21,8 @@ int run(int argc, char** argv) {
   const Command commands[] = {add_render_command(app), add_raycast_command(app), add_tree_command(app),
                               add_scenes_command(app), add_asm_command(app), add_disasm_command(app), add_cc_command(app),
                               add_config_command(app), add_accel_command(app),
-                              add_sweep_command(app), add_sweep_point_command(app), add_report_command(app)};
+                              add_sweep_command(app), add_sweep_point_command(app), add_report_command(app),
+                              add_fit_command(app)};
   CLI11_PARSE(app, argc, argv);
   for (const Command& command : commands) {
     if (command.subcommand->parsed()) return command.run();

@@ -340,8 +340,9 @@ Cycle CycleDevice::send_access(Core& core, Cycle s0, const functional::MemoryAcc
 }
 
 void CycleDevice::set_result(ChunkSlot& s, int reg, Cycle ready) {
-  if (reg < 0) return;
   const auto r = static_cast<std::size_t>(reg);
+  // A register the configuration lacks faulted the step's lanes: no result to time.
+  if (reg < 0 || r >= s.reg_ready.size()) return;
   s.reg_ready[r] = ready;
 }
 

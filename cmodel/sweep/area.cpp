@@ -1,5 +1,8 @@
 #include "sweep/area.hpp"
 
+#include <algorithm>
+#include <cmath>
+#include <map>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -56,6 +59,63 @@ std::optional<std::uint64_t> chip_cells(std::string_view config, IsectMode mode)
     }
   }
   return cells;
+}
+
+AreaEstimate estimate_area(const spec::HardwareConfig& config, IsectMode mode) {
+  AreaEstimate out;
+  const nlohmann::json* chip = nullptr;
+  for (const nlohmann::json& r : records()) {
+    if (r.value("unit", "") == "chip" && r.value("config", "") == "default" && r.value("isect", "") == "woop") chip = &r;
+  }
+  if (chip == nullptr) return out;
+  // Cells of one instance and the instances in the default chip, by unit and the unit it is in.
+  std::map<std::pair<std::string, std::string>, std::pair<double, double>> unit;
+  for (const nlohmann::json& u : (*chip)["units"]) {
+    unit[{u.value("unit", ""), u.value("within", "")}] = {u["cells"].get<double>(), u["instances"].get<double>(),};
+    if (u.value("unit", "") == "register file bank") out.ram_bits = u["ram_bits"].get<std::uint64_t>();
+  }
+  // The register files as the default chip holds them (banked, one copy per read port),
+  // per bit of architectural state: threads x registers x 4 lanes x 32 bits.
+  const spec::HardwareConfig& base = *std::find_if(spec::kConfigs.begin(), spec::kConfigs.end(),
+                                                   [](const spec::HardwareConfig& c) { return c.name == "default"; });
+  const auto state_bits = [](const spec::HardwareConfig& c) {
+    return static_cast<double>(c.shader_cores) * c.threads_per_core * c.registers * 4 * 32;
+  };
+  const double copies = static_cast<double>(out.ram_bits) * unit[{"register file bank", "shader core"}].second /
+                        state_bits(base);
+  out.ram_bits = 8 * (config.node_cache.bytes + config.triangle_cache.bytes +
+                      config.data_cache.bytes * static_cast<std::uint64_t>(config.shader_cores)) +
+                 static_cast<std::uint64_t>(std::llround(copies * state_bits(config)));
+
+  const fp::Format format = fp::format_by_name(config.format);
+  const std::string isect(isect_name(mode));
+  // A unit's cells in the format against fp32, from their own synthesis.
+  const auto ratio = [&](const std::string& name, const std::string& fp32_name) -> std::optional<double> {
+    const auto mine = unit_cells(name, format), fp32 = unit_cells(fp32_name, fp::kFp32);
+    if (!mine || !fp32) return std::nullopt;
+    return static_cast<double>(*mine) / static_cast<double>(*fp32);
+  };
+  const auto fma = ratio("fma", "fma"), misc = ratio("misc", "misc"), divsqrt = ratio("divsqrt", "divsqrt");
+  const auto tu = ratio("tu_" + isect, "tu_woop"), iu = ratio("iu_" + isect, "iu_woop");
+  if (!fma || !misc || !divsqrt || !tu || !iu) return out;
+  const auto cells = [&](const char* name, const char* within) { return unit[{name, within}].first; };
+  const auto count = [&](const char* name, const char* within) { return unit[{name, within}].second; };
+  const double cores = count("shader core", "chip");
+  // A shader core with its FP units (datapath fma and misc, the SFU's divsqrt) in the format.
+  const double core = cells("shader core", "chip") +
+                      count("fma", "vector datapath") / cores * cells("fma", "vector datapath") * (*fma - 1.0) +
+                      count("misc", "vector datapath") / cores * cells("misc", "vector datapath") * (*misc - 1.0) +
+                      count("divsqrt", "special-function unit") / cores * cells("divsqrt", "special-function unit") *
+                          (*divsqrt - 1.0);
+  const double tu_cells = cells("traversal unit", "ray unit") * *tu;
+  const double iu_cells = cells("intersection unit", "ray unit") * *iu;
+  const double rest = cells("chip", "") - cores * cells("shader core", "chip") -
+                      count("traversal unit", "ray unit") * cells("traversal unit", "ray unit") -
+                      count("intersection unit", "ray unit") * cells("intersection unit", "ray unit");
+  out.logic_cells = static_cast<std::uint64_t>(std::llround(rest + config.shader_cores * core +
+                                                            config.traversal_units * tu_cells +
+                                                            config.intersection_units * iu_cells));
+  return out;
 }
 
 }  // namespace rpu::sweep

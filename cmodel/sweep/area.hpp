@@ -6,6 +6,7 @@
 
 #include "fp/format.hpp"
 #include "memory/memory_image.hpp"
+#include "rpu/spec.hpp"
 
 // The Yosys cell counts of bench/results/area.json (docs/area.md), built into the tool:
 // what a sweep point records as the area of its number format and intersection test.
@@ -18,5 +19,17 @@ std::optional<std::uint64_t> datapath_cells(fp::Format format, IsectMode mode);
 
 // The whole chip of a named configuration (its format), when it was synthesised.
 std::optional<std::uint64_t> chip_cells(std::string_view config, IsectMode mode);
+
+// An estimate of a configuration's chip (docs/sweeps.md, "The area estimate"), from the
+// synthesis of the `default` chip (fp32): its cells with each shader core, traversal
+// unit and intersection unit replaced by as many as `config` has, each core's FP units
+// (fma, misc) and the ray units scaled to the format by their own synthesis; and the RAM
+// bits of its caches and register files. The logic is none for a format without a
+// synthesis of those units.
+struct AreaEstimate {
+  std::optional<std::uint64_t> logic_cells;
+  std::uint64_t ram_bits = 0;
+};
+AreaEstimate estimate_area(const spec::HardwareConfig& config, IsectMode mode);
 
 }  // namespace rpu::sweep

@@ -75,8 +75,8 @@ def fraction_bits(name):
 
 
 def colours(formats):
-    cmap = plt.get_cmap("viridis")
-    return {f: cmap(i / max(1, len(formats) - 1)) for i, f in enumerate(formats)}
+    cmap = plt.get_cmap("tab10")
+    return {f: cmap(i % 10) for i, f in enumerate(formats)}
 
 
 def psnr_value(r):
@@ -98,9 +98,15 @@ def figure_psnr_cycles(rows, scenes, formats, colour):
     timed = [r for r in rows if r["cycles"] is not None]
     if not timed:
         return None
-    fig, axes = plt.subplots(1, len(scenes), figsize=(4 * len(scenes), 3.4), squeeze=False)
-    for ax, scene in zip(axes[0], scenes):
+    cols = min(3, len(scenes))
+    grid_rows = (len(scenes) + cols - 1) // cols
+    fig, axes = plt.subplots(grid_rows, cols, figsize=(4.2 * cols, 3.3 * grid_rows), squeeze=False)
+    for ax in axes.flat[len(scenes):]:
+        ax.axis("off")
+    for ax, scene in zip(axes.flat, scenes):
         mine = [r for r in timed if r["scene"] == scene]
+        if not mine:
+            continue
         for r in mine:
             ax.scatter(r["cycles"], psnr_value(r), color=colour[r["format"]], marker=MARKERS.get(r["isect"], "x"),
                        s=30, zorder=3)
@@ -108,14 +114,16 @@ def figure_psnr_cycles(rows, scenes, formats, colour):
         if front:
             ax.step([c for c, _ in front], [p for _, p in front], where="post", color="crimson", lw=1,
                     label="Pareto front", zorder=2)
-        ax.set_xscale("log")
+        cycles = [r["cycles"] for r in mine]
+        if max(cycles) > 10 * min(cycles):
+            ax.set_xscale("log")
+            ax.xaxis.set_minor_formatter(NullFormatter())
         ax.xaxis.set_major_formatter(EngFormatter())
-        ax.xaxis.set_minor_formatter(NullFormatter())
         ax.set_title(scene_name(scene), fontsize=9)
         ax.set_xlabel("cycles per frame")
+        ax.set_ylabel("PSNR (dB)")
         ax.grid(alpha=0.3)
-    axes[0][0].set_ylabel("PSNR against the reference (dB)")
-    legend(axes[0][-1], formats, colour, extra_front=True)
+    legend(axes.flat[0], formats, colour, extra_front=True)
     fig.tight_layout()
     return fig
 

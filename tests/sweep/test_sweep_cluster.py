@@ -148,9 +148,11 @@ NodeName={host} CPUs={os.cpu_count()} State=UNKNOWN
 PartitionName=test Nodes={host} Default=YES MaxTime=INFINITE State=UP
 """)
     env = dict(os.environ, SLURM_CONF=conf)
+    started_munge = False
     if not os.path.exists("/run/munge/munged.pid") or subprocess.run(["munge", "-n"], capture_output=True).returncode:
         os.makedirs("/run/munge", exist_ok=True)
         run(["munged", "--force"])
+        started_munge = True
     try:
         run(["slurmctld", "-f", conf], env=env)
         run(["slurmd", "-f", conf], env=env)
@@ -172,8 +174,10 @@ PartitionName=test Nodes={host} Default=YES MaxTime=INFINITE State=UP
     finally:
         # Stop the daemons by their pid files and wait for them to go.
         pids = []
-        for pid_file in ("slurmd.pid", "slurmctld.pid"):
-            path = os.path.join(slurm_state, pid_file)
+        pid_files = [os.path.join(slurm_state, "slurmd.pid"), os.path.join(slurm_state, "slurmctld.pid")]
+        if started_munge:
+            pid_files.append("/run/munge/munged.pid")
+        for path in pid_files:
             if os.path.exists(path):
                 try:
                     pids.append(int(open(path).read()))
