@@ -30,6 +30,7 @@
 #include "image/image.hpp"
 #include "reference/renderer.hpp"
 #include "rpu/version.hpp"
+#include "scene/geometry.hpp"
 #include "scene/resolve.hpp"
 #ifdef RPU_HAVE_RTL
 #include "rtl_device.hpp"
@@ -61,6 +62,8 @@ struct RenderOptions {
   std::filesystem::path waves;                 // FST
   std::vector<std::uint64_t> wave_window{0, ~std::uint64_t{0}};
   bool lockstep = false;
+  int scale_exponent = 0;                   // the scene times 2^this
+  std::vector<double> translate{0, 0, 0};   // then moved by this
   RenderSettings settings;
   ChipOptions chip;
 };
@@ -336,6 +339,21 @@ void check_reference_options(const CLI::App& command, const Scene& scene) {
   }
 }
 
+// --scale-exponent and --translate: the same scene further from the format's comfortable
+// range (docs/sweeps.md, "Extremes"). A vertex that overflows float is refused.
+Scene transformed(Scene scene, const RenderOptions& o) {
+  if (o.scale_exponent != 0) scale_scene(scene, o.scale_exponent);
+  const glm::dvec3 offset(o.translate[0], o.translate[1], o.translate[2]);
+  if (offset != glm::dvec3(0.0)) translate_scene(scene, offset);
+  for (const glm::vec3& p : scene.positions) {
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) {
+      throw Error(fmt::format("{}: --scale-exponent {} --translate {} {} {} takes a vertex beyond float's range",
+                              scene.source, o.scale_exponent, offset.x, offset.y, offset.z));
+    }
+  }
+  return scene;
+}
+
 int run_render(const RenderOptions& options, const CLI::App& command) {
   if ((!options.heatmap.empty() || !options.trace.empty()) && options.backend != "cycle") {
     throw Error("--heatmap and --trace need --backend cycle");
@@ -347,7 +365,7 @@ int run_render(const RenderOptions& options, const CLI::App& command) {
     throw Error(fmt::format("--trace-window {} {}: the window is empty", options.trace_window[0], options.trace_window[1]));
   }
   check_render_outputs(options);
-  const Scene scene = resolve_scene(options.scene);
+  const Scene scene = transformed(resolve_scene(options.scene), options);
   for (const std::string& warning : scene.warnings) fmt::print(stderr, "rpu: warning: {}\n", warning);
   if (options.backend == "reference") check_reference_options(command, scene);
 
@@ -438,6 +456,21 @@ Command add_render_command(CLI::App& app) {
       ->check(CLI::Range(0, 1024))
       ->capture_default_str();
 
+  render_cmd->add_option("--scale-exponent", render->scale_exponent,
+                         "Scale the scene (geometry, camera, lights) by 2^K before rendering")
+      ->check(CLI::Range(-100, 100))
+      ->capture_default_str();
+  render_cmd->add_option("--translate", render->translate, "Then move it by X Y Z")
+      ->expected(3)
+      ->check(CLI::Validator(
+          [](const std::string& text) {
+            char* end = nullptr;
+            const double v = std::strtod(text.c_str(), &end);
+            return end != text.c_str() && *end == '\0' && std::isfinite(v) && std::abs(v) <= 1e30
+                       ? std::string()
+                       : fmt::format("{} is not a finite number within 1e30", text);
+          },
+          "NUMBER"));
   render_cmd->add_option("--firmware", render->firmware,
                          "device backends: firmware (.s or .rfw), or GLSL shaders (.rgen .rchit .rmiss, compiled by "
                          "`rpu cc` and cached), instead of the built-in whitted.s")

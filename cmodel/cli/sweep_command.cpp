@@ -26,6 +26,7 @@
 #include "config/config.hpp"
 #include "fp/format.hpp"
 #include "image/image.hpp"
+#include "scene/geometry.hpp"
 #include "scene/resolve.hpp"
 #include "sweep/area.hpp"
 #include "sweep/ray_checks.hpp"
@@ -39,10 +40,12 @@ using nlohmann::json;
 
 // The columns of a point's CSV row and of sweep.csv, in order (docs/sweeps.md).
 constexpr const char* kColumns[] = {
-    "id",          "scene",          "triangles",     "fidelity",  "config",    "set",         "format",
-    "isect",       "firmware",       "width",         "height",    "spp",       "psnr_db",     "max_error",
-    "primary_rays", "hit_mismatches", "closed_meshes", "leak_rays", "leaks",     "cycles",      "fps",
-    "rays",        "rays_per_second", "host_seconds", "datapath_cells", "chip_cells"};
+    "id",           "scene",          "triangles",    "transform",          "fidelity",     "config",
+    "set",          "format",         "isect",        "firmware",           "width",        "height",
+    "spp",          "psnr_db",        "max_error",    "primary_rays",       "hit_mismatches", "closed_meshes",
+    "leak_rays",    "leaks",          "axis_rays",    "axis_mismatches",    "grazing_rays", "grazing_mismatches",
+    "surface_rays", "surface_mismatches", "cycles",   "fps",                "rays",         "rays_per_second",
+    "host_seconds", "datapath_cells", "chip_cells", "error"};
 
 // A POSIX shell word (the job lists are shell lines).
 std::string quoted(const std::string& word) {
@@ -56,7 +59,8 @@ std::string quoted(const std::string& word) {
 }
 
 json point_json(const sweep::Point& p) {
-  return {{"id", p.id},         {"scene", p.scene},       {"fidelity", p.fidelity}, {"config", p.config},
+  return {{"id", p.id},         {"scene", p.scene},       {"transform", p.transform},
+          {"fidelity", p.fidelity}, {"config", p.config},
           {"set", p.sets},      {"format", p.format},     {"isect", p.isect},       {"firmware", p.firmware},
           {"width", p.width},   {"height", p.height},     {"spp", p.spp},           {"max_depth", p.max_depth},
           {"seed", p.seed},     {"reference", p.reference}};
@@ -66,6 +70,7 @@ sweep::Point point_from_json(const json& j) {
   sweep::Point p;
   p.id = j.at("id");
   p.scene = j.at("scene");
+  p.transform = j.at("transform");
   p.fidelity = j.at("fidelity");
   p.config = j.at("config");
   p.sets = j.at("set").get<std::vector<std::string>>();
@@ -214,17 +219,35 @@ int run_sweep_point(const PointOptions& o) {
                            render_stats.string()});
   if (!p.reference.empty()) args.insert(args.end(), {"--compare", layout.image(p.reference, ".exr").string()});
   const int status = wait_process(start_process(args, layout.log(p.id)));
-  if (status != 0) {
+  // Status 1 is the chip refusing the point with a clear error (a degenerate triangle at
+  // an extreme, a fault): a measured outcome, recorded as the row's error. A reference
+  // must render, and anything else (a crash) fails the point.
+  std::string refused;
+  if (status == 1 && !p.reference.empty()) {
+    std::ifstream log(layout.log(p.id));
+    for (std::string line; std::getline(log, line);) {
+      if (line.starts_with("rpu: error: ")) refused = line.substr(12);
+    }
+  }
+  if (status != 0 && refused.empty()) {
     throw Error(fmt::format("{}: `rpu render` exited with status {}; the end of {}:\n{}", p.id, status,
                             layout.log(p.id).string(), tail(layout.log(p.id), 8)));
   }
-  const json render = read_json(render_stats);
-  write_pictures(layout, p);
+  const json render = refused.empty() ? read_json(render_stats) : json::object();
+  // A NaN in the image makes the comparison NaN, which JSON writes as null: not identical.
+  if (refused.empty() && !p.reference.empty() && value_at(render, "compare.max_error").is_null()) {
+    refused = "the image has pixels that are not finite numbers";
+  }
+  if (refused.empty()) write_pictures(layout, p);
 
-  const Scene scene = resolve_scene(p.scene);
+  Scene scene = resolve_scene(p.scene);
+  const sweep::Transform transform = sweep::parse_transform(p.transform);
+  if (transform.scale_exponent != 0) scale_scene(scene, transform.scale_exponent);
+  if (transform.offset != 0.0) translate_scene(scene, glm::dvec3(transform.offset));
   json row = {{"id", p.id},
               {"scene", p.scene},
               {"triangles", scene.triangles.size()},
+              {"transform", p.transform},
               {"fidelity", p.fidelity},
               {"config", p.config},
               {"set", fmt::format("{}", fmt::join(p.sets, " "))},
@@ -240,7 +263,8 @@ int run_sweep_point(const PointOptions& o) {
               {"fps", value_at(render, "fps")},
               {"rays", value_at(render, "rays.total")},
               {"rays_per_second", value_at(render, "rates.rays_per_second")},
-              {"host_seconds", value_at(render, "run.host_seconds")}};
+              {"host_seconds", value_at(render, "run.host_seconds")},
+              {"error", refused.empty() ? json(nullptr) : json(refused)}};
   json checks = nullptr, area = nullptr;
   if (!p.reference.empty()) {
     ChipOptions chip;
@@ -250,17 +274,33 @@ int run_sweep_point(const PointOptions& o) {
     chip.isect = p.isect;
     const KdBuildConfig build = chip.build_config();
     const bool hit_check = plan.at("hit_check");
-    const std::uint32_t leak_rays = plan.at("leak_rays");
-    const sweep::RayChecks c =
-        sweep::check_rays(scene, build, chip.isect_mode(), p.width, p.height, hit_check, leak_rays, p.seed);
+    const std::uint32_t leak_rays = plan.at("leak_rays"), extreme_rays = plan.at("extreme_rays");
+    sweep::RayChecks c;
+    try {
+      c = sweep::check_rays(scene, build, chip.isect_mode(), p.width, p.height, hit_check, leak_rays, p.seed,
+                            extreme_rays);
+    } catch (const Error&) {
+      if (refused.empty()) throw;  // else the units refuse the scene, as the render did
+    }
     checks = {{"primary_rays", c.primary_rays},
               {"hit_mismatches", c.hit_mismatches},
               {"closed_meshes", c.closed_meshes},
               {"leak_rays", c.leak_rays},
-              {"leaks", c.leaks}};
+              {"leaks", c.leaks},
+              {"axis_rays", c.axis_rays},
+              {"axis_mismatches", c.axis_mismatches},
+              {"grazing_rays", c.grazing_rays},
+              {"grazing_mismatches", c.grazing_mismatches},
+              {"surface_rays", c.surface_rays},
+              {"surface_mismatches", c.surface_mismatches}};
     for (const auto& [key, value] : checks.items()) row[key] = value;
     if (!hit_check) row["primary_rays"] = row["hit_mismatches"] = nullptr;
     if (c.closed_meshes == 0) row["leak_rays"] = row["leaks"] = nullptr;
+    if (extreme_rays == 0) {
+      for (const char* k : {"axis", "grazing", "surface"}) {
+        row[fmt::format("{}_rays", k)] = row[fmt::format("{}_mismatches", k)] = nullptr;
+      }
+    }
     const std::optional<std::uint64_t> datapath = sweep::datapath_cells(build.format, chip.isect_mode());
     const std::optional<std::uint64_t> whole = sweep::chip_cells(p.config, chip.isect_mode());
     row["datapath_cells"] = datapath ? json(*datapath) : json(nullptr);
@@ -276,18 +316,22 @@ int run_sweep_point(const PointOptions& o) {
                        {"checks", checks},
                        {"area", area},
                        {"images",
-                        {{"exr", fmt::format("images/{}.exr", p.id)},
-                         {"png", fmt::format("images/{}.png", p.id)},
-                         {"diff", p.reference.empty() ? json(nullptr) : json(fmt::format("images/{}.diff.png", p.id))}}},
+                        refused.empty()
+                            ? json{{"exr", fmt::format("images/{}.exr", p.id)},
+                                   {"png", fmt::format("images/{}.png", p.id)},
+                                   {"diff", p.reference.empty() ? json(nullptr)
+                                                                : json(fmt::format("images/{}.diff.png", p.id))}}
+                            : json(nullptr)},
                        {"render", render}};
   write_text(layout.row(p.id), csv_header() + csv_line(row));
   write_text(layout.record(p.id), record.dump(1) + "\n");  // last: the record marks the point done
-  fs::remove(render_stats);
+  fs::remove(render_stats);  // none when refused
   const json psnr = row["psnr_db"];
   fmt::print("{}: {}{}\n", p.id,
-             p.reference.empty() ? "reference"
-             : psnr.is_null()    ? "identical to the reference"
-                                 : fmt::format("{:.2f} dB", psnr.get<double>()),
+             p.reference.empty()  ? "reference"
+             : !refused.empty()   ? "refused: " + refused
+             : psnr.is_null()     ? "identical to the reference"
+                                  : fmt::format("{:.2f} dB", psnr.get<double>()),
              row.value("leaks", json(nullptr)).is_null() ? "" : fmt::format(", {} leaks", row["leaks"].dump()));
   return 0;
 }
@@ -397,7 +441,7 @@ int run_sweep(const SweepOptions& o) {
     if (ec) throw Error(fmt::format("-o {}: cannot create {}: {}", o.dir.string(), (layout.dir / sub).string(), ec.message()));
   }
   json plan = {{"sweep", spec.name},         {"spec", fs::absolute(o.spec).string()},
-               {"leak_rays", spec.leak_rays}, {"hit_check", spec.hit_check},
+               {"leak_rays", spec.leak_rays}, {"extreme_rays", spec.extreme_rays}, {"hit_check", spec.hit_check},
                {"references", json::array()}, {"points", json::array()}};
   const fs::path exe = self_executable();
   std::string reference_jobs, point_jobs;

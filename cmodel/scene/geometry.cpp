@@ -183,6 +183,13 @@ void scale_scene(Scene& scene, int exponent) {
   }
 }
 
+void translate_scene(Scene& scene, const glm::dvec3& offset) {
+  for (glm::vec3& p : scene.positions) p = glm::vec3(glm::dvec3(p) + offset);
+  scene.camera.position += offset;
+  scene.camera.look_at += offset;
+  for (Light& l : scene.lights) l.position += offset;
+}
+
 void append_geometry(Scene& scene, Scene&& part) {
   for (std::string& w : part.warnings) scene.warnings.push_back(std::move(w));
   if (part.triangles.empty()) return;

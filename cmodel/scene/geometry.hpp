@@ -59,6 +59,11 @@ void generate_smooth_normals(Scene& part);
 // renders the same image; directions, colours and materials do not change.
 void scale_scene(Scene& scene, int exponent);
 
+// Moves every position of the scene (vertices, camera, lights) by `offset`: the same
+// picture, further from the origin (rpu render --translate; the extremes of
+// docs/sweeps.md). Vertices are rounded to float where they land.
+void translate_scene(Scene& scene, const glm::dvec3& offset);
+
 // Appends the geometry and warnings of `part` to `scene`. part.material_ids already
 // index scene.materials. Per-vertex normals and uvs are all or nothing over the whole
 // scene: a side without normals gets flat (face) normals, which un-shares its

@@ -161,29 +161,70 @@ std::vector<Scene> closed_meshes(const Scene& world) {
 }
 
 RayChecks check_rays(const Scene& world, const KdBuildConfig& build, IsectMode mode, int width, int height,
-                     bool hit_check, std::uint32_t leak_rays, std::uint64_t seed) {
+                     bool hit_check, std::uint32_t leak_rays, std::uint64_t seed, std::uint32_t extreme_rays) {
   RayChecks out;
-  if (hit_check) {
+  if (hit_check || extreme_rays > 0) {
     const Scene scene = functional::chip_space_scene(world, build.format);
     const functional::SceneImage si = functional::make_scene_image(scene, build, mode);
     const functional::Tracer tracer(si.image.bytes, si.layout, build.format, build.stack_depth);
     const ReferenceBvh bvh(scene);
-    const CameraModel camera(scene.camera, width, height);
-    for (int y = 0; y < height; ++y) {
-      for (int x = 0; x < width; ++x) {
-        const PrimaryRay p = camera.ray(x + 0.5, y + 0.5, {0.5, 0.5});
-        const functional::TraceRay r = trace_ray(p.origin, p.direction);
-        // The fp64 trace takes the ray the units were handed, in double.
-        RayD d;
-        for (int i = 0; i < 3; ++i) {
-          d.origin[i] = r.origin[i];
-          d.direction[i] = r.direction[i];
-        }
-        const functional::TraceHit unit = tracer.trace(r, functional::TraceMode::kClosest);
-        const HitD exact = bvh.closest_hit(d);
-        out.hit_mismatches += unit.hit != exact.hit || (unit.hit && unit.prim != exact.triangle) ? 1 : 0;
-        ++out.primary_rays;
+    // The units and the fp64 trace on the same (fp32) ray: 1 when they disagree.
+    const auto mismatch = [&](const functional::TraceRay& r) -> std::uint64_t {
+      RayD d;
+      for (int i = 0; i < 3; ++i) {
+        d.origin[i] = r.origin[i];
+        d.direction[i] = r.direction[i];
       }
+      d.t_min = r.t_min;
+      const functional::TraceHit unit = tracer.trace(r, functional::TraceMode::kClosest);
+      const HitD exact = bvh.closest_hit(d);
+      return unit.hit != exact.hit || (unit.hit && unit.prim != exact.triangle) ? 1 : 0;
+    };
+    if (hit_check) {
+      const CameraModel camera(scene.camera, width, height);
+      for (int y = 0; y < height; ++y) {
+        for (int x = 0; x < width; ++x) {
+          const PrimaryRay p = camera.ray(x + 0.5, y + 0.5, {0.5, 0.5});
+          out.hit_mismatches += mismatch(trace_ray(p.origin, p.direction));
+          ++out.primary_rays;
+        }
+      }
+    }
+    if (extreme_rays > 0 && !scene.triangles.empty()) {
+      glm::dvec3 lo(scene.positions.front()), hi = lo;
+      for (const glm::vec3& p : scene.positions) {
+        lo = glm::min(lo, glm::dvec3(p));
+        hi = glm::max(hi, glm::dvec3(p));
+      }
+      const double far = 2.0 * glm::length(hi - lo);
+      std::mt19937_64 rng(seed ^ 0x9e3779b97f4a7c15ull);
+      std::uniform_int_distribution<std::size_t> pick(0, scene.triangles.size() - 1);
+      std::uniform_real_distribution<double> unit(0.0, 1.0);
+      for (std::uint32_t i = 0; i < extreme_rays; ++i) {
+        const glm::uvec3 t = scene.triangles[pick(rng)];
+        const glm::dvec3 a(scene.positions[t.x]), b(scene.positions[t.y]), c(scene.positions[t.z]);
+        const glm::dvec3 centroid = (a + b + c) / 3.0, n = glm::normalize(glm::cross(b - a, c - a));
+        const double side = unit(rng) < 0.5 ? -1.0 : 1.0;
+        // Axis-parallel: along the axis nearest the normal, every other coordinate the
+        // centroid's own.
+        int k = 0;
+        for (int j = 1; j < 3; ++j) k = std::abs(n[j]) > std::abs(n[k]) ? j : k;
+        glm::dvec3 axis(0.0);
+        axis[k] = side;
+        glm::dvec3 origin = centroid;
+        origin[k] -= side * far;
+        out.axis_mismatches += mismatch(trace_ray(origin, axis));
+        // Grazing: along an edge, tilted 1e-3 radians towards the plane's side.
+        const glm::dvec3 graze = glm::normalize(glm::normalize(b - a) + side * 1e-3 * n);
+        out.grazing_mismatches += mismatch(trace_ray(centroid - far * graze, graze));
+        // From the surface: a point of the triangle, leaving into one half-space.
+        double u = unit(rng), v = unit(rng);
+        if (u + v > 1.0) u = 1.0 - u, v = 1.0 - v;
+        glm::dvec3 leave(unit(rng) - 0.5, unit(rng) - 0.5, unit(rng) - 0.5);
+        leave = glm::normalize(leave - glm::dot(leave, n) * n) + side * (0.1 + unit(rng)) * n;
+        out.surface_mismatches += mismatch(trace_ray(a + u * (b - a) + v * (c - a), glm::normalize(leave)));
+      }
+      out.axis_rays = out.grazing_rays = out.surface_rays = extreme_rays;
     }
   }
   if (leak_rays == 0) return out;

@@ -24,12 +24,20 @@ struct RayChecks {
   std::uint64_t closed_meshes = 0;  // the closed meshes an inside point was found for
   std::uint64_t leak_rays = 0;
   std::uint64_t leaks = 0;
+  // The extremes (docs/sweeps.md, "Extremes"), each against the fp64 trace of the same
+  // ray as above: rays exactly parallel to an axis through a triangle's centroid; grazing
+  // rays, 1e-3 radians off a triangle's plane, through its centroid; rays from a point
+  // exactly on a triangle (as close as float gets) leaving it, t_min 0.
+  std::uint64_t axis_rays = 0, axis_mismatches = 0;
+  std::uint64_t grazing_rays = 0, grazing_mismatches = 0;
+  std::uint64_t surface_rays = 0, surface_mismatches = 0;
 };
 
 // `hit_check`: trace width x height primary rays; `leak_rays`: that many rays, shared
-// among the closed meshes. Deterministic for a seed.
+// among the closed meshes; `extreme_rays`: that many of each extreme kind. Deterministic
+// for a seed.
 RayChecks check_rays(const Scene& world, const KdBuildConfig& build, IsectMode mode, int width, int height,
-                     bool hit_check, std::uint32_t leak_rays, std::uint64_t seed);
+                     bool hit_check, std::uint32_t leak_rays, std::uint64_t seed, std::uint32_t extreme_rays = 0);
 
 // The scene's closed meshes: the connected sets of triangles (joined at shared edges,
 // vertices welded by position) in which every edge belongs to exactly two triangles,

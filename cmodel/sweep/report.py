@@ -235,17 +235,81 @@ def figure_images(directory, scene, rows, references, formats):
 
 
 def table(rows):
-    head = ["scene", "triangles", "fidelity", "config", "format", "isect", "PSNR dB", "max error", "hit mismatches",
+    head = ["scene", "triangles", "transform", "fidelity", "config", "format", "isect", "PSNR dB", "max error", "hit mismatches",
             "leaks", "cycles", "fps", "datapath cells", "host s"]
     out = [head]
     for r in rows:
         leaks = "—" if r["leak_rays"] is None else f"{r['leaks']} / {r['leak_rays']}"
         hits = "—" if r["primary_rays"] is None else f"{r['hit_mismatches']} / {r['primary_rays']}"
         config = r["config"] + (f" ({r['set']})" if r["set"] else "")
-        out.append([scene_name(r["scene"]), number(r["triangles"]), r["fidelity"], config, r["format"], r["isect"],
-                    "identical" if r["psnr_db"] is None else number(r["psnr_db"]), number(r["max_error"], 4),
+        psnr = ("refused" if r["error"] is not None else "identical" if r["psnr_db"] is None
+                else number(r["psnr_db"]))
+        out.append([scene_name(r["scene"]), number(r["triangles"]), r["transform"] or "—", r["fidelity"], config,
+                    r["format"], r["isect"], psnr, number(r["max_error"], 4),
                     hits, leaks, number(r["cycles"]), number(r["fps"]), number(r["datapath_cells"]),
                     number(r["host_seconds"], 2)])
+    return out
+
+
+# The extremes (docs/sweeps.md, "Extremes"): a transformed scene passes when its point
+# renders within 1 dB of the same point untransformed; a kind of extreme ray passes when
+# at most 2% of its rays disagree with the fp64 trace.
+TRANSFORM_DB = 1.0
+RAY_SHARE = 0.02
+EXTREMES_TITLE = ("Extremes, pass or fail per format and test: a transformed scene within "
+                  f"{TRANSFORM_DB:g} dB of the same point untransformed; extreme rays with at most "
+                  f"{100 * RAY_SHARE:g}% disagreeing with the fp64 trace")
+RAY_KINDS = [("axis", "axis-parallel rays"), ("grazing", "grazing rays"), ("surface", "rays from a surface")]
+
+
+def twin_key(r, transform):
+    return (r["scene"], transform, r["fidelity"], r["config"], r["set"], r["format"], r["isect"], r["firmware"],
+            r["spp"])
+
+
+def extremes(rows, formats):
+    """{label: {(format, isect): (failed, points)}} for every transform and ray kind."""
+    by_key = {twin_key(r, r["transform"]): r for r in rows}
+    out = {}
+    for r in rows:
+        if r["transform"]:
+            twin = by_key.get(twin_key(r, ""))
+            if twin is None:
+                continue
+            ok = (r["error"] is None and twin["error"] is None
+                  and psnr_value(r) >= psnr_value(twin) - TRANSFORM_DB)
+            cell = out.setdefault(r["transform"], {}).setdefault((r["format"], r["isect"]), [0, 0])
+        else:
+            ok = None
+        if ok is not None:
+            cell[0] += 0 if ok else 1
+            cell[1] += 1
+        if r["transform"] or r["error"] is not None:
+            continue
+        for kind, label in RAY_KINDS:
+            rays = r.get(f"{kind}_rays")
+            if not rays:
+                continue
+            cell = out.setdefault(label, {}).setdefault((r["format"], r["isect"]), [0, 0])
+            cell[0] += 0 if r[f"{kind}_mismatches"] <= RAY_SHARE * rays else 1
+            cell[1] += 1
+    return out
+
+
+def extremes_table(rows, formats):
+    table = extremes(rows, formats)
+    if not table:
+        return None
+    isects = [i for i in MARKERS if any(r["isect"] == i for r in rows)]
+    head = ["extreme"] + [f"{f} {i}" for f in formats for i in isects]
+    out = [head]
+    for label, cells in table.items():
+        line = [label]
+        for f in formats:
+            for i in isects:
+                failed, points = cells.get((f, i), (None, 0))
+                line.append("—" if not points else "pass" if failed == 0 else f"FAIL ({failed} of {points})")
+        out.append(line)
     return out
 
 
@@ -261,6 +325,12 @@ def main():
     plan, records, missing = load(directory)
     rows = [r["row"] for r in records if r["point"]["fidelity"] != "reference"]
     references = [r["row"] for r in records if r["point"]["fidelity"] == "reference"]
+    for r in references + rows:
+        r.setdefault("transform", "")
+        r.setdefault("error", None)
+    # The plots show the untransformed points that rendered; the extremes have their table.
+    plotted = [r for r in rows if r["error"] is None and not r["transform"]]
+    plain_references = [r for r in references if not r["transform"]]
     scenes = list(dict.fromkeys(r["scene"] for r in references + rows))
     formats = format_order(rows)
     colour = colours(formats)
@@ -271,22 +341,23 @@ def main():
 
     figures = [
         ("psnr-cycles", "PSNR against cycles per frame, by format (cycle and rtl points; the Pareto front in red)",
-         figure_psnr_cycles(rows, scenes, formats, colour)),
+         figure_psnr_cycles(plotted, scenes, formats, colour)),
         ("area-psnr", "Datapath area against PSNR (functional points; formats without a synthesis are left out)",
-         figure_area_psnr(rows, scenes, formats, colour)),
-        ("host-seconds", "Host seconds per point by fidelity level", figure_host_seconds(references + rows, scenes)),
+         figure_area_psnr(plotted, scenes, formats, colour)),
+        ("host-seconds", "Host seconds per point by fidelity level", figure_host_seconds(plain_references + plotted, scenes)),
         ("leaks", "Rays leaking out of the scenes' closed meshes, by format and intersection test",
-         figure_leaks(rows, formats)),
+         figure_leaks(plotted, formats)),
     ]
     for scene in scenes:
         figures.append((f"images-{len(figures) - 3}", f"{scene_name(scene)}: images and difference maps",
-                        figure_images(directory, scene, rows, references, formats)))
+                        figure_images(directory, scene, plotted, plain_references, formats)))
     figures = [(name, title, png_bytes(fig)) for name, title, fig in figures if fig is not None]
 
     summary = (f"{len(records)} points of sweep '{plan['sweep']}' ({len(references)} references)"
                + (f", {missing} not run yet" if missing else "")
                + f"; rpu at {', '.join(c[:12] for c in commits)}")
     cells = table(rows)
+    extremes_cells = extremes_table(rows, formats)
     if mode == "html":
         out = ["<!DOCTYPE html>", "<html><head><meta charset='utf-8'>",
                f"<title>rpu sweep {html.escape(plan['sweep'])}</title>",
@@ -297,6 +368,12 @@ def main():
         for name, title, data in figures:
             out.append(f"<h2>{html.escape(title)}</h2>")
             out.append(f"<img alt='{name}' src='data:image/png;base64,{base64.b64encode(data).decode()}'>")
+        if extremes_cells:
+            out.append(f"<h2>{html.escape(EXTREMES_TITLE)}</h2><table>")
+            out.append("<tr>" + "".join(f"<th>{html.escape(c)}</th>" for c in extremes_cells[0]) + "</tr>")
+            for row in extremes_cells[1:]:
+                out.append("<tr>" + "".join(f"<td>{html.escape(c)}</td>" for c in row) + "</tr>")
+            out.append("</table>")
         out.append("<h2>Every point</h2><table>")
         out.append("<tr>" + "".join(f"<th>{html.escape(c)}</th>" for c in cells[0]) + "</tr>")
         for row in cells[1:]:
@@ -318,8 +395,13 @@ def main():
             f.write(data)
         os.replace(path + ".tmp", path)
         out += [f"**{title}**", "", f"![{title}]({rel}/{name}.png)", ""]
+    if extremes_cells:
+        out += [f"**{EXTREMES_TITLE}**", "", "| " + " | ".join(extremes_cells[0]) + " |",
+                "|---|" + "|".join(":-:" for _ in extremes_cells[0][1:]) + "|"]
+        out += ["| " + " | ".join(row) + " |" for row in extremes_cells[1:]]
+        out.append("")
     out.append("| " + " | ".join(cells[0]) + " |")
-    out.append("|" + "|".join("---" if i < 6 else "--:" for i in range(len(cells[0]))) + "|")
+    out.append("|" + "|".join("---" if i < 7 else "--:" for i in range(len(cells[0]))) + "|")
     for row in cells[1:]:
         out.append("| " + " | ".join(row) + " |")
     sys.stdout.write("\n".join(out) + "\n")

@@ -1,6 +1,8 @@
 #include "sweep/sweep_spec.hpp"
 
 #include <algorithm>
+#include <charconv>
+#include <cmath>
 #include <fstream>
 #include <functional>
 #include <map>
@@ -26,11 +28,12 @@ namespace fs = std::filesystem;
 
 // The axes a grid spans and a [[point]] sets, in the order the grid nests them (the
 // last varies fastest).
-constexpr std::string_view kAxes[] = {"scene", "config", "set", "format", "isect", "firmware", "spp", "fidelity"};
+constexpr std::string_view kAxes[] = {"scene",    "transform", "config", "set", "format",
+                                      "isect",    "firmware",  "spp",    "fidelity"};
 // More points than a cluster's job arrays would take in a week of seconds each.
 constexpr std::size_t kMaxPoints = 100'000;
-constexpr std::string_view kTopKeys[] = {"name", "width", "height", "max_depth", "seed", "leak_rays", "hit_check",
-                                         "grid", "point"};
+constexpr std::string_view kTopKeys[] = {"name",      "width",        "height", "max_depth", "seed",
+                                         "leak_rays", "extreme_rays", "hit_check", "grid",     "point"};
 
 std::string where(const std::string& source, const toml::node& node) {
   return fmt::format("{}:{}:{}", source, node.source().begin.line, node.source().begin.column);
@@ -217,6 +220,13 @@ class Expander {
     const std::string text = v.texts.empty() ? "" : v.texts.front();
     if (axis == "scene") {
       p.scene = scene(text, v.where);
+    } else if (axis == "transform") {
+      try {
+        parse_transform(text);
+      } catch (const Error& e) {
+        throw Error(fmt::format("{}: {}", v.where, e.what()));
+      }
+      p.transform = text;
     } else if (axis == "config") {
       p.config = text.ends_with(".toml") ? existing_path(text, base_dir_, v.where, "configuration") : text;
       config_where_ = v.where;
@@ -282,6 +292,7 @@ class Expander {
     reference.spp = p.spp;
     reference.max_depth = p.max_depth;
     reference.seed = p.seed;
+    reference.transform = p.transform;
     reference.config.clear();
     reference.isect.clear();
     reference.id = id_of(reference);
@@ -294,7 +305,8 @@ class Expander {
   }
 
   std::string id_of(const Point& p) const {
-    const std::string checks = p.fidelity == "reference" ? "" : fmt::format("{} {}", spec_.leak_rays, spec_.hit_check);
+    const std::string checks =
+        p.fidelity == "reference" ? "" : fmt::format("{} {} {}", spec_.leak_rays, spec_.hit_check, spec_.extreme_rays);
     return fmt::format("{}-{}-{:08x}", p.fidelity, slug(p.scene),
                        static_cast<std::uint32_t>(fnv1a(p.canonical() + checks) >> 32));
   }
@@ -310,9 +322,30 @@ class Expander {
 
 }  // namespace
 
+Transform parse_transform(std::string_view text) {
+  Transform t;
+  if (text.empty()) return t;
+  const auto number = [&](std::string_view rest, auto& value) {
+    const auto [end, ec] = std::from_chars(rest.data(), rest.data() + rest.size(), value);
+    return ec == std::errc{} && end == rest.data() + rest.size();
+  };
+  if (text.starts_with("scale:") && number(text.substr(6), t.scale_exponent) && t.scale_exponent >= -100 &&
+      t.scale_exponent <= 100 && t.scale_exponent != 0) {
+    return t;
+  }
+  if (text.starts_with("translate:") && number(text.substr(10), t.offset) && std::isfinite(t.offset) &&
+      std::abs(t.offset) <= 1e30 && t.offset != 0.0) {
+    return t;
+  }
+  throw Error(fmt::format("transform '{}' is neither scale:K (K a non-zero whole number in [-100, 100]) nor "
+                          "translate:D (D a non-zero number within 1e30)",
+                          text));
+}
+
 std::string Point::canonical() const {
   std::string out = fmt::format("scene {}\nfidelity {}\nwidth {}\nheight {}\nspp {}\nmax_depth {}\nseed {}\n", scene,
                                 fidelity, width, height, spp, max_depth, seed);
+  if (!transform.empty()) out += fmt::format("transform {}\n", transform);
   if (fidelity == "reference") return out;
   out += fmt::format("config {}\nset {}\nformat {}\nisect {}\nfirmware {}\n", config, fmt::join(sets, " "), format,
                      isect, fmt::join(firmware, " "));
@@ -323,6 +356,12 @@ std::vector<std::string> Point::render_args() const {
   std::vector<std::string> args = {scene,        "--backend",  fidelity, "--width", std::to_string(width),
                                    "--height",   std::to_string(height), "--spp", std::to_string(spp),
                                    "--max-depth", std::to_string(max_depth), "--seed", std::to_string(seed)};
+  const Transform t = parse_transform(transform);
+  if (t.scale_exponent != 0) args.insert(args.end(), {"--scale-exponent", std::to_string(t.scale_exponent)});
+  if (t.offset != 0.0) {
+    const std::string d = fmt::format("{}", t.offset);
+    args.insert(args.end(), {"--translate", d, d, d});
+  }
   if (fidelity == "reference") return args;
   args.insert(args.end(), {"--config", config, "--format", format, "--isect", isect});
   for (const std::string& s : sets) args.insert(args.end(), {"--set", s});
@@ -355,14 +394,24 @@ Spec parse_spec(std::string_view text, const std::string& source, const fs::path
   if (const toml::node* n = table.get("max_depth")) settings.max_depth = static_cast<int>(integer(*n, "max_depth", 0, 64, source));
   if (const toml::node* n = table.get("seed")) settings.seed = static_cast<std::uint64_t>(integer(*n, "seed", 0, INT64_MAX, source));
   if (const toml::node* n = table.get("leak_rays")) spec.leak_rays = static_cast<std::uint32_t>(integer(*n, "leak_rays", 0, 10'000'000, source));
+  if (const toml::node* n = table.get("extreme_rays")) spec.extreme_rays = static_cast<std::uint32_t>(integer(*n, "extreme_rays", 0, 1'000'000, source));
   if (const toml::node* n = table.get("hit_check")) {
     if (!n->is_boolean()) throw Error(fmt::format("{}: hit_check must be true or false", where(source, *n)));
     spec.hit_check = n->as_boolean()->get();
   }
   Expander expander(source, base_dir, settings, spec);
   if (const toml::node* n = table.get("grid")) {
-    if (!n->is_table()) throw Error(fmt::format("{}: grid must be a table ([grid])", where(source, *n)));
-    expander.expand(expander.read_axes(*n->as_table(), true));
+    // One [grid], or several [[grid]]s.
+    std::vector<const toml::table*> grids;
+    if (const toml::array* a = n->as_array()) {
+      for (const toml::node& g : *a) grids.push_back(g.as_table());
+    } else {
+      grids.push_back(n->as_table());
+    }
+    for (const toml::table* g : grids) {
+      if (g == nullptr) throw Error(fmt::format("{}: grid must be a table ([grid] or [[grid]])", where(source, *n)));
+      expander.expand(expander.read_axes(*g, true));
+    }
   }
   if (const toml::node* n = table.get("point")) {
     const toml::array* points = n->as_array();

@@ -22,6 +22,7 @@ struct Point {
   std::vector<std::string> sets;  // "key=value", applied in order
   std::string format;    // empty: the configuration's format
   std::string isect = "woop";
+  std::string transform;  // "", "scale:K" (the scene times 2^K) or "translate:D" (moved by D, D, D)
   std::vector<std::string> firmware;  // absolute paths; empty: the built-in whitted.s
   int width = 64, height = 64, spp = 1, max_depth = 5;
   std::uint64_t seed = 1;
@@ -37,6 +38,7 @@ struct Spec {
   std::string name;
   std::uint32_t leak_rays = 4096;  // rays from inside each scene's closed meshes; 0: none
   bool hit_check = true;           // primary rays against an fp64 trace
+  std::uint32_t extreme_rays = 1024;  // axis-parallel, grazing and on-surface rays, each; 0: none
   std::vector<Point> references;   // one per scene and image: rendered first
   std::vector<Point> points;       // the rest, each naming its reference
 };
@@ -46,6 +48,14 @@ struct Spec {
 // and the key for malformed TOML, an unknown key (with the nearest known one), a value of
 // the wrong type or out of range, an unknown format, configuration or --set, and a sweep
 // of no points.
+// The point's transform: the scale exponent K and the offset D of "scale:K" /
+// "translate:D" (0 and 0 for none).
+struct Transform {
+  int scale_exponent = 0;
+  double offset = 0.0;
+};
+Transform parse_transform(std::string_view text);
+
 Spec parse_spec(std::string_view text, const std::string& source, const std::filesystem::path& base_dir);
 Spec read_spec(const std::filesystem::path& file);
 

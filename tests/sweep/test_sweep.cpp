@@ -1,6 +1,7 @@
 // The sweep file's expansion and errors, and the ray checks a sweep point runs.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <string>
 
@@ -63,6 +64,19 @@ TEST(SweepSpec, IdsAreStableAndNameWhatChanges) {
   EXPECT_NE(parse("leak_rays = 7\n" + text).points[0].id, a.points[0].id);
 }
 
+TEST(SweepSpec, ATransformedSceneHasItsOwnReference) {
+  const Spec spec = parse("[grid]\nscene = \"cornell\"\ntransform = [\"\", \"scale:-60\", \"translate:1e6\"]\n");
+  ASSERT_EQ(spec.points.size(), 3u);
+  ASSERT_EQ(spec.references.size(), 3u);
+  EXPECT_EQ(spec.references[1].transform, "scale:-60");
+  EXPECT_EQ(spec.points[1].reference, spec.references[1].id);
+  const std::vector<std::string> args = spec.references[2].render_args();
+  const auto at = std::find(args.begin(), args.end(), "--translate");
+  ASSERT_NE(at, args.end());
+  EXPECT_EQ(*(at + 1), "1000000");
+  EXPECT_EQ(parse_transform("scale:60").scale_exponent, 60);
+}
+
 TEST(SweepSpec, SetAlternativesAndPoints) {
   const Spec spec = parse(R"(
 [grid]
@@ -85,8 +99,11 @@ set = ["triangle_cache.bytes=4096"]
 
 TEST(SweepSpec, BadInputIsRefusedWithItsLine) {
   EXPECT_EQ(error_of("[grid]\nscene = \"cornell\"\nformats = [\"fp32\"]\n"),
-            "test.toml:3:11: unknown key 'formats' in [grid] (known: scene, config, set, format, isect, firmware, spp, "
-            "fidelity) (did you mean 'format'?)");
+            "test.toml:3:11: unknown key 'formats' in [grid] (known: scene, transform, config, set, format, isect, "
+            "firmware, spp, fidelity) (did you mean 'format'?)");
+  EXPECT_EQ(error_of("[grid]\nscene = \"cornell\"\ntransform = [\"scale:101\"]\n"),
+            "test.toml:3:14: transform 'scale:101' is neither scale:K (K a non-zero whole number in [-100, 100]) "
+            "nor translate:D (D a non-zero number within 1e30)");
   EXPECT_EQ(error_of("[grid]\nscene = \"cornell\"\nformat = [\"fp99\"]\n").substr(0, 47),
             "test.toml:3:11: unknown number format 'fp99': u");
   EXPECT_EQ(error_of("[grid]\nscene = \"cornell\"\nfidelity = \"gate\"\n"),
@@ -131,6 +148,21 @@ TEST(RayChecks, PrimaryRaysAgreeWithFp64InFp32AndLessInANarrowFormat) {
   const RayChecks fp16 = check_rays(scene, build, IsectMode::kWatertight, 48, 32, true, 0, 1);
   EXPECT_GT(fp16.hit_mismatches, fp32.hit_mismatches);
   EXPECT_EQ(fp16.leak_rays, 0u);
+}
+
+TEST(RayChecks, ExtremeRaysAgreeWithFp64InFp32AndNotInFp16) {
+  const Scene scene = make_builtin_scene("cornell");
+  KdBuildConfig build;
+  const RayChecks fp32 = check_rays(scene, build, IsectMode::kWatertight, 8, 8, false, 0, 3, 2000);
+  EXPECT_EQ(fp32.axis_rays, 2000u);
+  EXPECT_EQ(fp32.surface_rays, 2000u);
+  // Watertight fp32 against fp64 on the same rays: ties at shared edges at most.
+  EXPECT_LE(fp32.axis_mismatches, 20u);
+  EXPECT_LE(fp32.grazing_mismatches, 20u);
+  EXPECT_LE(fp32.surface_mismatches, 20u);
+  build.format = fp::format_by_name("fp16");
+  const RayChecks fp16 = check_rays(scene, build, IsectMode::kWatertight, 8, 8, false, 0, 3, 2000);
+  EXPECT_GT(fp16.grazing_mismatches + fp16.surface_mismatches, 20u);
 }
 
 TEST(Area, TheDatapathSumsTheSynthesisedUnits) {
