@@ -305,8 +305,10 @@ class Expander {
   }
 
   std::string id_of(const Point& p) const {
-    const std::string checks =
-        p.fidelity == "reference" ? "" : fmt::format("{} {} {}", spec_.leak_rays, spec_.hit_check, spec_.extreme_rays);
+    // A transformed point is measured by its image alone (sweep-point runs no ray checks).
+    const std::string checks = p.fidelity == "reference" || !p.transform.empty()
+                                   ? ""
+                                   : fmt::format("{} {} {}", spec_.leak_rays, spec_.hit_check, spec_.extreme_rays);
     return fmt::format("{}-{}-{:08x}", p.fidelity, slug(p.scene),
                        static_cast<std::uint32_t>(fnv1a(p.canonical() + checks) >> 32));
   }
