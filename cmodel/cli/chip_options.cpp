@@ -2,6 +2,9 @@
 
 #include <fmt/format.h>
 
+#include "asm/builtin_firmware.hpp"
+#include "asm/firmware_file.hpp"
+#include "cc/compiler.hpp"
 #include "common/error.hpp"
 #include "config/config.hpp"
 #include "rpu/spec.hpp"
@@ -51,6 +54,20 @@ void add_chip_options(CLI::App& command, ChipOptions& o) {
       ->capture_default_str();
   command.add_option("--empty-bonus", o.build.empty_bonus, "SAH empty-space bonus lambda")->capture_default_str();
   command.add_flag("--perfect-splits", o.build.perfect_splits, "Clip triangles to node boxes for split candidates");
+}
+
+isa::Firmware load_firmware(const std::vector<std::filesystem::path>& files) {
+  if (files.empty()) return isa::builtin_firmware("whitted.s");
+  const std::string ext = files[0].extension().string();
+  if (files.size() == 1 && ext != ".rgen") return isa::load_firmware_or_assemble(files[0]);
+  for (const auto& f : files) {
+    if (f.extension() == ".s" || f.extension() == ".rfw") {
+      throw Error(fmt::format("--firmware {}: give one assembly source or firmware file, or GLSL shaders "
+                              "(.rgen, .rchit, .rmiss) only",
+                              f.string()));
+    }
+  }
+  return cc::compile_cached(files, {});
 }
 
 }  // namespace rpu::cli

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <filesystem>
 #include <optional>
 #include <string>
 #include <vector>
@@ -7,6 +8,7 @@
 #include <CLI/CLI.hpp>
 
 #include "fp/format.hpp"
+#include "isa/firmware.hpp"
 #include "kdtree/kdtree.hpp"
 #include "memory/memory_image.hpp"
 #include "rpu/spec.hpp"
@@ -37,5 +39,9 @@ struct ChipOptions {
 };
 
 void add_chip_options(CLI::App& command, ChipOptions& options);
+
+// What --firmware names: none, the built-in whitted.s; one assembly source or firmware
+// file; or GLSL shaders, compiled on the fly (rpu cc, cached by content).
+isa::Firmware load_firmware(const std::vector<std::filesystem::path>& files);
 
 }  // namespace rpu::cli

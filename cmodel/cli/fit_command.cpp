@@ -12,9 +12,6 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
-#include "asm/builtin_firmware.hpp"
-#include "asm/firmware_file.hpp"
-#include "cc/compiler.hpp"
 #include "cli/chip_options.hpp"
 #include "cli/commands.hpp"
 #include "cli/output_paths.hpp"
@@ -75,7 +72,7 @@ std::string psnr_text(double psnr) { return std::isinf(psnr) ? "identical" : fmt
 class Fitter {
  public:
   Fitter(const FitOptions& o, Scene world)
-      : o_(o), world_(std::move(world)), firmware_(load(o.firmware)) {
+      : o_(o), world_(std::move(world)), firmware_(load_firmware(o.firmware)) {
     reference_ = ReferenceRenderer(world_).render(o_.settings, nullptr, {});
     base_ = evaluate({});
     if (!base_.error.empty()) throw Error(fmt::format("the base configuration '{}' cannot render the scene: {}", o_.base, base_.error));
@@ -141,12 +138,6 @@ class Fitter {
   const isa::Firmware& firmware() const { return firmware_; }
 
  private:
-  static isa::Firmware load(const std::vector<fs::path>& files) {
-    if (files.empty()) return isa::builtin_firmware("whitted.s");
-    if (files.size() == 1 && files[0].extension() != ".rgen") return isa::load_firmware_or_assemble(files[0]);
-    return cc::compile_cached(files, {});
-  }
-
   const FitOptions& o_;
   Scene world_;
   isa::Firmware firmware_;

@@ -150,22 +150,6 @@ void record_run(StatsTree& report, const RenderOptions& o, const std::string& sc
   }
 }
 
-// The built-in whitted.s, one assembly source or firmware file, or GLSL shaders
-// compiled on the fly (rpu cc, cached by content).
-isa::Firmware load_firmware(const std::vector<std::filesystem::path>& files) {
-  if (files.empty()) return isa::builtin_firmware("whitted.s");
-  const std::string ext = files[0].extension().string();
-  if (files.size() == 1 && ext != ".rgen") return isa::load_firmware_or_assemble(files[0]);
-  for (const auto& f : files) {
-    if (f.extension() == ".s" || f.extension() == ".rfw") {
-      throw Error(fmt::format("--firmware {}: give one assembly source or firmware file, or GLSL shaders "
-                              "(.rgen, .rchit, .rmiss) only",
-                              f.string()));
-    }
-  }
-  return cc::compile_cached(files, {});
-}
-
 // The --compare image: linear (.exr), the render's size, every value finite.
 Image read_compare_image(const RenderOptions& o) {
   const std::string name = o.compare.string();
