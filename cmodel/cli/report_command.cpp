@@ -67,8 +67,9 @@ int run_report(const ReportOptions& o) {
   if (!html) args.insert(args.end(), {pictures.string(), o.output.stem().string()});
   const Captured result = capture_process(args);
   if (result.status != 0) {
-    throw Error(fmt::format("the report's plotting program ({} with matplotlib) failed with status {}; it needs "
-                            "python3-matplotlib (scripts/setup installs it; RPU_PYTHON names another python)",
+    throw Error(fmt::format("the report's plotting program ({} with matplotlib) failed with status {}, its "
+                            "message above; it needs python3-matplotlib (scripts/setup installs it; RPU_PYTHON "
+                            "names another python) and a sweep directory rpu sweep wrote",
                             args[0], result.status));
   }
   const std::string command = fmt::format("rpu report {} -o {}", o.dir.string(), o.output.string());

@@ -194,12 +194,25 @@ struct PointOptions {
 
 int run_sweep_point(const PointOptions& o) {
   const Layout layout{fs::absolute(o.dir)};
-  const json plan = read_json(layout.plan());
+  // The plan rpu sweep wrote: the point and the sweep's checks.
   std::optional<sweep::Point> found;
-  for (const char* list : {"references", "points"}) {
-    for (const json& j : plan.at(list)) {
-      if (j.at("id") == o.id) found = point_from_json(j);
+  std::string sweep_name;
+  bool plan_hit_check = false;
+  std::uint32_t plan_leak_rays = 0, plan_extreme_rays = 0;
+  try {
+    const json plan = read_json(layout.plan());
+    for (const char* list : {"references", "points"}) {
+      for (const json& j : plan.at(list)) {
+        if (j.at("id") == o.id) found = point_from_json(j);
+      }
     }
+    sweep_name = plan.at("sweep");
+    plan_hit_check = plan.at("hit_check");
+    plan_leak_rays = plan.at("leak_rays");
+    plan_extreme_rays = plan.at("extreme_rays");
+  } catch (const json::exception& e) {
+    throw Error(fmt::format("{}: not a plan that rpu sweep wrote ({}); run rpu sweep SPEC -o {} again",
+                            layout.plan().string(), e.what(), o.dir.string()));
   }
   if (!found) throw Error(fmt::format("{}: no point '{}' in the sweep", layout.plan().string(), o.id));
   const sweep::Point& p = *found;
@@ -276,9 +289,9 @@ int run_sweep_point(const PointOptions& o) {
     // A transformed scene is measured by its image: its trees can be so costly (a
     // translated mesh in a narrow format) that thousands of check rays take hours.
     const bool checked = p.transform.empty();
-    const bool hit_check = checked && plan.at("hit_check").get<bool>();
-    const std::uint32_t leak_rays = checked ? plan.at("leak_rays").get<std::uint32_t>() : 0;
-    const std::uint32_t extreme_rays = checked ? plan.at("extreme_rays").get<std::uint32_t>() : 0;
+    const bool hit_check = checked && plan_hit_check;
+    const std::uint32_t leak_rays = checked ? plan_leak_rays : 0;
+    const std::uint32_t extreme_rays = checked ? plan_extreme_rays : 0;
     sweep::RayChecks c;
     try {
       c = sweep::check_rays(scene, build, chip.isect_mode(), p.width, p.height, hit_check, leak_rays, p.seed,
@@ -314,7 +327,7 @@ int run_sweep_point(const PointOptions& o) {
     area = {{"datapath_cells", row["datapath_cells"]}, {"chip_cells", row["chip_cells"]}};
   }
   const json record = {{"id", p.id},
-                       {"sweep", plan.at("sweep")},
+                       {"sweep", sweep_name},
                        {"point", point_json(p)},
                        {"row", row},
                        {"checks", checks},
