@@ -3,6 +3,7 @@
 #include <chrono>
 #include <functional>
 #include <string>
+#include <string_view>
 
 #include <CLI/CLI.hpp>
 
@@ -21,6 +22,10 @@ struct Invocation {
   std::chrono::steady_clock::time_point start;
 };
 void record_invocation(int argc, const char* const* argv);
+
+// A POSIX shell word: as it is when made of safe characters only (shlex.quote's set),
+// else in single quotes, each ' written '"'"'. For command lines a shell reads back.
+std::string shell_word(std::string_view arg);
 const Invocation& invocation();
 
 Command add_render_command(CLI::App& app);

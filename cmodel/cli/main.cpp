@@ -34,9 +34,8 @@ int run(int argc, char** argv) {
 
 namespace {
 Invocation the_invocation;
+}  // namespace
 
-// A POSIX shell word: as it is when made of safe characters only (shlex.quote's set),
-// else in single quotes, each ' written '"'"'.
 std::string shell_word(std::string_view arg) {
   const bool safe = !arg.empty() && std::all_of(arg.begin(), arg.end(), [](char c) {
     return std::isalnum(static_cast<unsigned char>(c)) || std::string_view("@%+=:,./-_").find(c) != std::string_view::npos;
@@ -46,7 +45,6 @@ std::string shell_word(std::string_view arg) {
   for (const char c : arg) out += c == '\'' ? std::string("'\"'\"'") : std::string(1, c);
   return out + "'";
 }
-}  // namespace
 
 void record_invocation(int argc, const char* const* argv) {
   the_invocation.start = std::chrono::steady_clock::now();

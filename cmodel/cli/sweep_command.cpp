@@ -47,17 +47,6 @@ constexpr const char* kColumns[] = {
     "surface_rays", "surface_mismatches", "cycles",   "fps",                "rays",         "rays_per_second",
     "host_seconds", "datapath_cells", "chip_cells", "error"};
 
-// A POSIX shell word (the job lists are shell lines).
-std::string quoted(const std::string& word) {
-  if (!word.empty() && word.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789@%+=:,./-_") ==
-                           std::string::npos) {
-    return word;
-  }
-  std::string out = "'";
-  for (const char c : word) out += c == '\'' ? std::string("'\"'\"'") : std::string(1, c);
-  return out + "'";
-}
-
 json point_json(const sweep::Point& p) {
   return {{"id", p.id},         {"scene", p.scene},       {"transform", p.transform},
           {"fidelity", p.fidelity}, {"config", p.config},
@@ -363,7 +352,8 @@ struct SweepOptions {
 };
 
 std::string job_line(const fs::path& exe, const Layout& layout, const std::string& id) {
-  return fmt::format("{} sweep-point {} {}\n", quoted(exe.string()), quoted(layout.dir.string()), quoted(id));
+  return fmt::format("{} sweep-point {} {}\n", shell_word(exe.string()), shell_word(layout.dir.string()),
+                     shell_word(id));
 }
 
 // The GNU parallel and Slurm files of the job lists.
@@ -396,7 +386,7 @@ void write_cluster_files(const Layout& layout, const sweep::Spec& spec, std::siz
                            "done\n"
                            "exit $status\n",
                            fmt::arg("name", spec.name), fmt::arg("phase", phase), fmt::arg("last", tasks - 1),
-                           fmt::arg("dir", quoted(layout.dir.string())), fmt::arg("tasks", tasks),
+                           fmt::arg("dir", shell_word(layout.dir.string())), fmt::arg("tasks", tasks),
                            fmt::arg("lines", lines)));
   }
   write_text(layout.dir / "slurm" / "submit.sh",
