@@ -3,7 +3,7 @@
 ;
 ; Registers kept by every routine:
 ;   r15 = (launch block address, ray epsilon (float), max depth (int), 0)
-;   r14 = (random stream state, depth of the current ray (int), -, -)
+;   r14 = (random stream state, depth of the current ray (int), primary hit's triangle, -)
 ; Everything else is clobbered by calls; callers push what they need.
 ;
 ; Recursion: shade_ray and hit_whitted keep their return addresses on the memory stack
@@ -16,12 +16,15 @@
 .equ FIRMWARE_RETURN_STACK_ENTRIES, 3
 .equ FIRMWARE_STACK_BYTES, 3 * 16
 .equ FIRMWARE_STACK_BYTES_PER_DEPTH, 9 * 16
+; raygen does selected ray tracing (docs/selection.md): the launch block's select fields.
+.equ FIRMWARE_SELECTS, 1
 
 .text
 
 ; ---------------------------------------------------------------------------------
 ; raygen: one pixel. spp jittered samples (docs/shading.md section 1), each traced by
-; shade_ray; the mean goes to the framebuffer as (r, g, b, 1).
+; shade_ray; the mean goes to the framebuffer as (r, g, b, 1), or in pass 0 of a
+; selected frame as (r, g, b, the key: sample 0's primary triangle).
 ; r12 = (sample, column, row, n) with n = round(sqrt(spp)); r13 = colour sum.
 raygen:
         li      r15.x, DEVICE_LAUNCH_BASE
@@ -29,6 +32,11 @@ raygen:
         ld1f    r15.y, [r0 + SCENE_RECORD_RAY_EPSILON_AT]
         ld1     r15.z, [r15 + LAUNCH_MAX_DEPTH_AT]
         li      r15.w, 0
+        ld1     r0.x, [r15 + LAUNCH_SELECT_BLOCK_AT]
+        ilti    r0.x, r0.x, 2
+        bnz     r0.x, every_pixel       ; block 0 or 1: every pixel traced
+        call    select                  ; returns if this pixel is traced
+every_pixel:
         li      r12, 0
         ld1     r0.x, [r15 + LAUNCH_SPP_AT]
         i2f     r0.y, r0.x
@@ -101,6 +109,9 @@ have_offset:
         call    shade_ray
         pop     r13
         pop     r12
+        bnz     r12.x, keyed
+        mov     r13.w, r14.z            ; the pixel's key
+keyed:
         add     r13.xyz, r13, r0
         ; next sample: column + 1, wrapping to the next row after n
         iaddi   r12.x, r12.x, 1
@@ -116,7 +127,13 @@ same_row:
         i2f     r0.x, r0.x
         rcp     r0.x, r0.x
         mul     r13.xyz, r13, r0.x
+        ld1     r0.x, [r15 + LAUNCH_SELECT_BLOCK_AT]
+        ilti    r0.x, r0.x, 2
+        ld1     r0.y, [r15 + LAUNCH_SELECT_PASS_AT]
+        or      r0.x, r0.x, r0.y
+        bz      r0.x, store_pixel       ; pass 0 keeps the key in alpha
         lif     r13.w, 1.0
+store_pixel:
         ld1     r0.x, [r15 + LAUNCH_FRAMEBUFFER_AT]
         rdsr    r1, pixel
         shli    r1.z, r1.z, 4           ; FRAMEBUFFER_BYTES_PER_PIXEL = 16
@@ -125,12 +142,129 @@ same_row:
         halt
 
 ; ---------------------------------------------------------------------------------
+; select: selected ray tracing (docs/selection.md), a frame of two launches. The
+; corners of the B x B blocks are the pixels whose column is a multiple of B or the
+; last one, and whose row is too. Pass 0 traces the corners only. Pass 1 copies the
+; corners from pass 0's framebuffer and fills every other pixel from the four corners
+; of its block: bilinearly when they agree, by tracing it when they disagree (their
+; keys, or their colours by more than the threshold in a channel). Returns when this
+; pixel is to be traced, else halts. Clobbers r0..r13.
+select:
+        rdsr    r1, pixel               ; (x, y, index, 0)
+        rdsr    r2, launch              ; (width, height, -, -)
+        ld1     r0.x, [r15 + LAUNCH_SELECT_BLOCK_AT]
+        ld1     r0.y, [r15 + LAUNCH_SELECT_RECIPROCAL_AT]
+        imulhu  r3.xy, r1, r0.y         ; (x, y) / B
+        imul    r3.xy, r3, r0.x         ; (x0, y0): the block's first corner
+        iaddi   r5.xy, r2, -1           ; the last column and row
+        iadd    r4.xy, r3, r0.x
+        ilt     r6.xy, r4, r5
+        sel     r4.xy, r6, r4, r5       ; (x1, y1) = min((x0, y0) + B, last): its far corner
+        ieq     r6.xy, r1, r3
+        ieq     r7.xy, r1, r5
+        or      r6.xy, r6, r7
+        and     r6.x, r6.x, r6.y        ; a corner
+        ld1     r0.z, [r15 + LAUNCH_SELECT_PASS_AT]
+        bnz     r0.z, select_fill
+        bz      r6.x, select_skip
+        ret                             ; pass 0: trace the corners
+select_skip:
+        halt
+select_fill:
+        ld1     r7.x, [r15 + LAUNCH_SELECT_CORNERS_AT]
+        bz      r6.x, select_block
+        shli    r8.x, r1.z, 4           ; FRAMEBUFFER_BYTES_PER_PIXEL = 16
+        iadd    r8.x, r8.x, r7.x
+        ld      r9, [r8]                ; the corner as pass 0 traced it, raw
+        lif     r9.w, 1.0
+        bra     select_store
+select_block:
+        imul    r8.x, r3.y, r2.x
+        imul    r8.y, r4.y, r2.x
+        iadd    r8.z, r8.x, r4.x
+        iadd    r8.w, r8.y, r4.x
+        iadd    r8.x, r8.x, r3.x
+        iadd    r8.y, r8.y, r3.x        ; the corners' pixels (x0 y0, x0 y1, x1 y0, x1 y1)
+        shli    r8, r8, 4               ; FRAMEBUFFER_BYTES_PER_PIXEL = 16
+        iadd    r8, r8, r7.x
+        ldf     r9.xyz, [r8.x]
+        ldf     r10.xyz, [r8.y]
+        ldf     r11.xyz, [r8.z]
+        ldf     r12.xyz, [r8.w]
+        ld1     r5.x, [r8.x + 12]       ; their keys, from alpha
+        ld1     r5.y, [r8.y + 12]
+        ld1     r5.z, [r8.z + 12]
+        ld1     r5.w, [r8.w + 12]
+        li      r7.y, 0                 ; r5 holds triangles, not yet materials
+select_keys:
+        ieq     r6, r5, r5.x
+        and     r6.x, r6.x, r6.y
+        and     r6.x, r6.x, r6.z
+        and     r6.x, r6.x, r6.w
+        bnz     r6.x, select_colours    ; one triangle (or none): one material
+        bnz     r7.y, select_trace      ; the materials differ
+        ld1     r0.x, [r15 + LAUNCH_SELECT_KEY_AT]
+        bnz     r0.x, select_trace      ; SELECT_KEY_PRIMITIVE: the triangles differ
+        li      r0, -1
+        ieq     r6, r5, r0              ; the corners that hit nothing ...
+        sel     r5, r6, r15.w, r5       ; ... look up triangle 0 (one corner hit, so there is one)
+        imuli   r5, r5, TRIANGLE_BYTES
+        ld1     r0.x, [r15 + LAUNCH_TRIANGLES_AT]
+        iadd    r5, r5, r0.x
+        ld1     r5.x, [r5.x + TRIANGLE_MATERIAL_AT]
+        ld1     r5.y, [r5.y + TRIANGLE_MATERIAL_AT]
+        ld1     r5.z, [r5.z + TRIANGLE_MATERIAL_AT]
+        ld1     r5.w, [r5.w + TRIANGLE_MATERIAL_AT]
+        sel     r5, r6, r6, r5          ; a miss is its own material, 0xffffffff
+        li      r7.y, 1
+        bra     select_keys
+select_colours:
+        min     r0.xyz, r9, r10
+        min     r0.xyz, r0, r11
+        min     r0.xyz, r0, r12
+        max     r6.xyz, r9, r10
+        max     r6.xyz, r6, r11
+        max     r6.xyz, r6, r12
+        add     r6.xyz, r6, -r0
+        max     r6.x, r6.x, r6.y
+        max     r6.x, r6.x, r6.z        ; the colours' largest spread in a channel
+        ld1f    r0.w, [r15 + LAUNCH_SELECT_THRESHOLD_AT]
+        fle     r6.x, r6.x, r0.w
+        bz      r6.x, select_trace      ; over the threshold (or NaN)
+        isub    r6.xy, r1, r3
+        isub    r0.xy, r4, r3
+        i2f     r6.xy, r6
+        i2f     r0.xy, r0
+        lif     r0.z, 1.0
+        max     r0.xy, r0, r0.z         ; a one-pixel-wide last block: t = 0
+        rcp     r0.xy, r0
+        mul     r6.xy, r6, r0           ; (tx, ty)
+        add     r11.xyz, r11, -r9
+        mad     r9.xyz, r11, r6.x, r9   ; the top edge at tx
+        add     r12.xyz, r12, -r10
+        mad     r10.xyz, r12, r6.x, r10 ; the bottom edge at tx
+        add     r10.xyz, r10, -r9
+        mad     r9.xyz, r10, r6.y, r9
+        lif     r9.w, 1.0
+select_store:
+        ld1     r0.x, [r15 + LAUNCH_FRAMEBUFFER_AT]
+        shli    r8.x, r1.z, 4           ; FRAMEBUFFER_BYTES_PER_PIXEL = 16
+        iadd    r0.x, r0.x, r8.x
+        st      [r0], r9
+        halt
+select_trace:
+        ret
+
+; ---------------------------------------------------------------------------------
 ; shade_ray: r0 = (origin, t_min), r1 = (direction, t_max) -> r0.xyz = colour.
 ; A hit calls its material's shader through the shader table with
 ; r0, r1 as given, r2 = hit record (t, u, v, triangle), r4.x = material address,
 ; r5 = triangle record (vertex a, b, c, material).
 shade_ray:
         trace   r2, r0, r1
+        bnz     r14.y, shade_hit        ; a secondary ray
+        mov     r14.z, r2.w             ; the primary ray's triangle, the pixel's key
+shade_hit:
         iaddi   r3.x, r2.w, 1
         bz      r3.x, shade_miss        ; triangle 0xffffffff: a miss
         ld1     r3.x, [r15 + LAUNCH_TRIANGLES_AT]

@@ -101,6 +101,14 @@ if(RPU_IDIFF)
                        --config ${config} --isect ${isect} --width 64 --height 48 --spp 2 --max-depth 3)
       set_tests_properties(slow.cosim.${name} PROPERTIES LABELS slow TIMEOUT 14400)
     endforeach()
+    # Selected ray tracing (docs/selection.md): two launches, the second reading the
+    # first's framebuffer from the launch segment; blocks cut short by the frame's edge.
+    set(name frame_select.${config}.${isect}.cornell)
+    add_test(NAME cosim.${name}
+             COMMAND Python3::Interpreter ${CMAKE_CURRENT_SOURCE_DIR}/rtl_frames.py ${CMAKE_CURRENT_BINARY_DIR}/${name}
+                     ${RPU_IDIFF} -- $<TARGET_FILE:rpu> cornell --config ${config} --isect ${isect}
+                     --width 11 --height 8 --spp 1 --max-depth 2 --select 3:0.05)
+    set_tests_properties(cosim.${name} PROPERTIES LABELS cosim TIMEOUT 900)
     # The compiled GLSL Whitted (docs/shaders.md) on the chip: the same frame as the
     # functional model's (which equals firmware/whitted.s's: tests/glsl).
     set(glsl ${PROJECT_SOURCE_DIR}/firmware/glsl)

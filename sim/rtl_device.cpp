@@ -37,6 +37,8 @@ class RtlDevice final : public device::DeviceBase {
   cycle::CycleStats cycle_stats(const ChipRunResult& r) const;
 
   RtlOptions options_;
+  cycle::CycleStats frame_;  // the frame's: a selected frame's two launches added
+  std::uint64_t lockstep_steps_ = 0;
 };
 
 cycle::CycleStats RtlDevice::cycle_stats(const ChipRunResult& r) const {
@@ -44,7 +46,6 @@ cycle::CycleStats RtlDevice::cycle_stats(const ChipRunResult& r) const {
   s.config = std::string(config_.name);
   s.clock_mhz = config_.clock_mhz;
   s.cycles = r.cycles;
-  s.host_seconds = stats_.host_seconds;
   s.closest_rays = r.closest_rays;
   s.any_rays = r.any_rays;
   for (const std::uint64_t n : r.retired) s.thread_instructions += n;
@@ -132,8 +133,7 @@ void RtlDevice::run(const ProgressCallback& progress) {
     memory_->store32(spec::memory::kDeviceFramebufferBase + static_cast<std::uint32_t>(i), v);
   }
 
-  functional::ShaderStats& sh = stats_.shader;
-  sh = {};
+  functional::ShaderStats sh;
   sh.retired = r.retired;
   sh.chunk_issues = r.chunk_issues;
   sh.lanes_issued = r.chunk_issues * static_cast<std::uint64_t>(config_.chunk_size);
@@ -145,10 +145,21 @@ void RtlDevice::run(const ProgressCallback& progress) {
     sh.leaves += u.leaves;
     sh.tests += u.tests;
   }
+  cycle::CycleStats launch_stats = cycle_stats(r);
+  launch_stats.host_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (continues_frame()) {
+    frame_ += launch_stats;
+    stats_.shader += sh;
+    lockstep_steps_ += r.lockstep_steps;
+  } else {
+    frame_ = std::move(launch_stats);
+    stats_.shader = sh;
+    lockstep_steps_ = r.lockstep_steps;
+  }
   stats_.host_threads = 1;
-  stats_.host_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  stats_.report = cycle::report(cycle_stats(r), sh);
-  if (options_.lockstep) stats_.report.group("lockstep").set("steps_compared", r.lockstep_steps);
+  stats_.host_seconds = frame_.host_seconds;
+  stats_.report = cycle::report(frame_, stats_.shader);
+  if (options_.lockstep) stats_.report.group("lockstep").set("steps_compared", lockstep_steps_);
 
   if (r.fault) throw_fault(*r.fault);
 }

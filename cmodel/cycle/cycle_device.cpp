@@ -196,7 +196,8 @@ class CycleDevice final : public device::DeviceBase {
   static constexpr std::uint32_t kNoFault = std::numeric_limits<std::uint32_t>::max();
   std::uint32_t fault_pixel_ = kNoFault;
   std::deque<TimelineSlice> open_slices_;
-  CycleStats out_;
+  CycleStats out_;    // this launch's
+  CycleStats frame_;  // the frame's: a selected frame's two launches added
 };
 
 void CycleDevice::schedule_core(std::uint32_t c, Cycle at) {
@@ -619,6 +620,10 @@ void CycleDevice::return_ray(Ray& ray, Cycle now) {
 }
 
 void CycleDevice::slice(std::string track, std::string name, Cycle begin, Cycle end) {
+  // Pass 1 of a selected frame starts where pass 0 ended.
+  const Cycle base = continues_frame() ? frame_.cycles : 0;
+  begin += base;
+  end += base;
   begin = std::max(begin, options_.timeline_begin);
   end = std::min(end, options_.timeline_end);
   if (begin >= end) return;
@@ -632,8 +637,9 @@ void CycleDevice::slice(std::string track, std::string name, Cycle begin, Cycle 
       break;
     }
   }
-  if (out_.timeline_slices == options_.timeline_max_slices) {
-    if (!out_.timeline_cut_at) out_.timeline_cut_at = begin;
+  const std::uint64_t earlier = continues_frame() ? frame_.timeline_slices : 0;
+  if (earlier + out_.timeline_slices >= options_.timeline_max_slices) {
+    if (!out_.timeline_cut_at) out_.timeline_cut_at = begin - base;
     return;
   }
   ++out_.timeline_slices;
@@ -746,12 +752,18 @@ void CycleDevice::run(const ProgressCallback& progress) {
   }
   flush_timeline();
   finish(now + 1);
-  stats_.shader = shader_stats_;
+  out_.host_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (continues_frame()) {
+    frame_ += out_;
+    stats_.shader += shader_stats_;
+  } else {
+    frame_ = out_;
+    stats_.shader = shader_stats_;
+  }
   stats_.host_threads = 1;
-  stats_.host_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  out_.host_seconds = stats_.host_seconds;
-  stats_.report = report(out_, shader_stats_);
-  if (options_.frame_stats) options_.frame_stats(out_);
+  stats_.host_seconds = frame_.host_seconds;
+  stats_.report = report(frame_, stats_.shader);
+  if (options_.frame_stats) options_.frame_stats(frame_);
   if (faulted) {
     const functional::ShaderFault fault = *faulted->fault();
     tracer_.reset();

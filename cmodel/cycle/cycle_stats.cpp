@@ -24,6 +24,52 @@ void add_cache(StatsTree& t, const CacheStats& c) {
 
 }  // namespace
 
+CycleStats& CycleStats::operator+=(const CycleStats& o) {
+  const auto add_each = [](auto& to, const auto& from, auto add) {
+    to.resize(std::max(to.size(), from.size()));
+    for (std::size_t i = 0; i < from.size(); ++i) add(to[i], from[i]);
+  };
+  add_each(cores, o.cores, [](ShaderCoreTime& a, const ShaderCoreTime& b) {
+    a.busy += b.busy;
+    a.wait_trace += b.wait_trace;
+    a.wait_memory += b.wait_memory;
+    a.wait_dependency += b.wait_dependency;
+    a.idle += b.idle;
+    a.chunk_issues += b.chunk_issues;
+  });
+  add_each(tus, o.tus, [](TraversalUnitTime& a, const TraversalUnitTime& b) { a += b; });
+  add_each(ius, o.ius, [](IntersectionUnitTime& a, const IntersectionUnitTime& b) {
+    a.tests += b.tests;
+    a.busy += b.busy;
+  });
+  add_each(pixel_cycles, o.pixel_cycles, [](std::uint32_t& a, std::uint32_t b) { a += b; });
+  for (const Bound& b : o.bounds) {
+    const auto same = std::find_if(bounds.begin(), bounds.end(), [&](const Bound& a) { return a.unit == b.unit; });
+    if (same == bounds.end()) {
+      bounds.push_back(b);
+    } else {
+      same->cycles += b.cycles;
+    }
+  }
+  std::stable_sort(bounds.begin(), bounds.end(), [](const Bound& a, const Bound& b) { return a.cycles > b.cycles; });
+  if (!timeline_cut_at && o.timeline_cut_at) timeline_cut_at = cycles + *o.timeline_cut_at;
+  cycles += o.cycles;
+  node_cache += o.node_cache;
+  triangle_cache += o.triangle_cache;
+  data_cache += o.data_cache;
+  dram.reads += o.dram.reads;
+  dram.writes += o.dram.writes;
+  dram.bytes_read += o.dram.bytes_read;
+  dram.bytes_written += o.dram.bytes_written;
+  dram.bus_cycles += o.dram.bus_cycles;
+  closest_rays += o.closest_rays;
+  any_rays += o.any_rays;
+  thread_instructions += o.thread_instructions;
+  host_seconds += o.host_seconds;
+  timeline_slices += o.timeline_slices;
+  return *this;
+}
+
 StatsTree report(const CycleStats& s, const functional::ShaderStats& shader) {
   const auto cycles = static_cast<double>(s.cycles);
   StatsTree r;

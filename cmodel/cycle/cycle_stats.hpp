@@ -90,6 +90,10 @@ struct CycleStats {
   // (CycleOptions::timeline_max_slices), the begin of the first slice left out.
   std::uint64_t timeline_slices = 0;
   std::optional<Cycle> timeline_cut_at;
+
+  // The frame of two launches, `o` run after this one on the same chip (a selected
+  // frame, docs/selection.md): cycles, times and counts add, and so do the bounds.
+  CycleStats& operator+=(const CycleStats& o);
 };
 
 // The frame's statistics as the backend reports them (device::DeviceStats::report;

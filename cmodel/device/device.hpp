@@ -27,11 +27,17 @@ struct Launch {
   int spp = 1;
   int max_depth = 5;
   std::uint32_t seed = 1;
+  // Selected ray tracing (docs/selection.md) takes two launches, pass 0 and pass 1; pass
+  // 1 continues the frame (its statistics add to pass 0's) and reads `corners`, pass
+  // 0's framebuffer, which the launch block carries.
+  Selection select;
+  int pass = 0;
+  std::vector<glm::vec4> corners;
 };
 
 struct DeviceStats {
   functional::ShaderStats shader;
-  double host_seconds = 0.0;  // wall time of the last launch
+  double host_seconds = 0.0;  // wall time of the frame (both launches of a selected one)
   int host_threads = 1;
   // Everything the backend counted, for the writers (common/stats_tree.hpp): the
   // functional backend's shader work; the cycle backend's also its timing
@@ -55,6 +61,7 @@ class Device {
   virtual void wait() = 0;
   // Linear RGBA per pixel, row 0 first.
   virtual std::vector<glm::vec4> read_framebuffer() const = 0;
+  // The frame's: a launch of pass 1 adds its counts to pass 0's.
   virtual DeviceStats stats() const = 0;
 };
 
@@ -71,7 +78,8 @@ std::unique_ptr<Device> make_functional_device(const spec::HardwareConfig& confi
 // "hit_<shader_names[i]>"; rpu::Error naming a missing label.
 std::vector<std::uint32_t> shader_table(const isa::Firmware& firmware, std::span<const std::string> shader_names);
 
-// The launch block and shader table the firmware reads at spec::memory::kDeviceLaunchBase
+// The launch block, the shader table and (pass 1 of a selected frame) the corners'
+// framebuffer, which the firmware reads at spec::memory::kDeviceLaunchBase
 // (spec/memory_map.toml [launch]). Exposed for the tests that check it field by field.
 std::vector<std::uint8_t> make_launch_block(std::span<const std::uint8_t> image, const ImageLayout& layout,
                                             const Launch& launch, std::span<const std::uint32_t> shader_table);

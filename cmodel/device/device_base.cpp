@@ -66,11 +66,46 @@ void DeviceBase::launch(const Launch& launch, ProgressCallback progress) {
     throw Error(fmt::format("a {}x{} framebuffer does not fit the device's address space", launch.width,
                             launch.height));
   }
+  check_selection(launch);
   check_firmware_needs(launch);
-  memory_.emplace(image_, make_launch_block(image_, layout_, launch, shader_table_), firmware_.data,
-                  static_cast<std::uint32_t>(n));
+  std::vector<std::uint8_t> block = make_launch_block(image_, layout_, launch, shader_table_);
+  if (block.size() > mm::kDeviceDataBase - mm::kDeviceLaunchBase) {
+    throw Error(fmt::format("the launch block of a {}x{} frame's pass 1 ({} bytes with the corners' framebuffer) "
+                            "does not fit the launch segment ({} bytes at {:#010x}): render a smaller frame",
+                            launch.width, launch.height, block.size(), mm::kDeviceDataBase - mm::kDeviceLaunchBase,
+                            mm::kDeviceLaunchBase));
+  }
+  memory_.emplace(image_, std::move(block), firmware_.data, static_cast<std::uint32_t>(n));
   launch_ = launch;
   frame_ = std::async(std::launch::async, [this, progress] { run(progress); });
+}
+
+// A selected frame is pass 0 then pass 1 on the same device (device::render_frame).
+void DeviceBase::check_selection(const Launch& launch) const {
+  const std::uint64_t n = std::uint64_t(launch.width) * std::uint64_t(launch.height);
+  if (!launch.select.enabled()) {
+    if (launch.pass != 0 || !launch.corners.empty()) throw Error("a launch without selection has no pass 1 and no corners");
+    return;
+  }
+  if (launch.select.block > static_cast<int>(mm::kSelectMaxBlock)) {
+    throw Error(fmt::format("selection block {} is larger than {}", launch.select.block, mm::kSelectMaxBlock));
+  }
+  if (launch.pass != 0 && launch.pass != 1) throw Error(fmt::format("selection pass {} is neither 0 nor 1", launch.pass));
+  if (launch.pass == 0 && !launch.corners.empty()) throw Error("pass 0 of a selected frame reads no corners");
+  if (launch.pass == 1 && launch.corners.size() != n) {
+    throw Error(fmt::format("pass 1 of a selected {}x{} frame needs pass 0's framebuffer of {} pixels, not {}",
+                            launch.width, launch.height, n, launch.corners.size()));
+  }
+  if (launch.pass == 1 && (launch_.pass != 0 || !launch_.select.enabled() || launch_.width != launch.width ||
+                           launch_.height != launch.height)) {
+    throw Error("pass 1 of a selected frame must follow its pass 0 on the same device");
+  }
+  const auto s = firmware_.symbols.find("FIRMWARE_SELECTS");
+  if (s == firmware_.symbols.end() || s->second.kind != isa::Symbol::Kind::kConstant || s->second.value == 0) {
+    throw Error(fmt::format("selection {} needs firmware with selected ray tracing (it declares FIRMWARE_SELECTS; "
+                            "the built-in whitted.s does): this firmware traces every pixel",
+                            to_string(launch.select)));
+  }
 }
 
 // Firmware declares what it needs (docs/shader-core.md "The shader ABI"), so that a

@@ -41,6 +41,8 @@ class DeviceBase : public Device {
   // of chunk `chunk` (counted over the chip) in round `round`; empty past the last pixel.
   void lanes_of(std::uint64_t round, std::uint64_t chunk, std::vector<functional::ShaderCore::Lane>& lanes) const;
   functional::ShaderCoreConfig core_config(std::uint64_t watchdog) const;
+  // Pass 1 of a selected frame: run() adds its statistics to the frame's (stats_).
+  bool continues_frame() const { return launch_.pass > 0; }
 
   spec::HardwareConfig config_;
   fp::Format format_;
@@ -53,6 +55,7 @@ class DeviceBase : public Device {
 
  private:
   void idle();
+  void check_selection(const Launch& launch) const;
   void check_firmware_needs(const Launch& launch) const;
 
   std::vector<std::uint32_t> shader_table_;

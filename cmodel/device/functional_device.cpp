@@ -102,10 +102,15 @@ class FunctionalDevice final : public DeviceBase {
       for (int i = 1; i < n; ++i) pool.emplace_back(worker);
       worker();
     }
+    double host_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (continues_frame()) {
+      total += stats_.shader;
+      host_seconds += stats_.host_seconds;
+    }
     stats_.shader = total;
     stats_.host_threads = n;
-    stats_.host_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    stats_.report = report(total, stats_.host_seconds, n);
+    stats_.host_seconds = host_seconds;
+    stats_.report = report(total, host_seconds, n);
     if (error) std::rethrow_exception(error);
   }
 

@@ -1,3 +1,5 @@
+#include <cstring>
+
 #include "device/device.hpp"
 #include "memory/little_endian.hpp"
 #include "render/sampling.hpp"
@@ -18,7 +20,10 @@ std::vector<std::uint8_t> make_launch_block(std::span<const std::uint8_t> image,
   camera.vfov_degrees = load_f32(image, cam + mm::kCameraVfovAt);
   const CameraModel frame(camera, launch.width, launch.height);
 
-  std::vector<std::uint8_t> block(mm::kLaunchBytes + 4 * shader_table.size(), 0);
+  // The shader table follows the block; pass 1's corners follow it on a 16-byte boundary.
+  const std::size_t table_end = mm::kLaunchBytes + 4 * shader_table.size();
+  const std::size_t corners_at = (table_end + 15) / 16 * 16;
+  std::vector<std::uint8_t> block(launch.corners.empty() ? table_end : corners_at + launch.corners.size() * sizeof(glm::vec4), 0);
   const auto u32 = [&](std::uint32_t at, std::uint32_t v) { store_u32(block, at, v); };
   const auto vec = [&](std::uint32_t at, const glm::dvec3& v) { store_float4(block, at, glm::vec4(glm::vec3(v), 0.0f)); };
   const auto section = [](const ImageSection& s) { return s.count ? mm::kDeviceImageBase + s.offset : 0u; };
@@ -42,6 +47,18 @@ std::vector<std::uint8_t> make_launch_block(std::span<const std::uint8_t> image,
   u32(mm::kLaunchNormalsAt, section(layout.vertex_normals));
   u32(mm::kLaunchUvsAt, section(layout.vertex_uvs));
   u32(mm::kLaunchCameraAt, section(layout.camera));
+  if (launch.select.enabled()) {
+    const auto b = static_cast<std::uint32_t>(launch.select.block);
+    u32(mm::kLaunchSelectBlockAt, b);
+    u32(mm::kLaunchSelectReciprocalAt, static_cast<std::uint32_t>(((std::uint64_t{1} << 32) + b - 1) / b));
+    store_f32(block, mm::kLaunchSelectThresholdAt, launch.select.threshold);
+    u32(mm::kLaunchSelectKeyAt, launch.select.key);
+    u32(mm::kLaunchSelectPassAt, static_cast<std::uint32_t>(launch.pass));
+    if (!launch.corners.empty()) {
+      u32(mm::kLaunchSelectCornersAt, mm::kDeviceLaunchBase + static_cast<std::uint32_t>(corners_at));
+      std::memcpy(block.data() + corners_at, launch.corners.data(), launch.corners.size() * sizeof(glm::vec4));
+    }
+  }
   for (std::size_t i = 0; i < shader_table.size(); ++i) u32(static_cast<std::uint32_t>(mm::kLaunchBytes + 4 * i), shader_table[i]);
   return block;
 }

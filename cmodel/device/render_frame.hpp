@@ -13,7 +13,9 @@
 namespace rpu::device {
 
 // One frame of a scene on a device, the way every host program does it: load the
-// image and the firmware (with the scene's shader table), launch, wait, read back.
+// image and the firmware (with the scene's shader table), launch, wait, read back. A
+// selected frame (settings.select) is two launches, the second reading the first's
+// framebuffer; the device's stats() are the frame's.
 Image render_frame(Device& device, const Scene& scene, const MemoryImage& image, const isa::Firmware& firmware,
                    const RenderSettings& settings, const ProgressCallback& progress = {});
 

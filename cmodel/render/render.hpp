@@ -4,6 +4,8 @@
 #include <cstdint>
 #include <functional>
 
+#include "render/selection.hpp"
+
 namespace rpu {
 
 // What a render is asked to do; the same for every backend.
@@ -14,6 +16,7 @@ struct RenderSettings {
   int max_depth = 5;    // reflection/refraction bounces after the primary hit
   std::uint32_t seed = 1;
   int threads = 0;      // host threads; 0 = all cores. The image never depends on it.
+  Selection select;     // the firmware backends' selected ray tracing; off by default
 };
 
 // Rays traced, by type.

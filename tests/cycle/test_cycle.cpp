@@ -22,6 +22,7 @@
 #include "device/device.hpp"
 #include "device/render_frame.hpp"
 #include "functional/scene_image.hpp"
+#include "render/selection.hpp"
 #include "scene/resolve.hpp"
 
 namespace rpu::cycle {
@@ -124,6 +125,36 @@ TEST(CycleModel, WatertightImageIsTheFunctionalImage) {
   const Frame expected = render(*functional, scene, si.image, firmware, settings(20, 16));
   const Frame actual = render_cycle(config, scene, si.image, firmware, settings(20, 16));
   EXPECT_TRUE(same_bits(expected.image, actual.image));
+}
+
+// A selected frame (docs/selection.md) is two launches: the same image and work as the
+// functional backend's, and the frame's statistics are both launches' together.
+TEST(CycleModel, SelectedFrameIsTheFunctionalFrame) {
+  const Scene scene = resolve_scene("cornell");
+  const isa::Firmware firmware = isa::builtin_firmware("whitted.s");
+  for (const char* name : {"default", "rpu2005"}) {
+    const spec::HardwareConfig& config = hardware_config(name);
+    const functional::SceneImage si =
+        functional::make_scene_image(scene, kd_build_config_for(name), IsectMode::kWoop);
+    RenderSettings s = settings(23, 17);
+    s.select = parse_selection("3:0.05");
+    const auto functional = device::make_functional_device(config, fp::format_by_name(config.format));
+    const Frame expected = render(*functional, scene, si.image, firmware, s);
+    const Frame actual = render_cycle(config, scene, si.image, firmware, s);
+    EXPECT_TRUE(same_bits(expected.image, actual.image)) << name;
+    EXPECT_EQ(expected.stats.shader.instructions(), actual.stats.shader.instructions()) << name;
+    EXPECT_EQ(expected.stats.shader.closest_rays, actual.stats.shader.closest_rays) << name;
+    EXPECT_EQ(expected.stats.shader.tests, actual.stats.shader.tests) << name;
+    const CycleStats& st = actual.cycle;
+    EXPECT_EQ(st.closest_rays + st.any_rays, actual.stats.shader.closest_rays + actual.stats.shader.any_rays);
+    EXPECT_EQ(actual.stats.report.number("cycles"), static_cast<double>(st.cycles));
+    for (const ShaderCoreTime& t : st.cores) {
+      EXPECT_EQ(t.busy + t.wait_trace + t.wait_memory + t.wait_dependency + t.idle, st.cycles) << name;
+    }
+    std::uint64_t pixel_cycles = 0;
+    for (const auto c : st.pixel_cycles) pixel_cycles += c;
+    EXPECT_GT(pixel_cycles, 0u);
+  }
 }
 
 struct Cornell {
