@@ -50,6 +50,7 @@ struct RenderOptions {
   std::vector<std::filesystem::path> outputs{"render.png"};
   std::string backend = "reference";
   std::vector<std::filesystem::path> firmware;  // empty: the built-in whitted.s
+  std::string select = "1";                     // docs/selection.md
   std::filesystem::path compare;                // .exr to measure the image against
   std::uint64_t watchdog = device::FunctionalOptions{}.watchdog;
   // device backend outputs
@@ -135,7 +136,7 @@ void record_run(StatsTree& report, const RenderOptions& o, const std::string& sc
           std::chrono::duration<double>(std::chrono::steady_clock::now() - invocation().start).count());
   run.set("host_threads", host_threads);
   if (o.backend == "reference") return;  // no configuration: double precision, no chip
-  run.set("format", o.chip.number_format().name()).set("isect", o.chip.isect);
+  run.set("format", o.chip.number_format().name()).set("isect", o.chip.isect).set("select", to_string(s.select));
   const spec::HardwareConfig& c = o.chip.hardware_config();
   StatsTree& cfg = report.group("config");
   cfg.set("name", c.name).set("doc", c.doc);
@@ -299,7 +300,7 @@ void check_render_outputs(const RenderOptions& o) {
 
 // The options that only a device backend reads: the reference renderer computes in
 // double precision, without firmware, chip configuration or kd-tree.
-constexpr std::string_view kDeviceOptions[] = {"--firmware", "--watchdog", "--config", "--set", "--format", "--isect",
+constexpr std::string_view kDeviceOptions[] = {"--firmware", "--select", "--watchdog", "--config", "--set", "--format", "--isect",
                                                "--kd-depth", "--leaf-prims", "--traversal-cost",
                                                "--intersection-cost", "--empty-bonus", "--perfect-splits"};
 
@@ -344,6 +345,10 @@ int run_render(const RenderOptions& options, const CLI::App& command) {
   }
   if ((!options.waves.empty() || options.lockstep) && options.backend != "rtl") {
     throw Error("--waves and --lockstep need --backend rtl");
+  }
+  if (!options.waves.empty() && options.settings.select.enabled()) {
+    throw Error(fmt::format("--waves records one launch and --select {} renders the frame in two; record "
+                            "without --select", options.select));
   }
   if (options.trace_window[0] >= options.trace_window[1]) {
     throw Error(fmt::format("--trace-window {} {}: the window is empty", options.trace_window[0], options.trace_window[1]));
@@ -459,6 +464,21 @@ Command add_render_command(CLI::App& app) {
                          "device backends: firmware (.s or .rfw), or GLSL shaders (.rgen .rchit .rmiss, compiled by "
                          "`rpu cc` and cached), instead of the built-in whitted.s")
       ->expected(1, -1);
+  render_cmd->add_option("--select", render->select,
+                         "device backends: selected ray tracing, BLOCK[:THRESHOLD[:material|primitive]]: trace the "
+                         "corners of BLOCK x BLOCK blocks, interpolate where they agree (docs/selection.md)")
+      ->check(CLI::Validator(
+          [](const std::string& text) {
+            try {
+              parse_selection(text);
+              return std::string();
+            } catch (const Error& e) {
+              return std::string(e.what());
+            }
+          },
+          "SELECTION"))
+      ->each([render](const std::string& text) { render->settings.select = parse_selection(text); })
+      ->capture_default_str();
   render_cmd->add_option("--watchdog", render->watchdog,
                          "device backends: instructions one thread may retire for one pixel before it "
                          "faults")
