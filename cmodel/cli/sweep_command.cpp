@@ -40,19 +40,18 @@ using nlohmann::json;
 
 // The columns of a point's CSV row and of sweep.csv, in order (docs/sweeps.md).
 constexpr const char* kColumns[] = {
-    "id",           "scene",          "triangles",    "transform",          "fidelity",     "config",
-    "set",          "format",         "isect",        "firmware",           "width",        "height",
-    "spp",          "psnr_db",        "max_error",    "primary_rays",       "hit_mismatches", "closed_meshes",
-    "leak_rays",    "leaks",          "axis_rays",    "axis_mismatches",    "grazing_rays", "grazing_mismatches",
-    "surface_rays", "surface_mismatches", "cycles",   "fps",                "rays",         "rays_per_second",
-    "host_seconds", "datapath_cells", "chip_cells", "error"};
+    "id",           "scene",           "triangles",      "transform",    "fidelity",       "config",
+    "set",          "format",          "isect",          "firmware",     "select",         "width",
+    "height",       "spp",             "psnr_db",        "max_error",    "primary_rays",   "hit_mismatches",
+    "closed_meshes", "leak_rays",      "leaks",          "axis_rays",    "axis_mismatches", "grazing_rays",
+    "grazing_mismatches", "surface_rays", "surface_mismatches", "cycles", "fps",           "rays",
+    "rays_per_second", "host_seconds", "datapath_cells", "chip_cells",   "error"};
 
 json point_json(const sweep::Point& p) {
-  return {{"id", p.id},         {"scene", p.scene},       {"transform", p.transform},
-          {"fidelity", p.fidelity}, {"config", p.config},
-          {"set", p.sets},      {"format", p.format},     {"isect", p.isect},       {"firmware", p.firmware},
-          {"width", p.width},   {"height", p.height},     {"spp", p.spp},           {"max_depth", p.max_depth},
-          {"seed", p.seed},     {"reference", p.reference}};
+  return {{"id", p.id},         {"scene", p.scene},   {"transform", p.transform}, {"fidelity", p.fidelity},
+          {"config", p.config}, {"set", p.sets},      {"format", p.format},       {"isect", p.isect},
+          {"firmware", p.firmware}, {"select", p.select}, {"width", p.width},     {"height", p.height},
+          {"spp", p.spp},       {"max_depth", p.max_depth}, {"seed", p.seed},     {"reference", p.reference}};
 }
 
 sweep::Point point_from_json(const json& j) {
@@ -66,6 +65,7 @@ sweep::Point point_from_json(const json& j) {
   p.format = j.at("format");
   p.isect = j.at("isect");
   p.firmware = j.at("firmware").get<std::vector<std::string>>();
+  p.select = j.value("select", std::string("1"));
   p.width = j.at("width");
   p.height = j.at("height");
   p.spp = j.at("spp");
@@ -256,6 +256,7 @@ int run_sweep_point(const PointOptions& o) {
               {"format", p.format},
               {"isect", p.isect},
               {"firmware", fmt::format("{}", fmt::join(p.firmware, " "))},
+              {"select", p.select},
               {"width", p.width},
               {"height", p.height},
               {"spp", p.spp},

@@ -205,9 +205,9 @@ def figure_leaks(rows, formats):
     return fig
 
 
-def figure_images(directory, scene, rows, references, formats):
-    """The reference, then each format's image (functional where there is one) over its
-    difference map."""
+def figure_images(directory, scene, rows, references, formats, selected):
+    """The reference, then each format's image (functional where there is one), then each
+    selection's, over its difference map."""
     reference = next((r for r in references if r["scene"] == scene), None)
     shown = []
     for f in formats:
@@ -216,6 +216,10 @@ def figure_images(directory, scene, rows, references, formats):
             cands.sort(key=lambda r: FIDELITIES.index(r["fidelity"]))
             if cands:
                 shown.append(cands[0])
+    selections = {}
+    for r in sorted((r for r in selected if r["scene"] == scene), key=lambda r: FIDELITIES.index(r["fidelity"])):
+        selections.setdefault(r["select"], r)
+    shown += selections.values()
     if reference is None or not shown:
         return None
     cols = len(shown) + 1
@@ -226,7 +230,8 @@ def figure_images(directory, scene, rows, references, formats):
     axes[0][0].set_title("reference", fontsize=7)
     for k, r in enumerate(shown, start=1):
         axes[0][k].imshow(mpimg.imread(os.path.join(directory, "images", r["id"] + ".png")))
-        axes[0][k].set_title(f"{r['format']} {r['isect']}\n{number(r['psnr_db'])} dB", fontsize=7)
+        what = f"{r['format']} {r['isect']}" if r["select"] == "1" else f"select {r['select']}"
+        axes[0][k].set_title(f"{what}\n{number(r['psnr_db'])} dB", fontsize=7)
         axes[1][k].imshow(mpimg.imread(os.path.join(directory, "images", r["id"] + ".diff.png")))
     axes[1][0].text(0.5, 0.5, "difference\n(false colour,\nfull at 1/8)", ha="center", va="center", fontsize=7)
     fig.suptitle(scene_name(scene), fontsize=9)
@@ -235,7 +240,7 @@ def figure_images(directory, scene, rows, references, formats):
 
 
 def table(rows):
-    head = ["scene", "triangles", "transform", "fidelity", "config", "format", "isect", "PSNR dB", "max error", "hit mismatches",
+    head = ["scene", "triangles", "transform", "fidelity", "config", "format", "isect", "select", "PSNR dB", "max error", "hit mismatches",
             "leaks", "cycles", "fps", "datapath cells", "host s"]
     out = [head]
     for r in rows:
@@ -245,7 +250,8 @@ def table(rows):
         psnr = ("refused" if r["error"] is not None else "identical" if r["psnr_db"] is None
                 else number(r["psnr_db"]))
         out.append([scene_name(r["scene"]), number(r["triangles"]), r["transform"] or "—", r["fidelity"], config,
-                    r["format"], r["isect"], psnr, number(r["max_error"], 4),
+                    r["format"], r["isect"], "—" if r["select"] == "1" else r["select"], psnr,
+                    number(r["max_error"], 4),
                     hits, leaks, number(r["cycles"]), number(r["fps"]), number(r["datapath_cells"]),
                     number(r["host_seconds"], 2)])
     return out
@@ -262,9 +268,9 @@ EXTREMES_TITLE = ("Extremes, pass or fail per format and test: a transformed sce
 RAY_KINDS = [("axis", "axis-parallel rays"), ("grazing", "grazing rays"), ("surface", "rays from a surface")]
 
 
-def twin_key(r, transform):
+def twin_key(r, transform, select=None):
     return (r["scene"], transform, r["fidelity"], r["config"], r["set"], r["format"], r["isect"], r["firmware"],
-            r["spp"])
+            r["select"] if select is None else select, r["spp"])
 
 
 def extremes(rows, formats):
@@ -313,6 +319,79 @@ def extremes_table(rows, formats):
     return out
 
 
+# Selected ray tracing (docs/selection.md): each selected point beside its twin, the same
+# point tracing every pixel.
+SELECTION_TITLE = ("Selected ray tracing: rays saved against PSNR lost, each selected point against the same "
+                   "point tracing every pixel")
+
+
+def selection_pairs(rows):
+    """[(selected row, twin row)] for every selected point whose twin rendered."""
+    by_key = {twin_key(r, r["transform"]): r for r in rows if r["error"] is None}
+    pairs = []
+    for r in rows:
+        if r["select"] == "1" or r["error"] is not None:
+            continue
+        twin = by_key.get(twin_key(r, r["transform"], "1"))
+        if twin is not None and r["rays"] and twin["rays"]:
+            pairs.append((r, twin))
+    return pairs
+
+
+def share_saved(r, twin, field):
+    if r[field] is None or not twin[field]:
+        return None
+    return 100.0 * (1.0 - r[field] / twin[field])
+
+
+def psnr_lost(r, twin):
+    if r["psnr_db"] is None or twin["psnr_db"] is None:
+        return None
+    return twin["psnr_db"] - r["psnr_db"]
+
+
+def figure_selection(pairs, scenes):
+    plotted = [(r, t) for r, t in pairs if psnr_lost(r, t) is not None]
+    if not plotted:
+        return None
+    fig, ax = plt.subplots(figsize=(6.4, 3.8))
+    cmap = plt.get_cmap("tab10")
+    blocks = sorted({int(r["select"].split(":")[0]) for r, _ in plotted})
+    block_marker = {b: m for b, m in zip(blocks, "os^Dv<>ph*")}
+    for i, scene in enumerate(scenes):
+        mine = [(r, t) for r, t in plotted if r["scene"] == scene]
+        for r, t in mine:
+            ax.scatter(share_saved(r, t, "rays"), psnr_lost(r, t), color=cmap(i % 10),
+                       marker=block_marker[int(r["select"].split(":")[0])], s=30, zorder=3)
+            ax.annotate(":".join(r["select"].split(":")[1:]).replace("material", "m").replace("primitive", "p"),
+                        (share_saved(r, t, "rays"), psnr_lost(r, t)), fontsize=6, alpha=0.7, xytext=(3, 2),
+                        textcoords="offset points")
+    handles = [plt.Line2D([], [], color=cmap(i % 10), marker="o", ls="", label=scene_name(s))
+               for i, s in enumerate(scenes) if any(r["scene"] == s for r, _ in plotted)]
+    handles += [plt.Line2D([], [], color="grey", marker=block_marker[b], ls="", label=f"{b}x{b} blocks")
+                for b in blocks]
+    ax.legend(handles=handles, fontsize=7, loc="best")
+    ax.set_xlabel("rays saved (%)")
+    ax.set_ylabel("PSNR lost (dB)")
+    ax.grid(alpha=0.3)
+    fig.tight_layout()
+    return fig
+
+
+def selection_table(pairs):
+    if not pairs:
+        return None
+    out = [["scene", "fidelity", "config", "format", "select", "rays", "rays saved", "PSNR dB", "PSNR lost dB",
+            "cycles saved"]]
+    for r, t in pairs:
+        config = r["config"] + (f" ({r['set']})" if r["set"] else "")
+        rays, cycles, lost = share_saved(r, t, "rays"), share_saved(r, t, "cycles"), psnr_lost(r, t)
+        out.append([scene_name(r["scene"]), r["fidelity"], config, r["format"], r["select"], number(r["rays"]),
+                    f"{rays:.1f}%", number(r["psnr_db"]), number(lost, 2),
+                    "—" if cycles is None else f"{cycles:.1f}%"])
+    return out
+
+
 def png_bytes(fig):
     buf = io.BytesIO()
     fig.savefig(buf, format="png", dpi=110, metadata={"Software": None})
@@ -328,8 +407,10 @@ def main():
     for r in references + rows:
         r.setdefault("transform", "")
         r.setdefault("error", None)
-    # The plots show the untransformed points that rendered; the extremes have their table.
-    plotted = [r for r in rows if r["error"] is None and not r["transform"]]
+        r.setdefault("select", "1")
+    # The plots show the untransformed points that rendered and traced every pixel; the
+    # extremes and the selections have their own.
+    plotted = [r for r in rows if r["error"] is None and not r["transform"] and r["select"] == "1"]
     plain_references = [r for r in references if not r["transform"]]
     scenes = list(dict.fromkeys(r["scene"] for r in references + rows))
     formats = format_order(rows)
@@ -337,7 +418,8 @@ def main():
     commits = sorted({r["render"]["run"]["commit"] for r in records if r.get("render", {}).get("run")})
     order = {s: i for i, s in enumerate(scenes)}
     rows.sort(key=lambda r: (order[r["scene"]], formats.index(r["format"]), r["isect"], r["config"], r["set"],
-                             FIDELITIES.index(r["fidelity"]), r["spp"]))
+                             FIDELITIES.index(r["fidelity"]), r["spp"], r["select"] != "1", r["select"]))
+    pairs = selection_pairs(rows)
 
     figures = [
         ("psnr-cycles", "PSNR against cycles per frame, by format (cycle and rtl points; the Pareto front in red)",
@@ -347,10 +429,12 @@ def main():
         ("host-seconds", "Host seconds per point by fidelity level", figure_host_seconds(plain_references + plotted, scenes)),
         ("leaks", "Rays leaking out of the scenes' closed meshes, by format and intersection test",
          figure_leaks(plotted, formats)),
+        ("selection", SELECTION_TITLE, figure_selection(pairs, scenes)),
     ]
     for scene in scenes:
-        figures.append((f"images-{len(figures) - 3}", f"{scene_name(scene)}: images and difference maps",
-                        figure_images(directory, scene, plotted, plain_references, formats)))
+        figures.append((f"images-{len(figures) - 4}", f"{scene_name(scene)}: images and difference maps",
+                        figure_images(directory, scene, plotted, plain_references, formats,
+                                      [r for r, _ in pairs if not r["transform"]])))
     figures = [(name, title, png_bytes(fig)) for name, title, fig in figures if fig is not None]
 
     summary = (f"{len(records)} points of sweep '{plan['sweep']}' ({len(references)} references)"
@@ -358,6 +442,7 @@ def main():
                + f"; rpu at {', '.join(c[:12] for c in commits)}")
     cells = table(rows)
     extremes_cells = extremes_table(rows, formats)
+    selection_cells = selection_table(pairs)
     if mode == "html":
         out = ["<!DOCTYPE html>", "<html><head><meta charset='utf-8'>",
                f"<title>rpu sweep {html.escape(plan['sweep'])}</title>",
@@ -372,6 +457,12 @@ def main():
             out.append(f"<h2>{html.escape(EXTREMES_TITLE)}</h2><table>")
             out.append("<tr>" + "".join(f"<th>{html.escape(c)}</th>" for c in extremes_cells[0]) + "</tr>")
             for row in extremes_cells[1:]:
+                out.append("<tr>" + "".join(f"<td>{html.escape(c)}</td>" for c in row) + "</tr>")
+            out.append("</table>")
+        if selection_cells:
+            out.append(f"<h2>{html.escape(SELECTION_TITLE)}</h2><table>")
+            out.append("<tr>" + "".join(f"<th>{html.escape(c)}</th>" for c in selection_cells[0]) + "</tr>")
+            for row in selection_cells[1:]:
                 out.append("<tr>" + "".join(f"<td>{html.escape(c)}</td>" for c in row) + "</tr>")
             out.append("</table>")
         out.append("<h2>Every point</h2><table>")
@@ -400,8 +491,13 @@ def main():
                 "|---|" + "|".join(":-:" for _ in extremes_cells[0][1:]) + "|"]
         out += ["| " + " | ".join(row) + " |" for row in extremes_cells[1:]]
         out.append("")
+    if selection_cells:
+        out += [f"**{SELECTION_TITLE}**", "", "| " + " | ".join(selection_cells[0]) + " |",
+                "|" + "|".join("---" if i < 5 else "--:" for i in range(len(selection_cells[0]))) + "|"]
+        out += ["| " + " | ".join(row) + " |" for row in selection_cells[1:]]
+        out.append("")
     out.append("| " + " | ".join(cells[0]) + " |")
-    out.append("|" + "|".join("---" if i < 7 else "--:" for i in range(len(cells[0]))) + "|")
+    out.append("|" + "|".join("---" if i < 8 else "--:" for i in range(len(cells[0]))) + "|")
     for row in cells[1:]:
         out.append("| " + " | ".join(row) + " |")
     sys.stdout.write("\n".join(out) + "\n")

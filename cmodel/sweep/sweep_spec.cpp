@@ -6,6 +6,7 @@
 #include <fstream>
 #include <functional>
 #include <map>
+#include <optional>
 #include <set>
 #include <span>
 #include <sstream>
@@ -18,6 +19,7 @@
 #include "common/error.hpp"
 #include "config/config.hpp"
 #include "fp/format.hpp"
+#include "render/selection.hpp"
 #include "rpu/spec.hpp"
 #include "scene/procedural.hpp"
 
@@ -28,8 +30,11 @@ namespace fs = std::filesystem;
 
 // The axes a grid spans and a [[point]] sets, in the order the grid nests them (the
 // last varies fastest).
-constexpr std::string_view kAxes[] = {"scene",    "transform", "config", "set", "format",
-                                      "isect",    "firmware",  "spp",    "fidelity"};
+constexpr std::string_view kAxes[] = {"scene",    "transform", "config", "set",    "format",
+                                      "isect",    "firmware",  "select", "spp",    "fidelity"};
+// Besides the axes, a grid or point may set its own image size.
+constexpr std::string_view kGridKeys[] = {"scene",  "transform", "config", "set",      "format", "isect",
+                                          "firmware", "select",  "spp",    "fidelity", "width",  "height"};
 // More points than a cluster's job arrays would take in a week of seconds each.
 constexpr std::size_t kMaxPoints = 100'000;
 constexpr std::string_view kTopKeys[] = {"name",      "width",        "height", "max_depth", "seed",
@@ -131,9 +136,11 @@ struct Settings {
   std::uint64_t seed = 1;
 };
 
-// The axes of one grid or point, checked; each a list of alternatives.
+// The axes of one grid or point, checked; each a list of alternatives. Its image size,
+// when it sets one.
 struct Axes {
   std::vector<Value> values[std::size(kAxes)];
+  std::optional<int> width, height;
 };
 
 std::string slug(std::string_view scene) {
@@ -159,8 +166,10 @@ class Expander {
       : source_(source), base_dir_(std::move(base_dir)), settings_(settings), spec_(spec) {}
 
   Axes read_axes(const toml::table& table, bool grid) {
-    check_keys(table, kAxes, source_, grid ? " in [grid]" : " in a [[point]]");
+    check_keys(table, kGridKeys, source_, grid ? " in [grid]" : " in a [[point]]");
     Axes axes;
+    if (const toml::node* n = table.get("width")) axes.width = static_cast<int>(integer(*n, "width", 1, 16384, source_));
+    if (const toml::node* n = table.get("height")) axes.height = static_cast<int>(integer(*n, "height", 1, 16384, source_));
     for (std::size_t i = 0; i < std::size(kAxes); ++i) {
       const toml::node* node = table.get(kAxes[i]);
       if (node != nullptr) {
@@ -183,6 +192,7 @@ class Expander {
       if (kAxes[i] == "spp") v.number = 1;
       if (kAxes[i] == "config") v.texts = {"default"};
       if (kAxes[i] == "isect") v.texts = {"woop"};
+      if (kAxes[i] == "select") v.texts = {"1"};
       if (kAxes[i] == "fidelity") v.texts = {"functional"};
       axes.values[i] = {v};
     }
@@ -196,8 +206,8 @@ class Expander {
       throw Error(fmt::format("{}: the sweep has more than {} points; split it", source_, kMaxPoints));
     }
     Point p;
-    p.width = settings_.width;
-    p.height = settings_.height;
+    p.width = axes.width.value_or(settings_.width);
+    p.height = axes.height.value_or(settings_.height);
     p.max_depth = settings_.max_depth;
     p.seed = settings_.seed;
     nest(axes, 0, p);
@@ -249,6 +259,12 @@ class Expander {
     } else if (axis == "firmware") {
       p.firmware.clear();
       for (const std::string& f : v.texts) p.firmware.push_back(existing_path(f, base_dir_, v.where, "firmware"));
+    } else if (axis == "select") {
+      try {
+        p.select = to_string(parse_selection(text));
+      } catch (const Error& e) {
+        throw Error(fmt::format("{}: {}", v.where, e.what()));
+      }
     } else if (axis == "spp") {
       p.spp = static_cast<int>(v.number);
     } else if (std::find(std::begin(kFidelities), std::end(kFidelities), text) == std::end(kFidelities)) {
@@ -351,6 +367,7 @@ std::string Point::canonical() const {
   if (fidelity == "reference") return out;
   out += fmt::format("config {}\nset {}\nformat {}\nisect {}\nfirmware {}\n", config, fmt::join(sets, " "), format,
                      isect, fmt::join(firmware, " "));
+  if (select != "1") out += fmt::format("select {}\n", select);
   return out;
 }
 
@@ -367,6 +384,7 @@ std::vector<std::string> Point::render_args() const {
   if (fidelity == "reference") return args;
   args.insert(args.end(), {"--config", config, "--format", format, "--isect", isect});
   for (const std::string& s : sets) args.insert(args.end(), {"--set", s});
+  if (select != "1") args.insert(args.end(), {"--select", select});
   if (!firmware.empty()) {
     args.emplace_back("--firmware");
     args.insert(args.end(), firmware.begin(), firmware.end());

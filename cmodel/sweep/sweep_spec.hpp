@@ -7,8 +7,8 @@
 #include <vector>
 
 // A sweep (docs/sweeps.md): a TOML file naming a grid, or a list, of render runs over
-// scenes, configurations and --set changes, number formats, intersection tests, samples
-// per pixel and fidelity levels. Parsing expands it into points; each point is one
+// scenes, configurations and --set changes, number formats, intersection tests, firmware,
+// selected ray tracing, samples per pixel and fidelity levels. Parsing expands it into points; each point is one
 // independent `rpu render` run measured against the reference render of its scene.
 namespace rpu::sweep {
 
@@ -24,6 +24,7 @@ struct Point {
   std::string isect = "woop";
   std::string transform;  // "", "scale:K" (the scene times 2^K) or "translate:D" (moved by D, D, D)
   std::vector<std::string> firmware;  // absolute paths; empty: the built-in whitted.s
+  std::string select = "1";  // selected ray tracing (docs/selection.md), as render/selection.hpp writes it
   int width = 64, height = 64, spp = 1, max_depth = 5;
   std::uint64_t seed = 1;
   std::string reference;  // id of the reference point it is measured against; "" for a reference

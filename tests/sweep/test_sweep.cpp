@@ -97,10 +97,58 @@ set = ["triangle_cache.bytes=4096"]
   EXPECT_NE(std::find(args.begin(), args.end(), "threads_per_core=8"), args.end());
 }
 
+// Selected ray tracing is one axis: each selection its own point (in its canonical form,
+// so that "4" and "4:0.05:material" are one), all of one scene sharing one reference.
+TEST(SweepSpec, SelectIsAnAxis) {
+  const Spec spec = parse(R"(
+[grid]
+scene = "cornell"
+select = ["1", "4", "4:0.05:material", "3:0.1:primitive"]
+fidelity = ["functional", "cycle"]
+)");
+  ASSERT_EQ(spec.points.size(), 6u);
+  ASSERT_EQ(spec.references.size(), 1u);
+  EXPECT_EQ(spec.points[0].select, "1");
+  EXPECT_EQ(spec.points[2].select, "4:0.05:material");
+  EXPECT_EQ(spec.points[4].select, "3:0.1:primitive");
+  const std::vector<std::string> off = spec.points[0].render_args();
+  EXPECT_EQ(std::find(off.begin(), off.end(), "--select"), off.end());
+  const std::vector<std::string> args = spec.points[4].render_args();
+  const auto at = std::find(args.begin(), args.end(), "--select");
+  ASSERT_NE(at, args.end());
+  EXPECT_EQ(*(at + 1), "3:0.1:primitive");
+  // A point without selection keeps the id it had before the axis existed.
+  EXPECT_EQ(spec.points[0].id, parse("[grid]\nscene = \"cornell\"\n").points[0].id);
+  EXPECT_EQ(error_of("[grid]\nscene = \"cornell\"\nselect = [\"1\", \"4:x\"]\n"),
+            "test.toml:3:16: selection '4:x': threshold 'x' is not a finite number (the form is "
+            "BLOCK[:THRESHOLD[:material|primitive]], for example 4:0.05:material; docs/selection.md)");
+}
+
+// A grid may render at its own size; its points and references are then their own.
+TEST(SweepSpec, AGridMaySetItsImageSize) {
+  const Spec spec = parse(R"(
+width = 8
+height = 6
+[[grid]]
+scene = "cornell"
+[[grid]]
+scene = "cornell"
+width = 32
+height = 24
+)");
+  ASSERT_EQ(spec.points.size(), 2u);
+  ASSERT_EQ(spec.references.size(), 2u);
+  EXPECT_EQ(spec.points[0].width, 8);
+  EXPECT_EQ(spec.points[1].width, 32);
+  EXPECT_EQ(spec.points[1].height, 24);
+  EXPECT_EQ(spec.references[1].width, 32);
+  EXPECT_EQ(spec.points[1].reference, spec.references[1].id);
+}
+
 TEST(SweepSpec, BadInputIsRefusedWithItsLine) {
   EXPECT_EQ(error_of("[grid]\nscene = \"cornell\"\nformats = [\"fp32\"]\n"),
             "test.toml:3:11: unknown key 'formats' in [grid] (known: scene, transform, config, set, format, isect, "
-            "firmware, spp, fidelity) (did you mean 'format'?)");
+            "firmware, select, spp, fidelity, width, height) (did you mean 'format'?)");
   EXPECT_EQ(error_of("[grid]\nscene = \"cornell\"\ntransform = [\"scale:101\"]\n"),
             "test.toml:3:14: transform 'scale:101' is neither scale:K (K a non-zero whole number in [-100, 100]) "
             "nor translate:D (D a non-zero number within 1e30)");
@@ -114,6 +162,8 @@ TEST(SweepSpec, BadInputIsRefusedWithItsLine) {
             "test.toml:3:7: config 'default' with set node_cache.bytes=1000: configuration 'default': "
             "node_cache.bytes must");
   EXPECT_EQ(error_of("width = 0\n[grid]\nscene = \"cornell\"\n"), "test.toml:1:9: width = 0 is outside [1, 16384]");
+  EXPECT_EQ(error_of("[grid]\nscene = \"cornell\"\nheight = 20000\n"),
+            "test.toml:3:10: height = 20000 is outside [1, 16384]");
   EXPECT_EQ(error_of("name = \"x\"\n"), "test.toml: the sweep has no points: give a [grid] or [[point]] tables");
   EXPECT_EQ(error_of("[grid]\nfidelity = \"cycle\"\n"), "test.toml:1:1: [grid] names no scene");
   EXPECT_EQ(error_of("[grid\n").substr(0, 12), "test.toml:1:");
