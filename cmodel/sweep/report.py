@@ -11,6 +11,7 @@ Reads DIR/plan.json and each point's record DIR/points/ID.json; every number sho
 field of a record. Points not run yet are left out and counted.
 """
 import base64
+import collections
 import html
 import io
 import json
@@ -46,6 +47,10 @@ def load(directory):
 
 def scene_name(scene):
     return os.path.basename(scene) if os.path.isabs(scene) else scene
+
+
+def size(r):
+    return f"{r['width']}x{r['height']}"
 
 
 def number(value, digits=1):
@@ -240,7 +245,7 @@ def figure_images(directory, scene, rows, references, formats, selected):
 
 
 def table(rows):
-    head = ["scene", "triangles", "transform", "fidelity", "config", "format", "isect", "select", "PSNR dB", "max error", "hit mismatches",
+    head = ["scene", "triangles", "size", "transform", "fidelity", "config", "format", "isect", "select", "PSNR dB", "max error", "hit mismatches",
             "leaks", "cycles", "fps", "datapath cells", "host s"]
     out = [head]
     for r in rows:
@@ -249,7 +254,7 @@ def table(rows):
         config = r["config"] + (f" ({r['set']})" if r["set"] else "")
         psnr = ("refused" if r["error"] is not None else "identical" if r["psnr_db"] is None
                 else number(r["psnr_db"]))
-        out.append([scene_name(r["scene"]), number(r["triangles"]), r["transform"] or "—", r["fidelity"], config,
+        out.append([scene_name(r["scene"]), number(r["triangles"]), size(r), r["transform"] or "—", r["fidelity"], config,
                     r["format"], r["isect"], "—" if r["select"] == "1" else r["select"], psnr,
                     number(r["max_error"], 4),
                     hits, leaks, number(r["cycles"]), number(r["fps"]), number(r["datapath_cells"]),
@@ -269,8 +274,8 @@ RAY_KINDS = [("axis", "axis-parallel rays"), ("grazing", "grazing rays"), ("surf
 
 
 def twin_key(r, transform, select=None):
-    return (r["scene"], transform, r["fidelity"], r["config"], r["set"], r["format"], r["isect"], r["firmware"],
-            r["select"] if select is None else select, r["spp"])
+    return (r["scene"], r["width"], r["height"], transform, r["fidelity"], r["config"], r["set"], r["format"],
+            r["isect"], r["firmware"], r["select"] if select is None else select, r["spp"])
 
 
 def extremes(rows, formats):
@@ -290,7 +295,8 @@ def extremes(rows, formats):
         if ok is not None:
             cell[0] += 0 if ok else 1
             cell[1] += 1
-        if r["transform"] or r["error"] is not None:
+        # A selection changes the image, not the units a ray check runs through.
+        if r["transform"] or r["error"] is not None or r["select"] != "1":
             continue
         for kind, label in RAY_KINDS:
             rays = r.get(f"{kind}_rays")
@@ -381,15 +387,27 @@ def figure_selection(pairs, scenes):
 def selection_table(pairs):
     if not pairs:
         return None
-    out = [["scene", "fidelity", "config", "format", "select", "rays", "rays saved", "PSNR dB", "PSNR lost dB",
-            "cycles saved"]]
+    out = [["scene", "size", "fidelity", "config", "format", "select", "rays", "rays saved", "PSNR dB",
+            "PSNR lost dB", "cycles saved"]]
     for r, t in pairs:
         config = r["config"] + (f" ({r['set']})" if r["set"] else "")
         rays, cycles, lost = share_saved(r, t, "rays"), share_saved(r, t, "cycles"), psnr_lost(r, t)
-        out.append([scene_name(r["scene"]), r["fidelity"], config, r["format"], r["select"], number(r["rays"]),
+        out.append([scene_name(r["scene"]), size(r), r["fidelity"], config, r["format"], r["select"], number(r["rays"]),
                     f"{rays:.1f}%", number(r["psnr_db"]), number(lost, 2),
                     "—" if cycles is None else f"{cycles:.1f}%"])
     return out
+
+
+def html_table(cells):
+    out = ["<table>", "<tr>" + "".join(f"<th>{html.escape(c)}</th>" for c in cells[0]) + "</tr>"]
+    out += ["<tr>" + "".join(f"<td>{html.escape(c)}</td>" for c in row) + "</tr>" for row in cells[1:]]
+    return out + ["</table>"]
+
+
+def md_table(cells, text_columns, numbers="--:"):
+    """A Markdown table whose first text_columns columns are left-aligned."""
+    rule = "|" + "|".join("---" if i < text_columns else numbers for i in range(len(cells[0]))) + "|"
+    return ["| " + " | ".join(cells[0]) + " |", rule] + ["| " + " | ".join(row) + " |" for row in cells[1:]]
 
 
 def png_bytes(fig):
@@ -408,10 +426,15 @@ def main():
         r.setdefault("transform", "")
         r.setdefault("error", None)
         r.setdefault("select", "1")
-    # The plots show the untransformed points that rendered and traced every pixel; the
-    # extremes and the selections have their own.
-    plotted = [r for r in rows if r["error"] is None and not r["transform"] and r["select"] == "1"]
-    plain_references = [r for r in references if not r["transform"]]
+    # The plots show the untransformed points that rendered and traced every pixel, the
+    # extremes and the selections have their own,
+    # at the image size most of those points have (a grid of another size, such as the
+    # selections' twins, would mix frames of different cost in one plot).
+    plain = [r for r in rows if r["error"] is None and not r["transform"] and r["select"] == "1"]
+    sizes = collections.Counter(size(r) for r in plain)
+    main_size = sizes.most_common(1)[0][0] if sizes else None
+    plotted = [r for r in plain if size(r) == main_size]
+    plain_references = [r for r in references if not r["transform"] and size(r) == main_size]
     scenes = list(dict.fromkeys(r["scene"] for r in references + rows))
     formats = format_order(rows)
     colour = colours(formats)
@@ -453,23 +476,11 @@ def main():
         for name, title, data in figures:
             out.append(f"<h2>{html.escape(title)}</h2>")
             out.append(f"<img alt='{name}' src='data:image/png;base64,{base64.b64encode(data).decode()}'>")
-        if extremes_cells:
-            out.append(f"<h2>{html.escape(EXTREMES_TITLE)}</h2><table>")
-            out.append("<tr>" + "".join(f"<th>{html.escape(c)}</th>" for c in extremes_cells[0]) + "</tr>")
-            for row in extremes_cells[1:]:
-                out.append("<tr>" + "".join(f"<td>{html.escape(c)}</td>" for c in row) + "</tr>")
-            out.append("</table>")
-        if selection_cells:
-            out.append(f"<h2>{html.escape(SELECTION_TITLE)}</h2><table>")
-            out.append("<tr>" + "".join(f"<th>{html.escape(c)}</th>" for c in selection_cells[0]) + "</tr>")
-            for row in selection_cells[1:]:
-                out.append("<tr>" + "".join(f"<td>{html.escape(c)}</td>" for c in row) + "</tr>")
-            out.append("</table>")
-        out.append("<h2>Every point</h2><table>")
-        out.append("<tr>" + "".join(f"<th>{html.escape(c)}</th>" for c in cells[0]) + "</tr>")
-        for row in cells[1:]:
-            out.append("<tr>" + "".join(f"<td>{html.escape(c)}</td>" for c in row) + "</tr>")
-        out.append("</table></body></html>")
+        for title, table_cells in [(EXTREMES_TITLE, extremes_cells), (SELECTION_TITLE, selection_cells),
+                                   ("Every point", cells)]:
+            if table_cells:
+                out += [f"<h2>{html.escape(title)}</h2>"] + html_table(table_cells)
+        out.append("</body></html>")
         sys.stdout.write("\n".join(out) + "\n")
         return
     pictures, rel = sys.argv[3], sys.argv[4]
@@ -487,19 +498,10 @@ def main():
         os.replace(path + ".tmp", path)
         out += [f"**{title}**", "", f"![{title}]({rel}/{name}.png)", ""]
     if extremes_cells:
-        out += [f"**{EXTREMES_TITLE}**", "", "| " + " | ".join(extremes_cells[0]) + " |",
-                "|---|" + "|".join(":-:" for _ in extremes_cells[0][1:]) + "|"]
-        out += ["| " + " | ".join(row) + " |" for row in extremes_cells[1:]]
-        out.append("")
+        out += [f"**{EXTREMES_TITLE}**", ""] + md_table(extremes_cells, 1, ":-:") + [""]
     if selection_cells:
-        out += [f"**{SELECTION_TITLE}**", "", "| " + " | ".join(selection_cells[0]) + " |",
-                "|" + "|".join("---" if i < 5 else "--:" for i in range(len(selection_cells[0]))) + "|"]
-        out += ["| " + " | ".join(row) + " |" for row in selection_cells[1:]]
-        out.append("")
-    out.append("| " + " | ".join(cells[0]) + " |")
-    out.append("|" + "|".join("---" if i < 8 else "--:" for i in range(len(cells[0]))) + "|")
-    for row in cells[1:]:
-        out.append("| " + " | ".join(row) + " |")
+        out += [f"**{SELECTION_TITLE}**", ""] + md_table(selection_cells, 6) + [""]
+    out += md_table(cells, 9)
     sys.stdout.write("\n".join(out) + "\n")
 
 
