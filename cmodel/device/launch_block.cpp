@@ -23,7 +23,9 @@ std::vector<std::uint8_t> make_launch_block(std::span<const std::uint8_t> image,
   // The shader table follows the block; pass 1's corners follow it on a 16-byte boundary.
   const std::size_t table_end = mm::kLaunchBytes + 4 * shader_table.size();
   const std::size_t corners_at = (table_end + 15) / 16 * 16;
-  std::vector<std::uint8_t> block(launch.corners.empty() ? table_end : corners_at + launch.corners.size() * sizeof(glm::vec4), 0);
+  const std::size_t bytes =
+      launch.corners.empty() ? table_end : corners_at + launch.corners.size() * sizeof(glm::vec4);
+  std::vector<std::uint8_t> block(bytes, 0);
   const auto u32 = [&](std::uint32_t at, std::uint32_t v) { store_u32(block, at, v); };
   const auto vec = [&](std::uint32_t at, const glm::dvec3& v) { store_float4(block, at, glm::vec4(glm::vec3(v), 0.0f)); };
   const auto section = [](const ImageSection& s) { return s.count ? mm::kDeviceImageBase + s.offset : 0u; };
