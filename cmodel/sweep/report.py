@@ -29,6 +29,7 @@ from matplotlib.ticker import EngFormatter, NullFormatter  # noqa: E402
 FIDELITIES = ["reference", "functional", "cycle", "rtl"]
 # Plots read in print too: one colour per format, one marker per intersection test.
 MARKERS = {"woop": "o", "watertight": "s"}
+IMAGES_PER_ROW = 8
 
 
 def load(directory):
@@ -227,18 +228,23 @@ def figure_images(directory, scene, rows, references, formats, selected):
     shown += selections.values()
     if reference is None or not shown:
         return None
-    cols = len(shown) + 1
-    fig, axes = plt.subplots(2, cols, figsize=(1.9 * cols, 3.6), squeeze=False)
+    # Rows of at most IMAGES_PER_ROW pictures, each over its difference map; the
+    # reference and the key open the first.
+    cols = min(len(shown), IMAGES_PER_ROW) + 1
+    bands = (len(shown) + IMAGES_PER_ROW - 1) // IMAGES_PER_ROW
+    fig, axes = plt.subplots(2 * bands, cols, figsize=(1.9 * cols, 3.6 * bands), squeeze=False)
     for ax in axes.flat:
         ax.axis("off")
     axes[0][0].imshow(mpimg.imread(os.path.join(directory, "images", reference["id"] + ".png")))
     axes[0][0].set_title("reference", fontsize=7)
-    for k, r in enumerate(shown, start=1):
-        axes[0][k].imshow(mpimg.imread(os.path.join(directory, "images", r["id"] + ".png")))
-        what = f"{r['format']} {r['isect']}" if r["select"] == "1" else f"select {r['select']}"
-        axes[0][k].set_title(f"{what}\n{number(r['psnr_db'])} dB", fontsize=7)
-        axes[1][k].imshow(mpimg.imread(os.path.join(directory, "images", r["id"] + ".diff.png")))
     axes[1][0].text(0.5, 0.5, "difference\n(false colour,\nfull at 1/8)", ha="center", va="center", fontsize=7)
+    for k, r in enumerate(shown):
+        band, col = divmod(k, IMAGES_PER_ROW)
+        top, bottom = axes[2 * band][col + 1], axes[2 * band + 1][col + 1]
+        top.imshow(mpimg.imread(os.path.join(directory, "images", r["id"] + ".png")))
+        what = f"{r['format']} {r['isect']}" if r["select"] == "1" else f"select {r['select']}"
+        top.set_title(f"{what}\n{number(r['psnr_db'])} dB", fontsize=7)
+        bottom.imshow(mpimg.imread(os.path.join(directory, "images", r["id"] + ".diff.png")))
     fig.suptitle(scene_name(scene), fontsize=9)
     fig.tight_layout()
     return fig
@@ -327,8 +333,8 @@ def extremes_table(rows, formats):
 
 # Selected ray tracing (docs/selection.md): each selected point beside its twin, the same
 # point tracing every pixel.
-SELECTION_TITLE = ("Selected ray tracing: rays saved against PSNR lost, each selected point against the same "
-                   "point tracing every pixel")
+SELECTION_TITLE = ("Selected ray tracing: the rays and cycles saved and the PSNR lost, each selected point against "
+                   "the same point tracing every pixel (its twin); points labelled threshold:key")
 
 
 def selection_pairs(rows):
@@ -357,30 +363,41 @@ def psnr_lost(r, twin):
 
 
 def figure_selection(pairs, scenes):
-    plotted = [(r, t) for r, t in pairs if psnr_lost(r, t) is not None]
+    """PSNR against the rays saved and, for timed points, the cycles saved. The twins
+    themselves render near the reference (their PSNR is in the table), so the PSNR lost
+    is read off the y axis from there."""
+    plotted = [(r, t) for r, t in pairs if r["psnr_db"] is not None]
     if not plotted:
         return None
-    fig, ax = plt.subplots(figsize=(6.4, 3.8))
+    timed = [(r, t) for r, t in plotted if share_saved(r, t, "cycles") is not None]
+    panels = [("rays", "rays saved (%)", plotted)] + ([("cycles", "cycles saved (%)", timed)] if timed else [])
+    fig, axes = plt.subplots(1, len(panels), figsize=(5.2 * len(panels) + 1.4, 3.8), squeeze=False)
     cmap = plt.get_cmap("tab10")
     blocks = sorted({int(r["select"].split(":")[0]) for r, _ in plotted})
     block_marker = {b: m for b, m in zip(blocks, "os^Dv<>ph*")}
-    for i, scene in enumerate(scenes):
-        mine = [(r, t) for r, t in plotted if r["scene"] == scene]
+    shown = [s for s in scenes if any(r["scene"] == s for r, _ in plotted)]
+    for ax, (field, label, mine) in zip(axes[0], panels):
+        # One point per selection and scene: the functional and cycle points agree on
+        # rays and PSNR.
+        seen = set()
         for r, t in mine:
-            ax.scatter(share_saved(r, t, "rays"), psnr_lost(r, t), color=cmap(i % 10),
+            if (r["scene"], r["width"], r["height"], r["select"], field) in seen:
+                continue
+            seen.add((r["scene"], r["width"], r["height"], r["select"], field))
+            x, y = share_saved(r, t, field), r["psnr_db"]
+            ax.scatter(x, y, color=cmap(shown.index(r["scene"]) % 10),
                        marker=block_marker[int(r["select"].split(":")[0])], s=30, zorder=3)
             ax.annotate(":".join(r["select"].split(":")[1:]).replace("material", "m").replace("primitive", "p"),
-                        (share_saved(r, t, "rays"), psnr_lost(r, t)), fontsize=6, alpha=0.7, xytext=(3, 2),
-                        textcoords="offset points")
+                        (x, y), fontsize=6, alpha=0.7, xytext=(3, 2), textcoords="offset points")
+        ax.set_xlabel(label)
+        ax.set_ylabel("PSNR against the reference (dB)")
+        ax.grid(alpha=0.3)
     handles = [plt.Line2D([], [], color=cmap(i % 10), marker="o", ls="", label=scene_name(s))
-               for i, s in enumerate(scenes) if any(r["scene"] == s for r, _ in plotted)]
+               for i, s in enumerate(shown)]
     handles += [plt.Line2D([], [], color="grey", marker=block_marker[b], ls="", label=f"{b}x{b} blocks")
                 for b in blocks]
-    ax.legend(handles=handles, fontsize=7, loc="best")
-    ax.set_xlabel("rays saved (%)")
-    ax.set_ylabel("PSNR lost (dB)")
-    ax.grid(alpha=0.3)
-    fig.tight_layout()
+    fig.legend(handles=handles, fontsize=7, loc="center right")
+    fig.tight_layout(rect=(0, 0, 0.86, 1))
     return fig
 
 
