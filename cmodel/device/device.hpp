@@ -30,9 +30,9 @@ struct Launch {
   // Selected ray tracing (docs/selection.md) takes two launches, pass 0 and pass 1; pass
   // 1 continues the frame (its statistics add to pass 0's) and reads `corners`, pass
   // 0's framebuffer, which the launch block carries.
-  Selection select;
+  Selection select = {};
   int pass = 0;
-  std::vector<glm::vec4> corners;
+  std::vector<glm::vec4> corners = {};
 };
 
 struct DeviceStats {

@@ -16,7 +16,7 @@ struct RenderSettings {
   int max_depth = 5;    // reflection/refraction bounces after the primary hit
   std::uint32_t seed = 1;
   int threads = 0;      // host threads; 0 = all cores. The image never depends on it.
-  Selection select;     // the firmware backends' selected ray tracing; off by default
+  Selection select = {};  // the firmware backends' selected ray tracing; off by default
 };
 
 // Rays traced, by type.
