@@ -19,6 +19,15 @@ struct DramStats {
   std::uint64_t reads = 0, writes = 0;
   std::uint64_t bytes_read = 0, bytes_written = 0;
   std::uint64_t bus_cycles = 0;  // cycles the data bus carried data
+
+  DramStats& operator+=(const DramStats& o) {
+    reads += o.reads;
+    writes += o.writes;
+    bytes_read += o.bytes_read;
+    bytes_written += o.bytes_written;
+    bus_cycles += o.bus_cycles;
+    return *this;
+  }
 };
 
 class Dram {
