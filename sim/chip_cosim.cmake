@@ -168,6 +168,13 @@ if(rpu_chip_cases)
            COMMAND Python3::Interpreter ${cli} --status 1 --stderr "rpu: error: --waves .*never.vcd"
                    -- $<TARGET_FILE:rpu> render tetra:1 --backend rtl --config ${config} --waves ${out}/never.vcd
                    -o ${out}/never.png)
+  # Waveforms record one launch; a selected frame takes two.
+  add_test(NAME cli.rtl_backend_waves_refuse_a_selection
+           COMMAND Python3::Interpreter ${cli} --status 1
+                   --stderr "rpu: error: --waves records one launch and --select 2 renders the frame in two"
+                   -- $<TARGET_FILE:rpu> render cornell --backend rtl --config ${config} --select 2
+                   --waves ${out}/never.fst -o ${out}/never.png)
   set_tests_properties(cli.rtl_backend_refuses_a_changed_configuration cli.rtl_backend_refuses_a_chip_not_built
-                       cli.rtl_backend_waves_must_be_fst PROPERTIES LABELS unit)
+                       cli.rtl_backend_waves_must_be_fst cli.rtl_backend_waves_refuse_a_selection
+                       PROPERTIES LABELS unit)
 endif()
