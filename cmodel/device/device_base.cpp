@@ -100,12 +100,6 @@ void DeviceBase::check_selection(const Launch& launch) const {
                            launch_.height != launch.height)) {
     throw Error("pass 1 of a selected frame must follow its pass 0 on the same device");
   }
-  const auto s = firmware_.symbols.find("FIRMWARE_SELECTS");
-  if (s == firmware_.symbols.end() || s->second.kind != isa::Symbol::Kind::kConstant || s->second.value == 0) {
-    throw Error(fmt::format("selection {} needs firmware with selected ray tracing (it declares FIRMWARE_SELECTS; "
-                            "the built-in whitted.s does): this firmware traces every pixel",
-                            to_string(launch.select)));
-  }
 }
 
 // Firmware declares what it needs (docs/shader-core.md "The shader ABI"), so that a
@@ -123,6 +117,11 @@ void DeviceBase::check_firmware_needs(const Launch& launch) const {
     throw Error("the camera has a lens (aperture > 0) but the firmware renders a pinhole camera (it does not "
                 "declare FIRMWARE_THIN_LENS): set the aperture to 0 or use firmware with a thin lens "
                 "(firmware/glsl/thin_lens.rgen)");
+  }
+  if (launch.select.enabled() && constant("FIRMWARE_SELECTS").value_or(0) == 0) {
+    throw Error(fmt::format("selection {} needs firmware with selected ray tracing (it declares FIRMWARE_SELECTS; "
+                            "the built-in whitted.s does): this firmware traces every pixel",
+                            to_string(launch.select)));
   }
   const int max_depth = launch.max_depth;
   const auto depth = static_cast<std::uint64_t>(max_depth);
