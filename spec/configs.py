@@ -13,6 +13,8 @@ import ast
 import difflib
 import re
 
+from names import camel
+
 # The groups whose values are measured on the RTL (latencies.toml), with their C++ structs.
 LATENCY_GROUPS = {
     "latency": ("LatencyConfig", ("fpu", "sfu", "rsq", "reissue", "result", "to_unit", "from_unit", "from_rays", "line_wait")),
@@ -315,10 +317,6 @@ def resolve(config: dict, schema: Schema, latencies: dict, formats: dict[str, in
             values[f"{g}.{f}"] = latencies[g][chosen[g]][f]
     return {"name": name, "doc": config.get("doc", ""), "values": values, "latency_format": chosen}
 
-
-
-def camel(name: str) -> str:
-    return "".join(p[:1].upper() + p[1:] for p in re.split(r"[._]", name))
 
 
 def cpp_string(s: str) -> str:

@@ -10,6 +10,8 @@ from __future__ import annotations
 import pathlib
 import re
 
+from names import camel
+
 GLSL_TYPES = {"float4": ("vec4", 16), "fp32": ("float", 4), "u32": ("uint", 4), "i32": ("int", 4)}
 ELEMENTS = {"vec4": 16, "vec2": 8, "float": 4, "uint": 4}
 FIELD = re.compile(r"^([a-z_0-9]+)\s*=\s*[^#]*#\s*(\S+)")
@@ -30,10 +32,6 @@ def field_types(memory_map_text: str) -> dict[str, dict[str, str]]:
         elif section and (m := FIELD.match(line)) and m.group(1).endswith("_at"):
             types.setdefault(section, {})[m.group(1)[:-3]] = m.group(2)
     return types
-
-
-def camel(name: str) -> str:
-    return "".join(p.capitalize() for p in name.split("_"))
 
 
 def record_struct(section: str, table: dict, types: dict[str, str]) -> list[str]:

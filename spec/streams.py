@@ -11,16 +11,14 @@ from __future__ import annotations
 import ast
 import re
 
+from names import camel
+
 IDENT = re.compile(r"^[a-z][a-z0-9_]*$")
 WHERE = "spec/streams.toml"
 
 
 class StreamError(Exception):
     pass
-
-
-def camel(name: str) -> str:
-    return "".join(p[:1].upper() + p[1:] for p in name.split("_"))
 
 
 def base_constants(spec: dict, fp_op_bits: int) -> dict[str, int]:
