@@ -13,7 +13,7 @@ module rpu_demux #(
   input  logic [Outputs-1:0]   ready_i
 );
 
-  always_comb begin
+  always_comb begin : route_handshake
     ready_o = 1'b0;
     for (int o = 0; o < Outputs; o++) begin
       valid_o[o] = valid_i && 32'(index_i) == o;

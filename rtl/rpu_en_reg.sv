@@ -20,7 +20,7 @@ module rpu_en_reg #(
     assign q_d = {q_q[(Cycles-1)*Width-1:0], data_i};
   end
 
-  always_ff @(posedge clk_i or negedge rst_ni) begin
+  always_ff @(posedge clk_i or negedge rst_ni) begin : regs
     if (!rst_ni) q_q <= '0;
     else if (en_i) q_q <= q_d;
   end

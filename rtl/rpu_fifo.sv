@@ -35,7 +35,7 @@ module rpu_fifo #(
   assign push = in_valid_i && in_ready_o;
   assign pop  = out_valid_o && out_ready_i;
 
-  always_comb begin
+  always_comb begin : push_pop
     data_d  = data_q;
     rd_d    = rd_q;
     wr_d    = wr_q;
@@ -54,7 +54,7 @@ module rpu_fifo #(
     end
   end
 
-  always_ff @(posedge clk_i or negedge rst_ni) begin
+  always_ff @(posedge clk_i or negedge rst_ni) begin : regs
     if (!rst_ni) begin
       data_q  <= '0;
       rd_q    <= '0;

@@ -22,12 +22,12 @@ module rpu_pipe_reg #(
 
   assign ready_o = ~valid_q | ready_i;
 
-  always_comb begin
+  always_comb begin : load_stage
     valid_d = ready_o ? valid_i : valid_q;
     data_d  = (valid_i && ready_o) ? data_i : data_q;
   end
 
-  always_ff @(posedge clk_i or negedge rst_ni) begin
+  always_ff @(posedge clk_i or negedge rst_ni) begin : regs
     if (!rst_ni) begin
       valid_q <= 1'b0;
       data_q  <= '0;

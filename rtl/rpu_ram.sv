@@ -24,7 +24,7 @@ module rpu_ram #(
 
   // The block-RAM template: the array's write and the registered read in one clocked
   // process, which is what the tools recognise (the one exception to _q <= _d).
-  always_ff @(posedge clk_i) begin
+  always_ff @(posedge clk_i) begin : write_and_read
     if (we_i) mem_q[waddr_i] <= wdata_i;
     rdata_q <= mem_q[raddr_i];
   end
@@ -33,7 +33,7 @@ module rpu_ram #(
 
 `ifndef SYNTHESIS
   // An address past Depth (Depth not a power of two) would read or write nothing.
-  always_ff @(posedge clk_i) begin
+  always_ff @(posedge clk_i) begin : check_write_address
     if (we_i) assert (32'(waddr_i) < Depth) else $error("rpu_ram: write address %0d past depth %0d", waddr_i, Depth);
   end
 `endif

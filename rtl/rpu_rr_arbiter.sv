@@ -26,7 +26,7 @@ module rpu_rr_arbiter #(
   logic                 hold_d, hold_q;
   logic [IndexBits-1:0] grant;
 
-  always_comb begin
+  always_comb begin : pick_grant
     valid_o = 1'b0;
     grant   = '0;
     // Inputs last+N down to last+1: the nearest after the last grant wins.
@@ -52,7 +52,7 @@ module rpu_rr_arbiter #(
   assign hold_d = valid_o && !ready_i;
   assign held_d = grant;
 
-  always_ff @(posedge clk_i or negedge rst_ni) begin
+  always_ff @(posedge clk_i or negedge rst_ni) begin : regs
     if (!rst_ni) begin
       last_q <= IndexBits'(Inputs - 1);  // input 0 first
       held_q <= '0;
@@ -68,7 +68,7 @@ module rpu_rr_arbiter #(
   // A valid input keeps its payload until it is taken.
   logic [Inputs-1:0]       stalled_q;
   logic [Inputs*Width-1:0] stalled_data_q;
-  always_ff @(posedge clk_i or negedge rst_ni) begin
+  always_ff @(posedge clk_i or negedge rst_ni) begin : check_inputs_held
     if (!rst_ni) begin
       stalled_q <= '0;
       stalled_data_q <= '0;

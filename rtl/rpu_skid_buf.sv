@@ -27,7 +27,7 @@ module rpu_skid_buf #(
   assign push = valid_i && ready_o;
   assign pop  = out_valid_q && ready_i;
 
-  always_comb begin
+  always_comb begin : refill_or_skid
     out_valid_d  = out_valid_q;
     out_data_d   = out_data_q;
     skid_valid_d = skid_valid_q;
@@ -44,7 +44,7 @@ module rpu_skid_buf #(
     end
   end
 
-  always_ff @(posedge clk_i or negedge rst_ni) begin
+  always_ff @(posedge clk_i or negedge rst_ni) begin : regs
     if (!rst_ni) begin
       out_valid_q  <= 1'b0;
       out_data_q   <= '0;
