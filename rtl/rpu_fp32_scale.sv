@@ -17,7 +17,7 @@ module rpu_fp32_scale (
   // field in [1, 254] and exp_i in [-128, 128] keep the sum inside 10 bits.
   assign scaled = $signed({2'b00, field}) + exp_i;
 
-  always_comb begin
+  always_comb begin : scale
     if (&field) begin
       value_o = value_i;
     end else if (field == 8'd0 || scaled <= 10'sd0) begin

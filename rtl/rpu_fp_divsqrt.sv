@@ -106,7 +106,7 @@ module rpu_fp_divsqrt #(
   // Which pass starts this cycle, and on which operands: a request, or the rcp of
   // rsqrt's rounded root once its square-root pass is done.
   logic load;
-  always_comb begin
+  always_comb begin : start_pass
     load      = 1'b0;
     load_sqrt = 1'b0;
     load_a    = req_i.a[Width-1:0];
@@ -125,7 +125,7 @@ module rpu_fp_divsqrt #(
     end
   end
 
-  always_comb begin
+  always_comb begin : next_state
     state_d         = state_q;
     count_d         = count_q;
     sqrt_d          = sqrt_q;
@@ -182,7 +182,7 @@ module rpu_fp_divsqrt #(
     end
   end
 
-  always_ff @(posedge clk_i or negedge rst_ni) begin
+  always_ff @(posedge clk_i or negedge rst_ni) begin : regs
     if (!rst_ni) begin
       state_q         <= StIdle;
       count_q         <= '0;

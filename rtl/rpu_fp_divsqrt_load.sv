@@ -48,7 +48,7 @@ module rpu_fp_divsqrt_load #(
 
   assign divisor_o = b_sig;
 
-  always_comb begin
+  always_comb begin : set_up_pass
     special_o       = 1'b1;
     special_value_o = CanonicalNan;
     rem_o           = '0;

@@ -23,7 +23,7 @@ module rpu_fp_divsqrt_steps #(
 
   logic [RemBits-1:0] candidate, trial;
   logic               fits;
-  always_comb begin
+  always_comb begin : recurrence_steps
     candidate = '0;
     trial     = '0;
     fits      = 1'b0;

@@ -31,7 +31,7 @@ module rpu_fp_floor #(
   assign below_point = {FracBits{1'b1}} >> (field - BiasField);
   assign truncated   = a_i & ~(Width'(below_point));
 
-  always_comb begin
+  always_comb begin : floor_value
     if (&field) begin
       // inf stays; every NaN becomes the canonical one.
       floor_o = |frac ? {1'b0, {ExpBits{1'b1}}, 1'b1, {(FracBits - 1){1'b0}}} : a_i;

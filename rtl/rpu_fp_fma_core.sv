@@ -76,7 +76,7 @@ module rpu_fp_fma_core #(
   assign z_lost  = z_sig & ~({(FracBits + 1){1'b1}} << z_shift);
   assign z_down  = z_sig >> z_shift;
 
-  always_comb begin
+  always_comb begin : add_frames
     if (z_zero) begin
       z_frame = '0;
     end else if (z_above) begin
@@ -109,7 +109,7 @@ module rpu_fp_fma_core #(
     .sign_i(sum_sign), .exp_i(frame_exp), .sig_i(sum), .result_o(rounded)
   );
 
-  always_comb begin
+  always_comb begin : pick_result
     if (x_nan || y_nan || z_nan) begin
       result_o = CanonicalNan;
     end else if (x_inf || y_inf) begin

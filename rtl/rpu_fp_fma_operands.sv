@@ -21,7 +21,7 @@ module rpu_fp_fma_operands #(
   logic [Width-1:0] a_floor;
   rpu_fp_floor #(.ExpBits(ExpBits), .FracBits(FracBits)) u_floor (.a_i, .floor_o(a_floor));
 
-  always_comb begin
+  always_comb begin : map_operands
     x_o = a_i;
     y_o = One;
     z_o = b_i;

@@ -48,7 +48,7 @@ module rpu_fp_misc_core #(
   logic any_nan, both_zero, a_below_b, b_below_a, equal;
   assign any_nan   = a_nan | b_nan;
   assign both_zero = a_zero & b_zero;
-  always_comb begin
+  always_comb begin : order_operands
     if (a_sign != b_sign) begin
       a_below_b = a_sign;
       b_below_a = b_sign;
@@ -82,7 +82,7 @@ module rpu_fp_misc_core #(
   logic [OpBits-1:0]          to_fp32;
   logic [7:0]                 fp32_field;
   assign fp32_field = 8'(a_exp + Fp32Bias);
-  always_comb begin
+  always_comb begin : widen_to_fp32
     if (a_nan) begin
       to_fp32 = Fp32Nan;
     end else if (a_inf) begin
@@ -100,7 +100,7 @@ module rpu_fp_misc_core #(
   logic [OpBits-1:0]       int_magnitude;
   assign int_shifted   = (FracBits + 32)'(a_sig) << a_exp[4:0];
   assign int_magnitude = OpBits'(int_shifted >> FracBits);
-  always_comb begin
+  always_comb begin : convert_to_int32
     if (a_nan || a_zero || (!a_inf && a_exp < 0)) begin
       to_int32 = '0;
     end else if (a_inf || a_exp >= 31) begin
@@ -127,7 +127,7 @@ module rpu_fp_misc_core #(
   logic [Width-1:0]           rounded;
   assign int_sign = a_i[OpBits-1];
   assign int_abs  = int_sign ? -a_i : a_i;
-  always_comb begin
+  always_comb begin : pick_round_operands
     if (op_i == rpu_pkg::FpOpFromInt32) begin
       round_sign = int_sign;
       round_exp  = '0;
@@ -147,7 +147,7 @@ module rpu_fp_misc_core #(
   );
 
   logic [Width-1:0] from_fp32, from_int32;
-  always_comb begin
+  always_comb begin : from_fp32_and_int32
     if (f_nan) begin
       from_fp32 = CanonicalNan;
     end else if (f_inf) begin
@@ -160,7 +160,7 @@ module rpu_fp_misc_core #(
     from_int32 = a_i == '0 ? '0 : rounded;
   end
 
-  always_comb begin
+  always_comb begin : pick_result
     unique case (op_i)
       rpu_pkg::FpOpFloor:     result_o = OpBits'(a_floor);
       rpu_pkg::FpOpMin:       result_o = OpBits'(min_result);

@@ -27,7 +27,7 @@ module rpu_fp_round #(
 
   // Leading-zero count: the highest set bit is the last one the loop sees.
   logic [LzBits-1:0] lz;
-  always_comb begin
+  always_comb begin : leading_zeros
     lz = '0;
     for (int unsigned i = 0; i < SigBits; i++) begin
       if (sig_i[i]) lz = LzBits'(SigBits - 1 - i);
@@ -51,7 +51,7 @@ module rpu_fp_round #(
   assign field    = exp_i + Top - $signed(ExpWidth'(lz)) + Bias
                     + $signed(ExpWidth'(rounded[FracBits+1]));
 
-  always_comb begin
+  always_comb begin : pack_result
     if (field >= FieldMax) begin
       result_o = {sign_i, {ExpBits{1'b1}}, {FracBits{1'b0}}};
     end else if (field <= 0) begin
