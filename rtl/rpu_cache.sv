@@ -110,7 +110,7 @@ module rpu_cache #(
   logic                            replay_go, install_go, front_free;
   logic [MshrBits-1:0]             fill_mshr;
 
-  always_comb begin
+  always_comb begin : pick_replay
     replay_pending = 1'b0;
     replay_tag     = '0;
     for (int t = Tags - 1; t >= 0; t--) begin
@@ -129,7 +129,7 @@ module rpu_cache #(
   assign dram_rsp_ready_o = install_go;
 
   logic [31:0] look_addr;
-  always_comb begin
+  always_comb begin : pick_look_addr
     if (replay_pending) begin
       look_addr = {wait_addr_q[32'(replay_tag)*PieceAddrBits +: PieceAddrBits], 4'b0};
     end else if (dram_rsp_valid_i) begin
@@ -157,7 +157,7 @@ module rpu_cache #(
   logic                   hit;
   logic [WayBits-1:0]     hit_way;
   assign set_valid = valid_q[EntryBits'(look_set) * EntryBits'(Ways) +: Ways];
-  always_comb begin
+  always_comb begin : match_ways
     hit     = 1'b0;
     hit_way = '0;
     for (int w = Ways - 1; w >= 0; w--) begin
@@ -172,7 +172,7 @@ module rpu_cache #(
   logic [Mshrs-1:0]    pending_mshrs;
   logic                pending, mshr_free;
   logic [MshrBits-1:0] pending_mshr, free_mshr;
-  always_comb begin
+  always_comb begin : match_mshrs
     pending      = 1'b0;
     pending_mshr = '0;
     mshr_free    = 1'b0;
@@ -194,7 +194,7 @@ module rpu_cache #(
   logic [PairBits-1:0] set_order;
   logic [Ways-1:0]     oldest;
   logic [WayBits-1:0]  victim;
-  always_comb begin
+  always_comb begin : pick_victim
     for (int v = 0; v < Ways; v++) begin
       oldest[v] = 1'b1;
       for (int u = 0; u < Ways; u++) begin
@@ -216,7 +216,7 @@ module rpu_cache #(
   // ---------------------------------------------------------------------------------
   logic dq_ready;  // the memory-request FIFO has room
   logic take, take_read, hit_go, merge_go, miss_go, write_go, launch;
-  always_comb begin
+  always_comb begin : port_ready
     if (!front_free) begin
       req_ready_o = 1'b0;
     end else if (req_i.write) begin
@@ -249,7 +249,7 @@ module rpu_cache #(
   // writes are in their clocked processes, as in rpu_ram (the exception to _q <= _d).
   for (genvar w = 0; w < Ways; w++) begin : g_way
     logic [TagBits-1:0] tags_q [Sets];
-    always_ff @(posedge clk_i) begin
+    always_ff @(posedge clk_i) begin : write_tag
       if (install_go && victim == WayBits'(w)) tags_q[look_set] <= look_tag;
     end
     assign set_tags[w*TagBits +: TagBits] = tags_q[look_set];
@@ -258,7 +258,7 @@ module rpu_cache #(
   logic [PairBits-1:0] order_q [Sets];
   logic [PairBits-1:0] touched_order;
   assign set_order = order_q[look_set];
-  always_comb begin
+  always_comb begin : touch_order
     touched_order = set_order;
     for (int i = 0; i < Ways; i++) begin
       for (int j = i + 1; j < Ways; j++) begin
@@ -267,7 +267,7 @@ module rpu_cache #(
       end
     end
   end
-  always_ff @(posedge clk_i) begin
+  always_ff @(posedge clk_i) begin : write_order
     if (touch) order_q[look_set] <= touched_order;
   end
 
@@ -315,7 +315,7 @@ module rpu_cache #(
     logic [DelayBits-1:0] delay_entry_d, delay_entry_q;
     assign delay_valid_d = (delay_valid_q << 1) | Delay'(rd_valid_q);
     assign delay_entry_d = (delay_entry_q << RspEntryBits) | DelayBits'(rd_entry);
-    always_ff @(posedge clk_i or negedge rst_ni) begin
+    always_ff @(posedge clk_i or negedge rst_ni) begin : delay_regs
       if (!rst_ni) begin
         delay_valid_q <= '0;
         delay_entry_q <= '0;
@@ -337,7 +337,7 @@ module rpu_cache #(
   );
   assign {rsp_o.tag, rsp_o.data} = rsp_entry;
 
-  always_comb begin
+  always_comb begin : next_credit
     credit_d = credit_q;
     if (launch && !(rsp_valid_o && rsp_ready_i)) credit_d = credit_q - CreditBits'(1);
     if (!launch && rsp_valid_o && rsp_ready_i) credit_d = credit_q + CreditBits'(1);
@@ -365,7 +365,7 @@ module rpu_cache #(
   // A write's tag names the cache alone (writes are not answered).
   logic [MshrBits-1:0] dq_read_mshr;
   assign dq_read_mshr = dq_write ? '0 : dq_mshr;
-  always_comb begin
+  always_comb begin : dram_request
     dram_req_o       = '0;
     dram_req_o.tag   = {CacheIdBits'(CacheId), rpu_pkg::DramMshrBits'(dq_read_mshr)};
     dram_req_o.addr  = {dq_line, OffsetBits'(0)};
@@ -379,7 +379,7 @@ module rpu_cache #(
   // ---------------------------------------------------------------------------------
   // Next state.
   // ---------------------------------------------------------------------------------
-  always_comb begin
+  always_comb begin : next_state
     valid_d      = valid_q;
     mshr_valid_d = mshr_valid_q;
     mshr_line_d  = mshr_line_q;
@@ -412,7 +412,7 @@ module rpu_cache #(
     end
   end
 
-  always_comb begin
+  always_comb begin : count_events
     counters_d = counters_q;
     if (take_read) counters_d.accesses = counters_q.accesses + 32'd1;
     if (hit_go) counters_d.hits = counters_q.hits + 32'd1;
@@ -426,7 +426,7 @@ module rpu_cache #(
     end
   end
 
-  always_ff @(posedge clk_i or negedge rst_ni) begin
+  always_ff @(posedge clk_i or negedge rst_ni) begin : regs
     if (!rst_ni) begin
       valid_q      <= '0;
       mshr_valid_q <= '0;
@@ -476,7 +476,7 @@ module rpu_cache #(
 
   // Read tags taken and not yet answered: a requester must not reuse one.
   logic [Tags-1:0] in_flight_q;
-  always_ff @(posedge clk_i or negedge rst_ni) begin
+  always_ff @(posedge clk_i or negedge rst_ni) begin : check_invariants
     if (!rst_ni) begin
       in_flight_q <= '0;
     end else begin

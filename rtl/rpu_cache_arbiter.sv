@@ -69,7 +69,7 @@ module rpu_cache_arbiter #(
     assign unused = ^index;
 
 `ifndef SYNTHESIS
-    always_ff @(posedge clk_i or negedge rst_ni) begin
+    always_ff @(posedge clk_i or negedge rst_ni) begin : check_tags
       if (rst_ni) begin
         for (int r = 0; r < Requesters; r++) begin
           if (req_valid_i[r]) begin

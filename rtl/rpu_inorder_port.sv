@@ -45,7 +45,7 @@ module rpu_inorder_port #(
 
   assign cache_req_valid_o = mem_req_valid_i && room;
   assign mem_req_ready_o   = cache_req_ready_i && room;
-  always_comb begin
+  always_comb begin : cache_request
     cache_req_o      = '0;
     cache_req_o.tag  = rpu_pkg::CacheTagBits'(tail_q);
     cache_req_o.addr = mem_req_i.addr;
@@ -58,7 +58,7 @@ module rpu_inorder_port #(
   assign push = mem_req_valid_i && mem_req_ready_o;
   assign pop  = mem_rsp_valid_o && mem_rsp_ready_i;
 
-  always_comb begin
+  always_comb begin : next_entries
     head_d  = pop ? head_q + TagBits'(1) : head_q;
     tail_d  = push ? tail_q + TagBits'(1) : tail_q;
     count_d = count_q + CountBits'(push) - CountBits'(pop);
@@ -71,7 +71,7 @@ module rpu_inorder_port #(
     end
   end
 
-  always_ff @(posedge clk_i or negedge rst_ni) begin
+  always_ff @(posedge clk_i or negedge rst_ni) begin : regs
     if (!rst_ni) begin
       head_q  <= '0;
       tail_q  <= '0;
@@ -97,7 +97,7 @@ module rpu_inorder_port #(
   // An answer belongs to an entry in flight (between head and tail) not yet answered.
   logic [TagBits-1:0] age;
   assign age = rsp_entry - head_q;
-  always_ff @(posedge clk_i or negedge rst_ni) begin
+  always_ff @(posedge clk_i or negedge rst_ni) begin : check_answers
     if (rst_ni && cache_rsp_valid_i) begin
       assert (32'(cache_rsp_i.tag) < Entries && 32'(age) < 32'(count_q) && !done_q[rsp_entry])
         else $error("rpu_inorder_port: an answer with tag %0h for no request in flight", cache_rsp_i.tag);

@@ -50,7 +50,7 @@ module rpu_mem_arbiter #(
   assign unused = ^index;
 
 `ifndef SYNTHESIS
-  always_ff @(posedge clk_i or negedge rst_ni) begin
+  always_ff @(posedge clk_i or negedge rst_ni) begin : check_tags
     if (rst_ni) begin
       if (dram_req_valid_o) begin
         assert (32'(dram_req_o.tag[rpu_pkg::DramTagBits-1 -: IdBits]) == 32'(index))
