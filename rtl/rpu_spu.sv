@@ -239,7 +239,7 @@ module rpu_spu #(
 
   for (genvar c = 0; c < Chunks; c++) begin : g_chunk_view
     // The smallest live pc.
-    always_comb begin
+    always_comb begin : min_live_pc
       any_live[c]          = 1'b0;
       min_pc[32*c +: 32]   = '1;
       for (int l = 0; l < ChunkSize; l++) begin
@@ -267,7 +267,7 @@ module rpu_spu #(
     assign sb_ok[c] = ib_pcfault_q[c] || !(pend_a || pend_b || pend_c || pend_d);
 
     // Room for every lane in the queue the instruction hands its lanes to.
-    always_comb begin
+    always_comb begin : queue_room
       res_ok[c] = 1'b1;
       if (!ib_pcfault_q[c]) begin
         if (32'(rpu_pkg::isa_class(op)) == rpu_pkg::IsaClassMem || op == rpu_pkg::OpCalli) begin
@@ -286,7 +286,7 @@ module rpu_spu #(
   // Fetch: one chunk a cycle reads the code memory.
   // ---------------------------------------------------------------------------------
   logic [Chunks-1:0] fetch_grant;
-  always_comb begin
+  always_comb begin : pick_fetch_chunk
     fetch_grant = '0;
     code_raddr  = '0;
     for (int c = Chunks - 1; c >= 0; c--) begin
@@ -314,7 +314,7 @@ module rpu_spu #(
   logic                  ret_broadcast;  // ld1: the word in every lane
   logic [rpu_pkg::ThreadBits-TB-1:0] unused_tag_thread;
 
-  always_comb begin
+  always_comb begin : pick_return
     ret_op            = '0;
     ret_op.valid      = 1'b1;
     ret_op.ret        = 1'b1;
@@ -363,7 +363,7 @@ module rpu_spu #(
   logic                  end_now;       // the sequencer's chunk instruction ends without a last lane
   logic [CB-1:0]         end_now_chunk;
 
-  always_comb begin
+  always_comb begin : next_lane
     for (int l = 0; l < ChunkSize; l++) begin
       kill_after[l] = kill && LB'(l) > kill_lane;
       seq_live[l]   = live_q[32'(seq_chunk_q) * ChunkSize + l];
@@ -383,7 +383,7 @@ module rpu_spu #(
   end
 
   // Round robin among the ready chunks, after the one that issued last.
-  always_comb begin
+  always_comb begin : pick_ready_chunk
     selected = 1'b0;
     sel      = '0;
     for (int k = Chunks; k >= 1; k--) begin
@@ -395,7 +395,7 @@ module rpu_spu #(
     selected = selected && seq_free;
   end
 
-  always_comb begin
+  always_comb begin : next_sequencer
     seq_valid_d   = seq_valid_q && !seq_free;
     seq_chunk_d   = seq_chunk_q;
     seq_pc_d      = seq_pc_q;
@@ -415,7 +415,7 @@ module rpu_spu #(
   end
 
   assign issue_valid_o = selected;
-  always_comb begin
+  always_comb begin : issue_record
     issue_o       = '0;
     issue_o.core  = rpu_pkg::CoreBits'(CoreId);
     issue_o.chunk = rpu_pkg::ThreadBits'(sel);
@@ -424,7 +424,7 @@ module rpu_spu #(
   end
 
   // S0: the return, or the sequencer's next lane.
-  always_comb begin
+  always_comb begin : pick_s0
     s0 = '0;
     if (ret_valid) begin
       s0 = ret_op;
@@ -442,7 +442,7 @@ module rpu_spu #(
   assign e_d = s0;
 
   // Register file and return stack reads.
-  always_comb begin
+  always_comb begin : read_addrs
     rf_raddr = {rf_addr(s0.thread, f_third(s0.insn)), rf_addr(s0.thread, f_b(s0.insn)),
                 rf_addr(s0.thread, f_a(s0.insn))};
     rs_raddr = RsAddrBits'(32'(s0.thread) * CallDepth + 32'(rsp_q[RspBits*s0.thread +: RspBits]) - 1);
@@ -522,7 +522,7 @@ module rpu_spu #(
   logic                              illegal, bad_reg;
   logic [63:0]                       used;
   assign used = rpu_pkg::isa_used_bits(op);
-  always_comb begin
+  always_comb begin : find_fault
     illegal = used == '0 || (w & ~used) != '0;
     bad_reg = ((rpu_pkg::isa_writes_dst(op) || rpu_pkg::isa_reads_dst(op)) && 32'(f_dst(w)) >= Registers)
               || (rpu_pkg::isa_reads_a(op) && 32'(f_a(w)) >= Registers)
@@ -623,7 +623,7 @@ module rpu_spu #(
   assign pix_x       = e_pixel - div_q * launch_i.width;
 
   logic [127:0] special;
-  always_comb begin
+  always_comb begin : special_value
     unique case (imm[1:0])
       2'(rpu_pkg::SpecialPixel):  special = {32'd0, e_pixel, div_q, pix_x};
       2'(rpu_pkg::SpecialLaunch): special = {launch_i.max_depth, launch_i.spp, launch_i.height, launch_i.width};
@@ -637,7 +637,7 @@ module rpu_spu #(
   logic to_lsu, to_sfu, to_trace, to_dp, async;
   logic [3:0] store_words;
   assign store_words = op == rpu_pkg::OpSt ? wmask : op == rpu_pkg::OpPush ? 4'b1111 : 4'b0001;
-  always_comb begin
+  always_comb begin : route_op
     to_lsu   = 1'b0;
     to_sfu   = 1'b0;
     to_trace = 1'b0;
@@ -692,7 +692,7 @@ module rpu_spu #(
   // Rays: a queue to the ray units.
   logic                            trace_in_ready;
   rpu_pkg::trace_req_t             trace_in;
-  always_comb begin
+  always_comb begin : trace_request
     trace_in           = '0;
     trace_in.tag       = rpu_pkg::TraceTagBits'({rpu_pkg::CoreBits'(CoreId), rpu_pkg::ThreadBits'(e_q.thread), dst, wmask});
     trace_in.pc        = e_q.pc;
@@ -707,7 +707,7 @@ module rpu_spu #(
     .in_valid_i(to_trace), .in_ready_o(trace_in_ready), .in_data_i(trace_in),
     .out_valid_o(trace_req_valid_o), .out_ready_i(trace_req_ready_i), .out_data_o(trace_req_o)
   );
-  always_comb begin
+  always_comb begin : count_queued_rays
     trace_count_d = trace_count_q;
     if (to_trace && !(trace_req_valid_o && trace_req_ready_i)) trace_count_d = trace_count_q + QCountBits'(1);
     else if (!to_trace && trace_req_valid_o && trace_req_ready_i) trace_count_d = trace_count_q - QCountBits'(1);
@@ -745,12 +745,12 @@ module rpu_spu #(
   assign rf_we      = w_write;
   assign rf_waddr   = rf_addr(w_thread, w_dst);
   assign rf_lane_we = w_first ? 4'b1111 : w_wmask;
-  always_comb begin
+  always_comb begin : mask_write_data
     for (int l = 0; l < 4; l++) rf_wdata[32*l +: 32] = w_wmask[l] ? wb_result[32*l +: 32] : '0;
   end
 
   assign wb_valid_o = w_write;
-  always_comb begin
+  always_comb begin : writeback_record
     wb_o        = '0;
     wb_o.core   = rpu_pkg::CoreBits'(CoreId);
     wb_o.thread = rpu_pkg::ThreadBits'(w_thread);
@@ -764,7 +764,7 @@ module rpu_spu #(
   // ---------------------------------------------------------------------------------
   logic [31:0] pc_next;
   logic        pc_we, rsp_push, rsp_pop, ssp_push, ssp_pop, halt;
-  always_comb begin
+  always_comb begin : thread_effects
     pc_next  = e_q.pc + 32'd1;
     pc_we    = e_exec && op != rpu_pkg::OpCalli;
     rsp_push = 1'b0;
@@ -810,7 +810,7 @@ module rpu_spu #(
   assign rs_waddr = RsAddrBits'(32'(e_q.thread) * CallDepth + 32'(e_rsp));
 
   assign retire_valid_o = e_exec;
-  always_comb begin
+  always_comb begin : retire_record
     retire_o        = '0;
     retire_o.core   = rpu_pkg::CoreBits'(CoreId);
     retire_o.thread = rpu_pkg::ThreadBits'(e_q.thread);
@@ -822,7 +822,7 @@ module rpu_spu #(
   end
 
   assign fault_valid_o = e_fault;
-  always_comb begin
+  always_comb begin : fault_record
     fault_o        = '0;
     fault_o.kind   = f_kind;
     fault_o.core   = rpu_pkg::CoreBits'(CoreId);
@@ -844,7 +844,7 @@ module rpu_spu #(
     logic [Registers-1:0] written_now;  // the register W writes this cycle
     assign here        = e_q.valid && 32'(e_q.thread) == t;
     assign written_now = w_write && 32'(w_thread) == t && 32'(w_dst) < Registers ? Registers'(1) << w_dst : '0;
-    always_comb begin
+    always_comb begin : next_thread
       pc_d[32*t +: 32]                  = pc_q[32*t +: 32];
       live_d[t]                         = live_q[t];
       rsp_d[RspBits*t +: RspBits]       = rsp_q[RspBits*t +: RspBits];
@@ -876,7 +876,7 @@ module rpu_spu #(
   // Per-chunk state.
   // ---------------------------------------------------------------------------------
   logic [Chunks-1:0] chunk_end;
-  always_comb begin
+  always_comb begin : find_chunk_ends
     chunk_end = '0;
     if (e_inst && (e_q.last || e_fault)) chunk_end[e_chunk] = 1'b1;
     if (end_now) chunk_end[end_now_chunk] = 1'b1;
@@ -894,7 +894,7 @@ module rpu_spu #(
     assign w_here      = 32'(w_thread) / ChunkSize == c;
     assign init_chunk[c] = state_q[3*c +: 3] == CStart && !refuse;
 
-    always_comb begin
+    always_comb begin : next_chunk
       state_d[3*c +: 3]           = state_q[3*c +: 3];
       base_d[32*c +: 32]          = base_q[32*c +: 32];
       ib_pc_d[32*c +: 32]         = ib_pc_q[32*c +: 32];
@@ -990,7 +990,7 @@ module rpu_spu #(
   end
 
   rpu_pkg::core_counters_t counters_d, counters_q;
-  always_comb begin
+  always_comb begin : count_waits
     counters_d = counters_q;
     if (count_i) begin
       if (selected) counters_d.chunk_issues = counters_q.chunk_issues + 32'd1;
@@ -1003,7 +1003,7 @@ module rpu_spu #(
   end
   assign counters_o = counters_q;
 
-  always_ff @(posedge clk_i or negedge rst_ni) begin
+  always_ff @(posedge clk_i or negedge rst_ni) begin : counter_regs
     if (!rst_ni) begin
       rays_q     <= '0;
       loads_q    <= '0;
@@ -1018,7 +1018,7 @@ module rpu_spu #(
   // ---------------------------------------------------------------------------------
   // Registers.
   // ---------------------------------------------------------------------------------
-  always_ff @(posedge clk_i or negedge rst_ni) begin
+  always_ff @(posedge clk_i or negedge rst_ni) begin : regs
     if (!rst_ni) begin
       pc_q          <= '0;
       live_q        <= '0;
@@ -1074,7 +1074,7 @@ module rpu_spu #(
 
 `ifndef SYNTHESIS
   // The issue reserves room in the queues, so a hand-off is never refused.
-  always_ff @(posedge clk_i or negedge rst_ni) begin
+  always_ff @(posedge clk_i or negedge rst_ni) begin : check_queues
     if (rst_ni) begin
       assert (!to_lsu || lsu_in_ready) else $error("rpu_spu: the load/store queue was full");
       assert (!to_sfu || sfu_in_ready) else $error("rpu_spu: the sfu queue was full");

@@ -103,7 +103,7 @@ module rpu_spu_datapath #(
   logic [ResBits-1:0]  res;
   logic                misc_raw_a;  // i2f reads the integer bits, not a format value
 
-  always_comb begin
+  always_comb begin : decode_op
     use_fma    = 1'b0;
     use_misc   = 1'b0;
     dot        = 1'b0;
@@ -181,7 +181,7 @@ module rpu_spu_datapath #(
     assign b = b_i[l*32 +: 32];
     assign c = c_i[l*32 +: 32];
     assign product = {32'd0, a} * {32'd0, op_i == rpu_pkg::OpImuli ? imm_i : b};
-    always_comb begin
+    always_comb begin : int_op
       unique case (op_i)
         rpu_pkg::OpMov:    r = fp32_sign_mods(a, neg_i[0], abs_i[0]);
         rpu_pkg::OpSel:    r = a != '0 ? b : c;
@@ -215,7 +215,7 @@ module rpu_spu_datapath #(
   end
 
   logic [127:0] raw_e;
-  always_comb begin
+  always_comb begin : pick_raw
     if (hand_i && !hand_round_i && !hand_widen_i) raw_e = a_i;
     else if (res == ResWidenRaw) raw_e = fa;
     else raw_e = int_lanes;
@@ -311,7 +311,7 @@ module rpu_spu_datapath #(
   assign p2_d    = {p2_q[OpBits*(FmaLatency-1)-1:0], fma_out[64 +: 32]};
   assign unit_d  = {unit_q[128*(Latency-FmaLatency-1)-1:0], res_at_units == ResFma ? fma_out : misc_out};
 
-  always_ff @(posedge clk_i or negedge rst_ni) begin
+  always_ff @(posedge clk_i or negedge rst_ni) begin : delay_lines
     if (!rst_ni) begin
       valid_q <= '0;
       dot_q   <= '0;
@@ -348,7 +348,7 @@ module rpu_spu_datapath #(
     rpu_fp_misc_core #(.ExpBits(ExpBits), .FracBits(FracBits)) u_to_fp32 (
       .op_i(rpu_pkg::FpOpToFp32), .a_i(fmt_w[l*32 +: 32]), .b_i('0), .result_o(wide)
     );
-    always_comb begin
+    always_comb begin : pick_lane_result
       unique case (res_w)
         ResRaw:      result_o[l*32 +: 32] = raw_w[l*32 +: 32];
         ResMiscMask: result_o[l*32 +: 32] = unit_w[l*32] ? '1 : '0;
@@ -368,7 +368,7 @@ module rpu_spu_datapath #(
 `ifndef SYNTHESIS
   // The units are pipelines that never stall here: a request is always taken and its
   // result comes FmaLatency later, when the delay lines expect it.
-  always_ff @(posedge clk_i or negedge rst_ni) begin
+  always_ff @(posedge clk_i or negedge rst_ni) begin : check_unit_timing
     if (rst_ni) begin
       assert (&fma_ready && &misc_ready && &sum_ready) else $error("rpu_spu_datapath: an FP unit stalled");
       assert (fma_valid[0] == (valid_q[FmaLatency-1] && (res_at_units == ResFma || res_at_units == ResDot)))

@@ -66,7 +66,7 @@ module rpu_spu_lsu #(
   );
   assign {h_store, h_tag, h_addr, h_wide, h_words, h_data} = head;
 
-  always_comb begin
+  always_comb begin : count_queue
     count_d = count_q;
     if (in_valid_i && in_ready_o && !head_pop) count_d = count_q + CountBits'(1);
     else if (head_pop && !(in_valid_i && in_ready_o)) count_d = count_q - CountBits'(1);
@@ -78,7 +78,7 @@ module rpu_spu_lsu #(
   logic [2*PieceWords-1:0]    span;       // the words of the two pieces the access covers
   logic [2*PieceWords*32-1:0] span_data;  // a store's words at their place in the pieces
   assign offset = h_addr[OffsetBits-1:2];
-  always_comb begin
+  always_comb begin : place_words
     span      = '0;
     span_data = '0;
     for (int j = 0; j < 4; j++) begin
@@ -105,7 +105,7 @@ module rpu_spu_lsu #(
 
   logic                free_slot_found;
   logic [SlotBits-1:0] free_slot;
-  always_comb begin
+  always_comb begin : find_free_slot
     free_slot_found = 1'b0;
     free_slot       = '0;
     for (int s = Slots - 1; s >= 0; s--) begin
@@ -124,7 +124,7 @@ module rpu_spu_lsu #(
   assign piece    = sent_first_q || !piece_needed[0];
   assign can_send = head_valid && (h_store || sent_first_q || free_slot_found);
   assign cache_req_valid_o = can_send;
-  always_comb begin
+  always_comb begin : cache_request
     cache_req_o       = '0;
     cache_req_o.addr  = piece ? first_addr + 32'(PieceBytes) : first_addr;
     cache_req_o.write = h_store;
@@ -138,7 +138,7 @@ module rpu_spu_lsu #(
   assign last_piece = piece || !piece_needed[1];
   assign head_pop   = sent && last_piece;
 
-  always_comb begin
+  always_comb begin : track_head
     sent_first_d = sent_first_q;
     head_slot_d  = head_slot_q;
     if (sent && !sent_first_q) head_slot_d = free_slot;
@@ -148,7 +148,7 @@ module rpu_spu_lsu #(
   // Answers, and the whole loads that leave.
   logic                pick_found;
   logic [SlotBits-1:0] pick;
-  always_comb begin
+  always_comb begin : pick_done_slot
     pick_found = 1'b0;
     pick       = '0;
     for (int s = Slots - 1; s >= 0; s--) begin
@@ -161,7 +161,7 @@ module rpu_spu_lsu #(
   assign cache_rsp_ready_o = 1'b1;
   assign out_valid_o = pick_found;
   assign out_tag_o   = tag_q[TagBits*pick +: TagBits];
-  always_comb begin
+  always_comb begin : gather_load
     // Word j of the load is word offset + j of the slot's two pieces.
     out_data_o = '0;
     for (int j = 0; j < 4; j++) begin
@@ -173,7 +173,7 @@ module rpu_spu_lsu #(
   logic                rsp_piece;
   assign {rsp_slot, rsp_piece} = cache_rsp_i.tag;
 
-  always_comb begin
+  always_comb begin : next_slots
     busy_d   = busy_q;
     wait_d   = wait_q;
     tag_d    = tag_q;
@@ -192,7 +192,7 @@ module rpu_spu_lsu #(
     if (out_valid_o && out_ready_i) busy_d[pick] = 1'b0;
   end
 
-  always_ff @(posedge clk_i or negedge rst_ni) begin
+  always_ff @(posedge clk_i or negedge rst_ni) begin : regs
     if (!rst_ni) begin
       busy_q       <= '0;
       wait_q       <= '0;
@@ -221,7 +221,7 @@ module rpu_spu_lsu #(
   assign unused = ^h_addr[1:0];
 
 `ifndef SYNTHESIS
-  always_ff @(posedge clk_i or negedge rst_ni) begin
+  always_ff @(posedge clk_i or negedge rst_ni) begin : check_answers
     if (rst_ni && cache_rsp_valid_i) begin
       assert (busy_q[rsp_slot] && wait_q[2*rsp_slot + 32'(rsp_piece)])
         else $error("rpu_spu_lsu: an answer with tag %0h for no piece awaited", cache_rsp_i.tag);

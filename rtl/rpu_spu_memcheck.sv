@@ -36,7 +36,7 @@ module rpu_spu_memcheck (
   assign own_lo = {1'b0, rpu_pkg::DeviceFramebufferBase} + {1'b0, pixel_i[27:0], 4'b0000};
   assign own_hi = own_lo + 33'(rpu_pkg::FramebufferBytesPerPixel);
 
-  always_comb begin
+  always_comb begin : access_ok
     if (addr_i[1:0] != 2'b00) begin
       ok_o = 1'b0;
     end else if (in_fb[1]) begin

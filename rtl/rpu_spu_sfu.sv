@@ -48,7 +48,7 @@ module rpu_spu_sfu #(
   );
   assign {head_tag, head_op, head_wmask, head_a} = head;
 
-  always_comb begin
+  always_comb begin : count_queue
     count_d = count_q;
     if (in_valid_i && in_ready_o && !head_pop) count_d = count_q + CountBits'(1);
     else if (head_pop && !(in_valid_i && in_ready_o)) count_d = count_q - CountBits'(1);
@@ -88,7 +88,7 @@ module rpu_spu_sfu #(
       .rsp_valid_o(rsp_valid), .rsp_ready_i(1'b1), .rsp_o(rsp)
     );
 
-    always_comb begin
+    always_comb begin : track_divider
       busy_d = busy_q;
       lane_d = lane_q;
       if (req_valid && req_ready) begin
@@ -99,7 +99,7 @@ module rpu_spu_sfu #(
       end
     end
 
-    always_ff @(posedge clk_i or negedge rst_ni) begin
+    always_ff @(posedge clk_i or negedge rst_ni) begin : divider_regs
       if (!rst_ni) begin
         busy_q <= 1'b0;
         lane_q <= '0;
@@ -126,7 +126,7 @@ module rpu_spu_sfu #(
   assign out_value_o = value_q;
   assign head_pop    = out_valid_o && out_ready_i;
 
-  always_comb begin
+  always_comb begin : gather_results
     sent_d  = sent_q | send;
     done_d  = done_q | got;
     value_d = value_q;
@@ -140,7 +140,7 @@ module rpu_spu_sfu #(
     end
   end
 
-  always_ff @(posedge clk_i or negedge rst_ni) begin
+  always_ff @(posedge clk_i or negedge rst_ni) begin : regs
     if (!rst_ni) begin
       sent_q  <= '0;
       done_q  <= '0;
