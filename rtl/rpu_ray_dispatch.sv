@@ -53,7 +53,7 @@ module rpu_ray_dispatch #(
   logic [CoreIdx-1:0] core;
   logic [UnitIdx-1:0] unit;
   logic [RayIdx-1:0]  entry;  // the unit's lowest free entry
-  always_comb begin
+  always_comb begin : pick_core_and_unit
     have_core = 1'b0;
     core      = '0;
     for (int k = Cores; k >= 1; k--) begin
@@ -81,7 +81,7 @@ module rpu_ray_dispatch #(
   logic                send;
   assign req  = core_req_i[rpu_pkg::TraceReqBits*core +: rpu_pkg::TraceReqBits];
   assign send = have_core && have_unit;
-  always_comb begin
+  always_comb begin : unit_request
     unit_req           = '0;
     unit_req.origin    = req.origin;
     unit_req.direction = req.direction;
@@ -90,7 +90,7 @@ module rpu_ray_dispatch #(
     unit_req.any_hit   = req.any_hit;
     unit_req.tag       = rpu_pkg::RayTagBits'(entry);
   end
-  always_comb begin
+  always_comb begin : route_request
     core_req_ready_o = '0;
     unit_req_valid_o = '0;
     unit_req_o       = '0;
@@ -111,7 +111,7 @@ module rpu_ray_dispatch #(
   logic [Units*RayIdx-1:0]                answer_entry;
   rpu_pkg::tu_rsp_t                       a_rsp;
   rpu_pkg::trace_rsp_t                    a_out;
-  always_comb begin
+  always_comb begin : format_answers
     answer       = '0;
     answer_tag   = '0;
     answer_entry = '0;
@@ -141,7 +141,7 @@ module rpu_ray_dispatch #(
   logic [Cores-1:0]         found;
   logic [Units-1:0]         answered;  // the unit's answer is taken this cycle
 
-  always_comb begin
+  always_comb begin : pick_answer_unit
     found = '0;
     from  = '0;
     for (int c = 0; c < Cores; c++) begin
@@ -156,7 +156,7 @@ module rpu_ray_dispatch #(
     end
   end
 
-  always_comb begin
+  always_comb begin : route_answers
     last_unit_d = last_unit_q;
     answered    = '0;
     core_rsp_o  = '0;
@@ -172,7 +172,7 @@ module rpu_ray_dispatch #(
   assign core_rsp_valid_o = found;
   assign unit_rsp_ready_o = answered;
 
-  always_comb begin
+  always_comb begin : next_entries
     busy_d      = busy_q;
     tag_d       = tag_q;
     pc_d        = pc_q;
@@ -188,7 +188,7 @@ module rpu_ray_dispatch #(
     end
   end
 
-  always_ff @(posedge clk_i or negedge rst_ni) begin
+  always_ff @(posedge clk_i or negedge rst_ni) begin : regs
     if (!rst_ni) begin
       busy_q      <= '0;
       tag_q       <= '0;
@@ -216,7 +216,7 @@ module rpu_ray_dispatch #(
     assert (UnitRays <= (1 << rpu_pkg::RayTagBits) && (UnitRays == 1 || (1 << RayIdx) == UnitRays))
       else $error("rpu_ray_dispatch: UnitRays %0d is not a power of two the ray tag holds", UnitRays);
   end
-  always_ff @(posedge clk_i or negedge rst_ni) begin
+  always_ff @(posedge clk_i or negedge rst_ni) begin : check_answers
     if (rst_ni) begin
       for (int u = 0; u < Units; u++) begin
         assert (!unit_rsp_valid_i[u] || busy_q[u*UnitRays + 32'(answer_entry[RayIdx*u +: RayIdx])])

@@ -98,7 +98,7 @@ module rpu_ray_unit #(
   assign tests_out_d = tests_out_q + CountBits'(test_out) - CountBits'(test_back);
 
   rpu_pkg::ray_unit_counters_t counters_d, counters_q;
-  always_comb begin
+  always_comb begin : count_cycles
     counters_d = counters_q;
     if (count_i) begin
       if (rays_in_q == '0)                           counters_d.idle = counters_q.idle + 32'd1;
@@ -115,7 +115,7 @@ module rpu_ray_unit #(
   end
   assign counters_o = counters_q;
 
-  always_ff @(posedge clk_i or negedge rst_ni) begin
+  always_ff @(posedge clk_i or negedge rst_ni) begin : regs
     if (!rst_ni) begin
       rays_in_q   <= '0;
       lines_out_q <= '0;

@@ -311,7 +311,7 @@ module rpu_tu #(
   assign rsp_valid_o   = state_q == StRsp && fm_busy_q == '0;
   assign start_valid_o = state_q == StHandOff;
 
-  always_comb begin
+  always_comb begin : walk_fsm
     state_d    = state_q;
     step_d     = step_q;
     ray_d      = ray_q;
@@ -915,7 +915,7 @@ module rpu_tu #(
                                                                                 : record_q[i*LineBits +: LineBits];
   end
 
-  always_ff @(posedge clk_i or negedge rst_ni) begin
+  always_ff @(posedge clk_i or negedge rst_ni) begin : regs
     if (!rst_ni) begin
       state_q    <= StIdle;
       step_q     <= '0;

@@ -176,7 +176,7 @@ module rpu_tu_pipe #(
 
   // Rays in: the lowest engine whose buffer has room.
   logic [SetupBits-1:0] setup_free;
-  always_comb begin
+  always_comb begin : pick_free_setup
     setup_free = SetupBits'(Setups);
     for (int i = Setups - 1; i >= 0; i--) begin
       if (setup_req_ready[i]) setup_free = SetupBits'(i);
@@ -192,7 +192,7 @@ module rpu_tu_pipe #(
   logic [SlotBits-1:0]  give_slot;
   logic [StartBits-1:0] given;
   logic [$clog2(Setups > 1 ? Setups : 2)-1:0] start_index;
-  always_comb begin
+  always_comb begin : pick_free_slot
     give_slot     = '0;
     give_any_free = 1'b0;
     for (int i = Slots - 1; i >= 0; i--) begin
@@ -249,7 +249,7 @@ module rpu_tu_pipe #(
     // A leaf is over when its tests are answered: all of them, or an any-hit ray's hit.
     assign leaf_over = phase_q == PhLeaf && pending_q == '0 && (k_q == count_q || (any_hit_q && hit_q));
 
-    always_comb begin
+    always_comb begin : next_slot
       phase_d    = phase_q;
       tag_d      = tag_q;
       any_hit_d  = any_hit_q;
@@ -342,7 +342,7 @@ module rpu_tu_pipe #(
       if (fin_done && fin_slot_q == Me) phase_d = PhFree;
     end
 
-    always_ff @(posedge clk_i or negedge rst_ni) begin
+    always_ff @(posedge clk_i or negedge rst_ni) begin : slot_regs
       if (!rst_ni) begin
         phase_q    <= PhFree;
         tag_q      <= '0;
@@ -503,7 +503,7 @@ module rpu_tu_pipe #(
                          * rpu_pkg::PrimRefBytes;
   assign record_addr = cfg_i.isect_records + job_prim * RecordBytes + 32'(sent_q) * rpu_pkg::MemLineBytes;
 
-  always_comb begin
+  always_comb begin : mem_request
     unique case (source)
       KindRecord: begin
         mem_req_valid_o = want_record && order_ready;
@@ -581,7 +581,7 @@ module rpu_tu_pipe #(
   logic [TestBits-1:0]     test_free;
   logic                    test_any_free;
   logic [TestBits-1:0]     answer_entry;
-  always_comb begin
+  always_comb begin : pick_free_test
     test_free     = '0;
     test_any_free = 1'b0;
     for (int i = Tests - 1; i >= 0; i--) begin
@@ -597,7 +597,7 @@ module rpu_tu_pipe #(
 
   logic [1:0] test_axis_kx, test_axis_ky, test_axis_kz;
   assign {test_axis_kz, test_axis_ky, test_axis_kx} = axes_all[32'(test_slot)*6 +: 6];
-  always_comb begin
+  always_comb begin : iu_request
     iu_req_o.tag       = rpu_pkg::RayTagBits'(test_free);
     for (int a = 0; a < 3; a++) begin
       iu_req_o.origin[a*32 +: 32]    = 32'(pick_axis(origin_all, test_slot, 2'(a)));
@@ -736,7 +736,7 @@ module rpu_tu_pipe #(
   assign stack_waddr  = {s4_slot, DepthBits'(sp4)};
   assign stack_wdata  = {second_child, t_split4, pick_w(far_all, s4_slot)};
 
-  always_comb begin
+  always_comb begin : decide_step
     decide_node    = node4;
     decide_near_we = 1'b0;
     decide_near    = top4[2*W-1:W];
@@ -827,7 +827,7 @@ module rpu_tu_pipe #(
     .valid_o(rsp_valid_o), .ready_i(rsp_ready_i), .data_o(rsp_o), .index_o(out_index)
   );
 
-  always_ff @(posedge clk_i or negedge rst_ni) begin
+  always_ff @(posedge clk_i or negedge rst_ni) begin : regs
     if (!rst_ni) begin
       hold_q      <= 1'b0;
       held_q      <= KindNode;
@@ -874,7 +874,7 @@ module rpu_tu_pipe #(
     assert (Tests <= (1 << rpu_pkg::RayTagBits) && (1 << TestBits) == Tests)
       else $error("rpu_tu_pipe: Tests %0d is not a power of two the IU tag holds", Tests);
   end
-  always_ff @(posedge clk_i) begin
+  always_ff @(posedge clk_i) begin : check_fifos_and_answers
     if (rst_ni) begin
       // A job FIFO never overflows (at most LeafDepth refs between request and test).
       assert (!(line_taken && order_kind == KindRef) || fifo_room[0])

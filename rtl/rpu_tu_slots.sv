@@ -144,7 +144,7 @@ module rpu_tu_slots #(
     logic [Slots-1:0]    busy_d, busy_q;
     logic [SlotBits-1:0] free;
     logic                any_free;
-    always_comb begin
+    always_comb begin : pick_free_slot
       free     = '0;
       any_free = 1'b0;
       for (int i = Slots - 1; i >= 0; i--) begin
@@ -166,7 +166,7 @@ module rpu_tu_slots #(
       .valid_i(rsp_valid), .ready_o(rsp_ready), .data_i(rsp),
       .valid_o(rsp_valid_o), .ready_i(rsp_ready_i), .data_o(rsp_o), .index_o(rsp_slot)
     );
-    always_comb begin
+    always_comb begin : next_busy
       busy_d = busy_q;
       if (rsp_valid_o && rsp_ready_i) busy_d[rsp_slot] = 1'b0;
       if (req_valid_i && req_ready_o) busy_d[free] = 1'b1;
@@ -201,7 +201,7 @@ module rpu_tu_slots #(
       .valid_i(iu_req_valid), .ready_o(iu_req_ready), .data_i(iu_req),
       .valid_o(iu_req_valid_o), .ready_i(iu_req_ready_i), .data_o(iu_test), .index_o(iu_slot)
     );
-    always_comb begin
+    always_comb begin : iu_request
       iu_req_o     = iu_test;
       iu_req_o.tag = TagBits'(iu_slot);
     end
@@ -217,7 +217,7 @@ module rpu_tu_slots #(
     logic unused_tag;
     assign unused_tag = ^{iu_test, iu_rsp_i.tag};
 
-    always_ff @(posedge clk_i or negedge rst_ni) begin
+    always_ff @(posedge clk_i or negedge rst_ni) begin : regs
       if (!rst_ni) begin
         busy_q <= '0;
       end else begin
@@ -227,7 +227,7 @@ module rpu_tu_slots #(
 
 `ifndef SYNTHESIS
     // An answer names a slot that has a test out; a memory response has a requester.
-    always_ff @(posedge clk_i) begin
+    always_ff @(posedge clk_i) begin : check_answers
       if (rst_ni && iu_rsp_valid_i) begin
         assert (iu_rsp_i.tag < TagBits'(Slots))
           else $error("rpu_tu_slots: IU answer tag %0d names no slot (%0d slots)", iu_rsp_i.tag, Slots);
