@@ -122,7 +122,7 @@ module rpu_top #(
   logic            stop_d, stop_q;
   logic [31:0]     stop_pixel_d, stop_pixel_q;
   rpu_pkg::fault_t fault;
-  always_comb begin
+  always_comb begin : find_stop
     stop_d       = stop_q && !start_i;
     stop_pixel_d = stop_pixel_q;
     fault        = '0;
@@ -283,7 +283,7 @@ module rpu_top #(
     assign k_rsp_ready[T] = p_rsp_ready && !k_rsp_valid[N];
 
 `ifndef SYNTHESIS
-    always_ff @(posedge clk_i or negedge rst_ni) begin
+    always_ff @(posedge clk_i or negedge rst_ni) begin : check_answer_sources
       if (rst_ni && TuPipe == 0) begin
         assert (!(k_rsp_valid[N] && k_rsp_valid[T]))
           else $error("rpu_top: ray unit %0d has answers from both caches at once", u);
@@ -345,7 +345,7 @@ module rpu_top #(
   assign done_o = &core_done && !start_q && dispatch_idle && &port_idle && &cache_idle
                   && !dram_req_valid_o && !port_rsp_valid;
 
-  always_ff @(posedge clk_i or negedge rst_ni) begin
+  always_ff @(posedge clk_i or negedge rst_ni) begin : regs
     if (!rst_ni) begin
       stop_q       <= 1'b0;
       stop_pixel_q <= '0;
