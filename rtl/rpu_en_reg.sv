@@ -14,9 +14,9 @@ module rpu_en_reg #(
 
   logic [Cycles*Width-1:0] q_d, q_q;  // the value k+1 cycles old in bits [k*Width +: Width]
 
-  if (Cycles == 1) begin : gen_one
+  if (Cycles == 1) begin : g_one
     assign q_d = data_i;
-  end else begin : gen_chain
+  end else begin : g_chain
     assign q_d = {q_q[(Cycles-1)*Width-1:0], data_i};
   end
 

@@ -59,7 +59,7 @@ module rpu_fp_div_pipe #(
     .data_o(stage_q[0 +: StageBits])
   );
 
-  for (genvar s = 1; s <= Cycles; s++) begin : gen_stage
+  for (genvar s = 1; s <= Cycles; s++) begin : g_stage
     logic [RemBits-1:0]   rem_in, rem;
     logic [Steps-1:0]     root_in, root;
     logic [CarryBits-1:0] carry;

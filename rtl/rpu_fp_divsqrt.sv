@@ -224,7 +224,7 @@ module rpu_fp_divsqrt #(
   // bits above the format's width carry nothing (fp_req_t); no op has a third operand.
   logic unused_c;
   assign unused_c = ^req_i.c;
-  if (Width < rpu_pkg::FpOperandBits) begin : gen_unused_high
+  if (Width < rpu_pkg::FpOperandBits) begin : g_unused_high
     logic unused_high;
     assign unused_high = ^{req_i.a[rpu_pkg::FpOperandBits-1:Width],
                            req_i.b[rpu_pkg::FpOperandBits-1:Width]};

@@ -72,7 +72,7 @@ module rpu_fp_fma #(
 
   // Operand bits above the format's width carry nothing (fp_req_t); op and c are
   // used only by some ops.
-  if (Width < rpu_pkg::FpOperandBits) begin : gen_unused_high
+  if (Width < rpu_pkg::FpOperandBits) begin : g_unused_high
     logic unused_high;
     assign unused_high = ^{req_i.a[rpu_pkg::FpOperandBits-1:Width],
                            req_i.b[rpu_pkg::FpOperandBits-1:Width],

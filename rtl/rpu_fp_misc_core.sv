@@ -183,7 +183,7 @@ module rpu_fp_misc_core #(
   // b's exponent and significand are not needed: compares work on the bit patterns.
   logic unused_b;
   assign unused_b = ^{b_exp, b_sig, b_inf};
-  if (Width < OpBits) begin : gen_unused_high
+  if (Width < OpBits) begin : g_unused_high
     logic unused_high;
     assign unused_high = ^b_i[OpBits-1:Width];
   end

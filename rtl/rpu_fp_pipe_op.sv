@@ -23,7 +23,7 @@ module rpu_fp_pipe_op #(
 
   logic [Width-1:0] result;
 
-  if (OnFma) begin : gen_fma
+  if (OnFma) begin : g_fma
     logic [Width-1:0] x, y, z;
     rpu_fp_fma_operands #(.ExpBits(ExpBits), .FracBits(FracBits)) u_operands (
       .op_i(Op), .a_i(a_i[Width-1:0]), .b_i(b_i[Width-1:0]), .c_i('0), .x_o(x), .y_o(y), .z_o(z)
@@ -31,17 +31,17 @@ module rpu_fp_pipe_op #(
     rpu_fp_fma_core #(.ExpBits(ExpBits), .FracBits(FracBits)) u_core (
       .x_i(x), .y_i(y), .z_i(z), .result_o(result)
     );
-    if (Width < 32) begin : gen_unused_high
+    if (Width < 32) begin : g_unused_high
       logic unused_high;
       assign unused_high = ^{a_i[31:Width], b_i[31:Width]};
     end
-  end else begin : gen_misc
+  end else begin : g_misc
     logic [31:0] wide;
     rpu_fp_misc_core #(.ExpBits(ExpBits), .FracBits(FracBits)) u_core (
       .op_i(Op), .a_i, .b_i, .result_o(wide)
     );
     assign result = wide[Width-1:0];
-    if (Width < 32) begin : gen_unused_high
+    if (Width < 32) begin : g_unused_high
       logic unused_high;
       assign unused_high = ^wide[31:Width];
     end

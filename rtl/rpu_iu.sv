@@ -42,12 +42,12 @@ module rpu_iu #(
   logic                          hit;
   logic [W-1:0]                  t, u, v;
 
-  if (IsectMode == rpu_pkg::IsectModeWatertight) begin : gen_watertight
+  if (IsectMode == rpu_pkg::IsectModeWatertight) begin : g_watertight
     rpu_iu_watertight #(.ExpBits(ExpBits), .FracBits(FracBits)) u_test (
       .clk_i, .rst_ni, .en_i(advance), .valid_i(valid_q), .req_i(req_q),
       .valid_o(valid), .tag_o(tag), .hit_o(hit), .t_o(t), .u_o(u), .v_o(v)
     );
-  end else begin : gen_woop
+  end else begin : g_woop
     rpu_iu_woop #(.ExpBits(ExpBits), .FracBits(FracBits)) u_test (
       .clk_i, .rst_ni, .en_i(advance), .valid_i(valid_q), .req_i(req_q),
       .valid_o(valid), .tag_o(tag), .hit_o(hit), .t_o(t), .u_o(u), .v_o(v)

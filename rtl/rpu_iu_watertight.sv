@@ -57,9 +57,9 @@ module rpu_iu_watertight #(
   logic [3*W-1:0] n1, n2, o1, d1, nd2;
   logic [W-1:0]   sx2, sy2;
   logic [1:0]     kx2, ky2;
-  for (genvar k = 0; k < 3; k++) begin : gen_vertex
+  for (genvar k = 0; k < 3; k++) begin : g_vertex
     localparam int unsigned At = k == 0 ? Row0 : k == 1 ? Row1 : Row2;
-    for (genvar i = 0; i < 3; i++) begin : gen_coord
+    for (genvar i = 0; i < 3; i++) begin : g_coord
       rpu_fp_pipe_op #(.ExpBits(ExpBits), .FracBits(FracBits), .Op(rpu_pkg::FpOpFromFp32)) u_load (
         .clk_i, .rst_ni, .en_i, .a_i(req_i.record[(At + i)*32 +: 32]), .b_i('0), .result_o(v1[(3*k + i)*W +: W])
       );
@@ -72,7 +72,7 @@ module rpu_iu_watertight #(
       .clk_i, .rst_ni, .en_i, .a_i(req_i.record[(At + 3)*32 +: 32]), .b_i('0), .result_o(n1[k*W +: W])
     );
   end
-  for (genvar i = 0; i < 3; i++) begin : gen_ray
+  for (genvar i = 0; i < 3; i++) begin : g_ray
     rpu_en_reg #(.Width(2 * W)) u_ray (
       .clk_i, .rst_ni, .en_i, .data_i({req_i.origin[i*32 +: W], req_i.direction[i*32 +: W]}),
       .data_o({o1[i*W +: W], d1[i*W +: W]})
@@ -91,7 +91,7 @@ module rpu_iu_watertight #(
   // neither kx nor ky names.
   logic [3*W-1:0] zx3, zy3, pkx3, pky3, na3;
   logic [W-1:0]   nd01_3, nd2_3;
-  for (genvar k = 0; k < 3; k++) begin : gen_shear
+  for (genvar k = 0; k < 3; k++) begin : g_shear
     logic [W-1:0] px, py, pz, c0, c1, c2;
     assign {c2, c1, c0} = p2[3*k*W +: 3*W];
     assign px = kx2 == 2'd0 ? c0 : kx2 == 2'd1 ? c1 : c2;
@@ -116,7 +116,7 @@ module rpu_iu_watertight #(
   // Stage 4: x_k, y_k; n_x P_0x + n_y P_0y; n.D.
   logic [3*W-1:0] x4, y4;
   logic [W-1:0]   na01_4, na2_4, nd4;
-  for (genvar k = 0; k < 3; k++) begin : gen_xy
+  for (genvar k = 0; k < 3; k++) begin : g_xy
     rpu_fp_pipe_op #(.ExpBits(ExpBits), .FracBits(FracBits), .Op(rpu_pkg::FpOpSub)) u_x (
       .clk_i, .rst_ni, .en_i, .a_i(ext(pkx3[k*W +: W])), .b_i(ext(zx3[k*W +: W])), .result_o(x4[k*W +: W])
     );
@@ -136,7 +136,7 @@ module rpu_iu_watertight #(
   // y0 x2 (CA), W = x1 y0 - y1 x0 (AB); n.P_0.
   logic [6*W-1:0] e5;
   logic [W-1:0]   na5, nd5;
-  for (genvar j = 0; j < 3; j++) begin : gen_edge
+  for (genvar j = 0; j < 3; j++) begin : g_edge
     localparam int unsigned Ka = (j + 2) % 3;  // U: x2 y1 - y2 x1
     localparam int unsigned Kb = (j + 1) % 3;
     rpu_fp_pipe_op #(.ExpBits(ExpBits), .FracBits(FracBits), .Op(rpu_pkg::FpOpMul)) u_left (
@@ -155,7 +155,7 @@ module rpu_iu_watertight #(
   logic [3*W-1:0] uvw6;
   logic [W-1:0]   uv7, w7, v7, det8, w8, v8;
   logic [2*W-1:0] plane6, plane7, plane8;  // n.P_0, n.D
-  for (genvar j = 0; j < 3; j++) begin : gen_uvw
+  for (genvar j = 0; j < 3; j++) begin : g_uvw
     rpu_fp_pipe_op #(.ExpBits(ExpBits), .FracBits(FracBits), .Op(rpu_pkg::FpOpSub)) u_e (
       .clk_i, .rst_ni, .en_i, .a_i(ext(e5[2*j*W +: W])), .b_i(ext(e5[(2*j + 1)*W +: W])), .result_o(uvw6[j*W +: W])
     );
@@ -163,7 +163,7 @@ module rpu_iu_watertight #(
   rpu_en_reg #(.Width(2 * W)) u_plane6 (.clk_i, .rst_ni, .en_i, .data_i({na5, nd5}), .data_o(plane6));
 
   logic [3*W-1:0] neg7, pos7;  // the edge function j below, above zero in bit jW
-  for (genvar j = 0; j < 3; j++) begin : gen_sign
+  for (genvar j = 0; j < 3; j++) begin : g_sign
     rpu_fp_pipe_op #(.ExpBits(ExpBits), .FracBits(FracBits), .Op(rpu_pkg::FpOpLt)) u_neg (
       .clk_i, .rst_ni, .en_i, .a_i(ext(uvw6[j*W +: W])), .b_i('0), .result_o(neg7[j*W +: W])
     );
@@ -241,7 +241,7 @@ module rpu_iu_watertight #(
   assign unused = ^{req_i.kz, u_side_unused, v_side_unused, det_neg[31:1], det_pos[31:1], gt_min[31:1],
                     lt_best[31:1], neg7[3*W-1:2*W+1], neg7[2*W-1:W+1], neg7[W-1:1],
                     pos7[3*W-1:2*W+1], pos7[2*W-1:W+1], pos7[W-1:1]};
-  if (W < 32) begin : gen_unused_high
+  if (W < 32) begin : g_unused_high
     logic unused_high;
     assign unused_high = ^{req_i.origin[95:64+W], req_i.origin[63:32+W], req_i.origin[31:W],
                            req_i.direction[95:64+W], req_i.direction[63:32+W], req_i.direction[31:W],

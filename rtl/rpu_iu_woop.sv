@@ -60,9 +60,9 @@ module rpu_iu_woop #(
 
   // Stage 1: m[4r + k] is word k of row r in the format (k = 3: A_r).
   logic [12*W-1:0] m1;
-  for (genvar r = 0; r < 3; r++) begin : gen_row
+  for (genvar r = 0; r < 3; r++) begin : g_row
     localparam int unsigned At = r == 0 ? Row0 : r == 1 ? Row1 : Row2;
-    for (genvar k = 0; k < 4; k++) begin : gen_word
+    for (genvar k = 0; k < 4; k++) begin : g_word
       rpu_fp_pipe_op #(.ExpBits(ExpBits), .FracBits(FracBits), .Op(rpu_pkg::FpOpFromFp32)) u_load (
         .clk_i, .rst_ni, .en_i, .a_i(req_i.record[(At + k)*32 +: 32]), .b_i('0),
         .result_o(m1[(4*r + k)*W +: W])
@@ -70,7 +70,7 @@ module rpu_iu_woop #(
     end
   end
   logic [3*W-1:0] o1, d1;  // the ray, a stage on
-  for (genvar i = 0; i < 3; i++) begin : gen_ray
+  for (genvar i = 0; i < 3; i++) begin : g_ray
     rpu_en_reg #(.Width(2 * W)) u_ray (
       .clk_i, .rst_ni, .en_i, .data_i({req_i.origin[i*32 +: W], req_i.direction[i*32 +: W]}),
       .data_o({o1[i*W +: W], d1[i*W +: W]})
@@ -82,15 +82,15 @@ module rpu_iu_woop #(
   logic [3*W-1:0] p2;
   logic [9*W-1:0] l2;          // the linear parts, a stage on
   logic [3*W-1:0] o5, d4, d5;  // o_r, d_r at stages 4 and 5
-  for (genvar i = 0; i < 3; i++) begin : gen_p
+  for (genvar i = 0; i < 3; i++) begin : g_p
     rpu_fp_pipe_op #(.ExpBits(ExpBits), .FracBits(FracBits), .Op(rpu_pkg::FpOpSub)) u_p (
       .clk_i, .rst_ni, .en_i, .a_i(ext(o1[i*W +: W])), .b_i(ext(m1[(4*i + 3)*W +: W])), .result_o(p2[i*W +: W])
     );
   end
-  for (genvar r = 0; r < 3; r++) begin : gen_dot
+  for (genvar r = 0; r < 3; r++) begin : g_dot
     logic [3*W-1:0] ld2, lp3;  // L_r * D, L_r * P
     logic [W-1:0]   ld3_2, lp4_2, sd3, sp4;
-    for (genvar i = 0; i < 3; i++) begin : gen_term
+    for (genvar i = 0; i < 3; i++) begin : g_term
       rpu_en_reg #(.Width(W)) u_l (.clk_i, .rst_ni, .en_i, .data_i(m1[(4*r + i)*W +: W]), .data_o(l2[(3*r + i)*W +: W]));
       rpu_fp_pipe_op #(.ExpBits(ExpBits), .FracBits(FracBits), .Op(rpu_pkg::FpOpMul)) u_ld (
         .clk_i, .rst_ni, .en_i, .a_i(ext(m1[(4*r + i)*W +: W])), .b_i(ext(d1[i*W +: W])), .result_o(ld2[i*W +: W])
@@ -206,7 +206,7 @@ module rpu_iu_woop #(
   logic unused;
   assign unused = ^{req_i.kx, req_i.ky, req_i.kz, req_i.shear_x, req_i.shear_y, gt_min[W-1:1], lt_best[W-1:1],
                     u_ge0[W-1:1], u_le1[W-1:1], v_ge0[W-1:1], uv_le1[31:1]};
-  if (W < 32) begin : gen_unused_high
+  if (W < 32) begin : g_unused_high
     logic unused_high;
     assign unused_high = ^{req_i.origin[95:64+W], req_i.origin[63:32+W], req_i.origin[31:W],
                            req_i.direction[95:64+W], req_i.direction[63:32+W], req_i.direction[31:W],

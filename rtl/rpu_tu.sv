@@ -203,7 +203,7 @@ module rpu_tu #(
   logic [31:0]       kd_t_min, kd_t_max, world_t;
   assign to_world_exp = {{2{cfg_i.kd_scale_exponent[7]}}, cfg_i.kd_scale_exponent};
   assign to_kd_exp    = -to_world_exp;
-  for (genvar i = 0; i < 3; i++) begin : gen_kd_origin
+  for (genvar i = 0; i < 3; i++) begin : g_kd_origin
     rpu_fp32_scale u_origin (
       .value_i(ray_q.origin[32*i +: 32]), .exp_i(to_kd_exp), .value_o(kd_origin[32*i +: 32])
     );
@@ -861,28 +861,28 @@ module rpu_tu #(
   // divider's, the divider's over fma's); the state machine's writes win over results.
   logic misc_to_reg;
   assign misc_to_reg = misc_rsp_valid && misc_rsp.tag[7:6] != DstFlag && misc_rsp.tag[7:6] != DstOut;
-  for (genvar i = 0; i < NumRegs; i++) begin : gen_regs
+  for (genvar i = 0; i < NumRegs; i++) begin : g_regs
     logic          fma_write, div_write, misc_write, sm_write;
     logic [W-1:0]  sm_value;
     assign fma_write  = fma_rsp_valid && fma_rsp.tag[4:0] == RegBits'(i);
     assign div_write  = div_rsp_valid && div_rsp.tag[4:0] == RegBits'(i);
     assign misc_write = misc_to_reg && misc_rsp.tag[4:0] == RegBits'(i);
-    if (i == RTNear) begin : gen_near
+    if (i == RTNear) begin : g_near
       assign sm_write = near_we;
       assign sm_value = near_wd;
-    end else if (i == RTFar) begin : gen_far
+    end else if (i == RTFar) begin : g_far
       assign sm_write = far_we;
       assign sm_value = far_wd;
-    end else if (i == RTBest) begin : gen_best
+    end else if (i == RTBest) begin : g_best
       assign sm_write = best_we;
       assign sm_value = best_wd;
-    end else if (i == RHitU) begin : gen_u
+    end else if (i == RHitU) begin : g_u
       assign sm_write = uv_we;
       assign sm_value = iu_rsp_i.u[W-1:0];
-    end else if (i == RHitV) begin : gen_v
+    end else if (i == RHitV) begin : g_v
       assign sm_write = uv_we;
       assign sm_value = iu_rsp_i.v[W-1:0];
-    end else begin : gen_none
+    end else begin : g_none
       assign sm_write = 1'b0;
       assign sm_value = '0;
     end
@@ -894,23 +894,23 @@ module rpu_tu #(
   end
 
   // Flags and the widened t, u, v: misc results tagged DstFlag and DstOut.
-  for (genvar i = 0; i < NumFlags; i++) begin : gen_flags
+  for (genvar i = 0; i < NumFlags; i++) begin : g_flags
     assign flags_d[i] = misc_rsp_valid && misc_rsp.tag[7:6] == DstFlag && misc_rsp.tag[4:0] == 5'(i)
                         ? misc_rsp.result[0] : flags_q[i];
   end
-  for (genvar i = 0; i < 3; i++) begin : gen_out
+  for (genvar i = 0; i < 3; i++) begin : g_out
     assign out_d[i*32 +: 32] = misc_rsp_valid && misc_rsp.tag[7:6] == DstOut && misc_rsp.tag[1:0] == 2'(i)
                                ? misc_rsp.result : out_q[i*32 +: 32];
   end
 
   // A push writes the entry at the stack pointer; the record's lines arrive in order.
   // (A HandOff engine never walks: no writes, so synthesis keeps neither.)
-  for (genvar i = 0; i < StackDepth; i++) begin : gen_stack
+  for (genvar i = 0; i < StackDepth; i++) begin : g_stack
     assign stack_d[i*EntryBits +: EntryBits] = !HandOff && push && sp_q == SpBits'(i)
                                                ? {second_child, rd(regs_q, RTSplit), rd(regs_q, RTFar)}
                                                : stack_q[i*EntryBits +: EntryBits];
   end
-  for (genvar i = 0; i < RecordLines; i++) begin : gen_record
+  for (genvar i = 0; i < RecordLines; i++) begin : g_record
     assign record_d[i*LineBits +: LineBits] = !HandOff && record_we && got_q == SentBits'(i) ? mem_rsp_i.data
                                                                                 : record_q[i*LineBits +: LineBits];
   end
@@ -1018,7 +1018,7 @@ module rpu_tu #(
   assign unused = ^{fma_ready_unused, misc_ready_unused, fma_rsp.tag[7:5], div_rsp.tag[7:5],
                     misc_rsp.tag[5], iu_rsp_i.tag, node_addr[2:0],
                     ref_addr[1:0]};
-  if (W < 32) begin : gen_unused_high
+  if (W < 32) begin : g_unused_high
     logic unused_high;
     assign unused_high = ^{fma_rsp.result[31:W], div_rsp.result[31:W], iu_rsp_i.t[31:W],
                            iu_rsp_i.u[31:W], iu_rsp_i.v[31:W]};

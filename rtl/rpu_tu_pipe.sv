@@ -862,7 +862,7 @@ module rpu_tu_pipe #(
                     ref_addr[1:0], s1_above, s2_above, s3_above, s1_pop, s2_pop, s1_valid, s2_valid,
                     s3_valid, s3_axis, s4_above, o_lt_bits[W-1:1], o_eq_bits[W-1:1], le_far_bits[W-1:1],
                     le_zero_bits[W-1:1], lt_near_bits[W-1:1]};
-  if (W < 32) begin : gen_unused_high
+  if (W < 32) begin : g_unused_high
     logic unused_high;
     assign unused_high = ^{given_near[31:W], given_far[31:W]};
   end

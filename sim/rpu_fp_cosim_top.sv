@@ -28,17 +28,17 @@ module rpu_fp_cosim_top #(
   assign req   = req_i;
   assign rsp_o = rsp;
 
-  if (Unit == rpu_pkg::FpUnitFma) begin : gen_fma
+  if (Unit == rpu_pkg::FpUnitFma) begin : g_fma
     rpu_fp_fma #(.ExpBits(ExpBits), .FracBits(FracBits)) u_unit (
       .clk_i, .rst_ni, .req_valid_i, .req_ready_o, .req_i(req),
       .rsp_valid_o, .rsp_ready_i, .rsp_o(rsp)
     );
-  end else if (Unit == rpu_pkg::FpUnitMisc) begin : gen_misc
+  end else if (Unit == rpu_pkg::FpUnitMisc) begin : g_misc
     rpu_fp_misc #(.ExpBits(ExpBits), .FracBits(FracBits)) u_unit (
       .clk_i, .rst_ni, .req_valid_i, .req_ready_o, .req_i(req),
       .rsp_valid_o, .rsp_ready_i, .rsp_o(rsp)
     );
-  end else begin : gen_divsqrt
+  end else begin : g_divsqrt
     rpu_fp_divsqrt #(.ExpBits(ExpBits), .FracBits(FracBits)) u_unit (
       .clk_i, .rst_ni, .req_valid_i, .req_ready_o, .req_i(req),
       .rsp_valid_o, .rsp_ready_i, .rsp_o(rsp)
