@@ -19,6 +19,7 @@
 #include "accel/structure.hpp"
 #include "cli/commands.hpp"
 #include "cli/output_paths.hpp"
+#include "common/csv.hpp"
 #include "common/error.hpp"
 #include "common/output_file.hpp"
 #include "image/image.hpp"
@@ -106,14 +107,6 @@ std::string mrays_per_second(std::size_t rays, double seconds) {
 }
 
 double per_ray(std::uint64_t total, std::size_t rays) { return rays > 0 ? double(total) / double(rays) : 0.0; }
-
-// RFC 4180: a field with a comma, quote or line break is quoted, its quotes doubled.
-std::string csv_field(const std::string& text) {
-  if (text.find_first_of(",\"\r\n") == std::string::npos) return text;
-  std::string out = "\"";
-  for (const char c : text) out += c == '"' ? std::string("\"\"") : std::string(1, c);
-  return out + '"';
-}
 
 std::string describe(const accel::Ray& r) {
   return fmt::format("origin ({:.17g}, {:.17g}, {:.17g}) direction ({:.17g}, {:.17g}, {:.17g}) t in ({:.17g}, {:.17g})",

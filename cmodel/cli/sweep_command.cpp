@@ -21,6 +21,7 @@
 #include "cli/chip_options.hpp"
 #include "cli/commands.hpp"
 #include "cli/process.hpp"
+#include "common/csv.hpp"
 #include "common/error.hpp"
 #include "common/output_file.hpp"
 #include "config/config.hpp"
@@ -155,13 +156,7 @@ json value_at(const json& tree, std::string_view dotted) {
 
 std::string csv_cell(const json& v) {
   if (v.is_null()) return "";
-  if (v.is_string()) {
-    const std::string s = v.get<std::string>();
-    if (s.find_first_of(",\"\n") == std::string::npos) return s;
-    std::string out = "\"";
-    for (const char c : s) out += c == '"' ? std::string("\"\"") : std::string(1, c);
-    return out + "\"";
-  }
+  if (v.is_string()) return csv_field(v.get<std::string>());
   if (v.is_number_float()) return fmt::format("{}", v.get<double>());
   return v.dump();
 }

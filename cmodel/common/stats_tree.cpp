@@ -8,6 +8,7 @@
 #include <fmt/ranges.h>
 #include <nlohmann/json.hpp>
 
+#include "common/csv.hpp"
 #include "common/error.hpp"
 #include "common/output_file.hpp"
 
@@ -36,14 +37,6 @@ json to_json(const StatsTree& t) {
   json o = json::object();
   for (const StatsTree& c : t.children()) o[c.name()] = to_json(c);
   return o;
-}
-
-// RFC 4180: a field with a comma, quote or line break is quoted, its quotes doubled.
-std::string csv_field(std::string_view text, bool quote = false) {
-  if (!quote && text.find_first_of(",\"\r\n") == std::string_view::npos) return std::string(text);
-  std::string out = "\"";
-  for (const char c : text) out += c == '"' ? std::string("\"\"") : std::string(1, c);
-  return out + '"';
 }
 
 void row_of(const StatsTree& t, const std::string& path, std::vector<std::string>& names,
