@@ -1,9 +1,12 @@
 #include "progen/coverage.hpp"
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 
 #include <fmt/format.h>
+
+#include "progen/make_instruction.hpp"
 
 namespace rpu::progen {
 
@@ -36,13 +39,8 @@ int segment(std::uint32_t address) {
 }
 
 int load_index(Opcode op) {
-  switch (op) {
-    case Opcode::kLd: return 0;
-    case Opcode::kLdf: return 1;
-    case Opcode::kLd1: return 2;
-    case Opcode::kLd1f: return 3;
-    default: return -1;
-  }
+  const auto* it = std::find(kLoads.begin(), kLoads.end(), op);
+  return it == kLoads.end() ? -1 : static_cast<int>(it - kLoads.begin());
 }
 
 std::string mask_name(int m) {
@@ -94,7 +92,6 @@ Coverage::Coverage() {
     if (index >= special_.size()) special_.resize(index + 1, -1);
     special_[index] = add("special register", std::string(s.name));
   }
-  constexpr std::array<Opcode, 4> kLoads{Opcode::kLd, Opcode::kLdf, Opcode::kLd1, Opcode::kLd1f};
   for (std::size_t op = 0; op < 4; ++op) {
     for (std::size_t seg = 0; seg < 4; ++seg) {
       load_[op][seg] = add("load", fmt::format("{} from {}", isa::find_insn(kLoads[op])->mnemonic, kSegments[seg]));

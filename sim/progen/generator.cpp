@@ -27,7 +27,6 @@ using isa::Operand;
 // docs/memory-map.md): every image has these bytes.
 constexpr std::uint32_t kImageHeaderBytes = mm::kHeaderBytes + mm::kSectionEntryBytes * mm::kSectionIdVertexPositions;
 
-constexpr std::array<Opcode, 4> kLoads{Opcode::kLd, Opcode::kLdf, Opcode::kLd1, Opcode::kLd1f};
 
 std::uint32_t load_bytes(Opcode op) { return op == Opcode::kLd || op == Opcode::kLdf ? 16 : 4; }
 

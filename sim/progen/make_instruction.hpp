@@ -1,11 +1,16 @@
 #pragma once
 
+#include <array>
 #include <cstdint>
 
 #include "isa/instruction.hpp"
 
 // Instructions built field by field, for the generator and the renderer.
 namespace rpu::progen {
+
+// The loads random programs draw from, in the order coverage counts them.
+inline constexpr std::array<isa::Opcode, 4> kLoads{isa::Opcode::kLd, isa::Opcode::kLdf, isa::Opcode::kLd1,
+                                                   isa::Opcode::kLd1f};
 
 inline isa::Source reg(int r, std::uint8_t swizzle = isa::kIdentitySwizzle) {
   return {static_cast<std::uint8_t>(r), swizzle, false, false};
