@@ -108,19 +108,19 @@ std::string mrays_per_second(std::size_t rays, double seconds) {
 
 double per_ray(std::uint64_t total, std::size_t rays) { return rays > 0 ? double(total) / double(rays) : 0.0; }
 
-std::string describe(const accel::Ray& r) {
+std::string describe(const Ray& r) {
   return fmt::format("origin ({:.17g}, {:.17g}, {:.17g}) direction ({:.17g}, {:.17g}, {:.17g}) t in ({:.17g}, {:.17g})",
                      r.origin.x, r.origin.y, r.origin.z, r.direction.x, r.direction.y, r.direction.z, r.t_min,
                      r.t_max);
 }
 
-std::string describe(const accel::Hit& h) {
+std::string describe(const Hit& h) {
   return h.hit() ? fmt::format("triangle {} at t = {:.17g}", h.prim, h.t) : std::string("no hit");
 }
 
-std::vector<accel::Ray> make_rays(const AccelOptions& o, const Scene& scene, const accel::TriangleSet& triangles) {
+std::vector<Ray> make_rays(const AccelOptions& o, const Scene& scene, const accel::TriangleSet& triangles) {
   if (o.rays == "random") return accel::random_rays(triangles, o.count, o.seed);
-  std::vector<accel::Ray> primary = accel::primary_rays(scene, o.width, o.height);
+  std::vector<Ray> primary = accel::primary_rays(scene, o.width, o.height);
   if (o.rays == "primary") return primary;
   if (scene.lights.empty()) {
     throw Error(fmt::format("{} has no lights, so there are no shadow rays; add a light to the scene or choose "
@@ -128,10 +128,10 @@ std::vector<accel::Ray> make_rays(const AccelOptions& o, const Scene& scene, con
                             scene.source));
   }
   const accel::Bvh bvh(triangles);
-  std::vector<accel::Hit> hits;
+  std::vector<Hit> hits;
   hits.reserve(primary.size());
   accel::RayCost unused;
-  for (const accel::Ray& r : primary) hits.push_back(bvh.closest_hit(r, unused));
+  for (const Ray& r : primary) hits.push_back(bvh.closest_hit(r, unused));
   return accel::shadow_rays(scene, triangles, primary, hits, o.seed);
 }
 
@@ -208,7 +208,7 @@ int run_bounds(const AccelOptions& o, const Scene& scene) {
 // --beam: the primary rays in beams of o.beam x o.beam pixels through the BVH
 // (accel/beam.hpp), closest hits only, checked against brute force like every row.
 template <typename Check>
-Row beam_row(const AccelOptions& o, const std::vector<accel::Ray>& rays, const accel::TriangleSet& triangles,
+Row beam_row(const AccelOptions& o, const std::vector<Ray>& rays, const accel::TriangleSet& triangles,
              const Check& check) {
   Row row;
   row.name = "bvh-beam";
@@ -220,7 +220,7 @@ Row beam_row(const AccelOptions& o, const std::vector<accel::Ray>& rays, const a
   row.rays = rays.size();
   accel::BeamCost cost;
   const Clock::time_point start = Clock::now();
-  const std::vector<accel::Hit> hits = accel::trace_primary_beams(bvh, rays, o.width, o.height, o.beam, cost);
+  const std::vector<Hit> hits = accel::trace_primary_beams(bvh, rays, o.width, o.height, o.beam, cost);
   row.closest_seconds = seconds_since(start);
   // The rays' own box and triangle tests; the frustum's tests apart, in the parameters.
   row.closest_cost = {cost.ray_nodes, cost.ray_tests, cost.bytes};
@@ -263,18 +263,18 @@ int run_accel(const AccelOptions& o) {
     fmt::print(stderr, "rpu: warning: {}: {} triangles skipped by every structure (a vertex index out of range, "
                "a vertex not finite, or degenerate)\n", scene.source, triangles.skipped());
   }
-  const std::vector<accel::Ray> rays = make_rays(o, scene, triangles);
+  const std::vector<Ray> rays = make_rays(o, scene, triangles);
   const double brute_rays = kBruteForceTestBudget / double(std::max<std::size_t>(1, triangles.size()));
   const std::size_t checked = std::min(rays.size(), static_cast<std::size_t>(std::max(1.0, brute_rays)));
 
   accel::StructureOptions options;
   options.grid_lambda = o.grid_lambda;
   std::vector<Row> rows;
-  std::vector<accel::Hit> expected_hits;
+  std::vector<Hit> expected_hits;
   std::vector<char> expected_any;
   std::string first_mismatch;
   // A row's answers against brute force's on the rays both traced (any hits when given).
-  const auto check = [&](Row& row, const std::vector<accel::Hit>& hits, const std::vector<char>* any) {
+  const auto check = [&](Row& row, const std::vector<Hit>& hits, const std::vector<char>* any) {
     row.checked = std::min(row.rays, expected_hits.size());
     for (std::size_t i = 0; i < row.checked; ++i) {
       const bool closest_differs = hits[i].prim != expected_hits[i].prim || hits[i].t != expected_hits[i].t;
@@ -304,7 +304,7 @@ int run_accel(const AccelOptions& o) {
     const bool brute = name == "brute";
     row.rays = brute ? checked : rays.size();
 
-    std::vector<accel::Hit> hits(row.rays);
+    std::vector<Hit> hits(row.rays);
     Clock::time_point start = Clock::now();
     for (std::size_t i = 0; i < row.rays; ++i) hits[i] = s->closest_hit(rays[i], row.closest_cost);
     row.closest_seconds = seconds_since(start);

@@ -12,7 +12,7 @@ constexpr int kStackDepth = 64;
 
 // Moeller-Trumbore in double precision. Degenerate triangles never reach here (the
 // scene loader drops them), but det == 0 is still a miss, never a division by zero.
-bool intersect(const RayD& ray, const glm::dvec3& v0, const glm::dvec3& e1, const glm::dvec3& e2,
+bool intersect(const Ray& ray, const glm::dvec3& v0, const glm::dvec3& e1, const glm::dvec3& e2,
                double t_max, double& t, double& u, double& v) {
   const glm::dvec3 p = glm::cross(ray.direction, e2);
   const double det = glm::dot(e1, p);
@@ -92,8 +92,8 @@ std::uint32_t ReferenceBvh::build(std::uint32_t begin, std::uint32_t end, std::v
 }
 
 template <bool kAnyHit>
-HitD ReferenceBvh::traverse(const RayD& ray) const {
-  HitD best;
+Hit ReferenceBvh::traverse(const Ray& ray) const {
+  Hit best;
   if (nodes_.empty()) return best;
   glm::dvec3 inv_dir;
   for (int a = 0; a < 3; ++a) {
@@ -116,7 +116,7 @@ HitD ReferenceBvh::traverse(const RayD& ray) const {
       const Triangle& tri = triangles_[i];
       double t, u, v;
       if (!intersect(ray, tri.v0, tri.e1, tri.e2, t_max, t, u, v)) continue;
-      best = {true, t, u, v, order_[i]};
+      best = {t, order_[i], u, v};
       if constexpr (kAnyHit) return best;
       t_max = t;
     }
@@ -124,7 +124,7 @@ HitD ReferenceBvh::traverse(const RayD& ray) const {
   return best;
 }
 
-HitD ReferenceBvh::closest_hit(const RayD& ray) const { return traverse<false>(ray); }
-bool ReferenceBvh::any_hit(const RayD& ray) const { return traverse<true>(ray).hit; }
+Hit ReferenceBvh::closest_hit(const Ray& ray) const { return traverse<false>(ray); }
+bool ReferenceBvh::any_hit(const Ray& ray) const { return traverse<true>(ray).hit(); }
 
 }  // namespace rpu

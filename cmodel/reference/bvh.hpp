@@ -6,23 +6,10 @@
 
 #include <glm/glm.hpp>
 
+#include "scene/ray.hpp"
 #include "scene/scene.hpp"
 
 namespace rpu {
-
-struct RayD {
-  glm::dvec3 origin;
-  glm::dvec3 direction;
-  double t_min = 0.0;
-  double t_max = std::numeric_limits<double>::infinity();
-};
-
-struct HitD {
-  bool hit = false;
-  double t = 0.0;
-  double u = 0.0, v = 0.0;  // barycentrics of vertices 1 and 2
-  std::uint32_t triangle = 0;
-};
 
 // The reference renderer's own acceleration structure: a bounding volume hierarchy in
 // double precision, deliberately unlike the hardware's kd-tree so the two views share
@@ -31,8 +18,8 @@ class ReferenceBvh {
  public:
   explicit ReferenceBvh(const Scene& scene);
 
-  HitD closest_hit(const RayD& ray) const;
-  bool any_hit(const RayD& ray) const;
+  Hit closest_hit(const Ray& ray) const;
+  bool any_hit(const Ray& ray) const;
 
   std::size_t node_count() const { return nodes_.size(); }
 
@@ -48,7 +35,7 @@ class ReferenceBvh {
 
   std::uint32_t build(std::uint32_t begin, std::uint32_t end, std::vector<glm::dvec3>& centroids);
   template <bool kAnyHit>
-  HitD traverse(const RayD& ray) const;
+  Hit traverse(const Ray& ray) const;
 
   std::vector<Node> nodes_;
   std::vector<Triangle> triangles_;    // in leaf order

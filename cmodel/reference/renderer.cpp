@@ -27,17 +27,17 @@ glm::dvec3 reflect(const glm::dvec3& d, const glm::dvec3& n) { return d - 2.0 * 
 ReferenceRenderer::ReferenceRenderer(const Scene& scene)
     : scene_(scene), bvh_(scene), epsilon_(kEpsilonFraction * scene_diagonal(scene)) {}
 
-glm::dvec3 ReferenceRenderer::trace(const RayD& ray, int depth, int max_depth, SampleStream& stream,
+glm::dvec3 ReferenceRenderer::trace(const Ray& ray, int depth, int max_depth, SampleStream& stream,
                                     RayCounts& counts) const {
-  const HitD hit = bvh_.closest_hit(ray);
-  if (!hit.hit) return scene_.background;
+  const Hit hit = bvh_.closest_hit(ray);
+  if (!hit.hit()) return scene_.background;
   return shade(ray, hit, depth, max_depth, stream, counts);
 }
 
-glm::dvec3 ReferenceRenderer::shade(const RayD& ray, const HitD& hit, int depth, int max_depth,
+glm::dvec3 ReferenceRenderer::shade(const Ray& ray, const Hit& hit, int depth, int max_depth,
                                     SampleStream& stream, RayCounts& counts) const {
-  const glm::uvec3 tri = scene_.triangles[hit.triangle];
-  const Material& m = scene_.materials[scene_.material_ids[hit.triangle]];
+  const glm::uvec3 tri = scene_.triangles[hit.prim];
+  const Material& m = scene_.materials[scene_.material_ids[hit.prim]];
   const glm::dvec3 p0(scene_.positions[tri.x]), p1(scene_.positions[tri.y]), p2(scene_.positions[tri.z]);
   const glm::dvec3 d = ray.direction;
   const glm::dvec3 p = ray.origin + hit.t * d;

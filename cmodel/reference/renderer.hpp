@@ -20,14 +20,14 @@ class ReferenceRenderer {
                const ProgressCallback& progress = {}) const;
 
   // Radiance along one ray that has bounced `depth` times so far.
-  glm::dvec3 trace(const RayD& ray, int depth, int max_depth, SampleStream& stream, RayCounts& counts) const;
+  glm::dvec3 trace(const Ray& ray, int depth, int max_depth, SampleStream& stream, RayCounts& counts) const;
 
   const ReferenceBvh& bvh() const { return bvh_; }
   // Offset for secondary ray origins: 1e-4 of the scene's bounding-box diagonal.
   double ray_epsilon() const { return epsilon_; }
 
  private:
-  glm::dvec3 shade(const RayD& ray, const HitD& hit, int depth, int max_depth, SampleStream& stream,
+  glm::dvec3 shade(const Ray& ray, const Hit& hit, int depth, int max_depth, SampleStream& stream,
                    RayCounts& counts) const;
 
   const Scene& scene_;

@@ -170,15 +170,15 @@ RayChecks check_rays(const Scene& world, const KdBuildConfig& build, IsectMode m
     const ReferenceBvh bvh(scene);
     // The units and the fp64 trace on the same (fp32) ray: 1 when they disagree.
     const auto mismatch = [&](const functional::TraceRay& r) -> std::uint64_t {
-      RayD d;
+      Ray d;
       for (int i = 0; i < 3; ++i) {
         d.origin[i] = r.origin[i];
         d.direction[i] = r.direction[i];
       }
       d.t_min = r.t_min;
       const functional::TraceHit unit = tracer.trace(r, functional::TraceMode::kClosest);
-      const HitD exact = bvh.closest_hit(d);
-      return unit.hit != exact.hit || (unit.hit && unit.prim != exact.triangle) ? 1 : 0;
+      const Hit exact = bvh.closest_hit(d);
+      return unit.hit != exact.hit() || (unit.hit && unit.prim != exact.prim) ? 1 : 0;
     };
     if (hit_check) {
       const CameraModel camera(scene.camera, width, height);

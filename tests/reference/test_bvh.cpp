@@ -28,8 +28,8 @@ Scene random_triangles(int count, std::mt19937& rng) {
 }
 
 // Brute force over all triangles: Moeller-Trumbore written out independently here.
-HitD brute_force(const Scene& scene, const RayD& ray) {
-  HitD best;
+Hit brute_force(const Scene& scene, const Ray& ray) {
+  Hit best;
   double t_max = ray.t_max;
   for (std::uint32_t i = 0; i < scene.triangles.size(); ++i) {
     const glm::uvec3 tri = scene.triangles[i];
@@ -40,7 +40,7 @@ HitD brute_force(const Scene& scene, const RayD& ray) {
     const glm::dvec3 s = ray.origin - a, q = glm::cross(s, e1);
     const double u = glm::dot(s, p) / det, v = glm::dot(ray.direction, q) / det, t = glm::dot(e2, q) / det;
     if (u < 0 || v < 0 || u + v > 1 || t <= ray.t_min || t >= t_max) continue;
-    best = {true, t, u, v, i};
+    best = {t, i, u, v};
     t_max = t;
   }
   return best;
@@ -53,11 +53,11 @@ TEST(ReferenceBvh, ClosestHitMatchesBruteForceOnRandomTriangles) {
   std::uniform_real_distribution<double> u(-15.0, 15.0);
   int hits = 0;
   for (int i = 0; i < 20000; ++i) {
-    RayD ray{{u(rng), u(rng), u(rng)}, glm::normalize(random_vector(u, rng))};
-    const HitD expected = brute_force(scene, ray);
-    const HitD got = bvh.closest_hit(ray);
-    ASSERT_EQ(got.hit, expected.hit) << "ray " << i;
-    if (!expected.hit) continue;
+    Ray ray{{u(rng), u(rng), u(rng)}, glm::normalize(random_vector(u, rng))};
+    const Hit expected = brute_force(scene, ray);
+    const Hit got = bvh.closest_hit(ray);
+    ASSERT_EQ(got.hit(), expected.hit()) << "ray " << i;
+    if (!expected.hit()) continue;
     ++hits;
     // Two triangles can be hit at the very same t; then either id is right.
     EXPECT_NEAR(got.t, expected.t, 1e-9 * expected.t) << "ray " << i;
@@ -76,19 +76,19 @@ TEST(ReferenceBvh, AxisParallelRaysWithZeroComponentsAndOriginsOnBoxPlanes) {
   // -0 lateral components (reciprocals +-inf in a naive slab test).
   for (double zero : {0.0, -0.0}) {
     for (glm::dvec3 origin : {glm::dvec3(1.0, 0.5, 5.0), glm::dvec3(-1.0, -1.0, 5.0), glm::dvec3(0.0, 0.0, 5.0)}) {
-      const HitD hit = bvh.closest_hit({origin, {zero, zero, -1.0}});
-      ASSERT_TRUE(hit.hit) << origin.x << "," << origin.y << " zero " << std::signbit(zero);
+      const Hit hit = bvh.closest_hit({origin, {zero, zero, -1.0}});
+      ASSERT_TRUE(hit.hit()) << origin.x << "," << origin.y << " zero " << std::signbit(zero);
       EXPECT_DOUBLE_EQ(hit.t, 5.0);
     }
   }
-  EXPECT_FALSE(bvh.closest_hit({{5.0, 0.0, 5.0}, {0.0, 0.0, -1.0}}).hit);
-  EXPECT_FALSE(bvh.closest_hit({{0.0, 0.0, 5.0}, {0.0, 0.0, 1.0}}).hit);
+  EXPECT_FALSE(bvh.closest_hit({{5.0, 0.0, 5.0}, {0.0, 0.0, -1.0}}).hit());
+  EXPECT_FALSE(bvh.closest_hit({{0.0, 0.0, 5.0}, {0.0, 0.0, 1.0}}).hit());
 }
 
 TEST(ReferenceBvh, EmptySceneNeverHits) {
   const Scene scene;
   const ReferenceBvh bvh(scene);
-  EXPECT_FALSE(bvh.closest_hit({{0, 0, 0}, {0, 0, 1}}).hit);
+  EXPECT_FALSE(bvh.closest_hit({{0, 0, 0}, {0, 0, 1}}).hit());
 }
 
 // A UV sphere of radius 1 with vertices on the sphere (fp32): the polyhedron lies
@@ -129,8 +129,8 @@ TEST(ReferenceBvh, TessellatedSphereHitsWithinSagittaOfAnalyticSphere) {
     // Analytic: |o + t d| = 1, nearer root.
     const double b = glm::dot(origin, d), c = glm::dot(origin, origin) - 1.0;
     const double t_sphere = -b - std::sqrt(b * b - c);
-    const HitD hit = bvh.closest_hit({origin, d});
-    ASSERT_TRUE(hit.hit) << "ray " << i;
+    const Hit hit = bvh.closest_hit({origin, d});
+    ASSERT_TRUE(hit.hit()) << "ray " << i;
     EXPECT_GE(hit.t, t_sphere - 1e-6) << "ray " << i << ": hit outside the sphere";
     EXPECT_LE(hit.t, t_sphere + tolerance) << "ray " << i;
     worst = std::max(worst, hit.t - t_sphere);
