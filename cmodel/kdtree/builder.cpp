@@ -31,6 +31,7 @@
 #include "fp/soft.hpp"
 #include "kdtree/kdtree.hpp"
 #include "rpu/spec.hpp"
+#include "scene/geometry.hpp"
 
 namespace rpu {
 
@@ -49,18 +50,14 @@ namespace {
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
-struct Box {
-  std::array<float, 3> lo{}, hi{};
-};
-
-double surface_area(const Box& b) {
+double surface_area(const Bounds32& b) {
   const double dx = double(b.hi[0]) - b.lo[0], dy = double(b.hi[1]) - b.lo[1],
                dz = double(b.hi[2]) - b.lo[2];
   return 2.0 * (dx * dy + dy * dz + dz * dx);
 }
 
 // A triangle's extent inside a node: the fp32 box its (clipped) geometry occupies.
-using Extent = Box;
+using Extent = Bounds32;
 
 // W&H: one event per triangle end along an axis. Sorted by position, then kind
 // (end < planar < start, as in W&H), then triangle, so the order is deterministic.
@@ -166,7 +163,7 @@ float round_up(double x) {
 }
 
 // The box both extents cover.
-Extent intersect(const Extent& a, const Box& b) {
+Extent intersect(const Extent& a, const Bounds32& b) {
   Extent r;
   for (int k = 0; k < 3; ++k) {
     r.lo[k] = std::max(a.lo[k], b.lo[k]);
@@ -264,7 +261,7 @@ class Builder {
   }
 
   // The root box: the box of the rounded vertices, whose coordinates are grid values.
-  Box root() const { return root_; }
+  Bounds32 root() const { return root_; }
 
   void run() {
     const std::size_t n = scene_.triangles.size();
@@ -369,7 +366,7 @@ class Builder {
   // score at those extremes exceeds the bound or the best so far holds no winner and
   // is skipped. Every candidate the full sweep could pick is still costed in the same
   // order and arithmetic, so the tree is the same.
-  Split find_split(const EventLists& events, const Box& box, std::size_t n) {
+  Split find_split(const EventLists& events, const Bounds32& box, std::size_t n) {
     // The sweep minimises bonus * (A_below * N_below + A_above * N_above) with A half a
     // child's surface area; the cost formula is applied to the winner only.
     double best_score = std::numeric_limits<double>::infinity();
@@ -562,7 +559,7 @@ class Builder {
   // part of the (rounded) triangle within the margin of the child, widened by the
   // margin (W&H's "perfect splits"; Sutherland-Hodgman in double against the child box
   // grown by the margin).
-  Extent child_extent(std::uint32_t tri, const Box& box) const {
+  Extent child_extent(std::uint32_t tri, const Bounds32& box) const {
     const Triangle& t = triangles_[tri];
     const Extent loose = intersect(t.bounds, box);
     if (!config_.perfect_splits) return loose;
@@ -718,7 +715,7 @@ class Builder {
 
   // Builds the subtree of a node that may be split; `events` are its sorted lists,
   // which it consumes.
-  void build(EventLists& events, const Box& box, std::size_t n, int depth) {
+  void build(EventLists& events, const Bounds32& box, std::size_t n, int depth) {
     const std::uint32_t index = new_node();
     const Split split = find_split(events, box, n);
     // W&H's automatic termination: split only when it is cheaper than intersecting all n.
@@ -731,7 +728,7 @@ class Builder {
     const std::size_t n_below = split.below, n_above = split.above;
     const std::size_t n_straddlers = classify(events[k], split.pos);
 
-    Box below_box = box, above_box = box;
+    Bounds32 below_box = box, above_box = box;
     below_box.hi[k] = split.pos;
     above_box.lo[k] = split.pos;
 
@@ -819,7 +816,7 @@ class Builder {
   EventLists new_below_, new_above_;   // the straddlers' events in the node being split
   std::vector<glm::vec3> positions_;  // the scene's vertices rounded into the format
   double margin_ = 0.0;               // added around every triangle, in scene units
-  Box root_;
+  Bounds32 root_;
   // What clipping a triangle reads, in one cache line: the build visits triangles in no
   // spatial order, and separate arrays of vertices and bounds cost a cache miss each.
   struct alignas(64) Triangle {
@@ -886,10 +883,10 @@ void compute_stats(KdTree& tree, const KdBuildConfig& config) {
   s.scale_exponent = tree.scale_exponent;
   struct Item {
     std::uint32_t index;
-    Box box;
+    Bounds32 box;
     int depth;
   };
-  Box root;
+  Bounds32 root;
   for (int k = 0; k < 3; ++k) {
     root.lo[k] = tree.bounds_lo[k];
     root.hi[k] = tree.bounds_hi[k];
@@ -949,7 +946,7 @@ KdTree build_kdtree(const Scene& scene, const KdBuildConfig& config) {
   const auto start = std::chrono::steady_clock::now();
   KdTree tree;
   Builder builder(scene, config, tree);
-  const Box root = builder.root();
+  const Bounds32 root = builder.root();
   tree.bounds_lo = glm::vec3(root.lo[0], root.lo[1], root.lo[2]);
   tree.bounds_hi = glm::vec3(root.hi[0], root.hi[1], root.hi[2]);
   builder.run();

@@ -10,17 +10,21 @@
 
 namespace rpu {
 
-// An axis-aligned box; empty (lo > hi) until a point is added.
-struct Bounds {
-  glm::dvec3 lo{std::numeric_limits<double>::infinity()};
-  glm::dvec3 hi{-std::numeric_limits<double>::infinity()};
+// An axis-aligned box; empty (lo > hi) until a point is added. In double precision for
+// the scene (Bounds), in fp32 for what the hardware's kd-tree holds (Bounds32).
+template <class Vec>
+struct BasicBounds {
+  Vec lo{std::numeric_limits<typename Vec::value_type>::infinity()};
+  Vec hi{-std::numeric_limits<typename Vec::value_type>::infinity()};
 
   bool empty() const { return lo.x > hi.x; }
-  void extend(const glm::dvec3& p) {
+  void extend(const Vec& p) {
     lo = glm::min(lo, p);
     hi = glm::max(hi, p);
   }
 };
+using Bounds = BasicBounds<glm::dvec3>;
+using Bounds32 = BasicBounds<glm::vec3>;
 
 // The point of `light` that (s, t) in [0, 1)^2 picks: an area light's
 // position + s edge_u + t edge_v, a point light's position whatever s and t. Callers
