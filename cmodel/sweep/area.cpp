@@ -2,18 +2,36 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <fstream>
 #include <map>
 #include <string>
 
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include "sweep/area_records.hpp"
+#include "common/error.hpp"
 
 namespace rpu::sweep {
 namespace {
 
+// The records of the checkout the tool was built from; RPU_AREA_RECORDS names another
+// file (a copied binary, a file of one's own syntheses).
 const nlohmann::json& records() {
-  static const nlohmann::json parsed = nlohmann::json::parse(kAreaRecords).at("records");
+  static const nlohmann::json parsed = [] {
+    const char* chosen = std::getenv("RPU_AREA_RECORDS");
+    const std::string path = chosen != nullptr && *chosen != '\0' ? chosen : RPU_AREA_RECORDS;
+    std::ifstream in(path, std::ios::binary);
+    if (!in) {
+      throw Error(fmt::format("{}: cannot read the synthesis records (bench/results/area.json of a checkout; "
+                              "RPU_AREA_RECORDS names the file)", path));
+    }
+    try {
+      return nlohmann::json::parse(in).at("records");
+    } catch (const nlohmann::json::exception& e) {
+      throw Error(fmt::format("{}: not the synthesis records rtl/flow.py area writes ({})", path, e.what()));
+    }
+  }();
   return parsed;
 }
 

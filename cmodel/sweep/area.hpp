@@ -8,8 +8,9 @@
 #include "memory/memory_image.hpp"
 #include "rpu/spec.hpp"
 
-// The Yosys cell counts of bench/results/area.json (docs/area.md), built into the tool:
-// what a sweep point records as the area of its number format and intersection test.
+// The Yosys cell counts of bench/results/area.json (docs/area.md), read when first asked
+// for (RPU_AREA_RECORDS names another file; rpu::Error naming the file if it cannot be
+// read): what a sweep point records as the area of its number format and intersection test.
 namespace rpu::sweep {
 
 // The datapath of one ray-tracing core in a format: the FP units (fma, misc, divsqrt),
