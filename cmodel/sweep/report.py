@@ -1,11 +1,13 @@
 """rpu report: a sweep directory (rpu sweep -o DIR) as one page of tables and plots.
 
-Built into the rpu binary and run by `rpu report` with Debian's /usr/bin/python3 and
-python3-matplotlib (docs/sweeps.md, "Reports"):
+Built into the rpu binary, with spec/doc_blocks.py beside it, and run by `rpu report`
+with Debian's /usr/bin/python3 and python3-matplotlib (docs/sweeps.md, "Reports"):
 
-    report.py DIR html                -> the self-contained HTML page on stdout
-    report.py DIR md PICTURES_DIR REL  -> the Markdown block on stdout, its pictures as PNG
-                                         files in PICTURES_DIR, linked as REL/NAME.png
+    report.py DIR html                            -> the self-contained HTML page on stdout
+    report.py DIR md PICTURES_DIR REL PAGE COMMAND -> PAGE with its generated block replaced
+                                                     (a new page if there is none) on stdout,
+                                                     the pictures as PNG files in
+                                                     PICTURES_DIR, linked as REL/NAME.png
 
 Reads DIR/plan.json and each point's record DIR/points/ID.json; every number shown is a
 field of a record. Points not run yet are left out and counted.
@@ -19,6 +21,7 @@ import math
 import os
 import sys
 
+import doc_blocks
 import matplotlib
 
 matplotlib.use("Agg")
@@ -26,6 +29,8 @@ import matplotlib.image as mpimg  # noqa: E402
 import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.ticker import EngFormatter, NullFormatter  # noqa: E402
 
+# The source the page's generated block names (spec/doc_blocks.py).
+SOURCE = "rpu report"
 FIDELITIES = ["reference", "functional", "cycle", "rtl"]
 # Plots read in print too: one colour per format, one marker per intersection test.
 MARKERS = {"woop": "o", "watertight": "s"}
@@ -434,8 +439,24 @@ def png_bytes(fig):
     return buf.getvalue()
 
 
+def page_with(page: str, block: str) -> str:
+    """The Markdown page `page` with its rpu report block replaced, or a new page with one."""
+    if not os.path.exists(page):
+        return f"# Sweep report\n\n{doc_blocks.begin(SOURCE)}\n{block}{doc_blocks.END}\n"
+    with open(page) as f:
+        return doc_blocks.replace(f.read(), SOURCE, block, f"-o {page}")
+
+
 def main():
     directory, mode = sys.argv[1], sys.argv[2]
+    if mode == "md":
+        # A page with no block to replace is refused before anything is drawn.
+        pictures, rel, page, command = sys.argv[3:7]
+        try:
+            page_with(page, "")
+        except doc_blocks.DocBlockError as e:
+            print(f"rpu: error: {e}", file=sys.stderr)
+            sys.exit(2)
     plan, records, missing = load(directory)
     rows = [r["row"] for r in records if r["point"]["fidelity"] != "reference"]
     references = [r["row"] for r in records if r["point"]["fidelity"] == "reference"]
@@ -500,7 +521,6 @@ def main():
         out.append("</body></html>")
         sys.stdout.write("\n".join(out) + "\n")
         return
-    pictures, rel = sys.argv[3], sys.argv[4]
     os.makedirs(pictures, exist_ok=True)
     out = [summary + ".", ""]
     # The measured rows beside the pictures: the data the table is made of.
@@ -519,7 +539,7 @@ def main():
     if selection_cells:
         out += [f"**{SELECTION_TITLE}**", ""] + md_table(selection_cells, 6) + [""]
     out += md_table(cells, 9)
-    sys.stdout.write("\n".join(out) + "\n")
+    sys.stdout.write(page_with(page, "\n".join(out) + f"\n\nMade by `{command}`.\n"))
 
 
 main()
