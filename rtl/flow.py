@@ -22,21 +22,18 @@ import re
 import shutil
 import subprocess
 import sys
+import tempfile
 import time
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 RTL = ROOT / "rtl"
-SIM_TOP = ROOT / "sim" / "rpu_fp_cosim_top.sv"
-TU_SIM_TOP = ROOT / "sim" / "rpu_tu_cosim_top.sv"
 # The FP units' and the IU's netlists: one request and one response stream in order.
 STREAM_NETLIST_TB = ROOT / "sim" / "rpu_stream_netlist_tb.sv"
-IU_TOP = ROOT / "sim" / "rpu_iu_cosim_top.sv"
-SPU_SIM_TOP = ROOT / "sim" / "rpu_spu_cosim_top.sv"
 TU_NETLIST_TB = ROOT / "sim" / "rpu_tu_netlist_tb.sv"
-MEM_SIM_TOP = ROOT / "sim" / "rpu_mem_cosim_top.sv"
 MEM_NETLIST_TB = ROOT / "sim" / "rpu_mem_netlist_tb.sv"
-CHIP_SIM_TOP = ROOT / "sim" / "rpu_chip_cosim_top.sv"
 CHIP_NETLIST_TB = ROOT / "sim" / "rpu_chip_netlist_tb.sv"
+# The memory system the mem harness's top wraps.
+MEM_SYSTEM = ROOT / "sim" / "rpu_mem_system.sv"
 # The intersection modes (spec/memory_map.toml [isect_mode]: the IsectMode parameter).
 ISECT_MODES = ("woop", "watertight")
 
@@ -76,6 +73,21 @@ def rtl_sources() -> list[pathlib.Path]:
     return sorted(RTL.glob("*.sv"))
 
 
+_harness_dir: tempfile.TemporaryDirectory | None = None
+
+
+def harness_top(name: str) -> pathlib.Path:
+    """The co-simulation top of harness `name` (spec/harnesses.toml), generated once per
+    run as the build generates it."""
+    global _harness_dir
+    if _harness_dir is None:
+        _harness_dir = tempfile.TemporaryDirectory(prefix="rpu-harness-")
+        tables = gen.load(ROOT / "spec")
+        hs = gen.harnesses.load(tables, gen.fp_op_bits(tables), gen.harness_sources(ROOT / "spec"))
+        gen.harnesses.write_all(hs, pathlib.Path(_harness_dir.name), gen.BANNER, gen.write_if_changed)
+    return pathlib.Path(_harness_dir.name) / "sim" / f"rpu_{name}_cosim_top.sv"
+
+
 def isect_mode(name: str) -> int:
     return gen.load(ROOT / "spec")["memory_map"]["isect_mode"][name]
 
@@ -94,14 +106,15 @@ def lint(args) -> int:
             jobs.append((f"rpu_fp_{unit['name']} {name}", [f"rpu_fp_{unit['name']}"],
                          [f"-GExpBits={f['exponent_bits']}", f"-GFracBits={f['fraction_bits']}"], []))
     for i, unit in enumerate(units):
-        jobs.append((f"rpu_fp_cosim_top {unit['name']}", ["rpu_fp_cosim_top"], [f"-GUnit={i}"], [SIM_TOP]))
+        jobs.append((f"rpu_fp_unit_cosim_top {unit['name']}", ["rpu_fp_unit_cosim_top"], [f"-GUnit={i}"],
+                     [harness_top("fp_unit")]))
     for isect in ISECT_MODES:
         mode = isect_mode(isect)
         for name, f in formats.items():
             jobs.append((f"rpu_iu {isect} {name}", ["rpu_iu"],
                          [f"-GExpBits={f['exponent_bits']}", f"-GFracBits={f['fraction_bits']}",
                           f"-GIsectMode={mode}"], []))
-        jobs.append((f"rpu_iu_cosim_top {isect}", ["rpu_iu_cosim_top"], [f"-GIsectMode={mode}"], [IU_TOP]))
+        jobs.append((f"rpu_iu_cosim_top {isect}", ["rpu_iu_cosim_top"], [f"-GIsectMode={mode}"], [harness_top("iu")]))
     # The traversal unit in every format and both intersection modes, its sim top, and
     # the shared stream primitives.
     for name, f in formats.items():
@@ -125,10 +138,10 @@ def lint(args) -> int:
                               f"-GIsectMode={isect_mode(isect)}", *pipe], []))
     for with_iu in (0, 1):
         jobs.append((f"rpu_tu_cosim_top WithIu={with_iu}", ["rpu_tu_cosim_top"], [f"-GWithIu={with_iu}"],
-                     [TU_SIM_TOP]))
+                     [harness_top("tu")]))
     for with_iu in (0, 1):
         jobs.append((f"rpu_tu_cosim_top WithIu={with_iu} Pipe=1", ["rpu_tu_cosim_top"],
-                     [f"-GWithIu={with_iu}", "-GPipe=1", "-GSlots=16"], [TU_SIM_TOP]))
+                     [f"-GWithIu={with_iu}", "-GPipe=1", "-GSlots=16"], [harness_top("tu")]))
     for top in ("rpu_fifo", "rpu_skid_buf"):
         jobs.append((top, [top], ["-GWidth=8"], []))
     # The shader core as each named configuration builds it (its build-time parameters
@@ -142,7 +155,7 @@ def lint(args) -> int:
         # The chip takes every parameter of the configuration.
         jobs.append((f"rpu_top {r['name']}", ["rpu_top"], [f"-G{k}={v}" for k, v in params.items()], []))
     jobs.append(("rpu_spu chunks of 1", ["rpu_spu"], ["-GThreads=4", "-GChunkSize=1", "-GSfuUnits=4"], []))
-    jobs.append(("rpu_spu_cosim_top", ["rpu_spu_cosim_top"], [], [SPU_SIM_TOP]))
+    jobs.append(("rpu_spu_cosim_top", ["rpu_spu_cosim_top"], [], [harness_top("spu")]))
     # The memory system: each named configuration's three caches, the co-simulation
     # top of each configuration's memory system and with its defaults (the corner
     # cases mem_cosim also runs), the arbiters at 1 to 6 ports and the in-order port
@@ -153,8 +166,9 @@ def lint(args) -> int:
             cache = [f"-G{p}={params[unit + p]}" for p, _ in gen.RTL_CACHE_PARAMETERS]
             jobs.append((f"rpu_cache {r['name']} {unit.lower()}", ["rpu_cache"], cache, []))
         top = [f"-G{k}={v}" for k, v in params.items() if k in cache_parameters()]
-        jobs.append((f"rpu_mem_cosim_top {r['name']}", ["rpu_mem_cosim_top"], top, [MEM_SIM_TOP]))
-    jobs.append(("rpu_mem_cosim_top corners (its defaults)", ["rpu_mem_cosim_top"], [], [MEM_SIM_TOP]))
+        jobs.append((f"rpu_mem_cosim_top {r['name']}", ["rpu_mem_cosim_top"], top, [MEM_SYSTEM, harness_top("mem")]))
+    jobs.append(("rpu_mem_cosim_top corners (its defaults)", ["rpu_mem_cosim_top"], [],
+                 [MEM_SYSTEM, harness_top("mem")]))
     for n in (1, 2, 3, 6):
         jobs.append((f"rpu_cache_arbiter {n}", ["rpu_cache_arbiter"], [f"-GRequesters={n}"], []))
         jobs.append((f"rpu_mem_arbiter {n}", ["rpu_mem_arbiter"], [f"-GCaches={n}"], []))
@@ -253,8 +267,8 @@ def synth(args) -> int:
     out.mkdir(parents=True, exist_ok=True)
     stem = f"{args.unit}_{args.format}"
     netlist = out / f"{stem}.v"
-    stats = yosys(args, "rpu_fp_cosim_top", {"Unit": names.index(args.unit), "ExpBits": f["exponent_bits"],
-                                             "FracBits": f["fraction_bits"]}, [SIM_TOP], out, stem)
+    stats = yosys(args, "rpu_fp_unit_cosim_top", {"Unit": names.index(args.unit), "ExpBits": f["exponent_bits"],
+                                             "FracBits": f["fraction_bits"]}, [harness_top("fp_unit")], out, stem)
     if stats is None:
         return 1
     stats.update(unit=args.unit, format=args.format, exponent_bits=f["exponent_bits"],
@@ -265,7 +279,7 @@ def synth(args) -> int:
     bits = stream_bits()
     simulate = build_netlist_sim(args, out, stem, netlist, STREAM_NETLIST_TB, "rpu_stream_netlist_tb",
                                  {"ReqBits": bits["fp_req"], "RspBits": bits["fp_rsp"]},
-                                 {"RPU_STREAM_DUT": "rpu_fp_cosim_top"})
+                                 {"RPU_STREAM_DUT": "rpu_fp_unit_cosim_top"})
     if simulate is None:
         return 1
     stats.update(netlist_build_seconds=round(time.monotonic() - start, 1))
@@ -306,13 +320,13 @@ def synth(args) -> int:
 # its stream-width parameters; and the design, which docs/area.md shows beside the unit
 # (bench/results/area.json keeps the records of earlier designs).
 RAY_UNIT_SYNTH = {
-    "iu": {"top": "rpu_iu_cosim_top", "top_file": IU_TOP, "design": "pipeline, one test a cycle",
+    "iu": {"top": "rpu_iu_cosim_top", "harness": "iu", "design": "pipeline, one test a cycle",
            "tb": STREAM_NETLIST_TB, "tb_top": "rpu_stream_netlist_tb",
            "defines": {"RPU_STREAM_DUT": "rpu_iu_cosim_top"},
            "vector_args": lambda n: ["--rays", 100000, "--vectors", n],
            "done": r"netlist ok: (\d+) vectors",
            "streams": {"ReqBits": "iu_req", "RspBits": "iu_rsp"}},
-    "tu": {"top": "rpu_tu_cosim_top", "top_file": TU_SIM_TOP, "tb": TU_NETLIST_TB, "tb_top": "rpu_tu_netlist_tb",
+    "tu": {"top": "rpu_tu_cosim_top", "harness": "tu", "tb": TU_NETLIST_TB, "tb_top": "rpu_tu_netlist_tb",
            "vector_args": lambda n: ["--rays", -(-n // 3)],
            "done": r"netlist ok: (\d+) rays \(\d+ IU tests\)",
            "streams": {"CfgBits": "tu_cfg", "ReqBits": "tu_req", "RspBits": "tu_rsp", "MemReqBits": "mem_req",
@@ -346,7 +360,7 @@ def synth_ray_unit(args, formats: dict) -> int:
     if args.pipe:
         params.update(Pipe=1, Setups=args.setups)
     # The pipeline's stacks are one RAM: kept as a memory, its bits counted apart.
-    stats = yosys(args, kind["top"], params, [kind["top_file"]], out, stem, keep_rams=args.pipe)
+    stats = yosys(args, kind["top"], params, [harness_top(kind["harness"])], out, stem, keep_rams=args.pipe)
     if stats is None:
         return 1
     stats.update(unit=unit, format=args.format, exponent_bits=f["exponent_bits"], fraction_bits=f["fraction_bits"])
@@ -427,7 +441,8 @@ def synth_mem(args) -> int:
     stem = f"mem_{args.config}"
     data_cache = {p: params["Data" + p] for p, _ in gen.RTL_CACHE_PARAMETERS}
     cache = yosys(args, "rpu_cache", {**data_cache, "CacheId": 2}, [], out, f"{stem}_data_cache", keep_rams=True)
-    system = yosys(args, "rpu_mem_cosim_top", {k: params[k] for k in cache_parameters()}, [MEM_SIM_TOP], out, stem,
+    system = yosys(args, "rpu_mem_cosim_top", {k: params[k] for k in cache_parameters()},
+                   [MEM_SYSTEM, harness_top("mem")], out, stem,
                    keep_rams=True)
     if cache is None or system is None:
         return 1
@@ -440,7 +455,7 @@ def synth_mem(args) -> int:
     tb_params = {"Raw": widths["req_valid_i"], "InOrder": widths["mem_req_valid_i"], "Caches": widths["idle_o"],
                  "ReqBits": bits["cache_req"], "RspBits": bits["cache_rsp"], "MemReqBits": bits["mem_req"],
                  "MemRspBits": bits["mem_rsp"], "DramReqBits": bits["dram_req"], "DramRspBits": bits["dram_rsp"],
-                 "CounterBits": bits["cache_counters"]}
+                 "CounterBits": bits["cache_counters"], "GeometryBits": bits["cache_geometry"]}
     start = time.monotonic()
     simulate = build_netlist_sim(args, out, stem, netlist, MEM_NETLIST_TB, "rpu_mem_netlist_tb", tb_params)
     if simulate is None:
@@ -631,7 +646,7 @@ def synth_chip(args) -> int:
     stem = f"chip_{args.config}"
     netlist, hier = out / f"{stem}.v", out / f"{stem}_hier.v"
     stat, cmos = out / f"{stem}_hier.stat", out / f"{stem}_hier.cmos"
-    reads = " ".join(str(p) for p in [args.pkg, *rtl_sources(), CHIP_SIM_TOP])
+    reads = " ".join(str(p) for p in [args.pkg, *rtl_sources(), harness_top("chip")])
     # Synthesised without -flatten, every module once however often it is instantiated
     # (the default chip's four cores cost one core's time); stat then counts each module
     # alone. Flattened afterwards for the netlist simulation only (the default chip's

@@ -8,23 +8,13 @@ set(RPU_CHIP_MODELS "" CACHE STRING
     "Chips to verilate as config/isect pairs, e.g. tiny/woop;rpu2005/woop (default: all)")
 set(RPU_CHIP_THREADS 1 CACHE STRING
     "Host threads a chip model's evaluation uses (Verilator --threads; docs/chip.md \"Simulation speed\")")
-set(rpu_chip_top_params Cores Threads ChunkSize Registers CallDepth StackBytes SfuUnits StackDepth RayUnits
-    TuSlots TuPipe TuSetups
-    NodeBytes NodeWays NodeHitLatency NodeMshrs TriangleBytes TriangleWays TriangleHitLatency TriangleMshrs
-    DataBytes DataWays DataHitLatency DataMshrs ExpBits FracBits)
-set(rpu_chip_model_includes "")
-set(rpu_chip_model_entries "")
 set(rpu_chip_cases)
-add_library(rpu_chip_rtl_models STATIC ${CMAKE_CURRENT_BINARY_DIR}/chip_models.cpp)
-target_include_directories(rpu_chip_rtl_models PUBLIC ${CMAKE_CURRENT_SOURCE_DIR})
-set_source_files_properties(${CMAKE_CURRENT_BINARY_DIR}/chip_models.cpp PROPERTIES INCLUDE_DIRECTORIES ${PROJECT_SOURCE_DIR}/cmodel)
-target_link_libraries(rpu_chip_rtl_models PUBLIC rpu_spec)
+rpu_cosim_library(chip)
 foreach(line IN LISTS rpu_rtl_config_lines)
   if(NOT line)
     continue()
   endif()
-  list(JOIN rpu_chip_top_params "|" names)
-  rpu_rtl_config("${line}" "^(${names})$" config config_params)
+  rpu_rtl_config("${line}" chip config config_params)
   set(params -GCodeWords=${rpu_spu_code_words} ${config_params})
   string(REGEX MATCH "-GCores=([0-9]+)" cores_flag "${line}")
   set(cores ${CMAKE_MATCH_1})
@@ -38,16 +28,14 @@ foreach(line IN LISTS rpu_rtl_config_lines)
     if(RPU_CHIP_MODELS AND NOT "${config}/${isect}" IN_LIST RPU_CHIP_MODELS)
       continue()
     endif()
-    set(prefix Vchip_${config}_${isect})
-    rpu_verilate(rpu_chip_rtl_models ${prefix} rpu_chip_cosim_top TRACE ASSERT THREADS ${RPU_CHIP_THREADS}
-                 PARAMS ${params} -GIsectMode=${rpu_isect_${isect}})
-    string(APPEND rpu_chip_model_includes "#include \"${prefix}.h\"\n")
-    string(APPEND rpu_chip_model_entries
-           "    {\"${config}\", \"${isect}\", &make<${prefix}, ${cores}, ${ray_units}, ${rpu_spu_code_words}>},\n")
+    rpu_cosim_model(chip Vchip_${config}_${isect} TRACE ASSERT THREADS ${RPU_CHIP_THREADS}
+                    FACTS config=${config} isect=${isect} cores=${cores} ray_units=${ray_units}
+                          code_words=${rpu_spu_code_words}
+                    PARAMS ${params} -GIsectMode=${rpu_isect_${isect}})
     list(APPEND rpu_chip_cases "${config} ${isect}")
   endforeach()
 endforeach()
-configure_file(chip_models.cpp.in ${CMAKE_CURRENT_BINARY_DIR}/chip_models.cpp @ONLY)
+rpu_cosim_registry(chip)
 
 add_library(rpu_rtl_device STATIC chip_run.cpp device_dram.cpp rtl_device.cpp)
 target_include_directories(rpu_rtl_device PUBLIC ${CMAKE_CURRENT_SOURCE_DIR})
@@ -177,4 +165,23 @@ if(rpu_chip_cases)
   set_tests_properties(cli.rtl_backend_refuses_a_changed_configuration cli.rtl_backend_refuses_a_chip_not_built
                        cli.rtl_backend_waves_must_be_fst cli.rtl_backend_waves_refuse_a_selection
                        PROPERTIES LABELS unit)
+endif()
+
+if(RPU_YOSYS)
+  # The whole chip (rtl/flow.py synth --unit chip; docs/area.md): cells per unit for tiny
+  # and default; tiny's netlist also replays every cycle of a Cornell box frame that
+  # chip_cosim renders on the RTL, and its memory-port writes must rebuild the frame.
+  if("tiny woop" IN_LIST rpu_chip_cases)
+    add_test(NAME slow.synth.chip.tiny
+      COMMAND Python3::Interpreter ${PROJECT_SOURCE_DIR}/rtl/flow.py synth
+              --unit chip --config tiny --netlist --code-words ${rpu_spu_code_words} --pkg ${RPU_SPEC_SV}
+              --cosim $<TARGET_FILE:chip_cosim> --out ${CMAKE_CURRENT_BINARY_DIR}/synth_chip
+              --yosys ${RPU_YOSYS} --verilator ${VERILATOR_BIN})
+    set_tests_properties(slow.synth.chip.tiny PROPERTIES LABELS slow TIMEOUT 14400)
+  endif()
+  add_test(NAME slow.synth.chip.default
+    COMMAND Python3::Interpreter ${PROJECT_SOURCE_DIR}/rtl/flow.py synth
+            --unit chip --config default --code-words ${rpu_spu_code_words} --pkg ${RPU_SPEC_SV}
+            --out ${CMAKE_CURRENT_BINARY_DIR}/synth_chip --yosys ${RPU_YOSYS})
+  set_tests_properties(slow.synth.chip.default PROPERTIES LABELS slow TIMEOUT 14400)
 endif()

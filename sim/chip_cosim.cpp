@@ -40,47 +40,24 @@ struct Options {
   std::string trace, vectors, framebuffer;
 };
 
-// Records the ports of every cycle out of reset (rtl/flow.py's netlist testbench
-// replays them after its own reset).
-class RecordingChip final : public ChipModel {
- public:
-  RecordingChip(std::unique_ptr<ChipModel> inner, std::ostream& out) : inner_(std::move(inner)), writer_(out) {}
-  ChipOutputs settle(const ChipInputs& in) override {
-    ChipOutputs out = inner_->settle(in);
-    if (in.rst_n) {
-      writer_.write(inner_->port_words());
-      ++cycles_;
-    }
-    return out;
-  }
-  std::uint64_t cycles() const { return cycles_; }
-  void clock() override { inner_->clock(); }
-  int cores() const override { return inner_->cores(); }
-  int ray_units() const override { return inner_->ray_units(); }
-  ChipCounters counters() override { return inner_->counters(); }
-  std::uint32_t code_words() const override { return inner_->code_words(); }
-  void close_trace() override { inner_->close_trace(); }
-  void set_wave_window(std::uint64_t begin, std::uint64_t end) override { inner_->set_wave_window(begin, end); }
-  PortWords port_words() override { return inner_->port_words(); }
-
- private:
-  std::unique_ptr<ChipModel> inner_;
-  VectorWriter writer_;
-  std::uint64_t cycles_ = 0;
-};
+using ChipModel = Model<harness::Chip>;
 
 int run(const Options& o, std::unique_ptr<ChipModel>& model) {
   const spec::HardwareConfig& config = hardware_config(o.config);
   const fp::Format format = fp::format_by_name(std::string(config.format));
-  model = make_chip_model({o.config, o.isect}, o.seed, o.trace);
-  if (!model) throw Error(fmt::format("no chip model for configuration '{}' with the {} test in this build", o.config,
-                                      o.isect));
+  const ModelInfo* info = find_model<harness::Chip>({{"config", o.config}, {"isect", o.isect}});
+  if (!info) {
+    throw Error(fmt::format("no chip model for configuration '{}' with the {} test in this build (built: {})",
+                            o.config, o.isect, built_models<harness::Chip>()));
+  }
+  model = make_model<harness::Chip>(*info, o.seed, o.trace);
   if (!o.framebuffer.empty()) check_output_path(o.framebuffer);
   std::unique_ptr<OutputFile> vectors;
-  const RecordingChip* recorder = nullptr;
+  RecordingModel<harness::Chip>* recorder = nullptr;
   if (!o.vectors.empty()) {
     vectors = std::make_unique<OutputFile>(o.vectors);
-    auto recording = std::make_unique<RecordingChip>(std::move(model), vectors->stream());
+    auto recording = std::make_unique<RecordingModel<harness::Chip>>(std::move(model), vectors->stream());
+    recording->start();
     recorder = recording.get();
     model = std::move(recording);
   }
@@ -107,7 +84,7 @@ int run(const Options& o, std::unique_ptr<ChipModel>& model) {
   ChipRunOptions options;
   options.lockstep = true;
   const auto start = std::chrono::steady_clock::now();
-  const ChipRunResult r = run_chip_frame(*model, frame, options);
+  const ChipRunResult r = run_chip_frame(*model, *info, frame, options);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::uint64_t instructions = 0;
   for (const std::uint64_t n : r.retired) instructions += n;

@@ -56,12 +56,14 @@ void check_counters(const ChipCounters& k, std::uint64_t cycles) {
 
 }  // namespace
 
-ChipRunResult run_chip_frame(ChipModel& model, const ChipFrame& frame, const ChipRunOptions& options) {
+ChipRunResult run_chip_frame(Model<harness::Chip>& model, const ModelInfo& info, const ChipFrame& frame,
+                             const ChipRunOptions& options) {
   const spec::HardwareConfig& config = *frame.config;
   const isa::Firmware& firmware = *frame.firmware;
-  if (firmware.code.size() > model.code_words()) {
+  const int cores = info.number("cores");
+  if (firmware.code.size() > static_cast<std::size_t>(info.number("code_words"))) {
     throw Error(fmt::format("the firmware has {} instructions; the chip's code memories hold {}",
-                            firmware.code.size(), model.code_words()));
+                            firmware.code.size(), info.number("code_words")));
   }
   const auto pixels = static_cast<std::uint32_t>(frame.launch.width) * static_cast<std::uint32_t>(frame.launch.height);
   const auto threads = static_cast<std::uint32_t>(config.shader_cores * config.threads_per_core);
@@ -91,7 +93,7 @@ ChipRunResult run_chip_frame(ChipModel& model, const ChipFrame& frame, const Chi
         frame.image, std::vector<std::uint8_t>(frame.launch_block.begin(), frame.launch_block.end()), firmware.data,
         pixels);
     tracer = std::make_unique<functional::Tracer>(frame.image, *frame.layout, frame.format, config.stack_depth);
-    for (int c = 0; c < model.cores(); ++c) {
+    for (int c = 0; c < cores; ++c) {
       SpuCheckerSetup cs;
       cs.firmware = &firmware;
       cs.tracer = tracer.get();
@@ -110,8 +112,8 @@ ChipRunResult run_chip_frame(ChipModel& model, const ChipFrame& frame, const Chi
     }
   }
 
-  Clock<ChipModel> clock(model);
-  ChipInputs in;
+  Clock<Model<harness::Chip>> clock(model);
+  harness::Chip::Inputs in;
   in.launch = launch_stream(facts);
   in.tu_cfg = tu_config(*frame.layout);
   clock.reset(in);
@@ -127,27 +129,27 @@ ChipRunResult run_chip_frame(ChipModel& model, const ChipFrame& frame, const Chi
     const streams::DramRsp* rsp = dram.offer(now);
     in.dram_rsp_valid = rsp != nullptr;
     if (rsp) in.dram_rsp = *rsp;
-    const ChipOutputs out = clock.settle(in);
+    const harness::Chip::Outputs out = clock.settle(in);
     if (out.done && !done_at) done_at = now;
     if (out.done && dram.idle()) break;
     if (options.max_cycles && now - first > options.max_cycles) {
       throw CosimFailure(fmt::format("the frame did not end in {} cycles", options.max_cycles));
     }
     bool progress = false;
-    for (int c = 0; c < model.cores(); ++c) {
-      const CoreRecords& r = out.cores[static_cast<std::size_t>(c)];
-      SpuChecker* check = options.lockstep ? checkers[static_cast<std::size_t>(c)].get() : nullptr;
+    for (std::size_t c = 0; c < static_cast<std::size_t>(cores); ++c) {
+      SpuChecker* check = options.lockstep ? checkers[c].get() : nullptr;
       // A writeback before the issue of the same cycle (docs/chip.md "Lockstep co-simulation").
-      if (r.wb_valid && check) check->on_writeback(r.wb, now);
-      if (r.fault_valid) {
-        if (check) check->on_fault(r.fault, now);
-        if (!result.fault || r.fault.pixel < result.fault->pixel) {
-          result.fault = ChipFault{r.fault.kind, r.fault.core, r.fault.thread, r.fault.pixel, r.fault.pc, r.fault.addr};
+      if (out.wb_valid[c] && check) check->on_writeback(out.wb[c], now);
+      if (out.fault_valid[c]) {
+        const streams::Fault& f = out.fault[c];
+        if (check) check->on_fault(f, now);
+        if (!result.fault || f.pixel < result.fault->pixel) {
+          result.fault = ChipFault{f.kind, f.core, f.thread, f.pixel, f.pc, f.addr};
         }
       }
-      if (r.retire_valid) {
-        if (check) check->on_retire(r.retire, now);
-        const auto opcode = static_cast<si::Opcode>(r.retire.insn[0] & ((1u << si::kOpcodeField.width) - 1));
+      if (out.retire_valid[c]) {
+        if (check) check->on_retire(out.retire[c], now);
+        const auto opcode = static_cast<si::Opcode>(out.retire[c].insn[0] & ((1u << si::kOpcodeField.width) - 1));
         if (const si::InsnSpec* s = isa::find_insn(opcode)) {
           ++result.retired[static_cast<std::size_t>(s->cls)];
           if (opcode == si::Opcode::kTrace) ++result.closest_rays;
@@ -155,11 +157,11 @@ ChipRunResult run_chip_frame(ChipModel& model, const ChipFrame& frame, const Chi
           if (opcode == si::Opcode::kHalt && options.progress) options.progress(++halted, pixels);
         }
       }
-      if (r.issue_valid) {
+      if (out.issue_valid[c]) {
         ++result.chunk_issues;
-        if (check) check->on_issue(r.issue, now);
+        if (check) check->on_issue(out.issue[c], now);
       }
-      progress |= r.issue_valid || r.retire_valid || r.wb_valid;
+      progress |= out.issue_valid[c] || out.retire_valid[c] || out.wb_valid[c];
     }
     if (out.dram_req_valid) dram.take(out.dram_req, now);
     if (in.dram_rsp_valid && out.dram_rsp_ready) {
@@ -172,7 +174,12 @@ ChipRunResult run_chip_frame(ChipModel& model, const ChipFrame& frame, const Chi
   }
   result.cycles = clock.cycle() - first;
   result.counted_cycles = *done_at - first;
-  result.counters = model.counters();
+  harness::Chip::Outputs counters;
+  model.read_on_demand(counters);
+  const auto ray_units = static_cast<std::size_t>(info.number("ray_units"));
+  result.counters.cores.assign(counters.core_counters.begin(), counters.core_counters.begin() + cores);
+  result.counters.ray_units.assign(counters.ray_counters.begin(), counters.ray_counters.begin() + ray_units);
+  result.counters.caches.assign(counters.cache_counters.begin(), counters.cache_counters.begin() + 2 + cores);
   check_counters(result.counters, result.counted_cycles);
   result.dram = dram.stats();
   result.framebuffer = memory.read(mm::kDeviceFramebufferBase, pixels * mm::kFramebufferBytesPerPixel);

@@ -7,12 +7,13 @@
 #include <string>
 #include <vector>
 
-#include "chip_model.hpp"
 #include "cycle/memory_system.hpp"
 #include "device/device.hpp"
 #include "fp/format.hpp"
 #include "isa/firmware.hpp"
 #include "memory/memory_image.hpp"
+#include "model.hpp"
+#include "rpu/harness/chip.hpp"
 #include "rpu/spec.hpp"
 
 // One frame on a Verilated chip (docs/chip.md): the firmware into every core's
@@ -42,6 +43,13 @@ struct ChipRunOptions {
   std::function<void(std::uint64_t done, std::uint64_t total)> progress;
 };
 
+// The chip's counters (rpu_top's counters ports), read at the end of a frame.
+struct ChipCounters {
+  std::vector<streams::CoreCounters> cores;
+  std::vector<streams::RayUnitCounters> ray_units;
+  std::vector<streams::CacheCounters> caches;  // node, triangle, then core c's data cache
+};
+
 // A fault record of the RTL (spec/streams.toml fault).
 struct ChipFault {
   std::uint32_t kind = 0, core = 0, thread = 0, pixel = 0, pc = 0, address = 0;
@@ -62,7 +70,9 @@ struct ChipRunResult {
 
 // CosimFailure at the first difference (with lockstep), on a model that never ends, or
 // on counters that do not add up to the frame's cycles; rpu::Error for a firmware the
-// model cannot hold.
-ChipRunResult run_chip_frame(ChipModel& model, const ChipFrame& frame, const ChipRunOptions& options);
+// model cannot hold. `info` is what the model was built as (its cores, ray units and
+// code words).
+ChipRunResult run_chip_frame(Model<harness::Chip>& model, const ModelInfo& info, const ChipFrame& frame,
+                             const ChipRunOptions& options);
 
 }  // namespace rpu::sim

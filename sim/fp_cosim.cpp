@@ -23,7 +23,8 @@
 
 #include "cosim_core.hpp"
 #include "fp/format.hpp"
-#include "fp_unit_model.hpp"
+#include "model.hpp"
+#include "rpu/harness/fp_unit.hpp"
 #include "harness_outputs.hpp"
 #include "operands.hpp"
 #include "oracle.hpp"
@@ -210,19 +211,19 @@ int check_config(const Options& o, const OpChoice& op, std::uint64_t latency) {
 }
 
 // `model` outlives the run, so that its waveforms are closed also after a failure.
-int run(const Options& o, const OpChoice& op, Format f, std::unique_ptr<FpUnitModel>& model) {
+int run(const Options& o, const OpChoice& op, Format f, std::unique_ptr<Model<harness::FpUnit>>& model) {
   if (op.spec->unit != o.unit) {
     std::fprintf(stderr, "fp_cosim: op %s runs on the %.*s unit, not %s (spec/fp_units.toml)\n", o.op.c_str(),
                  static_cast<int>(op.spec->unit.size()), op.spec->unit.data(), o.unit.c_str());
     return 2;
   }
-  model = make_fp_unit_model(o.unit, o.format, o.seed, o.trace);
-  if (!model) {
-    std::fprintf(stderr, "fp_cosim: no model for unit %s in format %s; built:", o.unit.c_str(), o.format.c_str());
-    for (const FpUnitModelName& n : fp_unit_models()) std::fprintf(stderr, " %s/%s", n.unit.c_str(), n.format.c_str());
-    std::fprintf(stderr, "\n");
+  const ModelInfo* info = find_model<harness::FpUnit>({{"unit", o.unit}, {"format", o.format}});
+  if (!info) {
+    std::fprintf(stderr, "fp_cosim: no model for unit %s in format %s; built: %s\n", o.unit.c_str(), o.format.c_str(),
+                 built_models<harness::FpUnit>().c_str());
     return 2;
   }
+  model = make_model<harness::FpUnit>(*info, o.seed, o.trace);
 
   VectorSource source(*op.info, f, o.count, o.seed);
   Stalls stalled(o.seed ^ 0x5bd1e995u, o.stall_percent / 100.0);
@@ -232,7 +233,7 @@ int run(const Options& o, const OpChoice& op, Format f, std::unique_ptr<FpUnitMo
   const auto op_code = static_cast<std::uint32_t>(op.spec->op);
 
   Clock clock(*model);
-  FpUnitInputs in;
+  harness::FpUnit::Inputs in;
   clock.reset(in);
 
   PendingByTag<Pending> pending("fp_req", "fp_rsp", spec::kFpTagBits);
@@ -266,7 +267,7 @@ int run(const Options& o, const OpChoice& op, Format f, std::unique_ptr<FpUnitMo
       }
       in.req_valid = have_current && !stalled();
       in.rsp_ready = !stalled();
-      const FpUnitOutputs out = clock.settle(in);
+      const harness::FpUnit::Outputs out = clock.settle(in);
 
       if (out.rsp_valid && in.rsp_ready) {
         const Pending p = pending.take(out.rsp.tag);
@@ -299,11 +300,11 @@ int run(const Options& o, const OpChoice& op, Format f, std::unique_ptr<FpUnitMo
       });
       clock.tick();
     }
-    FpUnitInputs idle = in;
+    harness::FpUnit::Inputs idle = in;
     idle.req_valid = false;
     idle.rsp_ready = true;
     cycles = clock.cycle();  // the run's, without the quiet cycles below
-    expect_quiet(clock, idle, 64, [](const FpUnitOutputs& out) {
+    expect_quiet(clock, idle, 64, [](const harness::FpUnit::Outputs& out) {
       return out.rsp_valid ? "an fp_rsp (tag " + hex(out.rsp.tag, spec::kFpTagBits) + ")" : std::string();
     });
   } catch (const CosimFailure& e) {
@@ -352,7 +353,7 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "fp_cosim: --unit is required to co-simulate\n");
       return 2;
     }
-    std::unique_ptr<FpUnitModel> model;
+    std::unique_ptr<Model<harness::FpUnit>> model;
     const int status = run(o, op, f, model);
     if (model) model->close_trace();
     return status;

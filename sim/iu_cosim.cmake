@@ -2,29 +2,23 @@
 # one Verilated rpu_iu per intersection mode for fp32 and rpu24 (the formats of the
 # spec's configurations) when they are co-simulated, and iu_cosim, which compares it
 # with the functional tracer's IU tests.
-set(rpu_iu_model_includes "")
-set(rpu_iu_model_entries "")
 set(rpu_iu_cases)
 if(NOT rpu_ray_unit_formats)
   return()  # neither fp32 nor rpu24 is co-simulated (RPU_COSIM_FORMATS)
 endif()
-add_library(rpu_iu_rtl_models STATIC ${CMAKE_CURRENT_BINARY_DIR}/iu_models.cpp)
-target_include_directories(rpu_iu_rtl_models PUBLIC ${CMAKE_CURRENT_SOURCE_DIR})
-# fst_output.hpp's OutputFile, in iu_models.cpp alone: the Verilated sources keep their
-# flags (no project warnings); iu_cosim links the library.
-set_source_files_properties(${CMAKE_CURRENT_BINARY_DIR}/iu_models.cpp PROPERTIES INCLUDE_DIRECTORIES ${PROJECT_SOURCE_DIR}/cmodel)
-target_link_libraries(rpu_iu_rtl_models PUBLIC rpu_spec)
+rpu_cosim_library(iu)
 foreach(format IN LISTS rpu_ray_unit_formats)
   foreach(isect woop watertight)
-    set(prefix Viu_${format}_${isect})
-    rpu_verilate(rpu_iu_rtl_models ${prefix} rpu_iu_cosim_top TRACE
-                 PARAMS ${rpu_widths_${format}} -GIsectMode=${rpu_isect_${isect}})
-    string(APPEND rpu_iu_model_includes "#include \"${prefix}.h\"\n")
-    string(APPEND rpu_iu_model_entries "    {\"${format}\", \"${isect}\", &make<${prefix}>},\n")
+    # The `ci` tier: both tests in fp32, rpu24 (rpu2005's format) with Woop's.
+    if(RPU_COSIM_TIER STREQUAL "ci" AND "${format} ${isect}" STREQUAL "rpu24 watertight")
+      continue()
+    endif()
+    rpu_cosim_model(iu Viu_${format}_${isect} TRACE FACTS format=${format} isect=${isect}
+                    PARAMS ${rpu_widths_${format}} -GIsectMode=${rpu_isect_${isect}})
     list(APPEND rpu_iu_cases "${format} ${isect}")
   endforeach()
 endforeach()
-configure_file(iu_models.cpp.in ${CMAKE_CURRENT_BINARY_DIR}/iu_models.cpp @ONLY)
+rpu_cosim_registry(iu)
 
 add_executable(iu_cosim iu_cosim.cpp)
 target_link_libraries(iu_cosim PRIVATE rpu_iu_rtl_models rpu_test_support rpu_output_file CLI11::CLI11 rpu_flags)
@@ -52,7 +46,6 @@ endforeach()
 # Synthesis of the IU in both modes with Yosys, each netlist simulated against 10^4 IU
 # tests captured from the functional tracer (rtl/flow.py synth --unit iu). Each takes
 # several minutes of CPU (docs/rtl.md), more than CI's budget has left: all under `slow`.
-find_program(RPU_YOSYS yosys)
 if(RPU_YOSYS)
   foreach(isect woop watertight)
     foreach(format fp16 rpu24 fp32)

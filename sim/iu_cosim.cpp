@@ -30,8 +30,9 @@
 #include "functional/scene_image.hpp"
 #include "functional/tracer.hpp"
 #include "harness_outputs.hpp"
-#include "iu_model.hpp"
 #include "iu_test_request.hpp"
+#include "model.hpp"
+#include "rpu/harness/iu.hpp"
 #include "rpu/spec.hpp"
 #include "scene/geometry.hpp"
 #include "scene/resolve.hpp"
@@ -243,9 +244,9 @@ struct Timing {
 // The tests of the full-rate burst: enough that the pipeline's fill is a small part.
 constexpr std::size_t kBurstTests = 1000;
 
-Timing measure_timing(IuModel& model, const std::vector<Transaction>& burst) {
+Timing measure_timing(Model<harness::Iu>& model, const std::vector<Transaction>& burst) {
   Clock clock(model);
-  IuInputs in;
+  harness::Iu::Inputs in;
   clock.reset(in);
   in.rsp_ready = true;
   Timing timing;
@@ -256,7 +257,7 @@ Timing measure_timing(IuModel& model, const std::vector<Transaction>& burst) {
     const std::uint64_t cycle = clock.cycle();
     if (next < burst.size()) in.req = iu_request_of(burst[next].test, static_cast<std::uint32_t>(next));
     in.req_valid = next < burst.size();
-    const IuOutputs out = clock.settle(in);
+    const harness::Iu::Outputs out = clock.settle(in);
     if (out.rsp_valid) {
       timing.latency = std::max(timing.latency, cycle - accepted.front());
       accepted.pop_front();
@@ -277,19 +278,19 @@ Timing measure_timing(IuModel& model, const std::vector<Transaction>& burst) {
 
 // `model` outlives the run, so that its waveforms are kept whether the run passed or
 // failed.
-int run(const Options& o, fp::Format f, TransactionSource& source, std::unique_ptr<IuModel>& model) {
-  model = make_iu_model(o.format, o.isect, o.seed, o.trace);
-  if (!model) {
-    std::fprintf(stderr, "iu_cosim: no model for format %s, isect %s; built:", o.format.c_str(), o.isect.c_str());
-    for (const IuModelName& n : iu_models()) std::fprintf(stderr, " %s/%s", n.format.c_str(), n.isect.c_str());
-    std::fprintf(stderr, "\n");
+int run(const Options& o, fp::Format f, TransactionSource& source, std::unique_ptr<Model<harness::Iu>>& model) {
+  const ModelInfo* info = find_model<harness::Iu>({{"format", o.format}, {"isect", o.isect}});
+  if (!info) {
+    std::fprintf(stderr, "iu_cosim: no model for format %s, isect %s; built: %s\n", o.format.c_str(), o.isect.c_str(),
+                 built_models<harness::Iu>().c_str());
     return 2;
   }
+  model = make_model<harness::Iu>(*info, o.seed, o.trace);
 
   Stalls stalled(o.seed ^ 0x5bd1e995u, o.stall_percent / 100.0);
   const std::uint32_t tag_mask = (1u << streams::kRayTagBits) - 1;
   Clock clock(*model);
-  IuInputs in;
+  harness::Iu::Inputs in;
   clock.reset(in);
 
   std::deque<Transaction> queue;
@@ -325,7 +326,7 @@ int run(const Options& o, fp::Format f, TransactionSource& source, std::unique_p
       if (have_current) in.req = iu_request_of(current.test, current_tag);
       in.req_valid = have_current && !stalled();
       in.rsp_ready = !stalled();
-      const IuOutputs out = clock.settle(in);
+      const harness::Iu::Outputs out = clock.settle(in);
 
       if (Pending* p = out.rsp_valid ? pending.find(out.rsp.tag) : nullptr; p && p->accepted != ~std::uint64_t{0}) {
         // Fixed latency: the response is first valid exactly `latency` unheld cycles after
@@ -359,11 +360,11 @@ int run(const Options& o, fp::Format f, TransactionSource& source, std::unique_p
       if (!(out.rsp_valid && !in.rsp_ready)) ++unheld;
       clock.tick();
     }
-    IuInputs idle = in;
+    harness::Iu::Inputs idle = in;
     idle.req_valid = false;
     idle.rsp_ready = true;
     cycles = clock.cycle();  // the run's, without the quiet cycles below
-    expect_quiet(clock, idle, 64, [](const IuOutputs& out) {
+    expect_quiet(clock, idle, 64, [](const harness::Iu::Outputs& out) {
       return out.rsp_valid ? "an iu_rsp (tag " + hex(out.rsp.tag, streams::kRayTagBits) + ")" : std::string();
     });
   } catch (const CosimFailure& e) {
@@ -383,7 +384,7 @@ int run(const Options& o, fp::Format f, TransactionSource& source, std::unique_p
   }
 
   // Latency and interval at full rate, on a fresh model.
-  std::unique_ptr<IuModel> fresh = make_iu_model(o.format, o.isect, o.seed, "");
+  std::unique_ptr<Model<harness::Iu>> fresh = make_model<harness::Iu>(*info, o.seed, "");
   const Timing timing = measure_timing(*fresh, burst);
   std::printf("iu cosim ok: format %s (%s), isect %s: %" PRId64 " rays, %" PRId64
               " IU tests (%" PRId64 " hits) match the functional model in %" PRIu64
@@ -462,7 +463,7 @@ int main(int argc, char** argv) {
     const rpu::IsectMode mode = o.isect == "woop" ? rpu::IsectMode::kWoop : rpu::IsectMode::kWatertight;
     TransactionSource source(o, f, mode);
     if (!o.write_vectors.empty()) return write_vectors(o, source);
-    std::unique_ptr<IuModel> model;
+    std::unique_ptr<Model<harness::Iu>> model;
     const int status = run(o, f, source, model);
     if (model) model->close_trace();
     return status;

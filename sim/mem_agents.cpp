@@ -28,9 +28,9 @@ std::vector<std::uint32_t> WordMemory::written() const {
   return out;
 }
 
-AddressPicker::AddressPicker(std::size_t cache, const CacheGeometry& geometry, std::mt19937_64& rng)
+AddressPicker::AddressPicker(std::size_t cache, const streams::CacheGeometry& geometry, std::mt19937_64& rng)
     : base_(static_cast<std::uint32_t>(cache) << kCacheSpanBits), geometry_(geometry) {
-  const std::uint32_t sets = geometry.sets();
+  const std::uint32_t sets = cache_sets(geometry);
   std::vector<std::uint32_t> all(sets);
   for (std::uint32_t s = 0; s < sets; ++s) all[s] = s;
   std::shuffle(all.begin(), all.end(), rng);
@@ -38,7 +38,7 @@ AddressPicker::AddressPicker(std::size_t cache, const CacheGeometry& geometry, s
 }
 
 std::uint32_t AddressPicker::pick(std::mt19937_64& rng) const {
-  const std::uint32_t sets = geometry_.sets();
+  const std::uint32_t sets = cache_sets(geometry_);
   std::uint32_t line;
   if (std::bernoulli_distribution(0.9)(rng)) {
     const std::uint32_t set = hot_sets_[std::uniform_int_distribution<std::size_t>(0, hot_sets_.size() - 1)(rng)];

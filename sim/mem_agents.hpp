@@ -11,7 +11,7 @@
 
 #include "cosim_core.hpp"
 #include "cycle/memory_system.hpp"
-#include "mem_model.hpp"
+#include "mem_shape.hpp"
 #include "rpu/spec.hpp"
 #include "rpu/streams.hpp"
 
@@ -45,12 +45,12 @@ inline std::size_t cache_of(std::uint32_t address) { return address >> kCacheSpa
 // 8 x the cache's lines.
 class AddressPicker {
  public:
-  AddressPicker(std::size_t cache, const CacheGeometry& geometry, std::mt19937_64& rng);
+  AddressPicker(std::size_t cache, const streams::CacheGeometry& geometry, std::mt19937_64& rng);
   std::uint32_t pick(std::mt19937_64& rng) const;
 
  private:
   std::uint32_t base_;
-  CacheGeometry geometry_;
+  streams::CacheGeometry geometry_;
   std::vector<std::uint32_t> hot_sets_;
 };
 
@@ -108,12 +108,12 @@ class DramServer {
 // an LRU cache that installs every miss holds, when no two misses overlap.
 class LruReference {
  public:
-  explicit LruReference(const CacheGeometry& geometry) : geometry_(geometry), sets_(geometry.sets()) {}
+  explicit LruReference(const streams::CacheGeometry& geometry) : geometry_(geometry), sets_(cache_sets(geometry)) {}
   // A read of the line: whether it hits; the line becomes the newest of its set.
   bool read(std::uint32_t line);
 
  private:
-  CacheGeometry geometry_;
+  streams::CacheGeometry geometry_;
   std::vector<std::list<std::uint32_t>> sets_;
 };
 

@@ -3,28 +3,19 @@
 # rtl-configs (read by spu_cosim.cmake), and one with the top's own defaults, the
 # corner cases, served by tiny's DRAM. mem_cosim drives them against a data oracle
 # and the cycle model's DRAM.
-set(rpu_mem_model_includes "")
-set(rpu_mem_model_entries "")
 set(rpu_mem_models)
-add_library(rpu_mem_rtl_models STATIC ${CMAKE_CURRENT_BINARY_DIR}/mem_models.cpp)
-target_include_directories(rpu_mem_rtl_models PUBLIC ${CMAKE_CURRENT_SOURCE_DIR})
-set_source_files_properties(${CMAKE_CURRENT_BINARY_DIR}/mem_models.cpp PROPERTIES INCLUDE_DIRECTORIES ${PROJECT_SOURCE_DIR}/cmodel)
-target_link_libraries(rpu_mem_rtl_models PUBLIC rpu_spec)
+rpu_cosim_library(mem)
 foreach(line IN LISTS rpu_rtl_config_lines)
   if(NOT line)
     continue()
   endif()
-  rpu_rtl_config("${line}" "^(Node|Triangle|Data)" config params)
-  rpu_verilate(rpu_mem_rtl_models Vmem_${config} rpu_mem_cosim_top TRACE ASSERT PARAMS ${params})
-  string(APPEND rpu_mem_model_includes "#include \"Vmem_${config}.h\"\n")
-  string(APPEND rpu_mem_model_entries "    {\"${config}\", \"${config}\", &make<Vmem_${config}>},\n")
+  rpu_rtl_config("${line}" mem config params)
+  rpu_cosim_model(mem Vmem_${config} TRACE ASSERT FACTS name=${config} dram=${config} PARAMS ${params})
   list(APPEND rpu_mem_models ${config})
 endforeach()
-rpu_verilate(rpu_mem_rtl_models Vmem_corners rpu_mem_cosim_top TRACE ASSERT)
-string(APPEND rpu_mem_model_includes "#include \"Vmem_corners.h\"\n")
-string(APPEND rpu_mem_model_entries "    {\"corners\", \"tiny\", &make<Vmem_corners>},\n")
+rpu_cosim_model(mem Vmem_corners TRACE ASSERT FACTS name=corners dram=tiny)
 list(APPEND rpu_mem_models corners)
-configure_file(mem_models.cpp.in ${CMAKE_CURRENT_BINARY_DIR}/mem_models.cpp @ONLY)
+rpu_cosim_registry(mem)
 
 add_executable(mem_cosim mem_cosim.cpp mem_agents.cpp)
 target_include_directories(mem_cosim PRIVATE ${CMAKE_CURRENT_SOURCE_DIR})
@@ -48,3 +39,14 @@ foreach(model IN LISTS rpu_mem_models)
            COMMAND mem_cosim --model ${model} --cache all --requests 1000000 --coverage)
   set_tests_properties(slow.cosim.mem.${model} PROPERTIES LABELS slow TIMEOUT 7200)
 endforeach()
+
+if(RPU_YOSYS)
+  # tiny's data cache alone, then tiny's memory system, whose netlist replays every
+  # cycle of a mem_cosim run (rtl/flow.py synth --unit mem; docs/memory-system.md).
+  add_test(NAME slow.synth.mem.tiny
+    COMMAND Python3::Interpreter ${PROJECT_SOURCE_DIR}/rtl/flow.py synth
+            --unit mem --config tiny --pkg ${RPU_SPEC_SV} --cosim $<TARGET_FILE:mem_cosim>
+            --out ${CMAKE_CURRENT_BINARY_DIR}/synth_mem --vectors 10000
+            --yosys ${RPU_YOSYS} --verilator ${VERILATOR_BIN})
+  set_tests_properties(slow.synth.mem.tiny PROPERTIES LABELS slow TIMEOUT 3600)
+endif()

@@ -32,7 +32,8 @@
 #include "cosim_core.hpp"
 #include "harness_outputs.hpp"
 #include "mem_agents.hpp"
-#include "mem_model.hpp"
+#include "mem_shape.hpp"
+#include "model.hpp"
 
 namespace {
 
@@ -56,29 +57,8 @@ struct Options {
   std::string trace, vectors;
 };
 
-// Records the ports of every cycle it settles, once started (rtl/flow.py's netlist
-// testbench replays them).
-class RecordingModel final : public MemModel {
- public:
-  RecordingModel(std::unique_ptr<MemModel> inner, OutputFile* file) : inner_(std::move(inner)) {
-    if (file) writer_.emplace(file->stream());
-  }
-  void start() { recording_ = writer_.has_value(); }
-  MemOutputs settle(const MemInputs& in) override {
-    MemOutputs out = inner_->settle(in);
-    if (recording_) writer_->write(inner_->port_words());
-    return out;
-  }
-  void clock() override { inner_->clock(); }
-  std::array<CacheGeometry, kMemCaches> geometry() override { return inner_->geometry(); }
-  PortWords port_words() override { return inner_->port_words(); }
-  void close_trace() override { inner_->close_trace(); }
-
- private:
-  std::unique_ptr<MemModel> inner_;
-  std::optional<VectorWriter> writer_;
-  bool recording_ = false;
-};
+using MemModel = Model<harness::Mem>;
+using MemRecorder = RecordingModel<harness::Mem>;
 
 // A cache port's requester: random reads and writes, each tag in flight at most once.
 struct RawPort {
@@ -97,7 +77,7 @@ struct InOrderPort {
 };
 
 struct CacheRun {
-  CacheGeometry geometry;
+  streams::CacheGeometry geometry;
   bool active = false;
   std::optional<AddressPicker> picker;
   std::uint64_t budget = 0;  // requests still to send
@@ -125,10 +105,11 @@ class Harness {
  public:
   Harness(const Options& o, MemModel& model, const spec::DramConfig& dram)
       : o_(o), model_(model), clock_(model), stalls_(o.seed, o.stall), dram_(dram) {
-    const auto geometry = model.geometry();
+    harness::Mem::Outputs geometry;
+    model.read_on_demand(geometry);
     for (std::size_t c = 0; c < kMemCaches; ++c) {
       CacheRun& cr = caches_[c];
-      cr.geometry = geometry[c];
+      cr.geometry = geometry.geometry[c];
       cr.active = o.cache == "all" || o.cache == kCacheNames[c];
       cr.picker.emplace(c, cr.geometry, stalls_.rng());
       cr.budget = cr.active ? o.requests : 0;
@@ -145,7 +126,7 @@ class Harness {
     }
   }
 
-  void run(RecordingModel& recorder);
+  void run(MemRecorder* recorder);
   void report(double seconds) const;
 
  private:
@@ -167,8 +148,8 @@ class Harness {
   std::array<CacheRun, kMemCaches> caches_;
   std::array<RawPort, kRaw> raw_;
   std::array<InOrderPort, kInOrder> inorder_;
-  MemInputs in_;
-  MemOutputs out_;
+  harness::Mem::Inputs in_;
+  harness::Mem::Outputs out_;
   // --serial: the counters when the outstanding read was taken, and its miss timing.
   streams::CacheCounters serial_before_;
   std::uint64_t dram_taken_ = 0, dram_answered_ = 0;
@@ -246,7 +227,7 @@ void Harness::check_serial_answer(std::size_t cache, const ExpectedRead& e, std:
     throw CosimFailure(fmt::format("{}: the LRU reference says {} (line {:#x}, set {}), the cache counted {} hit(s), "
                                    "{} miss(es), {} merged",
                                    where, e.hit ? "hit" : "miss", e.addr / streams::kDramLineBytes,
-                                   e.addr / streams::kDramLineBytes % cr.geometry.sets(), hits, misses, merged));
+                                   e.addr / streams::kDramLineBytes % cache_sets(cr.geometry), hits, misses, merged));
   }
   const std::uint64_t latency = now - e.taken;
   if (e.hit && latency != cr.geometry.hit_latency) {
@@ -296,11 +277,11 @@ bool Harness::traffic_left() const {
   return !dram_.idle();
 }
 
-void Harness::run(RecordingModel& recorder) {
+void Harness::run(MemRecorder* recorder) {
   clock_.reset(in_);
   out_ = clock_.settle(in_);  // the idle outputs before the first cycle
   // From here every settle is a cycle the netlist testbench replays (one clock each).
-  recorder.start();
+  if (recorder) recorder->start();
   Watchdog watchdog(100'000);
   while (traffic_left()) {
     const std::uint64_t now = clock_.cycle();
@@ -415,14 +396,14 @@ void Harness::run(RecordingModel& recorder) {
 
 void Harness::finish() {
   // Nothing more may come out: answers nobody asked for, memory requests.
-  MemInputs idle = in_;
+  harness::Mem::Inputs idle = in_;
   idle.req_valid.fill(false);
   idle.mem_req_valid.fill(false);
   idle.rsp_ready.fill(true);
   idle.mem_rsp_ready.fill(true);
   idle.dram_req_ready = true;
   idle.dram_rsp_valid = false;
-  expect_quiet(clock_, idle, 64, [&](const MemOutputs& out) -> std::string {
+  expect_quiet(clock_, idle, 64, [&](const harness::Mem::Outputs& out) -> std::string {
     for (std::size_t k = 0; k < kRaw; ++k) {
       if (out.rsp_valid[k]) return fmt::format("cache_rsp on cache port {} with tag {:#x}", k, out.rsp[k].tag);
     }
@@ -484,7 +465,7 @@ void Harness::report(double seconds) const {
     fmt::print("  {} ({} B, {} ways, {} sets, hit latency {}, {} MSHRs): {} reads, {} writes; accesses {}, hits {}, "
                "merged {}, misses {}, writes {}, mshr_wait {}; line reads {} ({} refetched), writes to a filling "
                "line {}\n",
-               kCacheNames[c], cr.geometry.bytes, cr.geometry.ways, cr.geometry.sets(), cr.geometry.hit_latency,
+               kCacheNames[c], cr.geometry.bytes, cr.geometry.ways, cache_sets(cr.geometry), cr.geometry.hit_latency,
                cr.geometry.mshrs, cr.reads, cr.writes, k.accesses, k.hits, k.merged, k.misses, k.writes, k.mshr_wait,
                d.reads, d.refetches, cr.writes_on_fill);
   }
@@ -502,29 +483,30 @@ void Harness::report(double seconds) const {
 }
 
 int run(const Options& o, std::unique_ptr<MemModel>& model, std::unique_ptr<OutputFile>& vectors) {
-  std::string dram_config;
-  for (const MemModelEntry& e : mem_models()) {
-    if (e.name == o.model) dram_config = e.dram;
+  const ModelInfo* info = find_model<harness::Mem>({{"name", o.model}});
+  if (!info) {
+    throw Error(fmt::format("no memory-system model '{}' in this build (built: {})", o.model,
+                            built_models<harness::Mem>()));
   }
-  auto inner = make_mem_model(o.model, o.seed, o.trace);
-  if (!inner) {
-    std::string built;
-    for (const MemModelEntry& e : mem_models()) built += " " + e.name;
-    throw Error(fmt::format("no memory-system model '{}' in this build (built:{})", o.model, built));
-  }
+  const std::string dram_config(info->fact("dram"));
+  model = make_model<harness::Mem>(*info, o.seed, o.trace);
   if (o.serial && o.cache == "all") throw Error("--serial runs one cache: name it with --cache");
-  if (!vectors && !o.vectors.empty()) vectors = std::make_unique<OutputFile>(o.vectors);
-  auto recorder = std::make_unique<RecordingModel>(std::move(inner), vectors.get());
-  RecordingModel& rec = *recorder;
-  model = std::move(recorder);
+  MemRecorder* recorder = nullptr;
+  if (!o.vectors.empty()) {
+    if (!vectors) vectors = std::make_unique<OutputFile>(o.vectors);
+    auto recording = std::make_unique<MemRecorder>(std::move(model), vectors->stream());
+    recorder = recording.get();
+    model = std::move(recording);
+  }
 
   // A named configuration's model must have that configuration's caches.
-  const auto geometry = model->geometry();
+  harness::Mem::Outputs geometry;
+  model->read_on_demand(geometry);
   if (o.model == dram_config) {
     const spec::HardwareConfig& hc = hardware_config(o.model);
     const spec::CacheConfig* want[kMemCaches] = {&hc.node_cache, &hc.triangle_cache, &hc.data_cache};
     for (std::size_t c = 0; c < kMemCaches; ++c) {
-      const CacheGeometry& g = geometry[c];
+      const streams::CacheGeometry& g = geometry.geometry[c];
       const spec::CacheConfig& w = *want[c];
       if (g.bytes != static_cast<std::uint32_t>(w.bytes) || g.ways != static_cast<std::uint32_t>(w.ways) ||
           g.hit_latency != static_cast<std::uint32_t>(w.hit_latency) ||
@@ -537,7 +519,7 @@ int run(const Options& o, std::unique_ptr<MemModel>& model, std::unique_ptr<Outp
 
   Harness harness(o, *model, hardware_config(dram_config).dram);
   const auto start = std::chrono::steady_clock::now();
-  harness.run(rec);
+  harness.run(recorder);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (vectors) {
     vectors->commit();

@@ -8,7 +8,7 @@
 // line each, its words least significant first) for flow.py to rebuild the frame from.
 // The vector file: a line "<input words> <output words>", then per cycle the ports'
 // 32-bit words, least significant first, inputs then outputs, in the top's port order
-// (sim/verilated_chip.hpp, port_words). Stops at the first mismatch with the cycle, the
+// (the chip harness's binding, port_words: spec/harnesses.py). Stops at the first mismatch with the cycle, the
 // port and its words.
 //   Vrpu_chip_netlist_tb +vectors=FILE [+requests=FILE]
 // The port widths are parameters (flow.py reads them from the netlist and the spec;

@@ -5,7 +5,7 @@
 // oracle, the DRAM's timing) held for the RTL; a netlist that matches it cycle for
 // cycle passes them too. The file: a line "<input words> <output words>", then per
 // cycle the ports' 32-bit words, least significant first, inputs then outputs, in the
-// top's port order (sim/verilated_mem.hpp, port_words). Stops at the first mismatch.
+// top's port order (the mem harness's binding, port_words: spec/harnesses.py). Stops at the first mismatch.
 //   Vrpu_mem_netlist_tb +vectors=FILE
 // The port widths are parameters (flow.py reads them from the netlist and the spec;
 // Icarus 11 does not read rpu_pkg.sv).
@@ -20,7 +20,8 @@ module rpu_mem_netlist_tb #(
   parameter integer MemRspBits   = 1,
   parameter integer DramReqBits  = 1,
   parameter integer DramRspBits  = 1,
-  parameter integer CounterBits  = 1   // cache_counters
+  parameter integer CounterBits  = 1,  // cache_counters
+  parameter integer GeometryBits = 1   // cache_geometry
 );
 
   // Each port's words and its first word in the cycle's line.
@@ -34,6 +35,7 @@ module rpu_mem_netlist_tb #(
   localparam integer WDRsp  = (DramRspBits + 31) / 32;
   localparam integer WCnt   = (Caches * CounterBits + 31) / 32;
   localparam integer WIdle  = (Caches + 31) / 32;
+  localparam integer WGeo   = (Caches * GeometryBits + 31) / 32;
 
   localparam integer IRst      = 0;
   localparam integer IReqValid = IRst + 1;
@@ -58,7 +60,8 @@ module rpu_mem_netlist_tb #(
   localparam integer ODRspReady = ODReq + WDReq;
   localparam integer OCnt       = ODRspReady + 1;
   localparam integer OIdle      = OCnt + WCnt;
-  localparam integer OutWords   = OIdle + WIdle;
+  localparam integer OGeo       = OIdle + WIdle;
+  localparam integer OutWords   = OGeo + WGeo;
 
   reg clk = 1'b0;
   reg rst_n = 1'b0;
@@ -78,7 +81,7 @@ module rpu_mem_netlist_tb #(
   wire [DramReqBits-1:0]         dram_req;
   wire [Caches*CounterBits-1:0]  counters;
   wire [Caches-1:0]              idle;
-  wire [Caches*128-1:0]          geometry;
+  wire [Caches*GeometryBits-1:0] geometry;
   assign got[OReqReady*32 +: WRawV*32]  = req_ready;
   assign got[ORspValid*32 +: WRawV*32]  = rsp_valid;
   assign got[ORsp*32 +: WRsp*32]        = rsp;
@@ -90,6 +93,7 @@ module rpu_mem_netlist_tb #(
   assign got[ODRspReady*32 +: 32]       = dram_rsp_ready;
   assign got[OCnt*32 +: WCnt*32]        = counters;
   assign got[OIdle*32 +: WIdle*32]      = idle;
+  assign got[OGeo*32 +: WGeo*32]        = geometry;
 
   rpu_mem_cosim_top dut (
     .clk_i(clk), .rst_ni(rst_n),
@@ -144,7 +148,7 @@ module rpu_mem_netlist_tb #(
         for (k = 0; k < OutWords; k = k + 1) begin
           if (got[k*32 +: 32] !== want[k*32 +: 32]) begin
             $display("netlist FAIL: cycle %0d: output word %0d is %h, the RTL's was %h (ports in the order of %0s)",
-                     cycle, k, got[k*32 +: 32], want[k*32 +: 32], "sim/verilated_mem.hpp port_words");
+                     cycle, k, got[k*32 +: 32], want[k*32 +: 32], "the mem harness's port_words");
           end
         end
         $fatal(1);

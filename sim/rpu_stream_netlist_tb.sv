@@ -1,5 +1,5 @@
 // Testbench for a Yosys netlist of a unit with one request and one response stream in
-// order (rpu_fp_cosim_top, rpu_iu_cosim_top; rtl/flow.py synth), for Verilator (--binary,
+// order (rpu_fp_unit_cosim_top, rpu_iu_cosim_top; rtl/flow.py synth), for Verilator (--binary,
 // the default) or Icarus: reads the request and expected response words that the unit's
 // harness wrote (fp_cosim, iu_cosim --write-vectors), drives the requests through the
 // valid/ready port with random stalls, and compares every response with the model's,

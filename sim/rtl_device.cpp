@@ -99,12 +99,12 @@ void RtlDevice::run(const ProgressCallback& progress) {
     throw Error(fmt::format("the image's intersection mode is {}, the rtl backend's chip {}",
                             isect_name(layout_.isect_mode), isect_name(options_.isect)));
   }
-  std::unique_ptr<ChipModel> model =
-      make_chip_model({std::string(config_.name), isect_name(options_.isect)}, 1, options_.waves);
-  if (!model) {
+  const ModelInfo* info = find_model<harness::Chip>({{"config", config_.name}, {"isect", isect_name(options_.isect)}});
+  if (!info) {
     throw Error(fmt::format("no RTL chip model for configuration '{}' with the {} test in this build (built: {})",
                             config_.name, isect_name(options_.isect), rtl_models_built()));
   }
+  std::unique_ptr<Model<harness::Chip>> model = make_model<harness::Chip>(*info, 1, options_.waves);
   model->set_wave_window(options_.wave_begin, options_.wave_end);
   ChipFrame frame;
   frame.config = &config_;
@@ -120,7 +120,7 @@ void RtlDevice::run(const ProgressCallback& progress) {
   if (progress) run.progress = [&progress](std::uint64_t done, std::uint64_t total) { progress(done, total); };
   ChipRunResult r;
   try {
-    r = run_chip_frame(*model, frame, run);
+    r = run_chip_frame(*model, *info, frame, run);
   } catch (...) {
     model->close_trace();
     throw;
@@ -196,7 +196,9 @@ void RtlDevice::throw_fault(const ChipFault& f) const {
 
 std::string rtl_models_built() {
   std::string s;
-  for (const ChipModelName& n : chip_models()) s += (s.empty() ? "" : ", ") + n.config + "/" + n.isect;
+  for (const ModelInfo& m : models<harness::Chip>()) {
+    s += fmt::format("{}{}/{}", s.empty() ? "" : ", ", m.fact("config"), m.fact("isect"));
+  }
   return s.empty() ? "none" : s;
 }
 

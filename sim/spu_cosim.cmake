@@ -6,31 +6,20 @@ execute_process(COMMAND ${Python3_EXECUTABLE} ${PROJECT_SOURCE_DIR}/spec/gen.py
                         --spec-dir ${PROJECT_SOURCE_DIR}/spec --list rtl-configs
                 OUTPUT_VARIABLE rpu_rtl_config_lines COMMAND_ERROR_IS_FATAL ANY)
 string(REPLACE "\n" ";" rpu_rtl_config_lines "${rpu_rtl_config_lines}")
-# The parameters rpu_spu_cosim_top has (a core of its own: one core, no ray units).
-set(rpu_spu_top_params Threads ChunkSize Registers CallDepth StackBytes SfuUnits ExpBits FracBits)
 set(rpu_spu_code_words 4096)
 
-set(rpu_spu_model_includes "")
-set(rpu_spu_model_entries "")
 set(rpu_spu_configs)
-add_library(rpu_spu_rtl_models STATIC ${CMAKE_CURRENT_BINARY_DIR}/spu_models.cpp)
-target_include_directories(rpu_spu_rtl_models PUBLIC ${CMAKE_CURRENT_SOURCE_DIR})
-set_source_files_properties(${CMAKE_CURRENT_BINARY_DIR}/spu_models.cpp PROPERTIES INCLUDE_DIRECTORIES ${PROJECT_SOURCE_DIR}/cmodel)
-target_link_libraries(rpu_spu_rtl_models PUBLIC rpu_spec)
+rpu_cosim_library(spu)
 foreach(line IN LISTS rpu_rtl_config_lines)
   if(NOT line)
     continue()
   endif()
-  list(JOIN rpu_spu_top_params "|" names)
-  rpu_rtl_config("${line}" "^(${names})$" config config_params)
-  set(params -GCodeWords=${rpu_spu_code_words} ${config_params})
-  set(prefix Vspu_${config})
-  rpu_verilate(rpu_spu_rtl_models ${prefix} rpu_spu_cosim_top TRACE ASSERT PARAMS ${params})
-  string(APPEND rpu_spu_model_includes "#include \"${prefix}.h\"\n")
-  string(APPEND rpu_spu_model_entries "    {\"${config}\", &make<${prefix}, ${rpu_spu_code_words}>},\n")
+  rpu_rtl_config("${line}" spu config config_params)
+  rpu_cosim_model(spu Vspu_${config} TRACE ASSERT FACTS config=${config} code_words=${rpu_spu_code_words}
+                  PARAMS -GCodeWords=${rpu_spu_code_words} ${config_params})
   list(APPEND rpu_spu_configs ${config})
 endforeach()
-configure_file(spu_models.cpp.in ${CMAKE_CURRENT_BINARY_DIR}/spu_models.cpp @ONLY)
+rpu_cosim_registry(spu)
 
 add_library(rpu_spu_check STATIC spu_checker.cpp spu_agents.cpp)
 target_include_directories(rpu_spu_check PUBLIC ${CMAKE_CURRENT_SOURCE_DIR})
@@ -86,12 +75,15 @@ endforeach()
 
 # Random programs (sim/progen, docs/random-programs.md) in lockstep, every fifth ending
 # in a fault class in turn, each chunk of a thousand required to cover every
-# instruction, event and fault class. CI: 10^4 programs of at most 5 statements a block
-# (4,000 on tiny, 3,000 on default and on rpu2005); `slow`: 10^6 of progen's full size.
+# instruction, event and fault class: programs of at most 5 statements a block, 4,000 on
+# tiny and 3,000 on each other core (1,000 in the `ci` tier); `slow`: 10^6 of progen's
+# full size.
 foreach(config IN LISTS rpu_spu_configs)
   set(chunks 3)
   if(config STREQUAL "tiny")
     set(chunks 4)
+  elseif(RPU_COSIM_TIER STREQUAL "ci")
+    set(chunks 1)
   endif()
   math(EXPR last "${chunks} - 1")
   foreach(k RANGE ${last})

@@ -28,11 +28,12 @@
 #include "common/output_file.hpp"
 #include "harness_outputs.hpp"
 #include "host_setup.hpp"
+#include "model.hpp"
 #include "spu_agents.hpp"
 #include "spu_checker.hpp"
-#include "spu_model.hpp"
 #include "progen/coverage.hpp"
 #include "progen/progen.hpp"
+#include "rpu/harness/spu.hpp"
 
 namespace {
 
@@ -97,20 +98,19 @@ struct FrameResult {
 // One frame on a fresh model in lockstep; CosimFailure at the first difference.
 // `observer` sees the functional model's steps (coverage).
 FrameResult run_frame(const Options& o, const Bench& bench, const Frame& frame, std::uint64_t seed,
-                      const std::string& fst, std::unique_ptr<SpuModel>& model,
+                      const std::string& fst, std::unique_ptr<Model<harness::Spu>>& model,
                       progen::StepObserver* observer = nullptr) {
   const spec::HardwareConfig& config = bench.config;
   const isa::Firmware& firmware = *frame.firmware;
-  model = make_spu_model(std::string(config.name), seed, fst);
-  if (!model) {
-    std::string built;
-    for (const std::string& n : spu_models()) built += " " + n;
-    throw Error(fmt::format("no shader-core model for configuration '{}' in this build (built:{})", config.name,
-                            built));
+  const ModelInfo* info = find_model<harness::Spu>({{"config", config.name}});
+  if (!info) {
+    throw Error(fmt::format("no shader-core model for configuration '{}' in this build (built: {})", config.name,
+                            built_models<harness::Spu>()));
   }
-  if (firmware.code.size() > model->code_words()) {
+  model = make_model<harness::Spu>(*info, seed, fst);
+  if (firmware.code.size() > static_cast<std::size_t>(info->number("code_words"))) {
     throw Error(fmt::format("the firmware has {} instructions; the core's code memory holds {}", firmware.code.size(),
-                            model->code_words()));
+                            info->number("code_words")));
   }
   const functional::SceneImage& si = bench.scene;
   const device::Launch& launch = frame.launch;
@@ -157,8 +157,8 @@ FrameResult run_frame(const Options& o, const Bench& bench, const Frame& frame, 
   CachePortServer mem_server(memory, o.memory, stalls.rng());
   RayServer ray_server(*bench.tracer, o.rays, stalls.rng());
 
-  Clock<SpuModel> clock(*model);
-  SpuInputs in;
+  Clock<Model<harness::Spu>> clock(*model);
+  harness::Spu::Inputs in;
   in.launch = lf;
   clock.reset(in);
   const std::uint64_t first_cycle = write_code_and_start(clock, in, firmware.code);
@@ -178,7 +178,7 @@ FrameResult run_frame(const Options& o, const Bench& bench, const Frame& frame, 
     in.stop = stop_pixel.has_value();
     in.stop_pixel = stop_pixel.value_or(0);
 
-    const SpuOutputs out = clock.settle(in);
+    const harness::Spu::Outputs out = clock.settle(in);
     if (out.done && mem_server.idle() && ray_server.idle()) break;
     if (now - first_cycle > o.max_cycles) {
       throw CosimFailure(fmt::format("the frame did not end in {} cycles", o.max_cycles));
@@ -233,7 +233,7 @@ FrameResult run_frame(const Options& o, const Bench& bench, const Frame& frame, 
 }
 
 // One frame of firmware over a scene (the default mode).
-int run_firmware(const Options& o, std::unique_ptr<SpuModel>& model) {
+int run_firmware(const Options& o, std::unique_ptr<Model<harness::Spu>>& model) {
   const Bench bench(hardware_config(o.config), o.scene);
   const isa::Firmware firmware =
       o.firmware.empty() ? isa::builtin_firmware("whitted.s") : isa::load_firmware_or_assemble(o.firmware);
@@ -257,7 +257,7 @@ int run_firmware(const Options& o, std::unique_ptr<SpuModel>& model) {
 // Random programs (docs/random-programs.md), each a frame in lockstep on a fresh model;
 // every fault_every-th one ends in a fault class, the classes in turn. A failing
 // program is shrunk to a small one that still fails, and printed.
-int run_random(const Options& o, std::unique_ptr<SpuModel>& model) {
+int run_random(const Options& o, std::unique_ptr<Model<harness::Spu>>& model) {
   const spec::HardwareConfig& config = hardware_config(o.config);
   const Bench bench(config, o.scene);
   progen::Options po = progen::Options::for_config(config);
@@ -301,7 +301,7 @@ int run_random(const Options& o, std::unique_ptr<SpuModel>& model) {
       std::string last = first.what();
       const progen::Program small = progen::shrink(program, [&](const progen::Program& p) {
         const isa::Firmware fw = p.firmware();
-        std::unique_ptr<SpuModel> m;
+        std::unique_ptr<Model<harness::Spu>> m;
         try {
           run_frame(o, bench, frame_of(p, fw), seed, "", m);
           return false;
@@ -329,7 +329,7 @@ int run_random(const Options& o, std::unique_ptr<SpuModel>& model) {
 }
 
 // `model` outlives the run, so that its waveforms are closed also after a failure.
-int run(const Options& o, std::unique_ptr<SpuModel>& model) {
+int run(const Options& o, std::unique_ptr<Model<harness::Spu>>& model) {
   return o.random ? run_random(o, model) : run_firmware(o, model);
 }
 
@@ -362,6 +362,6 @@ int main(int argc, char** argv) {
                "fail unless the random programs covered every instruction, event and fault class");
   CLI11_PARSE(app, argc, argv);
   report_sigbus_as_write_failure("spu_cosim");
-  std::unique_ptr<SpuModel> model;
-  return run_harness("spu_cosim", o.trace, "", model, [&o](std::unique_ptr<SpuModel>& m) { return run(o, m); });
+  std::unique_ptr<Model<harness::Spu>> model;
+  return run_harness("spu_cosim", o.trace, "", model, [&o](std::unique_ptr<Model<harness::Spu>>& m) { return run(o, m); });
 }

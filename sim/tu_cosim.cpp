@@ -53,10 +53,11 @@
 #include "host_setup.hpp"
 #include "iu_test_request.hpp"
 #include "kdtree/kdtree.hpp"
+#include "model.hpp"
+#include "rpu/harness/tu.hpp"
 #include "scene/geometry.hpp"
 #include "scene/resolve.hpp"
 #include "trace_fixtures.hpp"
-#include "tu_model.hpp"
 
 namespace rpu::sim {
 namespace {
@@ -456,7 +457,7 @@ cycle::Cycle model_pipe_cycles(const std::vector<Case>& cases, const cycle::Pipe
 
 // `model` outlives the run, so that its waveforms are kept whether the run passed or
 // failed.
-int run(const Options& o, std::unique_ptr<TuModel>& model) {
+int run(const Options& o, std::unique_ptr<Model<harness::Tu>>& model) {
   const fp::Format format = fp::format_by_name(o.format);
   const bool watertight = o.isect == "watertight";
   const Scene scene = scaled(resolve_scene(o.scene), o.scale);
@@ -496,25 +497,20 @@ int run(const Options& o, std::unique_ptr<TuModel>& model) {
 
   if (!o.write_vectors.empty()) return write_vectors(o, si, tracer, cases);
 
-  const TuModelName name{o.format, o.isect, o.with_iu, o.slots, o.pipe};
-  model = make_tu_model(name, o.seed, o.trace);
-  int setups = 0;  // the built pipelined unit's set-up engines
-  for (const TuModelName& n : tu_models()) {
-    if (n.format == name.format && n.isect == name.isect && n.with_iu == name.with_iu && n.slots == name.slots &&
-        n.pipe == name.pipe) {
-      setups = n.setups;
-    }
-  }
-  if (!model) {
-    std::string built;
-    for (const TuModelName& n : tu_models()) {
-      built += " " + n.format + "/" + n.isect + (n.with_iu ? "+iu" : "") + "/" + std::to_string(n.slots) + "slots" +
-               (n.pipe ? "/pipe" : "");
-    }
-    std::fprintf(stderr, "tu_cosim: no model for %s/%s%s/%dslots%s in this build; built:%s\n", o.format.c_str(),
-                 o.isect.c_str(), o.with_iu ? "+iu" : "", o.slots, o.pipe ? "/pipe" : "", built.c_str());
+  const std::string slots = std::to_string(o.slots);
+  const ModelInfo* info = find_model<harness::Tu>({{"format", o.format}, {"isect", o.isect},
+                                                   {"with_iu", o.with_iu ? "1" : "0"}, {"slots", slots},
+                                                   {"pipe", o.pipe ? "1" : "0"}});
+  if (!info) {
+    std::fprintf(stderr, "tu_cosim: no model with format=%s isect=%s with_iu=%d slots=%d pipe=%d in this build; "
+                 "built: %s\n", o.format.c_str(), o.isect.c_str(), o.with_iu ? 1 : 0, o.slots, o.pipe ? 1 : 0,
+                 built_models<harness::Tu>().c_str());
     return 2;
   }
+  model = make_model<harness::Tu>(*info, o.seed, o.trace);
+  const int setups = info->number("setups");  // the built pipelined unit's set-up engines
+  // The TU alone leaves its IU port to the harness's C++ IU; the ray unit has its own.
+  const bool iu_port = !o.with_iu;
 
   Stalls stalled(o.seed, o.stall);
   std::mt19937_64& rng = stalled.rng();  // also the agents' delays and the IU's junk on a miss
@@ -532,7 +528,7 @@ int run(const Options& o, std::unique_ptr<TuModel>& model) {
   std::uint64_t mem_last = 0, iu_last = 0;
   const std::uint32_t tag_mask = (1u << streams::kRayTagBits) - 1;
 
-  TuInputs in;
+  harness::Tu::Inputs in;
   in.cfg = tu_config(si.layout);
   Clock clock(*model);
   clock.reset(in);
@@ -580,7 +576,7 @@ int run(const Options& o, std::unique_ptr<TuModel>& model) {
       in.iu_rsp_valid = !iu_q.empty() && (iu_presented || iu_q[iu_pick].ready <= cycle) && !stalled();
       if (in.iu_rsp_valid) in.iu_rsp = iu_q[iu_pick].iu;
 
-      const TuOutputs out = clock.settle(in);
+      const harness::Tu::Outputs out = clock.settle(in);
 
       // Cycles the unit spends waiting: a request presented or a response owed.
       const bool waiting = out.mem_req_valid || !mem_q.empty() || out.iu_req_valid || !iu_q.empty();
@@ -630,7 +626,7 @@ int run(const Options& o, std::unique_ptr<TuModel>& model) {
         mem_q.push_back({mem_last, addr, {}});
       }
       if (in.mem_rsp_valid && out.mem_rsp_ready) mem_q.pop_front();
-      if (model->has_iu_port()) {
+      if (iu_port) {
         if (out.iu_req_valid && in.iu_req_ready) {
           iu_last = std::max(iu_last, cycle + static_cast<std::uint64_t>(o.iu_latency) +
                                           std::uniform_int_distribution<int>(0, o.iu_jitter)(rng));
@@ -647,12 +643,11 @@ int run(const Options& o, std::unique_ptr<TuModel>& model) {
       return fail(std::to_string(mem_q.size()) + " memory and " + std::to_string(iu_q.size()) +
                   " IU responses never taken after the last ray");
     }
-    TuInputs idle = in;
+    harness::Tu::Inputs idle = in;
     idle.req_valid = idle.mem_rsp_valid = idle.iu_rsp_valid = false;
     idle.rsp_ready = idle.mem_req_ready = idle.iu_req_ready = true;
-    const bool iu_port = model->has_iu_port();
     cycles = clock.cycle();  // the run's, without the quiet cycles below
-    expect_quiet(clock, idle, 64, [iu_port](const TuOutputs& out) {
+    expect_quiet(clock, idle, 64, [iu_port](const harness::Tu::Outputs& out) {
       return out.rsp_valid       ? "a tu_rsp (tag " + hex(out.rsp.tag, streams::kRayTagBits) + ")"
              : out.mem_req_valid ? "a mem_req (addr " + hex(out.mem_req.addr, 32) + ")"
              : iu_port && out.iu_req_valid ? "an iu_req (tag " + hex(out.iu_req.tag, streams::kRayTagBits) + ")"
@@ -817,7 +812,7 @@ int main(int argc, char** argv) {
   rpu::report_sigbus_as_write_failure("tu_cosim");
   try {
     rpu::sim::check_output_paths(o.trace, o.write_vectors);
-    std::unique_ptr<rpu::sim::TuModel> model;
+    std::unique_ptr<rpu::sim::Model<rpu::sim::harness::Tu>> model;
     const int status = rpu::sim::run(o, model);
     if (model) model->close_trace();
     return status;

@@ -20,6 +20,11 @@
 // on request, and the copy of a stream between its flat port and its words.
 namespace rpu::sim {
 
+// How a harness's Inputs and Outputs (rpu/harness/<name>.hpp) reach a Verilated top's
+// ports: each harness's specialisation is generated (rpu/harness/<name>_binding.hpp).
+template <class Ports>
+struct Binding;
+
 // A stream's words into a flat port of its width: Verilator keeps a port of up to 32
 // bits in one integer, up to 64 in a 64-bit one and wider ones as 32-bit words, bit k
 // in bit k % 32 of word k / 32 as rpu::streams packs it.
@@ -70,18 +75,6 @@ inline void copy_bits(std::uint32_t* dst, std::size_t dst_lsb, const std::uint32
 
 }  // namespace detail
 
-// True when a flat port holds exactly `n` streams S back to back (its width rounded up
-// to whole words, as Verilator stores it).
-template <class S, std::size_t n, class Port>
-constexpr bool holds_streams() {
-  constexpr std::size_t bits = n * static_cast<std::size_t>(S::kBits);
-  if constexpr (std::is_integral_v<Port>) {
-    return bits <= 8 * sizeof(Port) && (sizeof(Port) == 1 || bits > 4 * sizeof(Port));
-  } else {
-    return sizeof(Port) / sizeof(std::uint32_t) == (bits + 31) / 32;
-  }
-}
-
 // Stream `index` of a flat port holding several streams S back to back, stream k at bits
 // [k * S::kBits, (k + 1) * S::kBits): the co-simulation tops' ports of many requesters.
 template <class S, class Port>
@@ -110,6 +103,49 @@ S from_port_at(const Port& port, std::size_t index) {
     detail::copy_bits(words.data(), 0, port.m_storage, lsb, S::kBits);
   }
   return S::unpack(words);
+}
+
+// A scalar port (a bit or a vector of up to 64 bits) from a value of the harness's.
+template <class Port, class Value>
+void set_port(Port& port, Value value) {
+  static_assert(std::is_integral_v<Port>, "a vector wider than 64 bits is not a scalar port");
+  port = static_cast<Port>(value);
+}
+
+// A scalar output port's value.
+template <class Port>
+std::uint64_t port_value(const Port& port) {
+  static_assert(std::is_integral_v<Port>, "a vector wider than 64 bits is not a scalar port");
+  return static_cast<std::uint64_t>(port);
+}
+
+// A [N-1:0] port of one bit per side-by-side stream, bit k from bits[k]; bits past the
+// port's storage do not exist in this model (fewer cores than the harness's most).
+template <class Port, std::size_t N>
+void set_bits(Port& port, const std::array<bool, N>& bits) {
+  static_assert(std::is_integral_v<Port>, "a bit per stream, at most 64");
+  std::uint64_t v = 0;
+  for (std::size_t i = 0; i < N && i < 8 * sizeof(Port); ++i) v |= std::uint64_t{bits[i]} << i;
+  port = static_cast<Port>(v);
+}
+
+template <class Port, std::size_t N>
+void get_bits(const Port& port, std::array<bool, N>& bits) {
+  static_assert(std::is_integral_v<Port>, "a bit per stream, at most 64");
+  for (std::size_t i = 0; i < N; ++i) bits[i] = i < 8 * sizeof(Port) && ((static_cast<std::uint64_t>(port) >> i) & 1);
+}
+
+// How many streams S a port of side-by-side streams holds: its storage is its width
+// rounded up to whole words, which leaves less than one stream over when S has at
+// least 32 bits.
+template <class S, class Port>
+constexpr std::size_t port_streams(const Port& port) {
+  static_assert(S::kBits >= 32, "a narrower stream would leave its count ambiguous in the port's storage");
+  if constexpr (std::is_integral_v<Port>) {
+    return 8 * sizeof(Port) / static_cast<std::size_t>(S::kBits);
+  } else {
+    return 8 * sizeof(port.m_storage) / static_cast<std::size_t>(S::kBits);
+  }
 }
 
 // A Verilated top built with TRACE_FST has trace(); the others cannot write waveforms.

@@ -21,6 +21,7 @@ import tomllib
 
 import configs
 import glsl
+import harnesses
 import streams
 from names import camel
 
@@ -33,7 +34,8 @@ class SpecError(Exception):
 
 def load(spec_dir: pathlib.Path) -> dict:
     spec = {}
-    for name in ("formats", "memory_map", "configs", "config_keys", "latencies", "isa", "fp_units", "streams", "shaders"):
+    for name in ("formats", "memory_map", "configs", "config_keys", "latencies", "isa", "fp_units", "streams", "shaders",
+                 "harnesses"):
         path = spec_dir / f"{name}.toml"
         try:
             with path.open("rb") as f:
@@ -537,23 +539,32 @@ def write_if_changed(path: pathlib.Path, text: str) -> None:
         path.write_text(text)
 
 
+def harness_sources(spec_dir: pathlib.Path) -> list[pathlib.Path]:
+    """Where the harnesses' modules are: the RTL, then sim/'s assemblies of it."""
+    return [spec_dir.parent / "rtl", spec_dir.parent / "sim"]
+
+
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--spec-dir", type=pathlib.Path, required=True)
     ap.add_argument("--cpp", type=pathlib.Path)
     ap.add_argument("--sv", type=pathlib.Path)
-    ap.add_argument("--list", choices=("formats", "fp-ops", "tu-timing", "rtl-configs"),
+    ap.add_argument("--list", choices=("formats", "fp-ops", "tu-timing", "rtl-configs", "harnesses"),
                     help="print 'name exponent_bits fraction_bits' per format, 'op unit' "
                          "per FP op, or 'format setup_woop setup_watertight inner leaf pop' per "
                          "measured traversal unit (spec/latencies.toml), or 'name -GParam=value ...' per "
                          "named configuration (the RTL's build-time parameters), one a line (CMake reads "
-                         "these at configure time)")
+                         "these at configure time), or 'name CppName Param ...' per co-simulation harness (its C++ "
+                         "ports' struct and its top's parameters)")
     ap.add_argument("--isa-doc", type=pathlib.Path, help="write docs/isa.md here")
     ap.add_argument("--config-doc", type=pathlib.Path,
                     help="rewrite the generated tables of this docs/configurations.md in place")
     ap.add_argument("--streams-cpp", type=pathlib.Path, help="write rpu/streams.hpp here")
     ap.add_argument("--streams-doc", type=pathlib.Path, help="write docs/streams.md here")
     ap.add_argument("--glsl", type=pathlib.Path, help="write rpu_memory.glsl (compiled shaders' records) here")
+    ap.add_argument("--harness-dir", type=pathlib.Path,
+                    help="write the co-simulation tops (sim/) and their C++ ports (include/rpu/harness/) of "
+                         "spec/harnesses.toml under this directory")
     args = ap.parse_args()
     try:
         spec = load(args.spec_dir)
@@ -571,6 +582,15 @@ def main() -> int:
     if args.list == "tu-timing":
         for fmt, values in spec["latencies"]["tu"].items():
             print(fmt, *(values[k] for k in configs.LATENCY_GROUPS["tu"][1]))
+        return 0
+    if args.list == "harnesses":
+        try:
+            hs = harnesses.load(spec, fp_op_bits(spec), harness_sources(args.spec_dir))
+        except harnesses.HarnessError as e:
+            print(f"spec/gen.py: error: {e}", file=sys.stderr)
+            return 1
+        for h in hs:
+            print(h.name, h.cpp, *(name for name, _, _ in h.params))
         return 0
     if args.list == "rtl-configs":
         # The chip's walker ray units walk one ray each (rpu_top, docs/chip.md): walkers
@@ -599,6 +619,13 @@ def main() -> int:
         write_if_changed(args.streams_cpp, streams.gen_cpp(spec, fp_op_bits(spec), BANNER))
     if args.streams_doc:
         write_if_changed(args.streams_doc, streams.gen_doc(spec, fp_op_bits(spec), BANNER))
+    if args.harness_dir:
+        try:
+            hs = harnesses.load(spec, fp_op_bits(spec), harness_sources(args.spec_dir))
+        except harnesses.HarnessError as e:
+            print(f"spec/gen.py: error: {e}", file=sys.stderr)
+            return 1
+        harnesses.write_all(hs, args.harness_dir, BANNER, write_if_changed)
     if args.glsl:
         try:
             text = glsl.gen_glsl(spec, (args.spec_dir / "memory_map.toml").read_text(), BANNER)

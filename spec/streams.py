@@ -43,7 +43,7 @@ def base_constants(spec: dict, fp_op_bits: int) -> dict[str, int]:
 
 
 def evaluate(text, env: dict[str, int], where: str) -> int:
-    """An integer, a constant's name or an expression of them (+ - * / ( ) max clog2)."""
+    """An integer, a constant's name or an expression of them (+ - * / << ( ) max clog2)."""
     if isinstance(text, int) and not isinstance(text, bool):
         return text
     if not isinstance(text, str):
@@ -56,8 +56,10 @@ def evaluate(text, env: dict[str, int], where: str) -> int:
             if node.id not in env:
                 raise StreamError(f"{where}: unknown constant '{node.id}' in '{text}'")
             return env[node.id]
-        if isinstance(node, ast.BinOp) and isinstance(node.op, (ast.Add, ast.Sub, ast.Mult, ast.Div)):
+        if isinstance(node, ast.BinOp) and isinstance(node.op, (ast.Add, ast.Sub, ast.Mult, ast.Div, ast.LShift)):
             a, b = ev(node.left), ev(node.right)
+            if isinstance(node.op, ast.LShift):
+                return a << b
             if isinstance(node.op, ast.Div):
                 if b == 0 or a % b:
                     raise StreamError(f"{where}: '{text}' divides {a} by {b}, which is not exact")
@@ -69,7 +71,7 @@ def evaluate(text, env: dict[str, int], where: str) -> int:
                 return max(args)
             if node.func.id == "clog2" and len(args) == 1 and args[0] > 0:
                 return (args[0] - 1).bit_length()
-        raise StreamError(f"{where}: '{text}' is not an expression of + - * / max() clog2()")
+        raise StreamError(f"{where}: '{text}' is not an expression of + - * / << max() clog2()")
 
     try:
         tree = ast.parse(text, mode="eval")

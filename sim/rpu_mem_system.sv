@@ -9,7 +9,7 @@
 // The defaults are corner cases (a fully associative cache with one miss register, a
 // direct-mapped one with a 4-cycle hit, a 2-way one with 16 miss registers); each
 // named configuration's come from spec/configs.toml (gen.py --list rtl-configs).
-module rpu_mem_cosim_top #(
+module rpu_mem_system #(
   parameter int unsigned NodeBytes          = 256,
   parameter int unsigned NodeWays           = 4,
   parameter int unsigned NodeHitLatency     = 3,
@@ -54,7 +54,7 @@ module rpu_mem_cosim_top #(
 
   output logic [Caches*rpu_pkg::CacheCountersBits-1:0]  counters_o,
   output logic [Caches-1:0]                             idle_o,      // the cache and its in-order ports
-  output logic [Caches*4*32-1:0]                        geometry_o  // per cache: bytes, ways, hit latency, mshrs
+  output logic [Caches*rpu_pkg::CacheGeometryBits-1:0]  geometry_o  // the caches' parameters
 );
 
   localparam int unsigned Ports       = RawPorts + InOrderPorts;
@@ -128,7 +128,8 @@ module rpu_mem_cosim_top #(
       .idle_o(cache_idle)
     );
 
-    assign geometry_o[c*128 +: 128] = {32'(Mshrs), 32'(HitLatency), 32'(Ways), 32'(Bytes)};
+    assign geometry_o[c*rpu_pkg::CacheGeometryBits +: rpu_pkg::CacheGeometryBits] =
+        {32'(Bytes), 32'(Ways), 32'(HitLatency), 32'(Mshrs)};
   end
 
   rpu_mem_arbiter #(.Caches(Caches)) u_mem_arbiter (

@@ -1,0 +1,268 @@
+# The traversal unit (docs/rtl.md, "Traversal unit"): per co-simulated format and
+# intersection mode, one Verilated model of the TU alone (its IU port answered by the
+# C++ IU) and one of the ray unit (the TU with the RTL IU, rpu_ray_unit); tu_cosim
+# compares either ray by ray with the golden tracer.
+rpu_cosim_library(tu)
+# The kinds of model per format and mode, and their slots and pipeline:
+#   tu        the TU alone with one ray slot (its step cycles are measured ray by ray);
+#   ray       the ray unit with rpu_tu_cosim_slots walker slots sharing its memory port
+#             and its IU;
+#   tu_slots  the TU alone with those slots, its IU answered out of order by the harness;
+#   tu_pipe   the TU alone with rpu_tu_cosim_pipe_slots slots sharing one node-step
+#             pipeline and rpu_tu_cosim_pipe_setups set-up engines (rpu_tu_pipe);
+#   ray_pipe  the ray unit with it.
+# Every kind in fp32 with Woop's test; the others every kind but tu_slots, or in the `ci`
+# tier only ray_pipe (fp32 watertight, rpu24 Woop: the chips' units) and no rpu24
+# watertight at all. rpu_tu_built lists what is built, "<format> <isect> <kind>".
+set(rpu_tu_cosim_slots 4)
+set(rpu_tu_cosim_pipe_slots 16)
+set(rpu_tu_cosim_pipe_setups 4)
+set(rpu_tu_kind_tu "0 1 0")
+set(rpu_tu_kind_ray "1 ${rpu_tu_cosim_slots} 0")
+set(rpu_tu_kind_tu_slots "0 ${rpu_tu_cosim_slots} 0")
+set(rpu_tu_kind_tu_pipe "0 ${rpu_tu_cosim_pipe_slots} 1")
+set(rpu_tu_kind_ray_pipe "1 ${rpu_tu_cosim_pipe_slots} 1")
+set(rpu_tu_built)
+foreach(format IN LISTS rpu_ray_unit_formats)
+  foreach(isect woop watertight)
+    if("${format} ${isect}" STREQUAL "fp32 woop")
+      set(kinds tu ray tu_slots tu_pipe ray_pipe)
+    elseif(RPU_COSIM_TIER STREQUAL "full")
+      set(kinds tu ray tu_pipe ray_pipe)
+    elseif("${format} ${isect}" MATCHES "^(fp32 watertight|rpu24 woop)$")
+      set(kinds ray_pipe)
+    else()
+      set(kinds)
+    endif()
+    foreach(kind IN LISTS kinds)
+      string(REPLACE " " ";" variant "${rpu_tu_kind_${kind}}")
+      list(GET variant 0 with_iu)
+      list(GET variant 1 slots)
+      list(GET variant 2 pipe)
+      set(prefix Vtu_${format}_${isect})
+      if(with_iu)
+        set(prefix Vray_${format}_${isect})
+      endif()
+      if(NOT slots EQUAL 1)
+        string(APPEND prefix _s${slots})
+      endif()
+      if(pipe)
+        string(APPEND prefix _pipe)
+      endif()
+      rpu_cosim_model(tu ${prefix} TRACE
+                      FACTS format=${format} isect=${isect} with_iu=${with_iu} slots=${slots} pipe=${pipe}
+                            setups=${rpu_tu_cosim_pipe_setups}
+                      PARAMS ${rpu_widths_${format}} -GIsectMode=${rpu_isect_${isect}} -GWithIu=${with_iu}
+                             -GSlots=${slots} -GPipe=${pipe} -GSetups=${rpu_tu_cosim_pipe_setups})
+      list(APPEND rpu_tu_built "${format} ${isect} ${kind}")
+    endforeach()
+    if(kinds)
+      list(APPEND rpu_tu_cosim_cases "${format} ${isect}")
+    endif()
+  endforeach()
+endforeach()
+rpu_cosim_registry(tu)
+
+add_executable(tu_cosim tu_cosim.cpp)
+target_link_libraries(tu_cosim PRIVATE rpu_tu_rtl_models rpu_sim_host rpu_test_support rpu_output_file rpu_cycle CLI11::CLI11 rpu_flags)
+
+# The ray units' test scenes, and a test name's part for one ("balls:2" -> balls2).
+set(rpu_ray_scenes cornell balls:2 ${PROJECT_SOURCE_DIR}/scenes/bunny.json)
+function(rpu_scene_name out scene)
+  get_filename_component(name "${scene}" NAME_WE)
+  string(REPLACE ":" "" name "${name}")
+  set(${out} "${name}" PARENT_SCOPE)
+endfunction()
+
+# Rays of each kind (camera, random, shadow) per scene (CI budget, docs/rtl.md): in CI
+# 1,000 through the TU alone and 500 through the ray unit (the RTL IU makes it 3-8x
+# slower); under `slow` 34,000 (10^5 rays per scene) through each.
+foreach(case IN LISTS rpu_tu_cosim_cases)
+  string(REPLACE " " ";" case "${case}")
+  list(GET case 0 format)
+  list(GET case 1 isect)
+  foreach(scene IN LISTS rpu_ray_scenes)
+    rpu_scene_name(scene_name "${scene}")
+    set(args --scene ${scene} --format ${format} --isect ${isect})
+    if("${format} ${isect} tu" IN_LIST rpu_tu_built)
+      add_test(NAME cosim.tu.${scene_name}.${format}.${isect} COMMAND tu_cosim ${args} --rays 1000)
+      set_tests_properties(cosim.tu.${scene_name}.${format}.${isect} PROPERTIES LABELS cosim TIMEOUT 900)
+      add_test(NAME slow.cosim.tu.${scene_name}.${format}.${isect} COMMAND tu_cosim ${args} --rays 34000)
+      set_tests_properties(slow.cosim.tu.${scene_name}.${format}.${isect} PROPERTIES LABELS slow TIMEOUT 7200)
+    endif()
+    if("${format} ${isect} ray" IN_LIST rpu_tu_built)
+      set(ray_args ${args} --with-iu --slots ${rpu_tu_cosim_slots} --in-flight 8)
+      add_test(NAME cosim.ray.${scene_name}.${format}.${isect} COMMAND tu_cosim ${ray_args} --rays 500)
+      set_tests_properties(cosim.ray.${scene_name}.${format}.${isect} PROPERTIES LABELS cosim TIMEOUT 900)
+      add_test(NAME slow.cosim.ray.${scene_name}.${format}.${isect} COMMAND tu_cosim ${ray_args} --rays 34000)
+      set_tests_properties(slow.cosim.ray.${scene_name}.${format}.${isect} PROPERTIES LABELS slow TIMEOUT 7200)
+    endif()
+  endforeach()
+  if(NOT "${format} ${isect} ray" IN_LIST rpu_tu_built)
+    continue()
+  endif()
+  # The Cornell box at 2^-60 and 2^60 of its size: kd scale exponents of -56 and 64
+  # through the ray unit's scaling of rays and hits (docs/traversal.md §1).
+  foreach(k -60 60)
+    string(REPLACE "-" "m" k_name "${k}")
+    add_test(NAME cosim.ray.cornell_2e${k_name}.${format}.${isect}
+             COMMAND tu_cosim --scene cornell --scale ${k} --format ${format} --isect ${isect} --with-iu
+                     --slots ${rpu_tu_cosim_slots} --in-flight 8 --rays 300)
+    set_tests_properties(cosim.ray.cornell_2e${k_name}.${format}.${isect} PROPERTIES LABELS cosim TIMEOUT 900)
+  endforeach()
+endforeach()
+
+# The cycle model's ray unit against the RTL's (docs/cycle-model.md "Traversal and
+# intersection units"): the same 10^4 rays per scene, 4 slots, the cycles within 2%, at the
+# step cycles of the named configuration in that format; fp32 Woop in CI, the rest under slow.
+foreach(pair "fp32 default" "rpu24 rpu2005")
+  string(REPLACE " " ";" pair "${pair}")
+  list(GET pair 0 format)
+  list(GET pair 1 config)
+  foreach(isect woop watertight)
+    if(NOT "${format} ${isect} ray" IN_LIST rpu_tu_built)
+      continue()
+    endif()
+    set(name cosim.ray.cycle_model)
+    set(label cosim)
+    if(NOT "${format} ${isect}" STREQUAL "fp32 woop")
+      set(name slow.cosim.ray.cycle_model)
+      set(label slow)
+    endif()
+    foreach(scene IN LISTS rpu_ray_scenes)
+      rpu_scene_name(scene_name "${scene}")
+      add_test(NAME ${name}.${scene_name}.${format}.${isect}
+               COMMAND tu_cosim --scene ${scene} --format ${format} --isect ${isect} --with-iu
+                       --slots ${rpu_tu_cosim_slots} --in-flight 8 --rays 3300 --stall 0 --mem-jitter 0
+                       --cycle-model ${config} --cycle-tolerance 2)
+      set_tests_properties(${name}.${scene_name}.${format}.${isect} PROPERTIES LABELS ${label} TIMEOUT 1800)
+    endforeach()
+  endforeach()
+endforeach()
+
+# The TU alone with ray slots, its IU answers in random order by tag.
+if("fp32 woop tu_slots" IN_LIST rpu_tu_built)
+  foreach(scene IN LISTS rpu_ray_scenes)
+    rpu_scene_name(scene_name "${scene}")
+    add_test(NAME cosim.tu_slots.${scene_name}.fp32.woop
+             COMMAND tu_cosim --scene ${scene} --format fp32 --isect woop --slots ${rpu_tu_cosim_slots}
+                     --in-flight 8 --rays 1000)
+    set_tests_properties(cosim.tu_slots.${scene_name}.fp32.woop PROPERTIES LABELS cosim TIMEOUT 900)
+  endforeach()
+endif()
+
+# The TU with a shared node-step pipeline, every format and mode, its IU answered in
+# random order by tag: 1,000 rays of each kind per scene, 24 in flight; and the ray unit
+# built with it.
+foreach(case IN LISTS rpu_tu_cosim_cases)
+  string(REPLACE " " ";" case "${case}")
+  list(GET case 0 format)
+  list(GET case 1 isect)
+  foreach(scene IN LISTS rpu_ray_scenes)
+    rpu_scene_name(scene_name "${scene}")
+    set(pipe_args --scene ${scene} --format ${format} --isect ${isect} --pipe --slots ${rpu_tu_cosim_pipe_slots}
+                  --in-flight 24)
+    if("${format} ${isect} tu_pipe" IN_LIST rpu_tu_built)
+      add_test(NAME cosim.tu_pipe.${scene_name}.${format}.${isect} COMMAND tu_cosim ${pipe_args} --rays 1000)
+      set_tests_properties(cosim.tu_pipe.${scene_name}.${format}.${isect} PROPERTIES LABELS cosim TIMEOUT 900)
+      add_test(NAME slow.cosim.tu_pipe.${scene_name}.${format}.${isect} COMMAND tu_cosim ${pipe_args} --rays 34000)
+      set_tests_properties(slow.cosim.tu_pipe.${scene_name}.${format}.${isect} PROPERTIES LABELS slow TIMEOUT 7200)
+    endif()
+    if(NOT "${format} ${isect} ray_pipe" IN_LIST rpu_tu_built)
+      continue()
+    endif()
+    # The ray unit with it (the RTL IU): 500 rays of each kind in CI, 10^5 under slow.
+    add_test(NAME cosim.ray_pipe.${scene_name}.${format}.${isect} COMMAND tu_cosim ${pipe_args} --with-iu --rays 500)
+    set_tests_properties(cosim.ray_pipe.${scene_name}.${format}.${isect} PROPERTIES LABELS cosim TIMEOUT 900)
+    # The cycle model's pipelined unit against the RTL ray unit's, cycle for cycle, at the
+    # pipe_* cycles of the configuration named for the format (spec/latencies.toml [tu]).
+    if(format STREQUAL "fp32")
+      set(config default)
+    else()
+      set(config rpu2005)
+    endif()
+    add_test(NAME cosim.ray_pipe.cycle_model.${scene_name}.${format}.${isect}
+             COMMAND tu_cosim ${pipe_args} --with-iu --rays 3300 --stall 0 --mem-jitter 0 --cycle-model ${config}
+                     --cycle-tolerance 0)
+    set_tests_properties(cosim.ray_pipe.cycle_model.${scene_name}.${format}.${isect} PROPERTIES LABELS cosim TIMEOUT 900)
+    add_test(NAME slow.cosim.ray_pipe.${scene_name}.${format}.${isect}
+             COMMAND tu_cosim ${pipe_args} --with-iu --rays 34000)
+    set_tests_properties(slow.cosim.ray_pipe.${scene_name}.${format}.${isect} PROPERTIES LABELS slow TIMEOUT 7200)
+  endforeach()
+endforeach()
+
+# --trace on a missing directory, under a file-size limit and on a full tmpfs (root):
+# an error naming the file, status 2, the old file kept (sim/trace_outputs.py).
+if("fp32 woop tu" IN_LIST rpu_tu_built)
+  add_test(NAME cosim.tu.trace_outputs
+           COMMAND Python3::Interpreter ${CMAKE_CURRENT_SOURCE_DIR}/trace_outputs.py
+                   ${CMAKE_CURRENT_BINARY_DIR}/tu_trace_outputs --
+                   $<TARGET_FILE:tu_cosim> --scene cornell --format fp32 --isect woop --rays 100)
+  set_tests_properties(cosim.tu.trace_outputs PROPERTIES LABELS unit TIMEOUT 600)
+endif()
+
+# The step cycles of spec/latencies.toml [tu.<format>] against the RTL's (docs/rtl.md):
+# every walking ray's cycles besides memory and IU waits must equal setup + inner * inner
+# nodes + leaf * leaves + pop * pops with the table's numbers.
+execute_process(COMMAND ${Python3_EXECUTABLE} ${PROJECT_SOURCE_DIR}/spec/gen.py
+                        --spec-dir ${PROJECT_SOURCE_DIR}/spec --list tu-timing
+                OUTPUT_VARIABLE rpu_tu_timing_lines COMMAND_ERROR_IS_FATAL ANY)
+string(REPLACE "\n" ";" rpu_tu_timing_lines "${rpu_tu_timing_lines}")
+foreach(line IN LISTS rpu_tu_timing_lines)
+  if(NOT line)
+    continue()
+  endif()
+  string(REPLACE " " ";" fields "${line}")
+  list(GET fields 0 format)
+  list(GET fields 1 setup_woop)
+  list(GET fields 2 setup_watertight)
+  list(GET fields 3 inner)
+  list(GET fields 4 leaf)
+  list(GET fields 5 pop)
+  foreach(isect woop watertight)
+    if(NOT "${format} ${isect} tu" IN_LIST rpu_tu_built)
+      continue()
+    endif()
+    add_test(NAME cosim.tu.timing.${format}.${isect}
+             COMMAND tu_cosim --scene cornell --format ${format} --isect ${isect} --rays 1000
+                     --expect-timing ${setup_${isect}},${inner},${leaf},${pop})
+    set_tests_properties(cosim.tu.timing.${format}.${isect} PROPERTIES LABELS cosim TIMEOUT 300)
+  endforeach()
+endforeach()
+
+# Synthesis of the TU with Yosys, the netlist walking 10^4 Cornell box rays with the
+# memory image and the Tracer's IU tests (rtl/flow.py synth --unit tu). All under
+# `slow`: for Woop fp16, Yosys and the Verilated netlist's build alone took 327 s CPU
+# (docs/rtl.md, docs/area.md).
+if(RPU_YOSYS)
+  foreach(isect woop watertight)
+    foreach(format fp16 rpu24 fp32)
+      add_test(NAME slow.synth.tu_${isect}.${format}
+        COMMAND Python3::Interpreter ${PROJECT_SOURCE_DIR}/rtl/flow.py synth
+                --unit tu --isect ${isect} --format ${format} --pkg ${RPU_SPEC_SV}
+                --cosim $<TARGET_FILE:tu_cosim> --out ${CMAKE_CURRENT_BINARY_DIR}/synth --vectors 10000
+                --yosys ${RPU_YOSYS} --verilator ${VERILATOR_BIN})
+      set_tests_properties(slow.synth.tu_${isect}.${format} PROPERTIES LABELS slow TIMEOUT 3600)
+    endforeach()
+  endforeach()
+  # The price of a ray slot (docs/area.md): rpu_tu_slots with 2 and 4 slots, its netlist
+  # keeping that many rays in flight with the IU's answers out of order.
+  foreach(slots 2 4)
+    add_test(NAME slow.synth.tu_woop.fp16.slots${slots}
+      COMMAND Python3::Interpreter ${PROJECT_SOURCE_DIR}/rtl/flow.py synth
+              --unit tu --isect woop --format fp16 --slots ${slots} --pkg ${RPU_SPEC_SV}
+              --cosim $<TARGET_FILE:tu_cosim> --out ${CMAKE_CURRENT_BINARY_DIR}/synth --vectors 10000
+              --yosys ${RPU_YOSYS} --verilator ${VERILATOR_BIN})
+    set_tests_properties(slow.synth.tu_woop.fp16.slots${slots} PROPERTIES LABELS slow TIMEOUT 7200)
+  endforeach()
+  # rpu_tu_pipe with 4 and 16 slots and 2 set-up engines, its netlist walking 10^4 rays
+  # with its slots full and several tests of a ray in flight (docs/area.md).
+  foreach(slots 4 16)
+    add_test(NAME slow.synth.tu_woop.fp16.pipe${slots}
+      COMMAND Python3::Interpreter ${PROJECT_SOURCE_DIR}/rtl/flow.py synth
+              --unit tu --isect woop --format fp16 --slots ${slots} --pipe --setups 2 --pkg ${RPU_SPEC_SV}
+              --cosim $<TARGET_FILE:tu_cosim> --out ${CMAKE_CURRENT_BINARY_DIR}/synth --vectors 10000
+              --yosys ${RPU_YOSYS} --verilator ${VERILATOR_BIN})
+    set_tests_properties(slow.synth.tu_woop.fp16.pipe${slots} PROPERTIES LABELS slow TIMEOUT 7200)
+  endforeach()
+endif()
