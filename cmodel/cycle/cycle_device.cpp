@@ -1,8 +1,6 @@
 // The cycle backend: the functional core computes, this model times (docs/cycle-model.md).
-// An event loop over cycles: shader cores, traversal units and their rays are woken at
-// the cycle their next step can happen, so cycles in which nothing happens cost no
-// host time. Events at the same cycle run in the order they were scheduled, which
-// makes the run deterministic.
+// An event loop over cycles (cycle/event_queue.hpp): shader cores and traversal units
+// are woken at the cycle their next step can happen.
 #include "cycle/cycle_device.hpp"
 
 #include <algorithm>
@@ -10,7 +8,6 @@
 #include <chrono>
 #include <deque>
 #include <limits>
-#include <queue>
 #include <set>
 
 #include <fmt/format.h>
@@ -18,6 +15,7 @@
 #include "common/error.hpp"
 #include "device/device_base.hpp"
 #include "fp/fast32.hpp"
+#include "cycle/event_queue.hpp"
 #include "cycle/ray_unit_timing.hpp"
 #include "cycle/tu_pipe_timing.hpp"
 #include "functional/tracer.hpp"
@@ -34,7 +32,6 @@ using functional::TraceEvent;
 using functional::TraceLog;
 using isa::Opcode;
 
-constexpr Cycle kNever = std::numeric_limits<Cycle>::max();
 // The timeline's latest slices, which a later one on the same track may still extend.
 constexpr std::size_t kOpenTimelineSlices = 8;
 
@@ -78,12 +75,10 @@ struct Core {
   std::deque<Cycle> sfu_starts;      // when the sfu starts each thread instruction it holds
   std::deque<Ray> rays;              // its rays waiting for a traversal unit, in order
   std::vector<Cycle> lane_slots;   // the issuing instruction's lanes' S0 cycles
-  Cycle scheduled = kNever;    // its pending event
   Cycle accounted = 0;         // cycles before this are in `time`
   Wait wait = Wait::kIdle;     // why it waits since `accounted`
   std::unique_ptr<Cache> data_cache;
   ShaderCoreTime time;
-  Cycle slice_end = 0;  // the timeline's last issue slice of this core ends here
 };
 
 // A ray slot of a traversal unit: each walks its own ray (rpu_tu_slots' walkers), and
@@ -91,7 +86,6 @@ struct Core {
 struct Tu {
   bool busy = false;
   Ray ray;
-  Cycle scheduled = kNever;
   TraversalUnitTime time;
 };
 
@@ -112,19 +106,8 @@ class CacheLines final : public LineSource {
 // rays wait for it; its rays' destinations by the id the unit answers with.
 struct PipeTu {
   std::optional<PipeTraversalUnit> unit;
-  Cycle scheduled = kNever;
   std::deque<Ray> rays;  // grows at the back only: the unit holds pointers to their logs
   std::vector<std::uint32_t> free_ids;
-};
-
-enum class EventKind : std::uint8_t { kCore, kTu, kPipe };
-
-struct Event {
-  Cycle at;
-  std::uint64_t seq;
-  EventKind kind;
-  std::uint32_t unit;
-  bool operator>(const Event& o) const { return at != o.at ? at > o.at : seq > o.seq; }
 };
 
 class CycleDevice final : public device::DeviceBase {
@@ -138,9 +121,10 @@ class CycleDevice final : public device::DeviceBase {
  private:
   void run(const ProgressCallback& progress) override;
 
-  void schedule_core(std::uint32_t c, Cycle at);
-  void schedule_tu(std::uint32_t u, Cycle at);
-  void schedule_pipe(std::uint32_t u, Cycle at);
+  // The event queue's agents: the cores, then the walker slots or the pipelined units.
+  void schedule_core(std::uint32_t c, Cycle at) { events_->wake(c, at); }
+  void schedule_tu(std::uint32_t u, Cycle at) { events_->wake(static_cast<std::uint32_t>(cores_.size()) + u, at); }
+  void schedule_pipe(std::uint32_t u, Cycle at) { schedule_tu(u, at); }
   void account(Core& core, Cycle until);
   Cycle ready_time(const ChunkSlot& s) const;
   Cycle compute_ready_time(const ChunkSlot& s) const;
@@ -185,8 +169,7 @@ class CycleDevice final : public device::DeviceBase {
   std::optional<CacheLines> lines_;
   std::uint32_t ray_core_ = 0;  // the core whose ray a traversal unit took last
   std::vector<TraceLog> spare_logs_;
-  std::priority_queue<Event, std::vector<Event>, std::greater<>> events_;
-  std::uint64_t seq_ = 0;
+  std::optional<EventQueue> events_;
   std::uint64_t rounds_done_ = 0, rounds_total_ = 0;
   const ProgressCallback* progress_ = nullptr;
   std::vector<functional::ShaderCore::Lane> lanes_;
@@ -199,23 +182,6 @@ class CycleDevice final : public device::DeviceBase {
   CycleStats out_;    // this launch's
   CycleStats frame_;  // the frame's: a selected frame's two launches added
 };
-
-void CycleDevice::schedule_core(std::uint32_t c, Cycle at) {
-  if (at >= cores_[c].scheduled) return;
-  cores_[c].scheduled = at;
-  events_.push({at, seq_++, EventKind::kCore, c});
-}
-
-void CycleDevice::schedule_tu(std::uint32_t u, Cycle at) {
-  tus_[u].scheduled = at;
-  events_.push({at, seq_++, EventKind::kTu, u});
-}
-
-void CycleDevice::schedule_pipe(std::uint32_t u, Cycle at) {
-  if (at >= pipes_[u].scheduled) return;
-  pipes_[u].scheduled = at;
-  events_.push({at, seq_++, EventKind::kPipe, u});
-}
 
 void CycleDevice::account(Core& core, Cycle until) {
   if (until <= core.accounted) return;
@@ -298,8 +264,6 @@ void CycleDevice::plan(std::uint32_t c, Cycle from) {
 
 void CycleDevice::core_event(std::uint32_t c, Cycle now) {
   Core& core = cores_[c];
-  if (core.scheduled != now) return;  // superseded by an earlier one
-  core.scheduled = kNever;
   account(core, now);
   const auto n = static_cast<std::uint32_t>(core.chunks.size());
   for (std::uint32_t k = 0; k < n; ++k) {
@@ -567,7 +531,6 @@ void CycleDevice::tu_event(std::uint32_t u, Cycle now) {
 // and returns the rays answered; it runs on while it holds rays or rays wait.
 void CycleDevice::pipe_event(std::uint32_t u, Cycle now) {
   PipeTu& p = pipes_[u];
-  p.scheduled = kNever;
   if (p.unit->ready() && pipe_took_ != now) {
     if (std::optional<Ray> ray = next_queued_ray(now, now)) {
       pipe_took_ = now;
@@ -666,8 +629,6 @@ void CycleDevice::run(const ProgressCallback& progress) {
   const auto line_wait = static_cast<Cycle>(config_.latency.line_wait);
   node_cache_.emplace(config_.node_cache, *dram_, line_wait);
   triangle_cache_.emplace(config_.triangle_cache, *dram_, line_wait);
-  events_ = {};
-  seq_ = 0;
   ray_core_ = 0;
   fault_pixel_ = kNoFault;
   open_slices_.clear();
@@ -692,6 +653,9 @@ void CycleDevice::run(const ProgressCallback& progress) {
 
   const auto chunks_per_core = static_cast<std::uint32_t>(config_.threads_per_core / config_.chunk_size);
   const auto registers = static_cast<std::size_t>(config_.registers);
+  slots_ = static_cast<std::uint32_t>(config_.tu_slots);
+  const auto units = static_cast<std::size_t>(config_.traversal_units) * (config_.tu_pipe ? 1 : slots_);
+  events_.emplace(static_cast<std::size_t>(config_.shader_cores) + units);
   cores_.clear();
   cores_.resize(static_cast<std::size_t>(config_.shader_cores));
   for (std::uint32_t c = 0; c < cores_.size(); ++c) {
@@ -708,7 +672,6 @@ void CycleDevice::run(const ProgressCallback& progress) {
     }
     plan(c, 0);
   }
-  slots_ = static_cast<std::uint32_t>(config_.tu_slots);
   ius_.assign(static_cast<std::size_t>(config_.intersection_units), IuTimer{});
   tus_.clear();
   pipes_.clear();
@@ -720,23 +683,21 @@ void CycleDevice::run(const ProgressCallback& progress) {
     tus_.assign(static_cast<std::size_t>(config_.traversal_units) * slots_, Tu{});
   }
 
-  Cycle now = 0;
   {
     // One flush-to-zero scope for the frame's fp32 fast path, not one per step.
     const fp::fast32::FlushScope flush;
-    while (!events_.empty()) {
-      const Event e = events_.top();
-      events_.pop();
-      now = e.at;
-      if (e.kind == EventKind::kCore) {
-        core_event(e.unit, now);
-      } else if (e.kind == EventKind::kPipe) {
-        if (pipes_[e.unit].scheduled == now) pipe_event(e.unit, now);
-      } else if (tus_[e.unit].scheduled == now) {
-        tu_event(e.unit, now);
+    const auto cores = static_cast<std::uint32_t>(cores_.size());
+    while (const std::optional<EventQueue::Wakeup> e = events_->next()) {
+      if (e->agent < cores) {
+        core_event(e->agent, e->at);
+      } else if (config_.tu_pipe) {
+        pipe_event(e->agent - cores, e->at);
+      } else {
+        tu_event(e->agent - cores, e->at);
       }
     }
   }
+  const Cycle now = events_->now();
   const ShaderCore::Chunk* faulted = nullptr;
   for (const Core& core : cores_) {
     for (const ChunkSlot& s : core.chunks) {
