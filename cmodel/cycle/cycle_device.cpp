@@ -32,9 +32,6 @@ using functional::TraceEvent;
 using functional::TraceLog;
 using isa::Opcode;
 
-// The timeline's latest slices, which a later one on the same track may still extend.
-constexpr std::size_t kOpenTimelineSlices = 8;
-
 // Why a shader core did not issue: where its idle cycles are accounted.
 enum class Wait : std::uint8_t { kIdle, kTrace, kMemory, kDependency };
 
@@ -113,7 +110,9 @@ struct PipeTu {
 class CycleDevice final : public device::DeviceBase {
  public:
   CycleDevice(const spec::HardwareConfig& config, fp::Format format, const CycleOptions& options)
-      : DeviceBase(config, format), options_(options) {}
+      : DeviceBase(config, format),
+        options_(options),
+        timeline_(options.timeline_begin, options.timeline_end, options.timeline_max_slices, options.timeline) {}
   ~CycleDevice() override { end_frame(); }
 
   std::string_view backend() const override { return "cycle"; }
@@ -143,8 +142,6 @@ class CycleDevice final : public device::DeviceBase {
   void pipe_event(std::uint32_t u, Cycle now);
   void finish_ray(std::uint32_t u, Cycle now);
   void return_ray(Ray& ray, Cycle now);
-  void slice(std::string track, std::string name, Cycle begin, Cycle end);
-  void flush_timeline();
   void set_result(ChunkSlot& s, int reg, Cycle ready);
   void finish(Cycle end);
 
@@ -178,7 +175,7 @@ class CycleDevice final : public device::DeviceBase {
   // pixel order, the functional backend's (docs/shader-core.md "Faults").
   static constexpr std::uint32_t kNoFault = std::numeric_limits<std::uint32_t>::max();
   std::uint32_t fault_pixel_ = kNoFault;
-  std::deque<TimelineSlice> open_slices_;
+  Timeline timeline_;
   CycleStats out_;    // this launch's
   CycleStats frame_;  // the frame's: a selected frame's two launches added
 };
@@ -431,8 +428,8 @@ void CycleDevice::time_issue(std::uint32_t c, std::uint32_t i, std::uint32_t pc,
       }
       break;
   }
-  if (options_.timeline_end > options_.timeline_begin) {
-    slice(fmt::format("core {}", c), fmt::format("chunk {}: {}", i, in.spec->mnemonic), now, now + 1);
+  if (timeline_.enabled()) {
+    timeline_.add(fmt::format("core {}", c), fmt::format("chunk {}: {}", i, in.spec->mnemonic), now, now + 1);
   }
   if (op == Opcode::kHalt) {
     for (std::size_t l = 0; l < s.chunk.threads().size(); ++l) {
@@ -519,10 +516,10 @@ void CycleDevice::tu_event(std::uint32_t u, Cycle now) {
     finish_ray(u, now);
     return;
   }
-  if (options_.timeline_end > options_.timeline_begin) {
-    slice(slots_ == 1 ? fmt::format("TU {}", u) : fmt::format("TU {} slot {}", u / slots_, u % slots_),
+  if (timeline_.enabled()) {
+    timeline_.add(slots_ == 1 ? fmt::format("TU {}", u) : fmt::format("TU {} slot {}", u / slots_, u % slots_),
           std::string(step.what), now, step.next);
-    if (step.iu >= 0) slice(fmt::format("IU {}", step.iu), "test", step.iu_accept, step.iu_accept + costs_.iu_latency);
+    if (step.iu >= 0) timeline_.add(fmt::format("IU {}", step.iu), "test", step.iu_accept, step.iu_accept + costs_.iu_latency);
   }
   schedule_tu(u, step.next);
 }
@@ -582,44 +579,6 @@ void CycleDevice::return_ray(Ray& ray, Cycle now) {
   spare_logs_.push_back(std::move(ray.log));
 }
 
-void CycleDevice::slice(std::string track, std::string name, Cycle begin, Cycle end) {
-  // Pass 1 of a selected frame starts where pass 0 ended.
-  const Cycle base = continues_frame() ? frame_.cycles : 0;
-  begin += base;
-  end += base;
-  begin = std::max(begin, options_.timeline_begin);
-  end = std::min(end, options_.timeline_end);
-  if (begin >= end) return;
-  // Consecutive cycles of the same activity on a track make one slice.
-  for (auto it = open_slices_.rbegin(); it != open_slices_.rend(); ++it) {
-    if (it->track == track) {
-      if (it->name == name && it->begin + it->cycles == begin) {
-        it->cycles = end - it->begin;
-        return;
-      }
-      break;
-    }
-  }
-  const std::uint64_t earlier = continues_frame() ? frame_.timeline_slices : 0;
-  if (earlier + out_.timeline_slices >= options_.timeline_max_slices) {
-    if (!out_.timeline_cut_at) out_.timeline_cut_at = begin - base;
-    return;
-  }
-  ++out_.timeline_slices;
-  open_slices_.push_back({std::move(track), std::move(name), begin, end - begin});
-  if (open_slices_.size() > kOpenTimelineSlices) {
-    if (options_.timeline) options_.timeline(open_slices_.front());
-    open_slices_.pop_front();
-  }
-}
-
-void CycleDevice::flush_timeline() {
-  for (const TimelineSlice& s : open_slices_) {
-    if (options_.timeline) options_.timeline(s);
-  }
-  open_slices_.clear();
-}
-
 void CycleDevice::run(const ProgressCallback& progress) {
   const auto start = std::chrono::steady_clock::now();
   tracer_.emplace(image_, layout_, format_, config_.stack_depth);
@@ -631,7 +590,8 @@ void CycleDevice::run(const ProgressCallback& progress) {
   triangle_cache_.emplace(config_.triangle_cache, *dram_, line_wait);
   ray_core_ = 0;
   fault_pixel_ = kNoFault;
-  open_slices_.clear();
+  // Pass 1 of a selected frame starts where pass 0 ended.
+  timeline_.start(continues_frame() ? frame_.cycles : 0, continues_frame() ? frame_.timeline_slices : 0);
   out_ = {};
   out_.config = std::string(config_.name);
   out_.clock_mhz = config_.clock_mhz;
@@ -711,7 +671,9 @@ void CycleDevice::run(const ProgressCallback& progress) {
       }
     }
   }
-  flush_timeline();
+  timeline_.flush();
+  out_.timeline_slices = timeline_.slices();
+  out_.timeline_cut_at = timeline_.cut_at();
   finish(now + 1);
   out_.host_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (continues_frame()) {

@@ -6,6 +6,7 @@
 
 #include "cycle/cycle_stats.hpp"
 #include "cycle/memory_system.hpp"
+#include "cycle/timeline.hpp"
 #include "device/device.hpp"
 
 namespace rpu::cycle {

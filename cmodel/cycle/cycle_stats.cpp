@@ -1,19 +1,14 @@
 #include "cycle/cycle_stats.hpp"
 
 #include <algorithm>
-#include <ostream>
 #include <string_view>
 #include <variant>
 
 #include <fmt/format.h>
-#include <nlohmann/json.hpp>
-
 
 namespace rpu::cycle {
 
 namespace {
-
-using nlohmann::json;
 
 double ratio(double a, double b) { return b > 0 ? a / b : 0.0; }
 
@@ -181,42 +176,6 @@ std::string summarize(const StatsTree& r) {
                         100 * r.number("speed_of_light.efficiency"));
   }
   return text;
-}
-
-// The events go out as they come: the object's other members follow the array.
-TimelineWriter::TimelineWriter(const std::filesystem::path& path) : file_(path) {
-  file_.stream() << "{\"traceEvents\":[\n";
-}
-
-void TimelineWriter::add(const TimelineSlice& s) {
-  std::ostream& out = file_.stream();
-  auto it = std::find(tracks_.begin(), tracks_.end(), s.track);
-  const auto tid = static_cast<int>(it - tracks_.begin());
-  if (it == tracks_.end()) {
-    tracks_.push_back(s.track);
-    const json name = {{"name", "thread_name"}, {"ph", "M"}, {"pid", 0}, {"tid", tid}, {"args", {{"name", s.track}}}};
-    out << (first_ ? "" : ",\n") << name.dump();
-    first_ = false;
-  }
-  const json event = {{"name", s.name}, {"ph", "X"}, {"pid", 0}, {"tid", tid}, {"ts", s.begin}, {"dur", s.cycles}};
-  out << (first_ ? "" : ",\n") << event.dump();
-  first_ = false;
-}
-
-std::string timeline_cut_reason(const CycleStats& stats) {
-  return fmt::format("cut at cycle {}: the timeline holds at most {} slices, which keeps the file small enough for "
-                     "Perfetto to load; the later slices of the window are missing",
-                     *stats.timeline_cut_at, stats.timeline_slices);
-}
-
-void TimelineWriter::finish(const CycleStats& stats) {
-  json other = {{"config", stats.config}, {"time_unit", "1 us shown = 1 cycle"}, {"slices", stats.timeline_slices}};
-  if (stats.timeline_cut_at) {
-    other["cut_at_cycle"] = *stats.timeline_cut_at;
-    other["cut_reason"] = timeline_cut_reason(stats);
-  }
-  file_.stream() << "\n],\"displayTimeUnit\":\"ns\",\"otherData\":" << other.dump() << "}\n";
-  file_.commit();
 }
 
 }  // namespace rpu::cycle

@@ -1,12 +1,10 @@
 #pragma once
 
 #include <cstdint>
-#include <filesystem>
 #include <optional>
 #include <string>
 #include <vector>
 
-#include "common/output_file.hpp"
 #include "common/stats_tree.hpp"
 #include "cycle/memory_system.hpp"
 #include "functional/shader_core.hpp"
@@ -58,14 +56,6 @@ struct Bound {
   double cycles = 0;
 };
 
-// One bar of the timeline (Chrome trace JSON): a unit did `name` from `begin` for
-// `cycles` cycles.
-struct TimelineSlice {
-  std::string track;  // "core 0", "TU 1", "IU 0", "DRAM"
-  std::string name;
-  Cycle begin = 0, cycles = 0;
-};
-
 struct CycleStats {
   std::string config;
   int clock_mhz = 0;
@@ -101,25 +91,4 @@ struct CycleStats {
 StatsTree report(const CycleStats& stats, const functional::ShaderStats& shader);
 // A few lines for the terminal, from a cycle backend's report.
 std::string summarize(const StatsTree& report);
-// The timeline as Chrome / Perfetto trace JSON (one microsecond shown per cycle),
-// streamed to the file slice by slice during the frame, so that memory does not grow
-// with the window. The file replaces `path` at finish(), not before.
-class TimelineWriter {
- public:
-  // rpu::Error naming the path if its temporary cannot be created.
-  explicit TimelineWriter(const std::filesystem::path& path);
-  void add(const TimelineSlice& slice);
-  // The metadata ("otherData": the config, and where and why a cut timeline was cut),
-  // then the file is committed; rpu::Error if any write failed.
-  void finish(const CycleStats& stats);
-
- private:
-  OutputFile file_;
-  std::vector<std::string> tracks_;
-  bool first_ = true;
-};
-// Why the frame's timeline was cut (stats.timeline_cut_at is set), for the file's
-// metadata and the terminal.
-std::string timeline_cut_reason(const CycleStats& stats);
-
 }  // namespace rpu::cycle
