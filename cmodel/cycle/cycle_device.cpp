@@ -15,6 +15,7 @@
 #include "common/error.hpp"
 #include "device/device_base.hpp"
 #include "fp/fast32.hpp"
+#include "cycle/dispatch.hpp"
 #include "cycle/event_queue.hpp"
 #include "cycle/ray_unit_timing.hpp"
 #include "cycle/tu_pipe_timing.hpp"
@@ -34,13 +35,6 @@ using isa::Opcode;
 
 // Why a shader core did not issue: where its idle cycles are accounted.
 enum class Wait : std::uint8_t { kIdle, kTrace, kMemory, kDependency };
-
-struct Ray {
-  std::uint32_t core = 0, chunk = 0, dst = 0;
-  TraceLog log;
-  Cycle arrived = 0;
-  Walk walk;
-};
 
 struct ChunkSlot {
   ShaderCore::Chunk chunk;
@@ -70,7 +64,6 @@ struct Core {
   std::set<Cycle> return_slots;    // S0 cycles taken by values handed back
   Cycle lsu_free = 0, sfu_free = 0;  // the next request the load/store unit, the sfu takes
   std::deque<Cycle> sfu_starts;      // when the sfu starts each thread instruction it holds
-  std::deque<Ray> rays;              // its rays waiting for a traversal unit, in order
   std::vector<Cycle> lane_slots;   // the issuing instruction's lanes' S0 cycles
   Cycle accounted = 0;         // cycles before this are in `time`
   Wait wait = Wait::kIdle;     // why it waits since `accounted`
@@ -83,6 +76,7 @@ struct Core {
 struct Tu {
   bool busy = false;
   Ray ray;
+  Walk walk;
   TraversalUnitTime time;
 };
 
@@ -136,7 +130,7 @@ class CycleDevice final : public device::DeviceBase {
   void start_round(std::uint32_t c, std::uint32_t i, Cycle at);
   void dispatch(Ray&& ray, Cycle at);
   void start_ray(std::uint32_t u, Ray&& ray, Cycle at);
-  std::optional<Ray> next_queued_ray(Cycle at, Cycle arrived_by);
+  void ray_left_queue(std::uint32_t c, Cycle at);
   bool take_queued_ray(std::uint32_t u, Cycle at);
   void tu_event(std::uint32_t u, Cycle now);
   void pipe_event(std::uint32_t u, Cycle now);
@@ -158,13 +152,12 @@ class CycleDevice final : public device::DeviceBase {
   std::vector<Tu> tus_;   // unit u's slots at u * slots_ ...
   std::uint32_t slots_ = 1;
   std::vector<PipeTu> pipes_;  // with tu_pipe: one per unit, and tus_ is empty
-  Cycle pipe_took_ = kNever;    // a pipelined unit took a ray then: one a cycle (rpu_ray_dispatch)
   std::vector<std::uint32_t> answered_;
   std::vector<IuTimer> ius_;
   WalkCosts costs_;
   PipeCosts pipe_costs_;
   std::optional<CacheLines> lines_;
-  std::uint32_t ray_core_ = 0;  // the core whose ray a traversal unit took last
+  std::optional<RayDispatch> dispatch_;
   std::vector<TraceLog> spare_logs_;
   std::optional<EventQueue> events_;
   std::uint64_t rounds_done_ = 0, rounds_total_ = 0;
@@ -226,7 +219,7 @@ Cycle CycleDevice::compute_ready_time(const ChunkSlot& s) const {
   const auto room = static_cast<std::size_t>(streams::kUnitQueueChunks - 1) *
                     static_cast<std::size_t>(config_.chunk_size);
   const isa::Instruction& in = *shader_->instruction(pc);
-  if (in.spec->cls == si::Class::kTrace && core.rays.size() > room) return kNever;
+  if (in.spec->cls == si::Class::kTrace && dispatch_->waiting(s.core) > room) return kNever;
   if (in.spec->cls == si::Class::kMem || in.opcode() == Opcode::kCalli) {
     t = std::max(t, core.lsu_free - std::min<Cycle>(core.lsu_free, room));
   }
@@ -462,8 +455,7 @@ void CycleDevice::start_round(std::uint32_t c, std::uint32_t i, Cycle at) {
 
 // The ray waits in its core's queue until a traversal unit is free.
 void CycleDevice::dispatch(Ray&& ray, Cycle at) {
-  ray.arrived = at;
-  cores_[ray.core].rays.push_back(std::move(ray));
+  dispatch_->queue(std::move(ray), at);
   if (!pipes_.empty()) {
     for (std::uint32_t u = 0; u < pipes_.size(); ++u) schedule_pipe(u, at);
     return;
@@ -476,28 +468,17 @@ void CycleDevice::dispatch(Ray&& ray, Cycle at) {
   }
 }
 
-// The first ray of the next core, round robin, that has one arrived by `arrived_by`
-// (rpu_ray_dispatch); the core's queue has room again from `at`.
-std::optional<Ray> CycleDevice::next_queued_ray(Cycle at, Cycle arrived_by) {
-  const auto n = static_cast<std::uint32_t>(cores_.size());
-  for (std::uint32_t k = 1; k <= n; ++k) {
-    const std::uint32_t c = (ray_core_ + k) % n;
-    Core& core = cores_[c];
-    if (core.rays.empty() || core.rays.front().arrived > arrived_by) continue;
-    ray_core_ = c;
-    Ray ray = std::move(core.rays.front());
-    core.rays.pop_front();
-    for (ChunkSlot& s : core.chunks) s.ready_known = false;
-    plan(c, at);
-    return ray;
-  }
-  return std::nullopt;
+// A traversal unit took a ray of core `c`: its queue has room again from `at`.
+void CycleDevice::ray_left_queue(std::uint32_t c, Cycle at) {
+  for (ChunkSlot& s : cores_[c].chunks) s.ready_known = false;
+  plan(c, at);
 }
 
 // A free ray slot takes the next waiting ray.
 bool CycleDevice::take_queued_ray(std::uint32_t u, Cycle at) {
-  std::optional<Ray> ray = next_queued_ray(at, kNever);
+  std::optional<Ray> ray = dispatch_->next();
   if (!ray) return false;
+  ray_left_queue(ray->core, at);
   start_ray(u, std::move(*ray), at);
   return true;
 }
@@ -506,12 +487,13 @@ void CycleDevice::start_ray(std::uint32_t u, Ray&& ray, Cycle at) {
   Tu& tu = tus_[u];
   tu.busy = true;
   tu.ray = std::move(ray);
+  tu.walk = {};
   schedule_tu(u, std::max(at, tu.ray.arrived));
 }
 
 void CycleDevice::tu_event(std::uint32_t u, Cycle now) {
   Tu& tu = tus_[u];
-  const WalkStep step = step_walk(tu.ray.log, tu.ray.walk, now, costs_, *lines_, ius_, tu.time);
+  const WalkStep step = step_walk(tu.ray.log, tu.walk, now, costs_, *lines_, ius_, tu.time);
   if (step.done) {
     finish_ray(u, now);
     return;
@@ -528,9 +510,9 @@ void CycleDevice::tu_event(std::uint32_t u, Cycle now) {
 // and returns the rays answered; it runs on while it holds rays or rays wait.
 void CycleDevice::pipe_event(std::uint32_t u, Cycle now) {
   PipeTu& p = pipes_[u];
-  if (p.unit->ready() && pipe_took_ != now) {
-    if (std::optional<Ray> ray = next_queued_ray(now, now)) {
-      pipe_took_ = now;
+  if (p.unit->ready()) {
+    if (std::optional<Ray> ray = dispatch_->send(now)) {
+      ray_left_queue(ray->core, now);
       if (p.free_ids.empty()) {
         p.free_ids.push_back(static_cast<std::uint32_t>(p.rays.size()));
         p.rays.emplace_back();
@@ -547,9 +529,7 @@ void CycleDevice::pipe_event(std::uint32_t u, Cycle now) {
     return_ray(p.rays[id], now);
     p.free_ids.push_back(id);
   }
-  bool waiting = false;
-  for (const Core& core : cores_) waiting |= !core.rays.empty();
-  if (!p.unit->idle() || waiting) schedule_pipe(u, now + 1);
+  if (!p.unit->idle() || dispatch_->any_waiting()) schedule_pipe(u, now + 1);
 }
 
 // The ray's hit record reaches its register; the TU takes the next waiting ray.
@@ -588,7 +568,6 @@ void CycleDevice::run(const ProgressCallback& progress) {
   const auto line_wait = static_cast<Cycle>(config_.latency.line_wait);
   node_cache_.emplace(config_.node_cache, *dram_, line_wait);
   triangle_cache_.emplace(config_.triangle_cache, *dram_, line_wait);
-  ray_core_ = 0;
   fault_pixel_ = kNoFault;
   // Pass 1 of a selected frame starts where pass 0 ended.
   timeline_.start(continues_frame() ? frame_.cycles : 0, continues_frame() ? frame_.timeline_slices : 0);
@@ -616,6 +595,7 @@ void CycleDevice::run(const ProgressCallback& progress) {
   slots_ = static_cast<std::uint32_t>(config_.tu_slots);
   const auto units = static_cast<std::size_t>(config_.traversal_units) * (config_.tu_pipe ? 1 : slots_);
   events_.emplace(static_cast<std::size_t>(config_.shader_cores) + units);
+  dispatch_.emplace(static_cast<std::size_t>(config_.shader_cores));
   cores_.clear();
   cores_.resize(static_cast<std::size_t>(config_.shader_cores));
   for (std::uint32_t c = 0; c < cores_.size(); ++c) {
@@ -635,7 +615,6 @@ void CycleDevice::run(const ProgressCallback& progress) {
   ius_.assign(static_cast<std::size_t>(config_.intersection_units), IuTimer{});
   tus_.clear();
   pipes_.clear();
-  pipe_took_ = kNever;
   if (config_.tu_pipe) {
     pipes_.resize(static_cast<std::size_t>(config_.traversal_units));
     for (PipeTu& p : pipes_) p.unit.emplace(pipe_costs_, *lines_, ius_);
