@@ -62,133 +62,189 @@ void PipeTraversalUnit::take(std::uint32_t ray, const functional::TraceLog& log)
   ++rays_;
 }
 
+// A cycle of the unit: each stage's grant is decided on the state at the cycle's start
+// (as the RTL's combinational logic reads its registers), then each stage's registers
+// take their values at the cycle's end.
 void PipeTraversalUnit::tick(Cycle now, std::vector<std::uint32_t>& answered) {
-  // --- This cycle's events, each decided on the state at its start (as the RTL's
-  // combinational logic reads its registers). ---
-  std::uint64_t offering = 0, missing = 0;  // engines offering a set-up ray, answering a miss
+  Grants g;
+  const std::uint64_t offering = grant_engines(now, g);
+  grant_slots(g);
+  grant_start(offering, g);
+  grant_port(g);
+  grant_line(now, g);
+  grant_pop(g);
+  grant_test(now, g);
+  grant_response(g);
+
+  set_up(now, g, answered);
+  fetch(now, g);
+  take_line(now, g);
+  test(now, g);
+  pop(now, g);
+  step(g);
+  respond(g, answered);
+}
+
+// Set-up engines: those offering a set-up ray to the slots, or answering a ray that
+// misses the scene box (grants.missing).
+std::uint64_t PipeTraversalUnit::grant_engines(Cycle now, Grants& g) const {
+  std::uint64_t offering = 0;
   for (std::size_t e = 0; e < engines_.size(); ++e) {
-    const Engine& g = engines_[e];
-    if (g.working && now >= g.offer_at) (g.ray.log->events.empty() ? missing : offering) |= std::uint64_t{1} << e;
+    const Engine& en = engines_[e];
+    if (en.working && now >= en.offer_at) (en.ray.log->events.empty() ? g.missing : offering) |= std::uint64_t{1} << e;
   }
-  std::uint64_t free = 0, ready = 0, leaf_end = 0, done = 0, refs = 0, leaf_over = 0;
+  return offering;
+}
+
+// The slots by phase, and their cycle in the unit's time.
+void PipeTraversalUnit::grant_slots(Grants& g) {
   for (std::size_t s = 0; s < slots_.size(); ++s) {
-    Slot& sl = slots_[s];
+    const Slot& sl = slots_[s];
     const std::uint64_t bit = std::uint64_t{1} << s;
     switch (sl.phase) {
-      case Phase::kFree: free |= bit; continue;
-      case Phase::kReady: ready |= bit; ++time.wait_memory; break;
+      case Phase::kFree: g.free |= bit; continue;
+      case Phase::kReady: g.ready |= bit; ++time.wait_memory; break;
       case Phase::kNode: ++(sl.stepping ? time.busy : time.wait_memory); break;
       case Phase::kLeaf:
         ++time.wait_iu;
         // Any refs left; an any-hit ray fetches one at a time.
-        if (sl.k != sl.count && (sl.ray.log->mode != functional::TraceMode::kAny || sl.pending == 0)) refs |= bit;
-        if (sl.pending == 0 && sl.k == sl.count) leaf_over |= bit;
+        if (sl.k != sl.count && (sl.ray.log->mode != functional::TraceMode::kAny || sl.pending == 0)) g.refs |= bit;
+        if (sl.pending == 0 && sl.k == sl.count) g.leaf_over |= bit;
         break;
-      case Phase::kLeafEnd: leaf_end |= bit; ++time.busy; break;
-      case Phase::kDone: done |= bit; ++time.busy; break;
+      case Phase::kLeafEnd: g.leaf_end |= bit; ++time.busy; break;
+      case Phase::kDone: g.done |= bit; ++time.busy; break;
       default: ++time.busy; break;
     }
   }
+}
 
-  const int start = start_rr_.grant(offering);
-  start_rr_.update(start, free != 0);
-  const bool give = start >= 0 && free != 0;
+// A free slot takes an offered ray.
+void PipeTraversalUnit::grant_start(std::uint64_t offering, Grants& g) {
+  g.start = start_rr_.grant(offering);
+  start_rr_.update(g.start, g.free != 0);
+  g.give = g.start >= 0 && g.free != 0;
+}
 
-  // The memory port: a record line, else a ref, else a node.
+// The memory port takes a record line, else a ref, else a node, while the lines in
+// flight leave room.
+void PipeTraversalUnit::grant_port(Grants& g) {
   const std::size_t order_depth = costs_.slots + costs_.leaf_depth * (1 + costs_.record_lines);
   const bool go = order_.size() < (costs_.port_lines ? std::min<std::size_t>(order_depth, costs_.port_lines) : order_depth);
   const Kind source = !jobs_.empty() ? Kind::kRecord
-                      : refs != 0 && work_ < costs_.leaf_depth ? Kind::kRef
-                                                               : Kind::kNode;
-  const int ref = ref_rr_.grant(refs);
-  ref_rr_.update(ref, go && source == Kind::kRef);
-  const bool ref_issue = ref >= 0 && go && source == Kind::kRef && work_ < costs_.leaf_depth;
-  const int fetch = fetch_rr_.grant(ready);
-  fetch_rr_.update(fetch, go && source == Kind::kNode);
-  const bool fetched = fetch >= 0 && go && source == Kind::kNode;
-  const bool record_go = go && source == Kind::kRecord;
+                      : g.refs != 0 && work_ < costs_.leaf_depth ? Kind::kRef
+                                                                 : Kind::kNode;
+  g.ref = ref_rr_.grant(g.refs);
+  ref_rr_.update(g.ref, go && source == Kind::kRef);
+  g.ref_issue = g.ref >= 0 && go && source == Kind::kRef && work_ < costs_.leaf_depth;
+  g.fetch = fetch_rr_.grant(g.ready);
+  fetch_rr_.update(g.fetch, go && source == Kind::kNode);
+  g.fetched = g.fetch >= 0 && go && source == Kind::kNode;
+  g.record_go = go && source == Kind::kRecord;
+}
 
-  // The line answered, in order; a record line waits while the last record is whole.
-  const bool line_taken = !order_.empty() && order_.front().at <= now &&
-                          (order_.front().kind != Kind::kRecord || got_ < costs_.record_lines);
-  const Line line = line_taken ? order_.front() : Line{};
-  const bool inner_in = line_taken && line.kind == Kind::kNode && !line.leaf;
+// The line answered, in order; a record line waits while the last record is whole.
+void PipeTraversalUnit::grant_line(Cycle now, Grants& g) const {
+  g.line_taken = !order_.empty() && order_.front().at <= now &&
+                 (order_.front().kind != Kind::kRecord || got_ < costs_.record_lines);
+  if (g.line_taken) g.line = order_.front();
+}
 
-  const int pop = pop_rr_.grant(leaf_end);
-  pop_rr_.update(pop, !inner_in);
-  const bool pop_enter = pop >= 0 && !inner_in;
+// A finished leaf's pop pass enters the node-step pipeline in a cycle no inner node's
+// line does.
+void PipeTraversalUnit::grant_pop(Grants& g) {
+  const bool inner_in = g.line_taken && g.line.kind == Kind::kNode && !g.line.leaf;
+  g.pop = pop_rr_.grant(g.leaf_end);
+  pop_rr_.update(g.pop, !inner_in);
+  g.pop_enter = g.pop >= 0 && !inner_in;
+}
 
-  IuTimer* iu = &*std::min_element(ius_.begin(), ius_.end(), [](const IuTimer& a, const IuTimer& b) {
-    return a.next_accept < b.next_accept;
-  });
-  const bool test_issue = got_ == costs_.record_lines && !flight_.empty() && tests_busy_ < costs_.tests &&
-                          iu->next_accept <= now;
-  const bool answer = !answers_.empty() && answers_.top().at <= now;
-  const bool decide = !steps_.empty() && steps_.front().at == now;
+// A whole record goes to the IU free first; an IU answer comes back; a node step
+// decides.
+void PipeTraversalUnit::grant_test(Cycle now, Grants& g) {
+  g.iu = &*std::min_element(ius_.begin(), ius_.end(),
+                            [](const IuTimer& a, const IuTimer& b) { return a.next_accept < b.next_accept; });
+  g.test_issue = got_ == costs_.record_lines && !flight_.empty() && tests_busy_ < costs_.tests &&
+                 g.iu->next_accept <= now;
+  g.answer = !answers_.empty() && answers_.top().at <= now;
+  g.decide = !steps_.empty() && steps_.front().at == now;
+}
 
-  const std::uint64_t out_valid = (fin_valid_ ? 1u : 0u) | missing << 1;
-  const int rsp = rsp_rr_.grant(out_valid);
-  rsp_rr_.update(rsp, true);
-  const bool fin_rsp_taken = rsp == 0;
-  const bool fin_ready = !fin_valid_ || fin_rsp_taken;
-  const int fin = fin_rr_.grant(done);
-  fin_rr_.update(fin, fin_ready);
-  const bool fin_take = fin >= 0 && fin_ready;
+// The response arbiter: the finish stage's ray or an engine's miss leaves; the finish
+// stage takes a done slot when its ray leaves or it holds none.
+void PipeTraversalUnit::grant_response(Grants& g) {
+  const std::uint64_t out_valid = (fin_valid_ ? 1u : 0u) | g.missing << 1;
+  g.rsp = rsp_rr_.grant(out_valid);
+  rsp_rr_.update(g.rsp, true);
+  g.fin_rsp_taken = g.rsp == 0;
+  const bool fin_ready = !fin_valid_ || g.fin_rsp_taken;
+  g.fin = fin_rr_.grant(g.done);
+  fin_rr_.update(g.fin, fin_ready);
+  g.fin_take = g.fin >= 0 && fin_ready;
+}
 
-  // --- The state at the cycle's end. ---
-  // A ray taken goes to the lowest engine whose buffer has room (rpu_skid_buf's ready).
-  std::size_t push_to = engines_.size();
-  if (has_incoming_) {
-    push_to = static_cast<std::size_t>(
-        std::find_if(engines_.begin(), engines_.end(), [](const Engine& g) { return !g.skid_valid; }) -
-        engines_.begin());
-    if (push_to == engines_.size()) throw Error("pipelined traversal unit: a ray taken with no buffer free");
-    has_incoming_ = false;
-  }
+// The engine whose buffer takes the ray taken this cycle: the lowest with room
+// (rpu_skid_buf's ready); none (engines_.size()) without a ray.
+std::size_t PipeTraversalUnit::incoming_engine() {
+  if (!has_incoming_) return engines_.size();
+  has_incoming_ = false;
+  const auto e = static_cast<std::size_t>(
+      std::find_if(engines_.begin(), engines_.end(), [](const Engine& en) { return !en.skid_valid; }) -
+      engines_.begin());
+  if (e == engines_.size()) throw Error("pipelined traversal unit: a ray taken with no buffer free");
+  return e;
+}
+
+// The set-up engines: the ray taken enters a buffer, an engine takes its buffer's ray,
+// hands a set-up ray to a free slot or answers a miss.
+void PipeTraversalUnit::set_up(Cycle now, const Grants& g, std::vector<std::uint32_t>& answered) {
+  const std::size_t push_to = incoming_engine();
   for (std::size_t e = 0; e < engines_.size(); ++e) {
-    Engine& g = engines_[e];
-    const bool takes = !g.working && g.out_valid;
-    const bool missed = rsp == static_cast<int>(e) + 1;
-    if ((give && start == static_cast<int>(e)) || missed) {
-      g.working = false;
+    Engine& en = engines_[e];
+    const bool takes = !en.working && en.out_valid;
+    const bool missed = g.rsp == static_cast<int>(e) + 1;
+    if ((g.give && g.start == static_cast<int>(e)) || missed) {
+      en.working = false;
       ++time.rays;
       if (missed) {
-        answered.push_back(g.ray.id);
+        answered.push_back(en.ray.id);
         --rays_;
       }
     }
     if (takes) {
-      g.working = true;
-      g.ray = g.out;
-      g.offer_at = now + costs_.handoff;
+      en.working = true;
+      en.ray = en.out;
+      en.offer_at = now + costs_.handoff;
     }
     const bool push = e == push_to;
-    if (takes || !g.out_valid) {
-      g.out_valid = g.skid_valid || push;
-      g.out = g.skid_valid ? g.skid : incoming_;
-      g.skid_valid = g.skid_valid && push;
-      g.skid = incoming_;
+    if (takes || !en.out_valid) {
+      en.out_valid = en.skid_valid || push;
+      en.out = en.skid_valid ? en.skid : incoming_;
+      en.skid_valid = en.skid_valid && push;
+      en.skid = incoming_;
     } else if (push) {
-      g.skid_valid = true;
-      g.skid = incoming_;
+      en.skid_valid = true;
+      en.skid = incoming_;
     }
   }
-
-  if (give) {
-    Slot& sl = slots_[static_cast<std::size_t>(std::countr_zero(free))];
+  if (g.give) {
+    Slot& sl = slots_[static_cast<std::size_t>(std::countr_zero(g.free))];
     sl = Slot{};
     sl.phase = Phase::kReady;
-    sl.ray = engines_[static_cast<std::size_t>(start)].ray;
+    sl.ray = engines_[static_cast<std::size_t>(g.start)].ray;
   }
-  if (fetched) {
-    Slot& sl = slots_[static_cast<std::size_t>(fetch)];
+}
+
+// The memory port: a slot's node line, a leaf's prim ref, or a record's next line.
+void PipeTraversalUnit::fetch(Cycle now, const Grants& g) {
+  if (g.fetched) {
+    Slot& sl = slots_[static_cast<std::size_t>(g.fetch)];
     const TraceEvent e = sl.ray.log->events[sl.next++];
     sl.phase = Phase::kNode;
     order_.push_back({lines_.read(now, e.address, spec::memory::kKdNodeBytes, true) + costs_.memory_wait,
-                      Kind::kNode, e.kind == TraceEvent::Kind::kLeaf, static_cast<std::uint32_t>(fetch), 0});
+                      Kind::kNode, e.kind == TraceEvent::Kind::kLeaf, static_cast<std::uint32_t>(g.fetch), 0});
   }
-  if (ref_issue) {
-    Slot& sl = slots_[static_cast<std::size_t>(ref)];
+  if (g.ref_issue) {
+    Slot& sl = slots_[static_cast<std::size_t>(g.ref)];
     const std::size_t i = sl.refs + 2 * sl.k;
     ++sl.k;
     ++sl.pending;
@@ -196,9 +252,9 @@ void PipeTraversalUnit::tick(Cycle now, std::vector<std::uint32_t>& answered) {
     ++time.refs;
     const std::uint32_t address = sl.ray.log->events[i].address;
     order_.push_back({lines_.read(now, address, spec::memory::kPrimRefBytes, false) + costs_.memory_wait, Kind::kRef,
-                      false, static_cast<std::uint32_t>(ref), sl.ray.log->events[i + 1].address});
+                      false, static_cast<std::uint32_t>(g.ref), sl.ray.log->events[i + 1].address});
   }
-  if (record_go) {
+  if (g.record_go) {
     const Job job = jobs_.front();
     const std::uint32_t address = job.record + sent_ * streams::kMemLineBytes;
     order_.push_back({lines_.read(now, address, streams::kMemLineBytes, false) + costs_.memory_wait, Kind::kRecord,
@@ -209,76 +265,99 @@ void PipeTraversalUnit::tick(Cycle now, std::vector<std::uint32_t>& answered) {
       jobs_.pop_front();
     }
   }
-  if (line_taken) {
-    order_.pop_front();
-    Slot& sl = slots_[line.slot];
-    switch (line.kind) {
-      case Kind::kNode:
-        if (line.leaf) {
-          const auto& events = sl.ray.log->events;
-          sl.phase = Phase::kLeaf;
-          sl.refs = sl.next;
-          sl.k = 0;
-          sl.count = 0;
-          while (sl.next < events.size() && events[sl.next].kind == TraceEvent::Kind::kRef) {
-            sl.next += 2;
-            ++sl.count;
-          }
-          ++time.leaves;
-        } else {
-          sl.stepping = true;
-          steps_.push_back({now + costs_.node - 1, line.slot, false});
-          ++time.inner;
+}
+
+// The line answered: a leaf's refs counted, an inner node into the node-step pipeline,
+// a ref's record queued, a record line kept.
+void PipeTraversalUnit::take_line(Cycle now, const Grants& g) {
+  if (!g.line_taken) return;
+  order_.pop_front();
+  Slot& sl = slots_[g.line.slot];
+  switch (g.line.kind) {
+    case Kind::kNode:
+      if (g.line.leaf) {
+        const auto& events = sl.ray.log->events;
+        sl.phase = Phase::kLeaf;
+        sl.refs = sl.next;
+        sl.k = 0;
+        sl.count = 0;
+        while (sl.next < events.size() && events[sl.next].kind == TraceEvent::Kind::kRef) {
+          sl.next += 2;
+          ++sl.count;
         }
-        break;
-      case Kind::kRef: jobs_.push_back({line.slot, line.record}); break;
-      case Kind::kRecord: ++got_; break;
-    }
+        ++time.leaves;
+      } else {
+        sl.stepping = true;
+        steps_.push_back({now + costs_.node - 1, g.line.slot, false});
+        ++time.inner;
+      }
+      break;
+    case Kind::kRef: jobs_.push_back({g.line.slot, g.line.record}); break;
+    case Kind::kRecord: ++got_; break;
   }
-  if (test_issue) {
+}
+
+// The leaf's tests: a record to the IU, an answer back, a leaf whose tests are all
+// answered ends.
+void PipeTraversalUnit::test(Cycle now, const Grants& g) {
+  if (g.test_issue) {
     const Job job = flight_.front();
     flight_.pop_front();
     got_ = 0;
     ++tests_busy_;
     --work_;
-    iu->next_accept = now + costs_.iu_interval;
-    ++iu->time.tests;
-    iu->time.busy += costs_.iu_interval;
+    g.iu->next_accept = now + costs_.iu_interval;
+    ++g.iu->time.tests;
+    g.iu->time.busy += costs_.iu_interval;
     answers_.push({now + costs_.iu_latency + costs_.iu_wait, job.slot});
     ++time.tests;
   }
-  if (answer) {
+  if (g.answer) {
     --slots_[answers_.top().slot].pending;
     answers_.pop();
     --tests_busy_;
   }
-  for (std::uint64_t m = leaf_over; m; m &= m - 1) slots_[static_cast<std::size_t>(std::countr_zero(m))].phase = Phase::kLeafEnd;
-  if (pop_enter) {
-    slots_[static_cast<std::size_t>(pop)].phase = Phase::kPop;
-    steps_.push_back({now + costs_.node - 1, static_cast<std::uint32_t>(pop), true});
+  for (std::uint64_t m = g.leaf_over; m; m &= m - 1) {
+    slots_[static_cast<std::size_t>(std::countr_zero(m))].phase = Phase::kLeafEnd;
   }
-  if (decide) {
-    const Step step = steps_.front();
-    steps_.pop_front();
-    Slot& sl = slots_[step.slot];
-    const auto& events = sl.ray.log->events;
-    sl.stepping = false;
-    if (step.pop) {
-      for (; sl.next < events.size() && events[sl.next].kind == TraceEvent::Kind::kPop; ++sl.next) ++time.pops;
-    }
-    sl.phase = sl.next < events.size() ? Phase::kReady : Phase::kDone;
+}
+
+// A finished leaf's pop pass enters the node-step pipeline.
+void PipeTraversalUnit::pop(Cycle now, const Grants& g) {
+  if (!g.pop_enter) return;
+  slots_[static_cast<std::size_t>(g.pop)].phase = Phase::kPop;
+  steps_.push_back({now + costs_.node - 1, static_cast<std::uint32_t>(g.pop), true});
+}
+
+// The node step's decide stage: the slot's pops done, it fetches its next node or is
+// done.
+void PipeTraversalUnit::step(const Grants& g) {
+  if (!g.decide) return;
+  const Step s = steps_.front();
+  steps_.pop_front();
+  Slot& sl = slots_[s.slot];
+  const auto& events = sl.ray.log->events;
+  sl.stepping = false;
+  if (s.pop) {
+    for (; sl.next < events.size() && events[sl.next].kind == TraceEvent::Kind::kPop; ++sl.next) ++time.pops;
   }
-  if (fin_rsp_taken) {
+  sl.phase = sl.next < events.size() ? Phase::kReady : Phase::kDone;
+}
+
+// The finish stage's ray leaves through the response arbiter, its slot frees, and the
+// stage takes the next done slot.
+void PipeTraversalUnit::respond(const Grants& g, std::vector<std::uint32_t>& answered) {
+  if (g.fin_rsp_taken) {
     Slot& sl = slots_[fin_slot_];
     sl.phase = Phase::kFree;
     answered.push_back(sl.ray.id);
     --rays_;
   }
-  if (fin_take) {
-    slots_[static_cast<std::size_t>(fin)].phase = Phase::kFinish;
-    fin_slot_ = static_cast<std::uint32_t>(fin);
+  if (g.fin_take) {
+    slots_[static_cast<std::size_t>(g.fin)].phase = Phase::kFinish;
+    fin_slot_ = static_cast<std::uint32_t>(g.fin);
   }
-  fin_valid_ = fin_take || (fin_valid_ && !fin_rsp_taken);
+  fin_valid_ = g.fin_take || (fin_valid_ && !g.fin_rsp_taken);
 }
 
 }  // namespace rpu::cycle

@@ -100,6 +100,40 @@ class PipeTraversalUnit {
     int grant(std::uint64_t valid) const;
     void update(int grant, bool ready);
   };
+  // A cycle's grants, decided on the state at its start (bit s of a mask: slot s).
+  struct Grants {
+    std::uint64_t free = 0, ready = 0, leaf_end = 0, done = 0, refs = 0, leaf_over = 0;
+    std::uint64_t missing = 0;  // engines answering a ray that misses the scene box
+    int start = -1;             // the engine whose ray a free slot takes
+    bool give = false;
+    int ref = -1, fetch = -1;   // the slots whose ref, whose node the port reads
+    bool ref_issue = false, fetched = false, record_go = false;
+    bool line_taken = false;
+    Line line{};
+    int pop = -1;
+    bool pop_enter = false;
+    IuTimer* iu = nullptr;  // the IU free first
+    bool test_issue = false, answer = false, decide = false;
+    int rsp = -1, fin = -1;
+    bool fin_rsp_taken = false, fin_take = false;
+  };
+
+  std::uint64_t grant_engines(Cycle now, Grants& g) const;
+  void grant_slots(Grants& g);
+  void grant_start(std::uint64_t offering, Grants& g);
+  void grant_port(Grants& g);
+  void grant_line(Cycle now, Grants& g) const;
+  void grant_pop(Grants& g);
+  void grant_test(Cycle now, Grants& g);
+  void grant_response(Grants& g);
+  std::size_t incoming_engine();
+  void set_up(Cycle now, const Grants& g, std::vector<std::uint32_t>& answered);
+  void fetch(Cycle now, const Grants& g);
+  void take_line(Cycle now, const Grants& g);
+  void test(Cycle now, const Grants& g);
+  void pop(Cycle now, const Grants& g);
+  void step(const Grants& g);
+  void respond(const Grants& g, std::vector<std::uint32_t>& answered);
 
   PipeCosts costs_;
   LineSource& lines_;
