@@ -692,7 +692,8 @@ int run(const Options& o, std::unique_ptr<Model<harness::Tu>>& model) {
       cycle::PipeCosts pipe = cycle::PipeCosts::of(*config, watertight ? IsectMode::kWatertight : IsectMode::kWoop);
       pipe.slots = static_cast<std::uint32_t>(o.slots);
       pipe.setups = static_cast<std::uint32_t>(setups);
-      pipe.memory_wait = 0;  // the harness answers the unit's port directly
+      pipe.memory_wait = 0;  // the harness answers the unit's port directly,
+      pipe.port_lines = 0;   // in order, without the chip's reorder buffer
       modelled = model_pipe_cycles(cases, pipe, o.in_flight, static_cast<cycle::Cycle>(o.mem_latency));
     } else {
       modelled = model_cycles(cases, costs, o.slots, static_cast<cycle::Cycle>(o.mem_latency));

@@ -580,10 +580,6 @@ void CycleDevice::run(const ProgressCallback& progress) {
   out_.dram_bytes_per_cycle = config_.dram.bytes_per_cycle;
   costs_ = WalkCosts::of(config_, layout_.isect_mode);
   pipe_costs_ = PipeCosts::of(config_, layout_.isect_mode);
-  // rpu_top's in-order port per ray unit: a reorder buffer of what the cache arbiter
-  // leaves of the cache's tag.
-  const auto unit_bits = static_cast<std::uint32_t>(std::bit_width(static_cast<std::uint32_t>(config_.traversal_units) - 1));
-  pipe_costs_.port_lines = 1u << (streams::kCacheTagBits - std::min(unit_bits, streams::kCacheTagBits));
   lines_.emplace(*node_cache_, *triangle_cache_);
   progress_ = &progress;
   rounds_done_ = 0;

@@ -9,18 +9,18 @@ using functional::TraceEvent;
 WalkCosts WalkCosts::of(const spec::HardwareConfig& config, IsectMode mode) {
   const bool watertight = mode == IsectMode::kWatertight;
   const spec::TraversalUnitConfig& tu = config.tu;
-  WalkCosts c;
-  c.setup = static_cast<Cycle>(watertight ? tu.setup_watertight : tu.setup_woop);
-  c.inner = static_cast<Cycle>(tu.inner);
-  c.leaf = static_cast<Cycle>(tu.leaf);
-  c.pop = static_cast<Cycle>(tu.pop);
-  c.memory_wait = static_cast<Cycle>(tu.memory_wait);
-  c.iu_wait = static_cast<Cycle>(tu.iu_wait);
-  c.turnaround = static_cast<Cycle>(tu.turnaround);
-  c.iu_latency = static_cast<Cycle>(watertight ? config.iu.watertight : config.iu.woop);
-  c.iu_interval = static_cast<Cycle>(watertight ? config.iu.interval_watertight : config.iu.interval_woop);
-  c.record_bytes = isect_record_bytes(mode);
-  return c;
+  return {
+      .setup = static_cast<Cycle>(watertight ? tu.setup_watertight : tu.setup_woop),
+      .inner = static_cast<Cycle>(tu.inner),
+      .leaf = static_cast<Cycle>(tu.leaf),
+      .pop = static_cast<Cycle>(tu.pop),
+      .memory_wait = static_cast<Cycle>(tu.memory_wait),
+      .iu_wait = static_cast<Cycle>(tu.iu_wait),
+      .turnaround = static_cast<Cycle>(tu.turnaround),
+      .iu_latency = static_cast<Cycle>(watertight ? config.iu.watertight : config.iu.woop),
+      .iu_interval = static_cast<Cycle>(watertight ? config.iu.interval_watertight : config.iu.interval_woop),
+      .record_bytes = isect_record_bytes(mode),
+  };
 }
 
 WalkStep step_walk(const functional::TraceLog& log, Walk& walk, Cycle now, const WalkCosts& costs,

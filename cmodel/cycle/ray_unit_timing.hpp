@@ -16,12 +16,13 @@
 
 namespace rpu::cycle {
 
-// A configuration's step cycles for one intersection mode (spec/latencies.toml [tu], [iu]).
+// A configuration's step cycles for one intersection mode (spec/latencies.toml [tu], [iu]);
+// of() is where they come from.
 struct WalkCosts {
-  Cycle setup = 0, inner = 0, leaf = 0, pop = 0;
-  Cycle memory_wait = 0, iu_wait = 0, turnaround = 0;
-  Cycle iu_latency = 0, iu_interval = 0;
-  std::uint32_t record_bytes = 0;
+  Cycle setup, inner, leaf, pop;
+  Cycle memory_wait, iu_wait, turnaround;
+  Cycle iu_latency, iu_interval;
+  std::uint32_t record_bytes;
 
   static WalkCosts of(const spec::HardwareConfig& config, IsectMode mode);
 };

@@ -13,17 +13,21 @@ using functional::TraceEvent;
 PipeCosts PipeCosts::of(const spec::HardwareConfig& config, IsectMode mode) {
   const bool watertight = mode == IsectMode::kWatertight;
   const spec::TraversalUnitConfig& tu = config.tu;
-  PipeCosts c;
-  c.slots = static_cast<std::uint32_t>(config.tu_slots);
-  c.setups = static_cast<std::uint32_t>(config.tu_setups);
-  c.handoff = static_cast<Cycle>(watertight ? tu.pipe_handoff_watertight : tu.pipe_handoff_woop);
-  c.node = static_cast<Cycle>(tu.pipe_node);
-  c.memory_wait = static_cast<Cycle>(tu.pipe_memory_wait);
-  c.iu_latency = static_cast<Cycle>(watertight ? config.iu.watertight : config.iu.woop);
-  c.iu_interval = static_cast<Cycle>(watertight ? config.iu.interval_watertight : config.iu.interval_woop);
-  c.iu_wait = static_cast<Cycle>(tu.pipe_iu_wait);
-  c.record_lines = isect_record_bytes(mode) / streams::kMemLineBytes;
-  return c;
+  // The cache arbiter takes log2(units) of a read's tag bits: each unit's reorder buffer
+  // holds as many lines as the rest can name.
+  const auto unit_bits = static_cast<std::uint32_t>(std::bit_width(static_cast<std::uint32_t>(config.traversal_units) - 1));
+  return {
+      .slots = static_cast<std::uint32_t>(config.tu_slots),
+      .setups = static_cast<std::uint32_t>(config.tu_setups),
+      .port_lines = 1u << (streams::kCacheTagBits - std::min(unit_bits, streams::kCacheTagBits)),
+      .handoff = static_cast<Cycle>(watertight ? tu.pipe_handoff_watertight : tu.pipe_handoff_woop),
+      .node = static_cast<Cycle>(tu.pipe_node),
+      .memory_wait = static_cast<Cycle>(tu.pipe_memory_wait),
+      .iu_latency = static_cast<Cycle>(watertight ? config.iu.watertight : config.iu.woop),
+      .iu_interval = static_cast<Cycle>(watertight ? config.iu.interval_watertight : config.iu.interval_woop),
+      .iu_wait = static_cast<Cycle>(tu.pipe_iu_wait),
+      .record_lines = isect_record_bytes(mode) / streams::kMemLineBytes,
+  };
 }
 
 int PipeTraversalUnit::RoundRobin::grant(std::uint64_t valid) const {
@@ -128,14 +132,14 @@ void PipeTraversalUnit::grant_start(std::uint64_t offering, Grants& g) {
 // The memory port takes a record line, else a ref, else a node, while the lines in
 // flight leave room.
 void PipeTraversalUnit::grant_port(Grants& g) {
-  const std::size_t order_depth = costs_.slots + costs_.leaf_depth * (1 + costs_.record_lines);
+  const std::size_t order_depth = costs_.slots + kLeafDepth * (1 + costs_.record_lines);
   const bool go = order_.size() < (costs_.port_lines ? std::min<std::size_t>(order_depth, costs_.port_lines) : order_depth);
   const Kind source = !jobs_.empty() ? Kind::kRecord
-                      : g.refs != 0 && work_ < costs_.leaf_depth ? Kind::kRef
+                      : g.refs != 0 && work_ < kLeafDepth ? Kind::kRef
                                                                  : Kind::kNode;
   g.ref = ref_rr_.grant(g.refs);
   ref_rr_.update(g.ref, go && source == Kind::kRef);
-  g.ref_issue = g.ref >= 0 && go && source == Kind::kRef && work_ < costs_.leaf_depth;
+  g.ref_issue = g.ref >= 0 && go && source == Kind::kRef && work_ < kLeafDepth;
   g.fetch = fetch_rr_.grant(g.ready);
   fetch_rr_.update(g.fetch, go && source == Kind::kNode);
   g.fetched = g.fetch >= 0 && go && source == Kind::kNode;
@@ -163,7 +167,7 @@ void PipeTraversalUnit::grant_pop(Grants& g) {
 void PipeTraversalUnit::grant_test(Cycle now, Grants& g) {
   g.iu = &*std::min_element(ius_.begin(), ius_.end(),
                             [](const IuTimer& a, const IuTimer& b) { return a.next_accept < b.next_accept; });
-  g.test_issue = got_ == costs_.record_lines && !flight_.empty() && tests_busy_ < costs_.tests &&
+  g.test_issue = got_ == costs_.record_lines && !flight_.empty() && tests_busy_ < kTests &&
                  g.iu->next_accept <= now;
   g.answer = !answers_.empty() && answers_.top().at <= now;
   g.decide = !steps_.empty() && steps_.front().at == now;

@@ -19,18 +19,17 @@
 namespace rpu::cycle {
 
 // A configuration's pipelined unit (spec/config_keys.toml tu_*, spec/latencies.toml
-// [tu] pipe_*) in one intersection mode.
+// [tu] pipe_*) in one intersection mode; of() is where its values come from.
 struct PipeCosts {
-  std::uint32_t slots = 16, setups = 2;
-  std::uint32_t leaf_depth = 16;  // refs fetched ahead of their tests (rpu_tu_pipe LeafDepth)
-  std::uint32_t tests = 32;       // tests in flight to the IUs (rpu_tu_pipe Tests)
-  std::uint32_t port_lines = 0;   // lines in flight on the memory port, if fewer than the unit's own limit
-  Cycle handoff = 0;   // a set-up engine: from taking a ray to offering it to a slot
-  Cycle node = 5;      // a node's line taken to its slot's next fetch
-  Cycle memory_wait = 0;  // beyond the line source's answer (the chip's port registers)
-  Cycle iu_latency = 0, iu_interval = 1, iu_wait = 0;
-  std::uint32_t record_lines = 0;  // an intersection record's memory lines
+  std::uint32_t slots, setups;
+  std::uint32_t port_lines;  // lines in flight on the memory port, if fewer than the unit's own limit (0: none)
+  Cycle handoff;             // a set-up engine: from taking a ray to offering it to a slot
+  Cycle node;                // a node's line taken to its slot's next fetch
+  Cycle memory_wait;         // beyond the line source's answer (the chip's port registers)
+  Cycle iu_latency, iu_interval, iu_wait;
+  std::uint32_t record_lines;  // an intersection record's memory lines
 
+  // The chip's unit: its port holds what rpu_top's reorder buffer per ray unit does.
   static PipeCosts of(const spec::HardwareConfig& config, IsectMode mode);
 };
 
@@ -134,6 +133,10 @@ class PipeTraversalUnit {
   void pop(Cycle now, const Grants& g);
   void step(const Grants& g);
   void respond(const Grants& g, std::vector<std::uint32_t>& answered);
+
+  // rpu_tu_pipe's LeafDepth and Tests, as rpu_ray_unit builds it: refs fetched ahead of
+  // their tests, and tests in flight to the IUs.
+  static constexpr std::uint32_t kLeafDepth = 16, kTests = 32;
 
   PipeCosts costs_;
   LineSource& lines_;
