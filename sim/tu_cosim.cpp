@@ -42,8 +42,8 @@
 
 #include "common/error.hpp"
 #include "cosim_core.hpp"
-#include "cycle/ray_unit_timing.hpp"
 #include "cycle/tu_pipe_timing.hpp"
+#include "cycle/walker_timing.hpp"
 #include "fp/format.hpp"
 #include "functional/arith.hpp"
 #include "functional/intersection_unit.hpp"

@@ -17,8 +17,8 @@
 #include "fp/fast32.hpp"
 #include "cycle/dispatch.hpp"
 #include "cycle/event_queue.hpp"
-#include "cycle/ray_unit_timing.hpp"
 #include "cycle/tu_pipe_timing.hpp"
+#include "cycle/walker_timing.hpp"
 #include "functional/tracer.hpp"
 #include "rpu/streams.hpp"
 
@@ -71,15 +71,6 @@ struct Core {
   ShaderCoreTime time;
 };
 
-// A ray slot of a traversal unit: each walks its own ray (rpu_tu_slots' walkers), and
-// the slots of all units share the caches and the intersection units.
-struct Tu {
-  bool busy = false;
-  Ray ray;
-  Walk walk;
-  TraversalUnitTime time;
-};
-
 // The chip's ray units read through the node and triangle caches.
 class CacheLines final : public LineSource {
  public:
@@ -93,15 +84,7 @@ class CacheLines final : public LineSource {
   Cache& triangles_;
 };
 
-// A pipelined traversal unit (rpu_tu_pipe): stepped every cycle while it holds rays or
-// rays wait for it; its rays' destinations by the id the unit answers with.
-struct PipeTu {
-  std::optional<PipeTraversalUnit> unit;
-  std::deque<Ray> rays;  // grows at the back only: the unit holds pointers to their logs
-  std::vector<std::uint32_t> free_ids;
-};
-
-class CycleDevice final : public device::DeviceBase {
+class CycleDevice final : public device::DeviceBase, RayUnitTiming::Ports {
  public:
   CycleDevice(const spec::HardwareConfig& config, fp::Format format, const CycleOptions& options)
       : DeviceBase(config, format),
@@ -114,10 +97,9 @@ class CycleDevice final : public device::DeviceBase {
  private:
   void run(const ProgressCallback& progress) override;
 
-  // The event queue's agents: the cores, then the walker slots or the pipelined units.
+  // The event queue's agents: the cores, then the ray units.
   void schedule_core(std::uint32_t c, Cycle at) { events_->wake(c, at); }
-  void schedule_tu(std::uint32_t u, Cycle at) { events_->wake(static_cast<std::uint32_t>(cores_.size()) + u, at); }
-  void schedule_pipe(std::uint32_t u, Cycle at) { schedule_tu(u, at); }
+  void wake_unit(std::size_t u, Cycle at) { events_->wake(static_cast<std::uint32_t>(cores_.size() + u), at); }
   void account(Core& core, Cycle until);
   Cycle ready_time(const ChunkSlot& s) const;
   Cycle compute_ready_time(const ChunkSlot& s) const;
@@ -129,13 +111,13 @@ class CycleDevice final : public device::DeviceBase {
   Cycle send_access(Core& core, Cycle s0, const functional::MemoryAccess& a);
   void start_round(std::uint32_t c, std::uint32_t i, Cycle at);
   void dispatch(Ray&& ray, Cycle at);
-  void start_ray(std::uint32_t u, Ray&& ray, Cycle at);
   void ray_left_queue(std::uint32_t c, Cycle at);
-  bool take_queued_ray(std::uint32_t u, Cycle at);
-  void tu_event(std::uint32_t u, Cycle now);
-  void pipe_event(std::uint32_t u, Cycle now);
-  void finish_ray(std::uint32_t u, Cycle now);
-  void return_ray(Ray& ray, Cycle now);
+  // The ray units' ports.
+  std::optional<Ray> next_ray(Cycle from) override;
+  std::optional<Ray> send_ray(Cycle now) override;
+  bool rays_waiting() const override { return dispatch_->any_waiting(); }
+  void answer(Ray& ray, Cycle now) override;
+  void make_ray_units();
   void set_result(ChunkSlot& s, int reg, Cycle ready);
   void finish(Cycle end);
 
@@ -149,13 +131,10 @@ class CycleDevice final : public device::DeviceBase {
   std::optional<Dram> dram_;
   std::optional<Cache> node_cache_, triangle_cache_;
   std::vector<Core> cores_;
-  std::vector<Tu> tus_;   // unit u's slots at u * slots_ ...
-  std::uint32_t slots_ = 1;
-  std::vector<PipeTu> pipes_;  // with tu_pipe: one per unit, and tus_ is empty
-  std::vector<std::uint32_t> answered_;
+  // Walkers, or pipelined units: traversal unit u's walkers at u * walkers_ ...
+  std::vector<std::unique_ptr<RayUnitTiming>> units_;
+  std::uint32_t walkers_ = 1;  // per traversal unit
   std::vector<IuTimer> ius_;
-  WalkCosts costs_;
-  PipeCosts pipe_costs_;
   std::optional<CacheLines> lines_;
   std::optional<RayDispatch> dispatch_;
   std::vector<TraceLog> spare_logs_;
@@ -453,18 +432,14 @@ void CycleDevice::start_round(std::uint32_t c, std::uint32_t i, Cycle at) {
   std::fill(s.reg_ready.begin(), s.reg_ready.end(), at);
 }
 
-// The ray waits in its core's queue until a traversal unit is free.
+// The ray waits in its core's queue until a traversal unit takes it. The units are
+// offered it in turn, then their next walkers: units fill evenly.
 void CycleDevice::dispatch(Ray&& ray, Cycle at) {
   dispatch_->queue(std::move(ray), at);
-  if (!pipes_.empty()) {
-    for (std::uint32_t u = 0; u < pipes_.size(); ++u) schedule_pipe(u, at);
-    return;
-  }
-  // The first free slot of each unit in turn: units fill evenly.
-  const auto units = static_cast<std::uint32_t>(config_.traversal_units);
-  for (std::uint32_t k = 0; k < tus_.size(); ++k) {
-    const std::uint32_t slot = (k % units) * slots_ + k / units;
-    if (!tus_[slot].busy && !take_queued_ray(slot, at)) break;
+  const auto tus = static_cast<std::size_t>(config_.traversal_units);
+  for (std::size_t k = 0; k < units_.size(); ++k) {
+    const std::size_t u = (k % tus) * walkers_ + k / tus;
+    wake_unit(u, units_[u]->ray_waiting(at));
   }
 }
 
@@ -474,74 +449,20 @@ void CycleDevice::ray_left_queue(std::uint32_t c, Cycle at) {
   plan(c, at);
 }
 
-// A free ray slot takes the next waiting ray.
-bool CycleDevice::take_queued_ray(std::uint32_t u, Cycle at) {
+std::optional<Ray> CycleDevice::next_ray(Cycle from) {
   std::optional<Ray> ray = dispatch_->next();
-  if (!ray) return false;
-  ray_left_queue(ray->core, at);
-  start_ray(u, std::move(*ray), at);
-  return true;
+  if (ray) ray_left_queue(ray->core, from);
+  return ray;
 }
 
-void CycleDevice::start_ray(std::uint32_t u, Ray&& ray, Cycle at) {
-  Tu& tu = tus_[u];
-  tu.busy = true;
-  tu.ray = std::move(ray);
-  tu.walk = {};
-  schedule_tu(u, std::max(at, tu.ray.arrived));
-}
-
-void CycleDevice::tu_event(std::uint32_t u, Cycle now) {
-  Tu& tu = tus_[u];
-  const WalkStep step = step_walk(tu.ray.log, tu.walk, now, costs_, *lines_, ius_, tu.time);
-  if (step.done) {
-    finish_ray(u, now);
-    return;
-  }
-  if (timeline_.enabled()) {
-    timeline_.add(slots_ == 1 ? fmt::format("TU {}", u) : fmt::format("TU {} slot {}", u / slots_, u % slots_),
-          std::string(step.what), now, step.next);
-    if (step.iu >= 0) timeline_.add(fmt::format("IU {}", step.iu), "test", step.iu_accept, step.iu_accept + costs_.iu_latency);
-  }
-  schedule_tu(u, step.next);
-}
-
-// A pipelined unit's cycle: it takes a waiting ray if a set-up engine has room, steps,
-// and returns the rays answered; it runs on while it holds rays or rays wait.
-void CycleDevice::pipe_event(std::uint32_t u, Cycle now) {
-  PipeTu& p = pipes_[u];
-  if (p.unit->ready()) {
-    if (std::optional<Ray> ray = dispatch_->send(now)) {
-      ray_left_queue(ray->core, now);
-      if (p.free_ids.empty()) {
-        p.free_ids.push_back(static_cast<std::uint32_t>(p.rays.size()));
-        p.rays.emplace_back();
-      }
-      const std::uint32_t id = p.free_ids.back();
-      p.free_ids.pop_back();
-      p.rays[id] = std::move(*ray);
-      p.unit->take(id, p.rays[id].log);
-    }
-  }
-  answered_.clear();
-  p.unit->tick(now, answered_);
-  for (const std::uint32_t id : answered_) {
-    return_ray(p.rays[id], now);
-    p.free_ids.push_back(id);
-  }
-  if (!p.unit->idle() || dispatch_->any_waiting()) schedule_pipe(u, now + 1);
-}
-
-// The ray's hit record reaches its register; the TU takes the next waiting ray.
-void CycleDevice::finish_ray(std::uint32_t u, Cycle now) {
-  Tu& tu = tus_[u];
-  return_ray(tu.ray, now);
-  tu.busy = false;
-  take_queued_ray(u, now + costs_.turnaround);
+std::optional<Ray> CycleDevice::send_ray(Cycle now) {
+  std::optional<Ray> ray = dispatch_->send(now);
+  if (ray) ray_left_queue(ray->core, now);
+  return ray;
 }
 
 // The ray's answer enters its core's pipeline and is written like any result.
-void CycleDevice::return_ray(Ray& ray, Cycle now) {
+void CycleDevice::answer(Ray& ray, Cycle now) {
   const std::uint32_t c = ray.core, i = ray.chunk;
   Core& core = cores_[c];
   ChunkSlot& s = core.chunks[i];
@@ -557,6 +478,24 @@ void CycleDevice::return_ray(Ray& ray, Cycle now) {
   if (s.halted && !s.rays_in_flight) start_round(c, i, back);
   plan(c, now + 1);
   spare_logs_.push_back(std::move(ray.log));
+}
+
+// The traversal units: `tu_slots` walkers each, or a pipelined unit each (tu_pipe).
+void CycleDevice::make_ray_units() {
+  ius_.assign(static_cast<std::size_t>(config_.intersection_units), IuTimer{});
+  units_.clear();
+  RayUnitTiming::Ports& ports = *this;
+  for (int u = 0; u < config_.traversal_units; ++u) {
+    if (config_.tu_pipe) {
+      units_.push_back(std::make_unique<PipeUnitTiming>(PipeCosts::of(config_, layout_.isect_mode), *lines_, ius_, ports));
+      continue;
+    }
+    for (std::uint32_t s = 0; s < walkers_; ++s) {
+      std::string track = walkers_ == 1 ? fmt::format("TU {}", u) : fmt::format("TU {} slot {}", u, s);
+      units_.push_back(std::make_unique<WalkerTiming>(WalkCosts::of(config_, layout_.isect_mode), *lines_, ius_, ports,
+                                                      timeline_, std::move(track)));
+    }
+  }
 }
 
 void CycleDevice::run(const ProgressCallback& progress) {
@@ -578,8 +517,6 @@ void CycleDevice::run(const ProgressCallback& progress) {
   out_.height = launch_.height;
   out_.pixel_cycles.assign(pixels(), 0);
   out_.dram_bytes_per_cycle = config_.dram.bytes_per_cycle;
-  costs_ = WalkCosts::of(config_, layout_.isect_mode);
-  pipe_costs_ = PipeCosts::of(config_, layout_.isect_mode);
   lines_.emplace(*node_cache_, *triangle_cache_);
   progress_ = &progress;
   rounds_done_ = 0;
@@ -588,9 +525,8 @@ void CycleDevice::run(const ProgressCallback& progress) {
 
   const auto chunks_per_core = static_cast<std::uint32_t>(config_.threads_per_core / config_.chunk_size);
   const auto registers = static_cast<std::size_t>(config_.registers);
-  slots_ = static_cast<std::uint32_t>(config_.tu_slots);
-  const auto units = static_cast<std::size_t>(config_.traversal_units) * (config_.tu_pipe ? 1 : slots_);
-  events_.emplace(static_cast<std::size_t>(config_.shader_cores) + units);
+  walkers_ = config_.tu_pipe ? 1 : static_cast<std::uint32_t>(config_.tu_slots);
+  events_.emplace(static_cast<std::size_t>(config_.shader_cores + config_.traversal_units) * walkers_);
   dispatch_.emplace(static_cast<std::size_t>(config_.shader_cores));
   cores_.clear();
   cores_.resize(static_cast<std::size_t>(config_.shader_cores));
@@ -608,15 +544,7 @@ void CycleDevice::run(const ProgressCallback& progress) {
     }
     plan(c, 0);
   }
-  ius_.assign(static_cast<std::size_t>(config_.intersection_units), IuTimer{});
-  tus_.clear();
-  pipes_.clear();
-  if (config_.tu_pipe) {
-    pipes_.resize(static_cast<std::size_t>(config_.traversal_units));
-    for (PipeTu& p : pipes_) p.unit.emplace(pipe_costs_, *lines_, ius_);
-  } else {
-    tus_.assign(static_cast<std::size_t>(config_.traversal_units) * slots_, Tu{});
-  }
+  make_ray_units();
 
   {
     // One flush-to-zero scope for the frame's fp32 fast path, not one per step.
@@ -625,10 +553,8 @@ void CycleDevice::run(const ProgressCallback& progress) {
     while (const std::optional<EventQueue::Wakeup> e = events_->next()) {
       if (e->agent < cores) {
         core_event(e->agent, e->at);
-      } else if (config_.tu_pipe) {
-        pipe_event(e->agent - cores, e->at);
       } else {
-        tu_event(e->agent - cores, e->at);
+        wake_unit(e->agent - cores, units_[e->agent - cores]->advance(e->at));
       }
     }
   }
@@ -684,18 +610,9 @@ void CycleDevice::finish(Cycle end) {
     out_.data_cache += core.data_cache->stats();
   }
   // A unit's times are its slots' summed: they add up to cycles x slots.
-  out_.tu_slots = slots_;
+  out_.tu_slots = static_cast<std::uint32_t>(config_.tu_slots);
   out_.tus.assign(static_cast<std::size_t>(config_.traversal_units), TraversalUnitTime{});
-  for (std::uint32_t i = 0; i < tus_.size(); ++i) {
-    TraversalUnitTime& t = tus_[i].time;
-    t.idle = end - std::min(end, t.busy + t.wait_memory + t.wait_iu);
-    out_.tus[i / slots_] += t;
-  }
-  for (std::uint32_t u = 0; u < pipes_.size(); ++u) {
-    TraversalUnitTime t = pipes_[u].unit->time;  // slot-cycles
-    t.idle = end * slots_ - std::min(end * slots_, t.busy + t.wait_memory + t.wait_iu);
-    out_.tus[u] = t;
-  }
+  for (std::size_t u = 0; u < units_.size(); ++u) out_.tus[u / walkers_] += units_[u]->time(end);
   for (const IuTimer& iu : ius_) out_.ius.push_back(iu.time);
   out_.node_cache = node_cache_->stats();
   out_.triangle_cache = triangle_cache_->stats();
@@ -705,6 +622,8 @@ void CycleDevice::finish(Cycle end) {
   out_.thread_instructions = shader_stats_.instructions();
 
   // Speed of light: each resource's work at full rate, every access a hit, no queueing.
+  const WalkCosts walk = WalkCosts::of(config_, layout_.isect_mode);
+  const PipeCosts pipe = PipeCosts::of(config_, layout_.isect_mode);
   TraversalUnitTime tu_work;
   std::uint64_t tests = 0;
   for (const TraversalUnitTime& t : out_.tus) tu_work += t;
@@ -715,21 +634,21 @@ void CycleDevice::finish(Cycle end) {
   // A pipelined unit: its memory port moves a line a cycle (a node, a ref, a record's
   // lines), its set-up engines take `handoff` cycles a ray.
   const double pipe_cycles = std::max(
-      static_cast<double>(tu_work.inner + tu_work.leaves + tu_work.refs + tu_work.tests * pipe_costs_.record_lines),
-      static_cast<double>(tu_work.rays) * static_cast<double>(pipe_costs_.handoff) / config_.tu_setups);
-  const double walk_cycles = static_cast<double>(tu_work.rays) * static_cast<double>(costs_.setup) +
+      static_cast<double>(tu_work.inner + tu_work.leaves + tu_work.refs + tu_work.tests * pipe.record_lines),
+      static_cast<double>(tu_work.rays) * static_cast<double>(pipe.handoff) / config_.tu_setups);
+  const double walk_cycles = static_cast<double>(tu_work.rays) * static_cast<double>(walk.setup) +
                            static_cast<double>(tu_work.inner) * (node_hit + tc.inner) +
                            static_cast<double>(tu_work.leaves) * (node_hit + tc.leaf) +
                            static_cast<double>(tu_work.refs) * tri_hit +
                            static_cast<double>(tu_work.tests) *
-                               (tri_hit + static_cast<double>(costs_.iu_latency + costs_.iu_wait)) +
+                               (tri_hit + static_cast<double>(walk.iu_latency + walk.iu_wait)) +
                            static_cast<double>(tu_work.pops) * tc.pop;
   out_.bounds = {
       // One lane a cycle enters a core's pipeline.
       {"shader cores (issue)", static_cast<double>(out_.thread_instructions) / config_.shader_cores},
       {"traversal units", config_.tu_pipe ? pipe_cycles / config_.traversal_units
                                           : walk_cycles / (config_.traversal_units * config_.tu_slots)},
-      {"intersection units", static_cast<double>(tests) * static_cast<double>(costs_.iu_interval) / config_.intersection_units},
+      {"intersection units", static_cast<double>(tests) * static_cast<double>(walk.iu_interval) / config_.intersection_units},
       {"DRAM bus", static_cast<double>(out_.dram.bus_cycles)},
   };
   std::stable_sort(out_.bounds.begin(), out_.bounds.end(), [](const Bound& a, const Bound& b) { return a.cycles > b.cycles; });

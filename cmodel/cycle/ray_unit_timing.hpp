@@ -1,33 +1,18 @@
-// The timing of a ray slot's walk (docs/cycle-model.md, "Traversal and intersection
-// units"): each event of the tracer's log (a node fetched and stepped, a prim ref read,
-// a record read and tested, a pop) costs the configuration's step cycles plus the wait
-// for its memory line and IU answer. The chip's cycle model and tu_cosim's comparison
-// with the RTL ray unit (--cycle-model) time walks with this one code.
+// A traversal unit's timing as the chip drives it (docs/cycle-model.md "Traversal and
+// intersection units"), whatever the unit: a walker (cycle/walker_timing.hpp) or a
+// pipelined unit (cycle/tu_pipe_timing.hpp). The functional tracer has walked each ray
+// already; a unit replays the walk's log and decides when each step happens.
 #pragma once
 
 #include <cstdint>
-#include <span>
-#include <string_view>
+#include <optional>
 
-#include "rpu/spec.hpp"
 #include "cycle/cycle_stats.hpp"
-#include "functional/tracer.hpp"
-#include "memory/memory_image.hpp"
+#include "cycle/dispatch.hpp"
 
 namespace rpu::cycle {
 
-// A configuration's step cycles for one intersection mode (spec/latencies.toml [tu], [iu]);
-// of() is where they come from.
-struct WalkCosts {
-  Cycle setup, inner, leaf, pop;
-  Cycle memory_wait, iu_wait, turnaround;
-  Cycle iu_latency, iu_interval;
-  std::uint32_t record_bytes;
-
-  static WalkCosts of(const spec::HardwareConfig& config, IsectMode mode);
-};
-
-// Where a walk's bytes come from: the node or triangle cache on the chip, a fixed-latency
+// Where a unit's bytes come from: the node or triangle cache on the chip, a fixed-latency
 // memory in tu_cosim. Returns the cycle the bytes are back when asked at `now`.
 class LineSource {
  public:
@@ -35,30 +20,40 @@ class LineSource {
   virtual Cycle read(Cycle now, std::uint32_t address, std::uint32_t bytes, bool node) = 0;
 };
 
+// An intersection unit, shared by all traversal units: a test goes to the one that can
+// take it first.
 struct IuTimer {
   Cycle next_accept = 0;
   IntersectionUnitTime time;
 };
 
-// Where a slot is in its ray's log.
-struct Walk {
-  std::size_t next = 0;  // the next event of the log
-  bool set_up = false;
-};
+class RayUnitTiming {
+ public:
+  // The unit's links to the chip: rays in from the dispatch, answers out to the cores.
+  class Ports {
+   public:
+    virtual ~Ports() = default;
+    // The next waiting ray (RayDispatch::next) for a walker free from `from`; the
+    // ray's core has room in its queue again from then.
+    virtual std::optional<Ray> next_ray(Cycle from) = 0;
+    // The ray sent to a pipelined unit in cycle `now` (RayDispatch::send).
+    virtual std::optional<Ray> send_ray(Cycle now) = 0;
+    virtual bool rays_waiting() const = 0;
+    // The ray's answer leaves the unit in cycle `now`.
+    virtual void answer(Ray& ray, Cycle now) = 0;
+  };
 
-// What one step did: when the slot's next step can start (done: the walk has ended at
-// `now` and its answer leaves), and for the timeline its name and the IU test it made.
-struct WalkStep {
-  bool done = false;
-  Cycle next = 0;
-  std::string_view what;
-  int iu = -1;  // the IU that took a test, and when
-  Cycle iu_accept = 0;
+  virtual ~RayUnitTiming() = default;
+  // A ray waits at the dispatch from `at`: the unit takes one now if it is free, or
+  // runs to take one. Returns the cycle it asks to run at (kNever: none).
+  virtual Cycle ray_waiting(Cycle at) = 0;
+  // Runs the unit in cycle `now`, one it asked for: it takes rays, steps them and
+  // answers those done; returns the next cycle it asks for (kNever: none until a ray
+  // waits).
+  virtual Cycle advance(Cycle now) = 0;
+  // Its times and counts in a launch of `end` cycles, in slot-cycles: busy, waiting for
+  // memory, for the IU, and idle add up to `end` x its slots.
+  virtual TraversalUnitTime time(Cycle end) const = 0;
 };
-
-// Times the slot's next step at `now`; `time` collects the slot's cycles and counts.
-// A test goes to the IU that can take it first.
-WalkStep step_walk(const functional::TraceLog& log, Walk& walk, Cycle now, const WalkCosts& costs,
-                   LineSource& memory, std::span<IuTimer> ius, TraversalUnitTime& time);
 
 }  // namespace rpu::cycle

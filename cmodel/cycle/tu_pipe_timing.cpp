@@ -364,4 +364,33 @@ void PipeTraversalUnit::respond(const Grants& g, std::vector<std::uint32_t>& ans
   fin_valid_ = g.fin_take || (fin_valid_ && !g.fin_rsp_taken);
 }
 
+Cycle PipeUnitTiming::advance(Cycle now) {
+  if (unit_.ready()) {
+    if (std::optional<Ray> ray = ports_.send_ray(now)) {
+      if (free_ids_.empty()) {
+        free_ids_.push_back(static_cast<std::uint32_t>(rays_.size()));
+        rays_.emplace_back();
+      }
+      const std::uint32_t id = free_ids_.back();
+      free_ids_.pop_back();
+      rays_[id] = std::move(*ray);
+      unit_.take(id, rays_[id].log);
+    }
+  }
+  answered_.clear();
+  unit_.tick(now, answered_);
+  for (const std::uint32_t id : answered_) {
+    ports_.answer(rays_[id], now);
+    free_ids_.push_back(id);
+  }
+  return !unit_.idle() || ports_.rays_waiting() ? now + 1 : kNever;
+}
+
+TraversalUnitTime PipeUnitTiming::time(Cycle end) const {
+  TraversalUnitTime t = unit_.time;
+  const Cycle slot_cycles = end * slots_;
+  t.idle = slot_cycles - std::min(slot_cycles, t.busy + t.wait_memory + t.wait_iu);
+  return t;
+}
+
 }  // namespace rpu::cycle

@@ -15,6 +15,8 @@
 #include <vector>
 
 #include "cycle/ray_unit_timing.hpp"
+#include "functional/tracer.hpp"
+#include "memory/memory_image.hpp"
 
 namespace rpu::cycle {
 
@@ -154,6 +156,27 @@ class PipeTraversalUnit {
   bool fin_valid_ = false;
   std::uint32_t fin_slot_ = 0;
   std::uint32_t rays_ = 0;  // taken and not answered
+};
+
+// A pipelined unit of the chip: a PipeTraversalUnit that takes a ray from the dispatch
+// in a cycle a set-up engine has room (RayDispatch::send: one a cycle to all units),
+// stepped in every cycle in which it holds a ray or rays wait.
+class PipeUnitTiming final : public RayUnitTiming {
+ public:
+  PipeUnitTiming(const PipeCosts& costs, LineSource& lines, std::span<IuTimer> ius, Ports& ports)
+      : unit_(costs, lines, ius), ports_(ports), slots_(costs.slots) {}
+
+  Cycle ray_waiting(Cycle at) override { return at; }
+  Cycle advance(Cycle now) override;
+  TraversalUnitTime time(Cycle end) const override;
+
+ private:
+  PipeTraversalUnit unit_;
+  Ports& ports_;
+  std::uint32_t slots_;
+  std::deque<Ray> rays_;  // by the id the unit answers with; grows at the back only: the unit holds pointers to their logs
+  std::vector<std::uint32_t> free_ids_;
+  std::vector<std::uint32_t> answered_;
 };
 
 }  // namespace rpu::cycle

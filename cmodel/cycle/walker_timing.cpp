@@ -1,6 +1,8 @@
-#include "cycle/ray_unit_timing.hpp"
+#include "cycle/walker_timing.hpp"
 
 #include <algorithm>
+
+#include <fmt/format.h>
 
 namespace rpu::cycle {
 
@@ -85,6 +87,38 @@ WalkStep step_walk(const functional::TraceLog& log, Walk& walk, Cycle now, const
       break;
   }
   return step;
+}
+
+WalkerTiming::WalkerTiming(const WalkCosts& costs, LineSource& lines, std::span<IuTimer> ius, Ports& ports,
+                           Timeline& timeline, std::string track)
+    : costs_(costs), lines_(lines), ius_(ius), ports_(ports), timeline_(timeline), track_(std::move(track)) {}
+
+Cycle WalkerTiming::take(Cycle from) {
+  std::optional<Ray> ray = ports_.next_ray(from);
+  if (!ray) return kNever;
+  ray_ = std::move(ray);
+  walk_ = {};
+  return std::max(from, ray_->arrived);
+}
+
+Cycle WalkerTiming::advance(Cycle now) {
+  const WalkStep step = step_walk(ray_->log, walk_, now, costs_, lines_, ius_, time_);
+  if (step.done) {
+    ports_.answer(*ray_, now);
+    ray_.reset();
+    return take(now + costs_.turnaround);
+  }
+  if (timeline_.enabled()) {
+    timeline_.add(track_, std::string(step.what), now, step.next);
+    if (step.iu >= 0) timeline_.add(fmt::format("IU {}", step.iu), "test", step.iu_accept, step.iu_accept + costs_.iu_latency);
+  }
+  return step.next;
+}
+
+TraversalUnitTime WalkerTiming::time(Cycle end) const {
+  TraversalUnitTime t = time_;
+  t.idle = end - std::min(end, t.busy + t.wait_memory + t.wait_iu);
+  return t;
 }
 
 }  // namespace rpu::cycle
