@@ -1,0 +1,365 @@
+#include "cycle/core_timing.hpp"
+
+#include <algorithm>
+#include <bit>
+
+#include <fmt/format.h>
+
+#include "rpu/streams.hpp"
+
+namespace rpu::cycle {
+
+namespace si = spec::isa;
+using isa::Opcode;
+
+CoreTiming::CoreTiming(std::uint32_t index, const spec::HardwareConfig& config, functional::ShaderCore& shader,
+                       functional::ShaderStats& stats, Dram& dram, EventQueue& events, Timeline& timeline, Chip& chip)
+    : index_(index),
+      config_(config),
+      shader_(shader),
+      stats_(stats),
+      data_cache_(config.data_cache, dram, static_cast<Cycle>(config.latency.line_wait)),
+      events_(events),
+      timeline_(timeline),
+      chip_(chip),
+      track_(fmt::format("core {}", index)),
+      chunks_(static_cast<std::size_t>(config.threads_per_core / config.chunk_size)) {}
+
+void CoreTiming::start() {
+  const auto registers = static_cast<std::size_t>(config_.registers);
+  for (std::uint32_t i = 0; i < chunks_.size(); ++i) {
+    ChunkSlot& s = chunks_[i];
+    s.index = std::uint64_t{index_} * chunks_.size() + i;
+    s.reg_ready.assign(registers, 0);
+    s.reg_rays.assign(registers, 0);
+    start_round(i, 0);
+  }
+  plan(0);
+}
+
+void CoreTiming::account(Cycle until) {
+  if (until <= accounted_) return;
+  const Cycle n = until - accounted_;
+  switch (wait_) {
+    case Wait::kIdle: time_.idle += n; break;
+    case Wait::kTrace: time_.wait_trace += n; break;
+    case Wait::kMemory: time_.wait_memory += n; break;
+    case Wait::kDependency: time_.wait_dependency += n; break;
+  }
+  accounted_ = until;
+}
+
+// The first cycle the chunk's next instruction can issue (its sources and destination
+// ready: an in-order scoreboard; room in the queue it hands its lanes to), or kNever
+// while a ray it needs is in flight.
+Cycle CoreTiming::ready_time(const ChunkSlot& s) const {
+  if (!s.ready_known) {
+    s.ready_at = compute_ready_time(s);
+    s.ready_known = true;
+  }
+  return s.ready_at;
+}
+
+Cycle CoreTiming::compute_ready_time(const ChunkSlot& s) const {
+  if (!s.live || s.halted || s.chunk.threads().front().lane.pixel > chip_.first_fault()) return kNever;
+  Cycle t = s.earliest;
+  const std::uint32_t pc = s.chunk.next_pc();
+  if (!shader_.instruction(pc)) return t;  // the step will fault
+  const isa::RegisterUse& use = shader_.register_use(pc);
+  const auto need = [&](int r) {
+    if (r < 0 || static_cast<std::size_t>(r) >= s.reg_ready.size()) return true;  // the step will fault
+    if (s.reg_rays[static_cast<std::size_t>(r)]) return false;
+    t = std::max(t, s.reg_ready[static_cast<std::size_t>(r)]);
+    return true;
+  };
+  if (!need(use.dst) || !need(use.data) || !need(use.src[0]) || !need(use.src[1]) || !need(use.src[2])) {
+    return kNever;
+  }
+  // The queue the instruction hands its lanes to must have room for all of them and for
+  // lanes of the instruction before still on their way (rpu_spu's QueueDepth and
+  // QueueNeed): at most UnitQueueChunks - 1 chunks of lanes may wait in it.
+  // (So the answer depends on the core's queues too: every issue on the core asks again.)
+  const auto room = static_cast<std::size_t>(streams::kUnitQueueChunks - 1) *
+                    static_cast<std::size_t>(config_.chunk_size);
+  const isa::Instruction& in = *shader_.instruction(pc);
+  if (in.spec->cls == si::Class::kTrace && chip_.queued_rays(index_) > room) return kNever;
+  if (in.spec->cls == si::Class::kMem || in.opcode() == Opcode::kCalli) {
+    t = std::max(t, lsu_free_ - std::min<Cycle>(lsu_free_, room));
+  }
+  if (in.spec->cls == si::Class::kSfu && sfu_starts_.size() > room) {
+    t = std::max(t, sfu_starts_[sfu_starts_.size() - 1 - room]);
+  }
+  return t;
+}
+
+// Wakes the core for its next issue at or after `from`, and notes why it waits until
+// then as the RTL's counters do (docs/chip.md "Statistics"): for its own pipeline while
+// a live chunk has neither rays nor loads out, else for memory while one has loads out,
+// else for rays.
+void CoreTiming::plan(Cycle from) {
+  Cycle best = kNever;
+  bool own = false, loads = false, rays = false;
+  for (const ChunkSlot& s : chunks_) {
+    best = std::min(best, ready_time(s));
+    if (!s.live) continue;
+    if (s.rays_in_flight) {
+      rays = true;
+    } else if (s.loads_back > from) {
+      loads = true;
+    } else {
+      own = true;
+    }
+  }
+  wait_ = own ? Wait::kDependency : loads ? Wait::kMemory : rays ? Wait::kTrace : Wait::kIdle;
+  if (best != kNever) events_.wake(index_, std::max({best, from, seq_free_}));
+}
+
+void CoreTiming::run(Cycle now) {
+  account(now);
+  const auto n = static_cast<std::uint32_t>(chunks_.size());
+  for (std::uint32_t k = 0; k < n; ++k) {
+    const auto i = static_cast<std::uint32_t>((next_chunk_ + k) % n);
+    if (ready_time(chunks_[i]) > now) continue;
+    next_chunk_ = i + 1;
+    for (ChunkSlot& other : chunks_) other.ready_known = false;
+    // Busy from the issue to its last lane's S0 (the next issue may share that cycle).
+    const Cycle last = issue(i, now);
+    time_.busy += last + 1 - std::max(now, accounted_);
+    accounted_ = last + 1;
+    break;
+  }
+  plan(now + 1);
+}
+
+// The first S0 cycle from `at` that no other value handed back has taken.
+Cycle CoreTiming::take_return_slot(Cycle at) {
+  auto it = return_slots_.lower_bound(at);
+  while (it != return_slots_.end() && *it == at) {
+    ++at;
+    ++it;
+  }
+  return_slots_.insert(it, at);
+  return at;
+}
+
+// A lane's access (its S0 in `s0`) through the load/store unit: in program order, one
+// piece a cycle onto the data cache's port. A load's data comes back through S0: returns
+// that cycle (0 for a store).
+Cycle CoreTiming::send_access(Cycle s0, const functional::MemoryAccess& a) {
+  const Cycle at = std::max(s0 + static_cast<Cycle>(config_.latency.to_unit), lsu_free_);
+  lsu_free_ = at + port_pieces(a.address, a.bytes);
+  if (a.store) {
+    data_cache_.write(at, a.address, a.bytes);
+    return 0;
+  }
+  return take_return_slot(data_cache_.read(at, a.address, a.bytes) + static_cast<Cycle>(config_.latency.from_unit));
+}
+
+void CoreTiming::set_result(ChunkSlot& s, int reg, Cycle ready) {
+  const auto r = static_cast<std::size_t>(reg);
+  // A register the configuration lacks faulted the step's lanes: no result to time.
+  if (reg < 0 || r >= s.reg_ready.size()) return;
+  s.reg_ready[r] = ready;
+}
+
+// The S0 cycles of the lanes standing at `pc`: one a cycle from the cycle after `now`,
+// in cycles no value handed back has taken.
+void CoreTiming::enter_lanes(const ChunkSlot& s, std::uint32_t pc, Cycle now) {
+  std::size_t lanes = 0;
+  for (const functional::ShaderCore::Thread& t : s.chunk.threads()) lanes += !t.done && t.pc == pc;
+  return_slots_.erase(return_slots_.begin(), return_slots_.upper_bound(now));
+  lane_slots_.clear();
+  auto taken = return_slots_.begin();
+  for (Cycle at = now + 1; lane_slots_.size() < std::max<std::size_t>(lanes, 1); ++at) {
+    if (taken != return_slots_.end() && *taken == at) {
+      ++taken;
+    } else {
+      lane_slots_.push_back(at);
+    }
+  }
+}
+
+// Lane k's S0 cycle (the last lane's for lanes past those that entered).
+Cycle CoreTiming::lane_slot(std::size_t lane) const { return lane_slots_[std::min(lane, lane_slots_.size() - 1)]; }
+
+// Issues chunk i's next instruction; returns the S0 cycle of its last lane.
+Cycle CoreTiming::issue(std::uint32_t i, Cycle now) {
+  ChunkSlot& s = chunks_[i];
+  const std::uint32_t pc = s.chunk.next_pc();
+  enter_lanes(s, pc, now);
+  const Cycle last = lane_slots_.back();
+  seq_free_ = last;
+  shader_.step(s.chunk, stats_, &record_);
+  if (const functional::ShaderFault* f = s.chunk.fault(); f && f->pixel() < chip_.first_fault()) {
+    chip_.fault(f->pixel());
+  }
+  ++time_.chunk_issues;
+  s.earliest = last + static_cast<Cycle>(config_.latency.reissue);
+  // A step whose every lane faulted at an illegal pc has no instruction to time.
+  if (record_.insn) time_issue(i, pc, now);
+  if (s.chunk.done()) {
+    if (s.rays_in_flight) {
+      s.halted = true;
+    } else {
+      start_round(i, s.earliest);
+    }
+  }
+  return last;
+}
+
+// When the results of the step just issued are ready, and the memory and rays it sends:
+// lane k entered S0 in lane_slot(k); results pass the datapath (latency.result); loads,
+// sfu operations and rays go to their unit latency.to_unit later, and their values come
+// back through S0.
+void CoreTiming::time_issue(std::uint32_t i, std::uint32_t pc, Cycle now) {
+  ChunkSlot& s = chunks_[i];
+  const isa::Instruction& in = *record_.insn;
+  const isa::RegisterUse& use = shader_.register_use(pc);
+  const auto result = static_cast<Cycle>(config_.latency.result);
+  switch (in.spec->cls) {
+    case si::Class::kFpu:
+    case si::Class::kInt:
+    case si::Class::kSpecial: set_result(s, use.dst, lane_slots_.back() + result); break;
+    case si::Class::kSfu: set_result(s, use.dst, time_sfu(in, now) + result); break;
+    case si::Class::kBranch: {
+      // calli reads its target from the shader table, one read per lane; the chunk
+      // picks its next pc when the last has come back.
+      const Cycle back = send_accesses();
+      s.earliest = std::max(s.earliest, back + static_cast<Cycle>(config_.latency.reissue));
+      s.loads_back = std::max(s.loads_back, back);
+      break;
+    }
+    case si::Class::kMem: {
+      const Cycle back = send_accesses();
+      const bool load = std::any_of(record_.accesses.begin(), record_.accesses.end(),
+                                    [](const functional::MemoryAccess& a) { return !a.store; });
+      if (load) {
+        set_result(s, use.dst, back + result);
+        s.loads_back = std::max(s.loads_back, back);
+      }
+      break;
+    }
+    case si::Class::kTrace: send_rays(i, use.dst); break;
+  }
+  if (timeline_.enabled()) timeline_.add(track_, fmt::format("chunk {}: {}", i, in.spec->mnemonic), now, now + 1);
+  if (in.opcode() == Opcode::kHalt) {
+    for (std::size_t l = 0; l < s.chunk.threads().size(); ++l) {
+      if (record_.lanes >> l & 1) chip_.halted(s.chunk.threads()[l].lane.pixel, now + 1 - s.round_start);
+    }
+  }
+}
+
+// The sfu takes one thread's instruction at a time; each divider takes its share of the
+// written lanes back to back, one cycle apart. Returns the cycle the last value is back
+// in S0.
+Cycle CoreTiming::time_sfu(const isa::Instruction& in, Cycle now) {
+  const spec::LatencyConfig& lat = config_.latency;
+  const auto units = static_cast<Cycle>(config_.sfu_units);
+  const auto passes = (static_cast<Cycle>(std::popcount(in.wmask)) + units - 1) / units;
+  const auto each = static_cast<Cycle>(in.opcode() == Opcode::kRsq ? lat.rsq : lat.sfu) + 1;
+  Cycle done = 0;
+  while (!sfu_starts_.empty() && sfu_starts_.front() <= now) sfu_starts_.pop_front();
+  for (std::size_t k = 0; k < static_cast<std::size_t>(std::popcount(record_.lanes)); ++k) {
+    const Cycle start = std::max(lane_slot(k) + static_cast<Cycle>(lat.to_unit), sfu_free_);
+    sfu_starts_.push_back(start);
+    const Cycle out = start + passes * each - 1 + static_cast<Cycle>(lat.from_unit);
+    sfu_free_ = out + 1;
+    done = std::max(done, take_return_slot(out));
+  }
+  return done;
+}
+
+// The step's memory accesses, lane by lane: the cycle the last load's data is back in
+// S0 (0 without loads).
+Cycle CoreTiming::send_accesses() {
+  Cycle back = 0;
+  for (std::size_t k = 0; k < record_.accesses.size(); ++k) {
+    back = std::max(back, send_access(lane_slot(k), record_.accesses[k]));
+  }
+  return back;
+}
+
+// Each lane's ray goes to the dispatch latency.to_unit after its S0, for register `dst`.
+void CoreTiming::send_rays(std::uint32_t i, int dst) {
+  ChunkSlot& s = chunks_[i];
+  for (std::size_t k = 0; k < record_.trace_count; ++k) {
+    Ray ray;
+    ray.core = index_;
+    ray.chunk = i;
+    ray.dst = static_cast<std::uint32_t>(dst);
+    std::swap(ray.log, record_.traces[k]);
+    if (!spare_logs_.empty()) {  // reuse an answered ray's storage
+      std::swap(record_.traces[k], spare_logs_.back());
+      spare_logs_.pop_back();
+    }
+    ++s.reg_rays[static_cast<std::size_t>(dst)];
+    ++s.rays_in_flight;
+    chip_.queue_ray(std::move(ray), lane_slot(k) + static_cast<Cycle>(config_.latency.to_unit));
+  }
+}
+
+// Chunk i's current round is over: it takes its next round of pixels, if any.
+void CoreTiming::start_round(std::uint32_t i, Cycle at) {
+  ChunkSlot& s = chunks_[i];
+  s.ready_known = false;
+  if (s.live) {
+    chip_.round_done();
+    ++s.round;
+  }
+  s.halted = false;
+  chip_.round_lanes(s.round, s.index, lanes_);
+  // A chunk that faulted keeps its fault: its next round's pixels all come after it.
+  s.live = !lanes_.empty() && lanes_.front().pixel < chip_.first_fault();
+  if (!s.live) return;
+  shader_.start(s.chunk, lanes_, stats_);
+  s.round_start = at;
+  s.earliest = at;
+  std::fill(s.reg_ready.begin(), s.reg_ready.end(), at);
+}
+
+// The answer enters the core's pipeline and is written like any result.
+void CoreTiming::ray_answered(Ray& ray, Cycle now) {
+  ChunkSlot& s = chunks_[ray.chunk];
+  const auto dst = static_cast<std::size_t>(ray.dst);
+  s.ready_known = false;
+  const auto from_rays = static_cast<Cycle>(config_.tu_pipe ? config_.tu.pipe_from_unit : config_.latency.from_rays);
+  const Cycle back = take_return_slot(now + from_rays) + static_cast<Cycle>(config_.latency.result);
+  s.reg_ready[dst] = std::max(s.reg_ready[dst], back);
+  --s.reg_rays[dst];
+  --s.rays_in_flight;
+  account(now);  // the wait so far had the old reason
+  if (s.halted && !s.rays_in_flight) start_round(ray.chunk, back);
+  plan(now + 1);
+  spare_logs_.push_back(std::move(ray.log));
+}
+
+void CoreTiming::ray_dispatched(Cycle at) {
+  forget_ready_times();
+  plan(at);
+}
+
+void CoreTiming::forget_ready_times() {
+  for (ChunkSlot& s : chunks_) s.ready_known = false;
+}
+
+ShaderCoreTime CoreTiming::finish(Cycle end) {
+  wait_ = Wait::kIdle;
+  account(end);
+  return time_;
+}
+
+const functional::ShaderFault* CoreTiming::fault_at(std::uint32_t pixel) const {
+  for (const ChunkSlot& s : chunks_) {
+    if (s.chunk.fault() && s.chunk.fault()->pixel() == pixel) return s.chunk.fault();
+  }
+  return nullptr;
+}
+
+std::optional<std::uint64_t> CoreTiming::live_chunk() const {
+  for (const ChunkSlot& s : chunks_) {
+    if (s.live) return s.index;
+  }
+  return std::nullopt;
+}
+
+}  // namespace rpu::cycle

@@ -1,0 +1,116 @@
+// A shader core's timing alone (cycle/core_timing.hpp): one core of the named `tiny`
+// configuration driven through its links to the chip, its issue schedule against one
+// counted by hand from the pipeline's rules (docs/cycle-model.md "Shader cores").
+#include <gtest/gtest.h>
+
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "asm/assembler.hpp"
+#include "common/hardware_config.hpp"
+#include "cycle/core_timing.hpp"
+#include "functional/scene_image.hpp"
+#include "kdtree/kdtree.hpp"
+#include "scene/resolve.hpp"
+
+namespace rpu::cycle {
+namespace {
+
+// The chip around one core: a frame of one round of pixels, pixel p on thread p, as
+// DeviceBase::lanes_of gives them; no rays, no faults.
+class OneCoreChip final : public CoreTiming::Chip {
+ public:
+  explicit OneCoreChip(int chunk_size) : chunk_size_(static_cast<std::uint32_t>(chunk_size)) {}
+
+  void queue_ray(Ray, Cycle) override { ADD_FAILURE() << "the program traces no ray"; }
+  std::size_t queued_rays(std::uint32_t) const override { return 0; }
+  void round_lanes(std::uint64_t round, std::uint64_t chunk,
+                   std::vector<functional::ShaderCore::Lane>& lanes) const override {
+    lanes.clear();
+    if (round > 0) return;
+    for (std::uint32_t l = 0; l < chunk_size_; ++l) {
+      const auto thread = static_cast<std::uint32_t>(chunk) * chunk_size_ + l;
+      lanes.push_back({thread, 0, static_cast<std::uint32_t>(chunk), l, thread});
+    }
+  }
+  void round_done() override { ++rounds; }
+  std::uint32_t first_fault() const override { return CoreTiming::kNoFault; }
+  void fault(std::uint32_t) override { ADD_FAILURE() << "the program does not fault"; }
+  void halted(std::uint32_t pixel, Cycle cycles) override { halts[pixel] = cycles; }
+
+  int rounds = 0;
+  std::map<std::uint32_t, Cycle> halts;  // pixel -> cycles from its round's start
+
+ private:
+  std::uint32_t chunk_size_;
+};
+
+// tiny: one core of 4 threads in 2 chunks of 2 lanes. Each chunk runs
+//   lif r1, 1.0; add r2, r1, r1; halt
+// Rules: a chunk instruction's lanes enter S0 one a cycle from the cycle after its issue;
+// the next chunk instruction may issue in the cycle its last lane enters; the chunk
+// issues again `reissue` (E) cycles after its last lane's S0, and a register it wrote is
+// ready `result` (R) cycles after that S0; chunks issue round robin from chunk 0. With
+// M = max(E, R):
+//   chunk 0 lif at 0 (S0 1, 2); chunk 1 lif at 2, the cycle chunk 0's last lane enters
+//   (S0 3, 4); chunk 0 add at 2 + M (r1 ready at 2 + R, its reissue at 2 + E) (S0 3 + M,
+//   4 + M); chunk 1 add at 4 + M; chunk 0 halt at 4 + M + E (its reissue; add wrote no
+//   register halt reads); chunk 1 halt at 6 + M + E, its last lane's S0 at 8 + M + E.
+// A halted lane's pixel took halt's issue + 1 cycles. The core is busy from each issue to
+// its last lane's S0 (2 + 3 cycles a pair of chunk instructions: the second overlaps the
+// first's last S0), and waits for its results in between: busy 15, waiting M + E - 6,
+// frame 9 + M + E cycles.
+TEST(CoreTiming, IssuesAsCountedByHand) {
+  spec::HardwareConfig config = hardware_config("tiny");
+  const Cycle E = static_cast<Cycle>(config.latency.reissue), R = static_cast<Cycle>(config.latency.result);
+  const Cycle M = std::max(E, R);
+  ASSERT_GE(E, 2u);  // the count assumes a chunk's next issue is not held by the other's lanes
+
+  const Scene scene = resolve_scene("tetra:1");
+  const functional::SceneImage si = functional::make_scene_image(scene, kd_build_config_for(config), IsectMode::kWoop);
+  const isa::Firmware firmware =
+      isa::assemble("core.s", [](const std::filesystem::path&) -> std::optional<std::string> {
+        return "raygen:\n        lif     r1, 1.0\n        add     r2, r1, r1\n        halt\n";
+      });
+  const fp::Format format = fp::format_by_name(config.format);
+  functional::DeviceMemory memory(si.image.bytes, {}, firmware.data, 4);
+  const functional::Tracer tracer(si.image.bytes, si.layout, format, config.stack_depth);
+  functional::ShaderCoreConfig core_config;
+  core_config.registers = config.registers;
+  core_config.chunk_size = config.chunk_size;
+  functional::ShaderCore shader(firmware, memory, tracer, format, core_config);
+
+  functional::ShaderStats stats;
+  Dram dram(config.dram);
+  EventQueue events(1);
+  std::map<Cycle, std::string> issues;  // the core's timeline: cycle -> "chunk i: mnemonic"
+  Timeline timeline(0, 1000, 1000, [&issues](const TimelineSlice& s) { issues[s.begin] = s.name; });
+  timeline.start(0, 0);
+  OneCoreChip chip(config.chunk_size);
+  CoreTiming core(0, config, shader, stats, dram, events, timeline, chip);
+  core.start();
+  while (const std::optional<EventQueue::Wakeup> w = events.next()) core.run(w->at);
+  timeline.flush();
+
+  EXPECT_EQ(issues, (std::map<Cycle, std::string>{{0, "chunk 0: lif"},
+                                                  {2, "chunk 1: lif"},
+                                                  {2 + M, "chunk 0: add"},
+                                                  {4 + M, "chunk 1: add"},
+                                                  {4 + M + E, "chunk 0: halt"},
+                                                  {6 + M + E, "chunk 1: halt"}}));
+  EXPECT_EQ(chip.halts, (std::map<std::uint32_t, Cycle>{{0, 5 + M + E}, {1, 5 + M + E}, {2, 7 + M + E}, {3, 7 + M + E}}));
+  EXPECT_EQ(chip.rounds, 2);
+  EXPECT_FALSE(core.live_chunk());
+  const Cycle end = std::max(events.now() + 1, core.accounted());
+  EXPECT_EQ(end, 9 + M + E);
+  const ShaderCoreTime t = core.finish(end);
+  EXPECT_EQ(t.busy, 15u);
+  EXPECT_EQ(t.wait_dependency, M + E - 6);
+  EXPECT_EQ(t.wait_trace + t.wait_memory + t.idle, 0u);
+  EXPECT_EQ(t.chunk_issues, 6u);
+}
+
+}  // namespace
+}  // namespace rpu::cycle
