@@ -16,6 +16,7 @@
 #include "cycle/core_timing.hpp"
 #include "cycle/dispatch.hpp"
 #include "cycle/event_queue.hpp"
+#include "cycle/speed_of_light.hpp"
 #include "cycle/tu_pipe_timing.hpp"
 #include "cycle/walker_timing.hpp"
 #include "device/device_base.hpp"
@@ -59,6 +60,7 @@ class CycleDevice final : public device::DeviceBase, CoreTiming::Chip, RayUnitTi
   // The fault the launch ends with, if any; rpu::Error if a chunk was left live.
   const functional::ShaderFault* launch_fault(Cycle now) const;
   void finish(Cycle end);
+  void add_to_frame();
 
   // The shader cores' links (CoreTiming::Chip).
   void queue_ray(Ray ray, Cycle at) override;
@@ -223,11 +225,21 @@ void CycleDevice::run(const ProgressCallback& progress) {
   run_events();
   const Cycle now = events_->now();
   const functional::ShaderFault* faulted = launch_fault(now);
-  timeline_.flush();
-  out_.timeline_slices = timeline_.slices();
-  out_.timeline_cut_at = timeline_.cut_at();
   finish(now + 1);
   out_.host_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  add_to_frame();
+  if (faulted) {
+    const functional::ShaderFault fault = *faulted;
+    tracer_.reset();
+    shader_.reset();
+    throw fault;
+  }
+  tracer_.reset();
+  shader_.reset();
+}
+
+// The launch's statistics become the frame's, or join pass 0's (a selected frame).
+void CycleDevice::add_to_frame() {
   if (continues_frame()) {
     frame_ += out_;
     stats_.shader += shader_stats_;
@@ -239,18 +251,13 @@ void CycleDevice::run(const ProgressCallback& progress) {
   stats_.host_seconds = frame_.host_seconds;
   stats_.report = report(frame_, stats_.shader);
   if (options_.frame_stats) options_.frame_stats(frame_);
-  if (faulted) {
-    const functional::ShaderFault fault = *faulted;
-    tracer_.reset();
-    shader_.reset();
-    throw fault;
-  }
-  tracer_.reset();
-  shader_.reset();
 }
 
-// The totals, the idle time and the bounds of the frame that ended at `end`.
+// The launch's totals, times and bounds; it ended at `end`.
 void CycleDevice::finish(Cycle end) {
+  timeline_.flush();
+  out_.timeline_slices = timeline_.slices();
+  out_.timeline_cut_at = timeline_.cut_at();
   // The last lanes to enter a pipeline may do so after the last event.
   for (const CoreTiming& core : cores_) end = std::max(end, core.accounted());
   out_.cycles = end;
@@ -270,37 +277,7 @@ void CycleDevice::finish(Cycle end) {
   out_.any_rays = shader_stats_.any_rays;
   out_.thread_instructions = shader_stats_.instructions();
 
-  // Speed of light: each resource's work at full rate, every access a hit, no queueing.
-  const WalkCosts walk = WalkCosts::of(config_, layout_.isect_mode);
-  const PipeCosts pipe = PipeCosts::of(config_, layout_.isect_mode);
-  TraversalUnitTime tu_work;
-  std::uint64_t tests = 0;
-  for (const TraversalUnitTime& t : out_.tus) tu_work += t;
-  for (const IntersectionUnitTime& t : out_.ius) tests += t.tests;
-  const spec::TraversalUnitConfig& tc = config_.tu;
-  const auto node_hit = static_cast<double>(config_.node_cache.hit_latency + config_.tu.memory_wait);
-  const auto tri_hit = static_cast<double>(config_.triangle_cache.hit_latency + config_.tu.memory_wait);
-  // A pipelined unit: its memory port moves a line a cycle (a node, a ref, a record's
-  // lines), its set-up engines take `handoff` cycles a ray.
-  const double pipe_cycles = std::max(
-      static_cast<double>(tu_work.inner + tu_work.leaves + tu_work.refs + tu_work.tests * pipe.record_lines),
-      static_cast<double>(tu_work.rays) * static_cast<double>(pipe.handoff) / config_.tu_setups);
-  const double walk_cycles = static_cast<double>(tu_work.rays) * static_cast<double>(walk.setup) +
-                           static_cast<double>(tu_work.inner) * (node_hit + tc.inner) +
-                           static_cast<double>(tu_work.leaves) * (node_hit + tc.leaf) +
-                           static_cast<double>(tu_work.refs) * tri_hit +
-                           static_cast<double>(tu_work.tests) *
-                               (tri_hit + static_cast<double>(walk.iu_latency + walk.iu_wait)) +
-                           static_cast<double>(tu_work.pops) * tc.pop;
-  out_.bounds = {
-      // One lane a cycle enters a core's pipeline.
-      {"shader cores (issue)", static_cast<double>(out_.thread_instructions) / config_.shader_cores},
-      {"traversal units", config_.tu_pipe ? pipe_cycles / config_.traversal_units
-                                          : walk_cycles / (config_.traversal_units * config_.tu_slots)},
-      {"intersection units", static_cast<double>(tests) * static_cast<double>(walk.iu_interval) / config_.intersection_units},
-      {"DRAM bus", static_cast<double>(out_.dram.bus_cycles)},
-  };
-  std::stable_sort(out_.bounds.begin(), out_.bounds.end(), [](const Bound& a, const Bound& b) { return a.cycles > b.cycles; });
+  out_.bounds = speed_of_light(out_, config_, layout_.isect_mode);
 }
 
 }  // namespace

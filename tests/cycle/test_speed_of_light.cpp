@@ -1,0 +1,58 @@
+// The speed-of-light bounds alone (cycle/speed_of_light.hpp): each resource's work at
+// full rate over its units, the largest first.
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include "common/hardware_config.hpp"
+#include "cycle/speed_of_light.hpp"
+
+namespace rpu::cycle {
+namespace {
+
+std::vector<std::string> units(const std::vector<Bound>& bounds) {
+  std::vector<std::string> out;
+  for (const Bound& b : bounds) out.push_back(b.unit);
+  return out;
+}
+
+// `default`: 4 shader cores, 4 IUs. One lane a cycle enters a core; an IU takes a test
+// every initiation interval; the DRAM bus is one.
+TEST(SpeedOfLight, EachResourcesWorkOverItsUnitsLargestFirst) {
+  const spec::HardwareConfig& config = hardware_config("default");
+  CycleStats s;
+  s.thread_instructions = 4000;
+  s.ius = {{.tests = 200, .busy = 0}, {.tests = 100, .busy = 0}};
+  s.dram.bus_cycles = 500;
+  const std::vector<Bound> b = speed_of_light(s, config, IsectMode::kWoop);
+  EXPECT_EQ(units(b), (std::vector<std::string>{"shader cores (issue)", "DRAM bus", "intersection units", "traversal units"}));
+  EXPECT_EQ(b[0].cycles, 4000.0 / 4);
+  EXPECT_EQ(b[1].cycles, 500.0);
+  EXPECT_EQ(b[2].cycles, 300.0 * config.iu.interval_woop / 4);
+  EXPECT_EQ(b[3].cycles, 0.0);
+}
+
+// A pipelined unit (`rpu2005`: one unit, 2 set-up engines) moves a line a cycle on its
+// port (a node, a ref, each of a Woop record's three lines) and its engines set a ray up
+// in `handoff` cycles each: its bound is the larger.
+TEST(SpeedOfLight, APipelinedUnitIsBoundByItsPortOrItsSetUpEngines) {
+  const spec::HardwareConfig& config = hardware_config("rpu2005");
+  CycleStats s;
+  s.tus.resize(1);
+  s.tus[0].inner = 100;
+  s.tus[0].leaves = 20;
+  s.tus[0].refs = 30;
+  s.tus[0].tests = 30;
+  const double port = 100 + 20 + 30 + 30 * 3;
+  for (const std::uint64_t rays : {1, 50}) {
+    s.tus[0].rays = rays;
+    const double set_up = static_cast<double>(rays * config.tu.pipe_handoff_woop) / 2;
+    const std::vector<Bound> b = speed_of_light(s, config, IsectMode::kWoop);
+    ASSERT_EQ(b[0].unit, "traversal units");
+    EXPECT_EQ(b[0].cycles, std::max(port, set_up)) << rays << " rays";
+  }
+}
+
+}  // namespace
+}  // namespace rpu::cycle
