@@ -18,8 +18,7 @@
 #include "common/error.hpp"
 #include "common/output_file.hpp"
 #include "config/config.hpp"
-#include "cycle/cycle_device.hpp"
-#include "device/render_frame.hpp"
+#include "device/registry.hpp"
 #include "functional/scene_image.hpp"
 #include "image/image.hpp"
 #include "reference/renderer.hpp"
@@ -111,8 +110,7 @@ class Fitter {
       const KdBuildConfig build = chip.build_config();
       const Scene scene = functional::chip_space_scene(world_, build.format);
       const functional::SceneImage si = functional::make_scene_image(scene, build, chip.isect_mode());
-      const std::unique_ptr<device::Device> dev =
-          cycle::make_cycle_device(chip.hardware_config(), build.format, cycle::CycleOptions{});
+      const std::unique_ptr<device::Device> dev = device::make_device("cycle", chip.hardware_config(), build.format);
       const Image image = device::render_frame(*dev, scene, si.image, firmware_, o_.settings);
       const device::DeviceStats st = dev->stats();
       out.psnr = psnr_srgb(reference_, image);

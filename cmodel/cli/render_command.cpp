@@ -23,46 +23,31 @@
 #include "cli/progress.hpp"
 #include "common/stats_tree.hpp"
 #include "config/config.hpp"
-#include "cycle/cycle_device.hpp"
-#include "device/device.hpp"
-#include "device/render_frame.hpp"
+#include "device/registry.hpp"
 #include "functional/scene_image.hpp"
 #include "image/image.hpp"
 #include "reference/renderer.hpp"
 #include "rpu/version.hpp"
 #include "scene/geometry.hpp"
 #include "scene/resolve.hpp"
-#ifdef RPU_HAVE_RTL
-#include "rtl_device.hpp"
-#endif
 
 namespace rpu::cli {
 namespace {
 
-#ifdef RPU_HAVE_RTL
-const std::vector<std::string> kBackends{"reference", "functional", "cycle", "rtl"};
-#else
-const std::vector<std::string> kBackends{"reference", "functional", "cycle"};
-#endif
+// The double-precision renderer: not a device (no ISA, configuration or memory image),
+// so not one of the registry's backends, and `rpu render`'s default.
+constexpr std::string_view kReference = "reference";
 
 struct RenderOptions {
   std::string scene;
   std::vector<std::filesystem::path> outputs{"render.png"};
-  std::string backend = "reference";
+  std::string backend{kReference};
+  device::Registry backends;  // the device backends, with their own options
   std::vector<std::filesystem::path> firmware;  // empty: the built-in whitted.s
   std::string select = "1";                     // docs/selection.md
   std::filesystem::path compare;                // .exr to measure the image against
-  std::uint64_t watchdog = device::FunctionalOptions{}.watchdog;
-  // device backend outputs
-  std::vector<std::filesystem::path> stats;      // .json / .csv
-  // cycle backend outputs
-  std::vector<std::filesystem::path> heatmap;  // .png false colour / .exr linear cycles
-  std::filesystem::path trace;                 // Chrome trace JSON
-  std::vector<std::uint64_t> trace_window{0, 200'000};
-  // rtl backend outputs
-  std::filesystem::path waves;                 // FST
-  std::vector<std::uint64_t> wave_window{0, ~std::uint64_t{0}};
-  bool lockstep = false;
+  std::uint64_t watchdog = device::DeviceOptions{}.watchdog;
+  std::vector<std::filesystem::path> stats;  // .json / .csv
   int scale_exponent = 0;                   // the scene times 2^this
   std::vector<double> translate{0, 0, 0};   // then moved by this
   RenderSettings settings;
@@ -74,20 +59,6 @@ Image render_reference(const Scene& scene, const RenderSettings& settings, RayCo
   const ReferenceRenderer renderer(scene);
   ProgressBar bar(fmt::format("rendering {}", scene.source));
   return renderer.render(settings, &counts, [&bar](std::size_t done, std::size_t total) { bar.update(done, total); });
-}
-
-// The per-pixel cycle cost: false colour over [0, max] in a PNG, the cycles themselves
-// in an EXR.
-void write_cycle_heatmap(const cycle::CycleStats& st, const std::filesystem::path& file) {
-  Image image(st.width, st.height);
-  const std::uint32_t max = std::max<std::uint32_t>(
-      1, st.pixel_cycles.empty() ? 1 : *std::max_element(st.pixel_cycles.begin(), st.pixel_cycles.end()));
-  const bool linear = file.extension() == ".exr";
-  for (std::size_t i = 0; i < image.pixels.size(); ++i) {
-    const double c = st.pixel_cycles[i];
-    image.pixels[i] = linear ? glm::vec3(static_cast<float>(c)) : false_colour(c / max);
-  }
-  write_image(image, file);
 }
 
 // whitted.s turns pixel coordinates into floats: a format whose largest number is below
@@ -104,7 +75,8 @@ void check_builtin_firmware_format(fp::Format format, const RenderSettings& s) {
 
 // A frame of one colour is what a format too narrow for the scene's arithmetic (or a
 // camera that sees nothing) gives: say so rather than leave a plain image unexplained.
-void warn_if_constant(const Image& image, const std::string& backend, const std::string& format) {
+// `format`: the device's number format (none on the reference backend).
+void warn_if_constant(const Image& image, const std::optional<std::string>& format) {
   if (image.pixels.size() < 2) return;
   const glm::vec3 first = image.pixels.front();
   std::size_t not_finite = 0;
@@ -120,13 +92,14 @@ void warn_if_constant(const Image& image, const std::string& backend, const std:
     fmt::print(stderr,
                "rpu: warning: every pixel of the image is ({}, {}, {}){}; the camera may see nothing, or the number "
                "format's range or precision is too small for the scene's arithmetic (docs/numbers.md)\n",
-               first.x, first.y, first.z, backend == "reference" ? "" : fmt::format(" (format {})", format));
+               first.x, first.y, first.z, format ? fmt::format(" (format {})", *format) : "");
   }
 }
 
 // The facts of the run in its statistics (docs/cycle-model.md, "Statistics"): how it
-// was started, what it rendered, the whole resolved configuration, what built the tool.
-void record_run(StatsTree& report, const RenderOptions& o, const std::string& scene, int host_threads) {
+// was started, what it rendered, the whole resolved configuration (of a device: `chip`),
+// what built the tool.
+void record_run(StatsTree& report, const RenderOptions& o, const std::string& scene, int host_threads, bool chip) {
   StatsTree& run = report.group("run");
   const RenderSettings& s = o.settings;
   run.set("command_line", invocation().command_line).set("backend", o.backend).set("scene", scene);
@@ -135,7 +108,7 @@ void record_run(StatsTree& report, const RenderOptions& o, const std::string& sc
   run.set("host_seconds",
           std::chrono::duration<double>(std::chrono::steady_clock::now() - invocation().start).count());
   run.set("host_threads", host_threads);
-  if (o.backend == "reference") return;  // no configuration: double precision, no chip
+  if (!chip) return;  // the reference renderer: double precision, no configuration
   run.set("format", o.chip.number_format().name()).set("isect", o.chip.isect).set("select", to_string(s.select));
   const spec::HardwareConfig& c = o.chip.hardware_config();
   StatsTree& cfg = report.group("config");
@@ -198,47 +171,19 @@ Comparison compare_images(const Image& reference, const Image& image) {
   return c;
 }
 
-// Firmware on a device: the functional golden model, or the cycle model (which also
-// writes its heatmap and timeline). Both write their statistics, with the comparison
-// against `reference` if there is one.
-Image render_device(const Scene& world, const RenderOptions& o, const std::optional<Image>& reference,
-                    std::optional<Comparison>& comparison, std::string& summary) {
+// Firmware on a device of `backend`, which writes its own outputs after the frame; then
+// the statistics, with the comparison against `reference` if there is one.
+Image render_device(const Scene& world, device::Backend& backend, const RenderOptions& o,
+                    const std::optional<Image>& reference, std::optional<Comparison>& comparison,
+                    std::string& summary) {
   const KdBuildConfig build = o.chip.build_config();
   const Scene scene = functional::chip_space_scene(world, build.format);
   const functional::SceneImage si = functional::make_scene_image(scene, build, o.chip.isect_mode());
   if (o.firmware.empty()) check_builtin_firmware_format(build.format, o.settings);
   const isa::Firmware firmware = load_firmware(o.firmware);
-  std::optional<cycle::TimelineWriter> timeline;
-  std::optional<cycle::CycleStats> cycle_stats;
-  std::unique_ptr<device::Device> dev;
-  if (o.backend == "cycle") {
-    cycle::CycleOptions options;
-    options.watchdog = o.watchdog;
-    options.frame_stats = [&cycle_stats](const cycle::CycleStats& s) { cycle_stats = s; };
-    if (!o.trace.empty()) {
-      options.timeline_begin = o.trace_window[0];
-      options.timeline_end = o.trace_window[1];
-      timeline.emplace(o.trace);
-      options.timeline = [&timeline](const cycle::TimelineSlice& s) { timeline->add(s); };
-    }
-    dev = cycle::make_cycle_device(o.chip.hardware_config(), build.format, options);
-#ifdef RPU_HAVE_RTL
-  } else if (o.backend == "rtl") {
-    sim::RtlOptions options;
-    options.watchdog = o.watchdog;
-    options.isect = o.chip.isect_mode();
-    options.lockstep = o.lockstep;
-    options.waves = o.waves.string();
-    options.wave_begin = o.wave_window[0];
-    options.wave_end = o.wave_window[1];
-    dev = sim::make_rtl_device(o.chip.hardware_config(), build.format, options);
-#endif
-  } else {
-    device::FunctionalOptions options;
-    options.host_threads = o.settings.threads;
-    options.watchdog = o.watchdog;
-    dev = device::make_functional_device(o.chip.hardware_config(), build.format, options);
-  }
+  const device::DeviceOptions options{
+      .watchdog = o.watchdog, .host_threads = o.settings.threads, .isect = o.chip.isect_mode()};
+  const std::unique_ptr<device::Device> dev = backend.make(o.chip.hardware_config(), build.format, options);
   Image image;
   {
     ProgressBar bar(fmt::format("rendering {} ({}, {}, {})", scene.source, o.backend, o.chip.config,
@@ -259,18 +204,7 @@ Image render_device(const Scene& world, const RenderOptions& o, const std::optio
                         o.chip.hardware_config().chunk_size, millions(sh.closest_rays + sh.any_rays),
                         millions(sh.closest_rays), millions(sh.any_rays), millions(sh.nodes), millions(sh.leaves),
                         millions(sh.tests));
-  if (o.backend == "rtl") fmt::print(stderr, "{}", cycle::summarize(st.report));
-  if (cycle_stats) {
-    fmt::print(stderr, "{}", cycle::summarize(st.report));
-    for (const std::filesystem::path& f : o.heatmap) write_cycle_heatmap(*cycle_stats, f);
-    if (timeline) {
-      timeline->finish(*cycle_stats);
-      if (cycle_stats->timeline_cut_at) {
-        fmt::print(stderr, "rpu: warning: --trace {}: {}; start --trace-window at {} to see the rest\n",
-                   o.trace.string(), cycle::timeline_cut_reason(*cycle_stats), *cycle_stats->timeline_cut_at);
-      }
-    }
-  }
+  backend.finish(st);
   if (reference) {
     comparison = compare_images(*reference, image);
     st.report.group("compare")
@@ -278,19 +212,20 @@ Image render_device(const Scene& world, const RenderOptions& o, const std::optio
         .set("psnr_db", comparison->psnr_db)
         .set("max_error", comparison->max_error);
   }
-  if (!o.stats.empty()) record_run(st.report, o, world.source, st.host_threads);
+  if (!o.stats.empty()) record_run(st.report, o, world.source, st.host_threads, true);
   for (const std::filesystem::path& f : o.stats) write_stats(st.report, f);
   return image;
 }
 
-// Every file the render will write, and the files it reads that none may overwrite.
-void check_render_outputs(const RenderOptions& o) {
+// Every file the render will write (with the device `backend`'s own), and the files it
+// reads that none may overwrite.
+void check_render_outputs(const RenderOptions& o, const device::Backend* backend) {
   std::vector<PlannedOutput> outputs;
   for (const std::filesystem::path& f : o.outputs) outputs.push_back({"-o", f, {".png", ".exr"}});
   for (const std::filesystem::path& f : o.stats) outputs.push_back({"--stats", f, {".json", ".csv"}});
-  for (const std::filesystem::path& f : o.heatmap) outputs.push_back({"--heatmap", f, {".png", ".exr"}});
-  if (!o.trace.empty()) outputs.push_back({"--trace", o.trace, {".json"}});
-  if (!o.waves.empty()) outputs.push_back({"--waves", o.waves, {".fst"}});
+  if (backend) {
+    for (const device::BackendOutput& f : backend->outputs()) outputs.push_back({f.option, f.path, f.extensions});
+  }
   std::vector<PlannedInput> inputs;
   if (std::filesystem::is_regular_file(o.scene)) inputs.push_back({"the scene", o.scene});
   for (const auto& f : o.firmware) inputs.push_back({"the firmware", f});
@@ -340,23 +275,14 @@ Scene transformed(Scene scene, const RenderOptions& o) {
 }
 
 int run_render(const RenderOptions& options, const CLI::App& command) {
-  if ((!options.heatmap.empty() || !options.trace.empty()) && options.backend != "cycle") {
-    throw Error("--heatmap and --trace need --backend cycle");
-  }
-  if ((!options.waves.empty() || options.lockstep) && options.backend != "rtl") {
-    throw Error("--waves and --lockstep need --backend rtl");
-  }
-  if (!options.waves.empty() && options.settings.select.enabled()) {
-    throw Error(fmt::format("--waves records one launch and --select {} renders the frame in two; record "
-                            "without --select", options.select));
-  }
-  if (options.trace_window[0] >= options.trace_window[1]) {
-    throw Error(fmt::format("--trace-window {} {}: the window is empty", options.trace_window[0], options.trace_window[1]));
-  }
-  check_render_outputs(options);
+  // The device backend chosen; none: the reference renderer.
+  device::Backend* backend = options.backends.find(options.backend);
+  options.backends.refuse_others(options.backend);
+  if (backend) backend->check(options.settings, options.select);
+  check_render_outputs(options, backend);
   const Scene scene = transformed(resolve_scene(options.scene), options);
   for (const std::string& warning : scene.warnings) fmt::print(stderr, "rpu: warning: {}\n", warning);
-  if (options.backend == "reference") check_reference_options(command, scene);
+  if (!backend) check_reference_options(command, scene);
 
   std::optional<Image> reference;
   if (!options.compare.empty()) reference = read_compare_image(options);
@@ -365,11 +291,10 @@ int run_render(const RenderOptions& options, const CLI::App& command) {
   RayCounts counts;
   std::string device_summary;
   std::optional<Comparison> comparison;
-  const Image image = options.backend == "reference"
-                          ? render_reference(scene, options.settings, counts)
-                          : render_device(scene, options, reference, comparison, device_summary);
+  const Image image = backend ? render_device(scene, *backend, options, reference, comparison, device_summary)
+                              : render_reference(scene, options.settings, counts);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  warn_if_constant(image, options.backend, options.chip.number_format().name());
+  warn_if_constant(image, backend ? std::optional(options.chip.number_format().name()) : std::nullopt);
   std::vector<std::string> written;
   for (const std::filesystem::path& out : options.outputs) {
     write_image(image, out);
@@ -380,7 +305,7 @@ int run_render(const RenderOptions& options, const CLI::App& command) {
     fmt::print(stderr, "rpu: against {}: PSNR {:.2f} dB, max error {:.6g}\n", options.compare.string(),
                comparison->psnr_db, comparison->max_error);
   }
-  if (options.backend == "reference" && !options.stats.empty()) {
+  if (!backend && !options.stats.empty()) {
     // The reference keeps only its rays by type and the facts of the run.
     StatsTree report;
     report.group("rays")
@@ -395,7 +320,7 @@ int run_render(const RenderOptions& options, const CLI::App& command) {
           .set("psnr_db", comparison->psnr_db)
           .set("max_error", comparison->max_error);
     }
-    record_run(report, options, scene.source, options.settings.threads);
+    record_run(report, options, scene.source, options.settings.threads, false);
     for (const std::filesystem::path& f : options.stats) write_stats(report, f);
   }
   const RenderSettings& s = options.settings;
@@ -425,8 +350,10 @@ Command add_render_command(CLI::App& app) {
                          "or a mesh file Assimp reads; none renders the default scene");
   render_cmd->add_option("-o,--output", render->outputs, "Output image(s): .png and/or .exr")
       ->capture_default_str();
+  std::vector<std::string> backends{std::string(kReference)};
+  for (const std::string& name : render->backends.names()) backends.push_back(name);
   render_cmd->add_option("--backend", render->backend, "Which view of the chip renders")
-      ->check(CLI::IsMember(kBackends))
+      ->check(CLI::IsMember(backends))
       ->capture_default_str();
   render_cmd->add_option("--width", render->settings.width, "Image width in pixels")
       ->check(CLI::Range(1, 16384))
@@ -497,20 +424,7 @@ Command add_render_command(CLI::App& app) {
   render_cmd->add_option("--stats", render->stats,
                          "statistics and the facts of the run, .json and/or .csv (one wide row under a header of "
                          "metric names); the reference backend records its rays by type");
-  render_cmd->add_option("--heatmap", render->heatmap,
-                         "cycle backend: per-pixel cycle cost, .png (false colour) and/or .exr (cycles, linear)");
-  render_cmd->add_option("--trace", render->trace,
-                         "cycle backend: timeline of the units in Chrome/Perfetto trace JSON (1 us shown = 1 cycle)");
-  render_cmd->add_option("--trace-window", render->trace_window, "cycle backend: the timeline's cycles [BEGIN, END)")
-      ->expected(2)
-      ->capture_default_str();
-#ifdef RPU_HAVE_RTL
-  render_cmd->add_option("--waves", render->waves, "rtl backend: FST waveforms of the chip (GTKWave, Surfer)");
-  render_cmd->add_option("--wave-window", render->wave_window, "rtl backend: the waveforms' cycles [BEGIN, END)")
-      ->expected(2);
-  render_cmd->add_flag("--lockstep", render->lockstep,
-                       "rtl backend: compare every core with the functional model, instruction by instruction");
-#endif
+  render->backends.add_options(*render_cmd);
   add_chip_options(*render_cmd, render->chip);
 
   return {render_cmd, [render, render_cmd] { return run_render(*render, *render_cmd); }};
