@@ -12,8 +12,11 @@ namespace {
 
 struct Recorded {
   std::vector<TimelineSlice> slices;
+  // A timeline into `slices`, its first launch started.
   Timeline timeline(Cycle begin, Cycle end, std::uint64_t max_slices) {
-    return Timeline(begin, end, max_slices, [this](const TimelineSlice& s) { slices.push_back(s); });
+    Timeline t(begin, end, max_slices, [this](const TimelineSlice& s) { slices.push_back(s); });
+    t.start(0, 0);
+    return t;
   }
   // "track name begin+cycles" per slice, in the order the sink got them.
   std::vector<std::string> text() const {
@@ -30,7 +33,6 @@ using Texts = std::vector<std::string>;
 TEST(Timeline, ConsecutiveCyclesOfOneActivityOnATrackMakeOneSlice) {
   Recorded r;
   Timeline t = r.timeline(0, 100, 1000);
-  t.start(0, 0);
   t.add("core 0", "chunk 0: add", 0, 1);
   t.add("core 0", "chunk 0: add", 1, 2);  // joins the slice before
   t.add("TU 0", "set-up", 1, 5);
@@ -47,7 +49,6 @@ TEST(Timeline, ConsecutiveCyclesOfOneActivityOnATrackMakeOneSlice) {
 TEST(Timeline, KeepsTheCyclesInTheWindowOnly) {
   Recorded r;
   Timeline t = r.timeline(10, 20, 1000);
-  t.start(0, 0);
   t.add("TU 0", "inner node", 5, 12);
   t.add("TU 0", "leaf", 18, 30);
   t.add("TU 0", "pop", 20, 24);
@@ -60,7 +61,6 @@ TEST(Timeline, KeepsTheCyclesInTheWindowOnly) {
 TEST(Timeline, StreamsASliceOnceEightLaterOnesAreOpen) {
   Recorded r;
   Timeline t = r.timeline(0, 100, 1000);
-  t.start(0, 0);
   for (Cycle c = 0; c < 9; ++c) t.add("core " + std::to_string(c), "halt", c, c + 1);
   EXPECT_EQ(r.text(), (Texts{"core 0 halt 0+1"}));
   t.flush();
@@ -72,7 +72,6 @@ TEST(Timeline, StreamsASliceOnceEightLaterOnesAreOpen) {
 TEST(Timeline, IsCutAtItsMostSlicesOverTheFrame) {
   Recorded r;
   Timeline t = r.timeline(0, 1000, 3);
-  t.start(0, 0);
   t.add("core 0", "a", 0, 1);
   t.add("core 0", "b", 1, 2);
   t.flush();
