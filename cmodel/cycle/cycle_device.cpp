@@ -53,6 +53,7 @@ class CycleDevice final : public device::DeviceBase, CoreTiming::Chip, RayUnitTi
  private:
   void run(const ProgressCallback& progress) override;
   void start_launch(const ProgressCallback& progress);
+  void make_memory();
   void make_ray_units();
   // The event loop: the cores are agents 0 .. cores-1, the ray units the next.
   void run_events();
@@ -156,16 +157,21 @@ void CycleDevice::make_ray_units() {
   }
 }
 
-// The chip of one launch, its cores started on their first pixels.
-void CycleDevice::start_launch(const ProgressCallback& progress) {
-  tracer_.emplace(image_, layout_, format_, config_.stack_depth);
-  shader_.emplace(firmware_, *memory_, *tracer_, format_, core_config(options_.watchdog));
-  shader_stats_ = {};
+// The caches the ray units share and the DRAM behind every cache.
+void CycleDevice::make_memory() {
   dram_.emplace(config_.dram);
   const auto line_wait = static_cast<Cycle>(config_.latency.line_wait);
   node_cache_.emplace(config_.node_cache, *dram_, line_wait);
   triangle_cache_.emplace(config_.triangle_cache, *dram_, line_wait);
   lines_.emplace(*node_cache_, *triangle_cache_);
+}
+
+// The chip of one launch, its cores started on their first pixels.
+void CycleDevice::start_launch(const ProgressCallback& progress) {
+  tracer_.emplace(image_, layout_, format_, config_.stack_depth);
+  shader_.emplace(firmware_, *memory_, *tracer_, format_, core_config(options_.watchdog));
+  shader_stats_ = {};
+  make_memory();
   fault_pixel_ = CoreTiming::kNoFault;
   // Pass 1 of a selected frame starts where pass 0 ended.
   timeline_.start(continues_frame() ? frame_.cycles : 0, continues_frame() ? frame_.timeline_slices : 0);
