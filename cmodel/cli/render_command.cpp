@@ -97,9 +97,8 @@ void warn_if_constant(const Image& image, const std::optional<std::string>& form
 }
 
 // The facts of the run in its statistics (docs/cycle-model.md, "Statistics"): how it
-// was started, what it rendered, the whole resolved configuration (of a device: `chip`),
-// what built the tool.
-void record_run(StatsTree& report, const RenderOptions& o, const std::string& scene, int host_threads, bool chip) {
+// was started, what it rendered, what built the tool.
+void record_run(StatsTree& report, const RenderOptions& o, const std::string& scene, int host_threads) {
   StatsTree& run = report.group("run");
   const RenderSettings& s = o.settings;
   run.set("command_line", invocation().command_line).set("backend", o.backend).set("scene", scene);
@@ -108,8 +107,15 @@ void record_run(StatsTree& report, const RenderOptions& o, const std::string& sc
   run.set("host_seconds",
           std::chrono::duration<double>(std::chrono::steady_clock::now() - invocation().start).count());
   run.set("host_threads", host_threads);
-  if (!chip) return;  // the reference renderer: double precision, no configuration
-  run.set("format", o.chip.number_format().name()).set("isect", o.chip.isect).set("select", to_string(s.select));
+}
+
+// A device's facts of the run: its number format, test and selection, and the whole
+// resolved configuration.
+void record_chip(StatsTree& report, const RenderOptions& o) {
+  report.group("run")
+      .set("format", o.chip.number_format().name())
+      .set("isect", o.chip.isect)
+      .set("select", to_string(o.settings.select));
   const spec::HardwareConfig& c = o.chip.hardware_config();
   StatsTree& cfg = report.group("config");
   cfg.set("name", c.name).set("doc", c.doc);
@@ -212,7 +218,10 @@ Image render_device(const Scene& world, device::Backend& backend, const RenderOp
         .set("psnr_db", comparison->psnr_db)
         .set("max_error", comparison->max_error);
   }
-  if (!o.stats.empty()) record_run(st.report, o, world.source, st.host_threads, true);
+  if (!o.stats.empty()) {
+    record_run(st.report, o, world.source, st.host_threads);
+    record_chip(st.report, o);
+  }
   for (const std::filesystem::path& f : o.stats) write_stats(st.report, f);
   return image;
 }
@@ -320,7 +329,7 @@ int run_render(const RenderOptions& options, const CLI::App& command) {
           .set("psnr_db", comparison->psnr_db)
           .set("max_error", comparison->max_error);
     }
-    record_run(report, options, scene.source, options.settings.threads, false);
+    record_run(report, options, scene.source, options.settings.threads);
     for (const std::filesystem::path& f : options.stats) write_stats(report, f);
   }
   const RenderSettings& s = options.settings;
