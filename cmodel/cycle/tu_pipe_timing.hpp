@@ -35,6 +35,8 @@ struct PipeCosts {
   static PipeCosts of(const spec::HardwareConfig& config, IsectMode mode);
 };
 
+// The unit stepped a cycle at a time; its caller offers it rays and takes its answers
+// (the chip's PipeUnitTiming, tu_cosim's harness).
 class PipeTraversalUnit {
  public:
   PipeTraversalUnit(const PipeCosts& costs, LineSource& lines, std::span<IuTimer> ius);
