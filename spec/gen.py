@@ -173,6 +173,9 @@ def validate_isa(isa: dict) -> None:
             raise SpecError(f"{here}: class '{insn['class']}' is not in [classes]")
         if insn["mods"] not in ("float", "none"):
             raise SpecError(f"{here}: mods must be 'float' or 'none'")
+        if insn.get("sources", "positional") != "positional" or ("sources" in insn and not lanewise(insn, True)):
+            raise SpecError(f"{here}: sources may only be \"positional\", on an instruction that writes d "
+                            "and reads a, b or c")
         if len(insn["operands"]) > 4:
             raise SpecError(f"{here}: at most four operands")
         for op in insn["operands"]:
@@ -227,6 +230,15 @@ def dst_is_data(insn: dict) -> bool:
     """A `d` operand after the first names a register the instruction reads (st, st1 store
     it), not one it writes."""
     return "d" in insn["operands"] and insn["operands"].index("d") > 0
+
+
+def lanewise(insn: dict, ignore_sources: bool = False) -> bool:
+    """Lane i of the written d is computed from lane i of each swizzled source a, b, c
+    (spec/isa.toml: every instruction that writes d and reads a source, unless its
+    sources are positional)."""
+    writes = "d" in insn["operands"] and not dst_is_data(insn)
+    reads = any(op in insn["operands"] for op in ("a", "b", "c"))
+    return writes and reads and (ignore_sources or "sources" not in insn)
 
 
 def fp_ops(spec: dict) -> list[tuple[str, str]]:
@@ -345,6 +357,7 @@ def gen_cpp_isa(spec: dict) -> list[str]:
     out += ["};", "", "struct InsnSpec {", "  std::string_view mnemonic;", "  Opcode opcode;",
             "  Format format;", "  Class cls;", "  bool float_modifiers;  // neg/abs allowed on sources",
             "  bool dst_is_data;  // the dst field names a register read (a store's data), not written",
+            "  bool lanewise;  // lane i of d is computed from lane i of each source (else each has a role)",
             "  int operand_count;", "  std::array<Operand, 4> operands;",
             "  // The bits an encoding of it may set; any other set bit is an illegal instruction.",
             "  std::uint64_t used_bits;", "  std::string_view doc;", "};", "", f"inline constexpr std::array<InsnSpec, {len(isa['insn'])}> kInsns{{{{"]
@@ -353,6 +366,7 @@ def gen_cpp_isa(spec: dict) -> list[str]:
         out.append(f"    {{{cpp_string(i['mnemonic'])}, Opcode::k{camel(i['mnemonic'])}, "
                    f"Format::k{i['format']}, Class::k{camel(i['class'])}, "
                    f"{'true' if i['mods'] == 'float' else 'false'}, {'true' if dst_is_data(i) else 'false'}, "
+                   f"{'true' if lanewise(i) else 'false'}, "
                    f"{len(i['operands'])}, "
                    f"{{{ops}}}, {used_bits(isa, i):#018x}u, {cpp_string(i['doc'])}}},")
     out += ["}};", "", "struct SpecialSpec {", "  std::string_view name;", "  int index;",
