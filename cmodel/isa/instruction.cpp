@@ -94,16 +94,6 @@ RegisterUse register_use(const Instruction& insn) {
   return use;
 }
 
-const InsnSpec* find_insn(Opcode opcode) {
-  static const auto table = [] {
-    std::array<const InsnSpec*, 1u << si::kOpcodeField.width> t{};
-    for (const InsnSpec& s : si::kInsns) t[static_cast<std::size_t>(s.opcode)] = &s;
-    return t;
-  }();
-  const auto i = static_cast<std::size_t>(opcode);
-  return i < table.size() ? table[i] : nullptr;
-}
-
 const spec::isa::SpecialSpec* find_special(std::string_view name) {
   for (const auto& s : si::kSpecials) {
     if (s.name == name) return &s;

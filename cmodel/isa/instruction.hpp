@@ -48,9 +48,21 @@ struct RegisterUse {
 };
 RegisterUse register_use(const Instruction& insn);
 
-// The table row of a mnemonic or opcode, or null.
+namespace detail {
+inline constexpr auto kInsnByOpcode = [] {
+  std::array<const InsnSpec*, std::size_t{1} << spec::isa::kOpcodeField.width> table{};
+  for (const InsnSpec& s : spec::isa::kInsns) table[static_cast<std::size_t>(s.opcode)] = &s;
+  return table;
+}();
+}  // namespace detail
+
+// The table row of a mnemonic or opcode, or null. By opcode it is an array index, so
+// that a compiler may ask for every instruction it makes.
 const InsnSpec* find_insn(std::string_view mnemonic);
-const InsnSpec* find_insn(Opcode opcode);
+constexpr const InsnSpec* find_insn(Opcode opcode) {
+  const auto i = static_cast<std::size_t>(opcode);
+  return i < detail::kInsnByOpcode.size() ? detail::kInsnByOpcode[i] : nullptr;
+}
 const spec::isa::SpecialSpec* find_special(std::string_view name);
 
 // Fields of an instruction the table says it does not use must be zero, so the word

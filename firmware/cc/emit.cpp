@@ -81,12 +81,26 @@ class Emitter {
     for (int j = 0; j < s.n; ++j) swz[static_cast<std::size_t>(j)] = loc(s.v).lane[s.comp[static_cast<std::size_t>(j)]];
     return reg_text(s, swz);
   }
-  std::string address(const MInst& m) const {
-    const Src& a = m.srcs[0];
+  // [r + offset]: the base address in lane x of the swizzled register.
+  std::string address(const Src& a, const Imm& offset) const {
     const std::string r = fmt::format("r{}{}", loc(a.v).reg, swizzle_text({loc(a.v).lane[a.comp[0]], -1, -1, -1}));
-    const long long off = std::stoll(m.imm.empty() ? "0" : m.imm, nullptr, 0);
+    const std::int64_t off = offset.value;
     if (off == 0) return "[" + r + "]";
     return off < 0 ? fmt::format("[{} - {}]", r, -off) : fmt::format("[{} + {}]", r, off);
+  }
+  static std::string imm_text(const Imm& imm) {
+    switch (imm.type) {
+      case Imm::Type::kInteger: return fmt::format("{}", imm.value);
+      case Imm::Type::kBits:
+      case Imm::Type::kFloat: return fmt::format("{:#x}", imm.field());
+      case Imm::Type::kSpecial:
+        for (const spec::isa::SpecialSpec& s : spec::isa::kSpecials) {
+          if (s.index == imm.value) return std::string(s.name);
+        }
+        break;
+      case Imm::Type::kNone: break;
+    }
+    return fmt::format("{}", imm.value);
   }
   void line(const MInst& m, const std::string& text) {
     if (m.where.line > 0 && (m.where.line != last_line_ || m.where.file != last_file_)) {
@@ -113,7 +127,6 @@ class Emitter {
       case Kind::kBranch:
         if (!falls_to(i, m.target)) line(m, "bra     " + m.target);
         return;
-      case Kind::kCondBranch: line(m, fmt::format("{:<7} {}, {}", m.mn, positional(m.srcs[0]), m.target)); return;
       case Kind::kRet: line(m, "ret"); return;
       case Kind::kHalt: line(m, "halt"); return;
       case Kind::kCall: {
@@ -138,31 +151,47 @@ class Emitter {
       case Kind::kReload:
         line(m, fmt::format("{:<39} ; reload", fmt::format("pop     r{}{}", loc(m.dst).reg, mask_text(dst_lanes(m)))));
         return;
-      case Kind::kOp: break;
+      case Kind::kOp:
+      case Kind::kCondBranch: break;
     }
-    if (m.store) {
-      const Src& v = m.srcs[1];
-      std::vector<int> lanes;
-      for (int j = 0; j < v.n; ++j) lanes.push_back(j);
-      line(m, fmt::format("{:<7} {}, r{}{}", m.mn, address(m), loc(v.v).reg, mask_text(lanes)));
-      return;
-    }
+    // The operands in the order of the opcode's (spec/isa.toml); m.srcs in the same order.
+    const isa::InsnSpec& spec = *isa::find_insn(m.op);
     std::vector<std::string> operands;
-    std::vector<int> lanes;
-    if (m.dst >= 0) {
-      lanes = dst_lanes(m);
-      operands.push_back(fmt::format("r{}{}", loc(m.dst).reg, mask_text(lanes)));
-    }
-    if (m.mem) {
-      operands.push_back(address(m));
-    } else {
-      for (const Src& s : m.srcs) {
-        operands.push_back(m.shape == Shape::kPositional || m.dst < 0 ? positional(s) : lanewise(s, lanes));
+    const std::vector<int> lanes = m.dst >= 0 ? dst_lanes(m) : std::vector<int>{};
+    std::size_t next = 0;
+    for (int k = 0; k < spec.operand_count; ++k) {
+      switch (spec.operands[static_cast<std::size_t>(k)]) {
+        case isa::Operand::kD:
+          if (spec.dst_is_data) {
+            // a store's data: lanes x.. in place
+            const Src& v = m.srcs[next++];
+            std::vector<int> data(static_cast<std::size_t>(v.n));
+            for (int j = 0; j < v.n; ++j) data[static_cast<std::size_t>(j)] = j;
+            operands.push_back(fmt::format("r{}{}", loc(v.v).reg, mask_text(data)));
+          } else {
+            operands.push_back(fmt::format("r{}{}", loc(m.dst).reg, mask_text(lanes)));
+          }
+          break;
+        case isa::Operand::kA:
+        case isa::Operand::kB:
+        case isa::Operand::kC: {
+          const Src& s = m.srcs[next++];
+          operands.push_back(spec.lanewise ? lanewise(s, lanes) : positional(s));
+          break;
+        }
+        case isa::Operand::kMem: {
+          const Src& a = m.srcs[next++];
+          operands.push_back(address(a, m.imm));
+          break;
+        }
+        case isa::Operand::kImm:
+        case isa::Operand::kFimm:
+        case isa::Operand::kSr: operands.push_back(imm_text(m.imm)); break;
+        case isa::Operand::kTarget: operands.push_back(m.target); break;
       }
-      if (!m.imm.empty()) operands.push_back(m.imm);
     }
     // A copy onto itself is no instruction.
-    if (m.mn == "mov" && m.dst >= 0 && !m.srcs[0].neg && !m.srcs[0].abs && loc(m.srcs[0].v).reg == loc(m.dst).reg) {
+    if (m.op == Opcode::kMov && !m.srcs[0].neg && !m.srcs[0].abs && loc(m.srcs[0].v).reg == loc(m.dst).reg) {
       bool same = true;
       for (std::size_t k = 0; k < lanes.size(); ++k) {
         const int e = std::min(static_cast<int>(k), m.srcs[0].n - 1);
@@ -170,7 +199,7 @@ class Emitter {
       }
       if (same) return;
     }
-    std::string text = fmt::format("{:<7}", m.mn);
+    std::string text = fmt::format("{:<7}", spec.mnemonic);
     for (std::size_t k = 0; k < operands.size(); ++k) text += (k ? ", " : " ") + operands[k];
     while (!text.empty() && text.back() == ' ') text.pop_back();
     line(m, text);

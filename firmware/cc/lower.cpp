@@ -61,7 +61,8 @@ struct Value {
   Id type = 0;
 };
 
-std::string hex(std::uint32_t bits) { return fmt::format("{:#x}", bits); }
+// A constant lane as its raw bits: fp32 bits for lif, an integer's or mask's for li.
+Imm lane_bits(std::uint32_t bits, bool is_float) { return is_float ? Imm::fp32_bits(bits) : Imm::bits(bits); }
 
 class Lowerer {
  public:
@@ -149,13 +150,12 @@ class Lowerer {
     // neg and abs are free only on instructions whose spec allows them (and never abs on
     // a third source): elsewhere the value is made first.
     if (i.kind == Kind::kOp || i.kind == Kind::kCondBranch) {
-      const spec::isa::InsnSpec* insn = isa::find_insn(i.mn);
-      const bool mods = insn != nullptr && insn->float_modifiers;
+      const bool mods = isa::find_insn(i.op)->float_modifiers;
       for (std::size_t k = 0; k < i.srcs.size(); ++k) {
         Src& s = i.srcs[k];
         if (!(s.neg || s.abs) || (mods && !(k == 2 && s.abs))) continue;
         MInst m;
-        m.mn = "mov";
+        m.op = Opcode::kMov;
         m.dst = vreg(s.n);
         m.srcs = {s};
         m.where = where_;
@@ -173,48 +173,37 @@ class Lowerer {
     push(std::move(i));
   }
   // dst = mn srcs (lane-wise), a new vreg of `width` lanes.
-  Src op(const std::string& mn, int width, std::vector<Src> srcs, std::string imm = {}) {
+  Src op(Opcode opcode, int width, std::vector<Src> srcs, Imm imm = {}) {
     const int d = vreg(width);
     MInst i;
-    i.mn = mn;
+    i.op = opcode;
     i.dst = d;
     i.srcs = std::move(srcs);
-    i.imm = std::move(imm);
+    i.imm = imm;
     push(std::move(i));
     return whole(d, width);
   }
   // dst[comps] = mn srcs: a partial write into an existing vreg.
   // fresh: the first write of a vreg whose other lanes are never read (not a use of it).
-  void op_into(int dst, std::uint8_t comps, const std::string& mn, std::vector<Src> srcs, std::string imm = {},
-               bool fresh = false) {
+  void op_into(int dst, std::uint8_t comps, Opcode opcode, std::vector<Src> srcs, Imm imm = {}, bool fresh = false) {
     MInst i;
-    i.mn = mn;
+    i.op = opcode;
     i.dst = dst;
     i.dst_comps = comps;
     i.fresh = fresh;
     i.srcs = std::move(srcs);
-    i.imm = std::move(imm);
+    i.imm = imm;
     push(std::move(i));
-  }
-  Src positional(const std::string& mn, int width, std::vector<Src> srcs) {
-    const int d = vreg(width);
-    MInst i;
-    i.mn = mn;
-    i.dst = d;
-    i.srcs = std::move(srcs);
-    i.shape = Shape::kPositional;
-    push(std::move(i));
-    return whole(d, width);
   }
   void copy_into(int dst, const Src& from) {
     MInst i;
-    i.mn = "mov";
+    i.op = Opcode::kMov;
     i.dst = dst;
     i.srcs = {from};
     push(std::move(i));
   }
   Src constant_bits(std::uint32_t bits, bool is_float, int width = 1) {
-    return op(is_float ? "lif" : "li", width, {}, hex(bits));
+    return op(is_float ? Opcode::kLif : Opcode::kLi, width, {}, lane_bits(bits, is_float));
   }
   Src fconst(float f, int width = 1) { return constant_bits(std::bit_cast<std::uint32_t>(f), true, width); }
   static Src neg(Src s) {
@@ -273,7 +262,8 @@ class Lowerer {
         for (int k = j; k < n; ++k) {
           if (bits[static_cast<std::size_t>(k)] == bits[static_cast<std::size_t>(j)]) mask |= static_cast<std::uint8_t>(1u << k);
         }
-        op_into(d, mask == (1u << n) - 1 ? 0 : mask, is_float ? "lif" : "li", {}, hex(bits[static_cast<std::size_t>(j)]),
+        op_into(d, mask == (1u << n) - 1 ? 0 : mask, is_float ? Opcode::kLif : Opcode::kLi, {},
+                lane_bits(bits[static_cast<std::size_t>(j)], is_float),
                 done == 0);
         done |= mask;
       }
@@ -298,7 +288,7 @@ class Lowerer {
     const Type& t = m_.type(type);
     Value v;
     if (const int n = width_of(type); n > 0) {
-      v.leaf = op("li", n, {}, "0");
+      v.leaf = op(Opcode::kLi, n, {}, Imm::integer(0));
       return v;
     }
     v.aggregate = true;
@@ -399,7 +389,7 @@ class Lowerer {
     const Value& from = lazy_or_not;
     if (!from.aggregate) {
       Value v;
-      v.leaf = op("mov", from.leaf.n, {from.leaf});
+      v.leaf = op(Opcode::kMov, from.leaf.n, {from.leaf});
       return v;
     }
     Value v;
@@ -444,7 +434,7 @@ class Lowerer {
       Src s = whole(reg, 4);
       s.comp = comps;
       s.n = n;
-      return op("mov", n, {s}).v;
+      return op(Opcode::kMov, n, {s}).v;
     };
     const int origin = origin_, direction = direction_, hit_record = hit_, info = info_;
     origin_ = part(origin, {0, 1, 2, 0}, 3);
@@ -466,7 +456,7 @@ class Lowerer {
       for (std::size_t k = 0; k < dst.size(); ++k) copy_into(dst[k].v, whole(payload_in[k]));
       homes_[incoming_payload_] = home;
     }
-    if (has_calls_) return_address_ = op("mfra", 1, {}).v;
+    if (has_calls_) return_address_ = op(Opcode::kMfra, 1, {}).v;
   }
   std::vector<int> payload_registers(Id type, std::vector<int>& defs) {
     std::vector<int> regs;
@@ -511,9 +501,8 @@ class Lowerer {
     }
     if (return_address_ >= 0) {
       MInst t;
-      t.mn = "mtra";
+      t.op = Opcode::kMtra;
       t.srcs = {whole(return_address_, 1)};
-      t.shape = Shape::kPositional;
       push(std::move(t));
     }
     push(std::move(r));
@@ -574,9 +563,8 @@ class Lowerer {
   void cond_branch(bool if_nonzero, const Src& cond, const std::string& target) {
     MInst b;
     b.kind = Kind::kCondBranch;
-    b.mn = if_nonzero ? "bnz" : "bz";
+    b.op = if_nonzero ? Opcode::kBnz : Opcode::kBz;
     b.srcs = {component(cond, 0)};
-    b.shape = Shape::kPositional;
     b.target = target;
     push(std::move(b));
   }
@@ -611,7 +599,7 @@ class Lowerer {
     }
     return ~0u;
   }
-  Src launch_base() { return op("li", 1, {}, hex(mm::kDeviceLaunchBase)); }
+  Src launch_base() { return op(Opcode::kLi, 1, {}, Imm::bits(mm::kDeviceLaunchBase)); }
   Pointer buffer_pointer(Id var_id, const Variable& var) {
     const Decorations& d = m_.decoration(var_id);
     const Id block_type = m_.type(var.type).element;
@@ -629,11 +617,10 @@ class Lowerer {
       Src base = launch_base();
       if (b.in_launch_block) {
         MInst l;
-        l.mn = "ld1";
+        l.op = Opcode::kLd1;
         l.dst = vreg(1);
         l.srcs = {base};
-        l.mem = true;
-        l.imm = fmt::format("{}", b.launch_word_at);
+        l.imm = Imm::integer(b.launch_word_at);
         const int d2 = l.dst;
         push(std::move(l));
         base = whole(d2, 1);
@@ -720,9 +707,9 @@ class Lowerer {
       }
       const Src idx = scalar_or_vector(index);
       const Src scaled = std::has_single_bit(stride)
-                             ? op("shli", 1, {idx}, fmt::format("{}", std::countr_zero(stride)))
-                             : op("imuli", 1, {idx}, fmt::format("{}", stride));
-      p.address = op("iadd", 1, {whole(p.address, 1), scaled}).v;
+                             ? op(Opcode::kShli, 1, {idx}, Imm::integer(std::countr_zero(stride)))
+                             : op(Opcode::kImuli, 1, {idx}, Imm::integer(stride));
+      p.address = op(Opcode::kIadd, 1, {whole(p.address, 1), scaled}).v;
     }
     pointers_[i.result] = p;
   }
@@ -751,11 +738,10 @@ class Lowerer {
         reads_aperture_ = true;
       }
       MInst l;
-      l.mn = n == 1 ? (f ? "ld1f" : "ld1") : (f ? "ldf" : "ld");
+      l.op = n == 1 ? (f ? Opcode::kLd1f : Opcode::kLd1) : (f ? Opcode::kLdf : Opcode::kLd);
       l.dst = vreg(n);
       l.srcs = {whole(p.address, 1)};
-      l.mem = true;
-      l.imm = fmt::format("{}", static_cast<std::int32_t>(p.offset));
+      l.imm = Imm::integer(static_cast<std::int32_t>(p.offset));
       Value v;
       v.leaf = whole(l.dst, n);
       push(std::move(l));
@@ -805,14 +791,14 @@ class Lowerer {
       case spv::BuiltIn::LaunchIdKHR:
       case spv::BuiltIn::LaunchSizeKHR: {
         MInst r;
-        r.mn = "rdsr";
+        r.op = Opcode::kRdsr;
         r.dst = vreg(3);
         r.dst_comps = 0b011;
         r.fresh = true;
-        r.imm = b == spv::BuiltIn::LaunchIdKHR ? "pixel" : "launch";
+        r.imm = Imm::special(b == spv::BuiltIn::LaunchIdKHR ? spec::isa::kSpecialPixel : spec::isa::kSpecialLaunch);
         const int d = r.dst;
         push(std::move(r));
-        op_into(d, 0b100, "li", {}, b == spv::BuiltIn::LaunchIdKHR ? "0" : "1");
+        op_into(d, 0b100, Opcode::kLi, {}, Imm::integer(b == spv::BuiltIn::LaunchIdKHR ? 0 : 1));
         small_.insert(d);  // pixel coordinates and sizes are far below 2^31
         s = whole(d, 3);
         break;
@@ -829,7 +815,7 @@ class Lowerer {
       case spv::BuiltIn::PrimitiveId: s = whole(need(primitive_), 1); break;
       case spv::BuiltIn::InstanceCustomIndexKHR: s = whole(need(material_), 1); break;
       case spv::BuiltIn::InstanceId:
-      case spv::BuiltIn::RayGeometryIndexKHR: s = op("li", 1, {}, "0"); break;
+      case spv::BuiltIn::RayGeometryIndexKHR: s = op(Opcode::kLi, 1, {}, Imm::integer(0)); break;
       default:
         unsupported(fmt::format("the built-in {} (the chip provides launch id and size, world ray origin and "
                                 "direction, t min and max, hit t, primitive id and instance custom index)",
@@ -868,7 +854,7 @@ class Lowerer {
         const Place pl = place(p);
         if (pl.component >= 0) {
           Value v;
-          v.leaf = op("mov", 1, {component(pl.value->leaf, pl.component)});
+          v.leaf = op(Opcode::kMov, 1, {component(pl.value->leaf, pl.component)});
           values_[i.result] = v;
         } else {
           values_[i.result] = copy_of(*pl.value);
@@ -886,7 +872,7 @@ class Lowerer {
     const Place pl = place(p);
     if (pl.component >= 0) {
       op_into(pl.value->leaf.v, static_cast<std::uint8_t>(1u << pl.value->leaf.comp[static_cast<std::size_t>(pl.component)]),
-              "mov", {from.leaf});
+              Opcode::kMov, {from.leaf});
       return;
     }
     assign(*pl.value, from);
@@ -897,40 +883,40 @@ class Lowerer {
   void ext_inst(const Instruction& i);
   void trace(const Instruction& i);
   void image_store(const Instruction& i);
-  Src binary(const Instruction& i, const std::string& mn, bool swap = false) {
+  Src binary(const Instruction& i, Opcode mn, bool swap = false) {
     Src a = scalar_or_vector(i.operands[0]), b = scalar_or_vector(i.operands[1]);
     if (swap) std::swap(a, b);
     return op(mn, width_of(i.type), {a, b});
   }
-  Src not_of(const Src& s) { return op("xori", s.n, {s}, "0xffffffff"); }
+  Src not_of(const Src& s) { return op(Opcode::kXori, s.n, {s}, Imm::bits(0xffffffffu)); }
   // Integer op with an immediate form when the second operand is a constant.
-  Src int_binary(const Instruction& i, const std::string& mn, const std::string& imm_mn) {
+  Src int_binary(const Instruction& i, Opcode mn, Opcode imm_mn) {
     const int n = width_of(i.type);
-    if (const auto c = constant_scalar(i.operands[1]); c && !imm_mn.empty()) {
+    if (const auto c = constant_scalar(i.operands[1])) {
       const std::uint32_t v = *c;
-      const bool shift = imm_mn == "shli" || imm_mn == "shri" || imm_mn == "srai";
+      const bool shift = imm_mn == Opcode::kShli || imm_mn == Opcode::kShri || imm_mn == Opcode::kSrai;
       return op(imm_mn, n, {scalar_or_vector(i.operands[0])},
-                shift ? fmt::format("{}", v & 31) : fmt::format("{}", static_cast<std::int32_t>(v)));
+                Imm::integer(shift ? std::int64_t{v & 31} : static_cast<std::int32_t>(v)));
     }
     return op(mn, n, {scalar_or_vector(i.operands[0]), scalar_or_vector(i.operands[1])});
   }
   Src select(const Src& cond, const Src& a, const Src& b, int n) {
-    return op("sel", n, {cond.n == 1 ? broadcast(cond, n) : cond, a.n == 1 && n > 1 ? broadcast(a, n) : a,
+    return op(Opcode::kSel, n, {cond.n == 1 ? broadcast(cond, n) : cond, a.n == 1 && n > 1 ? broadcast(a, n) : a,
                          b.n == 1 && n > 1 ? broadcast(b, n) : b});
   }
   Src dot(const Src& a, const Src& b) {
-    if (a.n == 3) return positional("dp3", 1, {a, b});
-    if (a.n == 4) return positional("dp4", 1, {a, b});
-    if (a.n == 1) return op("mul", 1, {a, b});
-    const Src p = op("mul", 2, {a, b});
-    return op("add", 1, {component(p, 0), component(p, 1)});
+    if (a.n == 3) return op(Opcode::kDp3, 1, {a, b});
+    if (a.n == 4) return op(Opcode::kDp4, 1, {a, b});
+    if (a.n == 1) return op(Opcode::kMul, 1, {a, b});
+    const Src p = op(Opcode::kMul, 2, {a, b});
+    return op(Opcode::kAdd, 1, {component(p, 0), component(p, 1)});
   }
   Src exp2(const Src& y, int n);
   Src sine(const Src& x, int n);
   Src log2(const Src& x, int n);
   Src divide(const Src& a, const Src& b, int n) {
-    const Src r = op("rcp", b.n, {b});
-    return op("mul", n, {a, r.n == 1 && n > 1 ? broadcast(r, n) : r});
+    const Src r = op(Opcode::kRcp, b.n, {b});
+    return op(Opcode::kMul, n, {a, r.n == 1 && n > 1 ? broadcast(r, n) : r});
   }
 
   const Module& m_;
@@ -979,62 +965,62 @@ class Lowerer {
 // exp2 as firmware/whitted.s's pow computes it: 2^i 2^(g) sqrt(2) with g = y - i - 1/2,
 // the Taylor series of 2^g to g^6 (relative error < 2e-7); y clamped to [-126, 128].
 Src Lowerer::exp2(const Src& y_in, int n) {
-  Src y = op("max", n, {y_in, fconst(-126.0f, n)});
-  y = op("min", n, {y, fconst(128.0f, n)});
-  const Src i = op("flr", n, {y});
-  Src g = op("add", n, {y, neg(i)});
-  g = op("add", n, {g, neg(fconst(0.5f, n))});
+  Src y = op(Opcode::kMax, n, {y_in, fconst(-126.0f, n)});
+  y = op(Opcode::kMin, n, {y, fconst(128.0f, n)});
+  const Src i = op(Opcode::kFlr, n, {y});
+  Src g = op(Opcode::kAdd, n, {y, neg(i)});
+  g = op(Opcode::kAdd, n, {g, neg(fconst(0.5f, n))});
   static constexpr float kCoefficients[] = {0.00015403530393381606f, 0.0013333558146428443f, 0.009618129107628477f,
                                             0.05550410866482158f,    0.2402265069591007f,    0.6931471805599453f,
                                             1.0f};
   Src p = fconst(kCoefficients[0], n);
-  for (std::size_t k = 1; k < std::size(kCoefficients); ++k) p = op("mad", n, {p, g, fconst(kCoefficients[k], n)});
-  Src e = op("f2i", n, {i});
-  e = op("iaddi", n, {e}, "127");
-  e = op("shli", n, {e}, "23");  // 2^i as fp32 bits
-  p = op("mul", n, {p, e});
-  return op("mul", n, {p, fconst(1.41421356f, n)});
+  for (std::size_t k = 1; k < std::size(kCoefficients); ++k) p = op(Opcode::kMad, n, {p, g, fconst(kCoefficients[k], n)});
+  Src e = op(Opcode::kF2i, n, {i});
+  e = op(Opcode::kIaddi, n, {e}, Imm::integer(127));
+  e = op(Opcode::kShli, n, {e}, Imm::integer(23));  // 2^i as fp32 bits
+  p = op(Opcode::kMul, n, {p, e});
+  return op(Opcode::kMul, n, {p, fconst(1.41421356f, n)});
 }
 
 // sin: x reduced to y in [-pi, pi) through the fraction of x / 2pi, then the Taylor
 // series to y^17 (absolute error below 3e-8 on the interval, plus the reduction's
 // rounding, which grows with |x|).
 Src Lowerer::sine(const Src& x, int n) {
-  Src f = op("mad", n, {x, fconst(0.159154943f, n), fconst(0.5f, n)});  // x / 2pi + 1/2
-  f = op("frc", n, {f});
-  const Src y = op("mul", n, {op("add", n, {f, neg(fconst(0.5f, n))}), fconst(6.28318531f, n)});
-  const Src y2 = op("mul", n, {y, y});
+  Src f = op(Opcode::kMad, n, {x, fconst(0.159154943f, n), fconst(0.5f, n)});  // x / 2pi + 1/2
+  f = op(Opcode::kFrc, n, {f});
+  const Src y = op(Opcode::kMul, n, {op(Opcode::kAdd, n, {f, neg(fconst(0.5f, n))}), fconst(6.28318531f, n)});
+  const Src y2 = op(Opcode::kMul, n, {y, y});
   // sin y = y (1 - y^2/3! (1 - y^2/(4 5) (1 - ...))): Horner in y^2 with 1/k! coefficients
   static constexpr float kCoefficients[] = {2.81145725e-15f, -7.64716373e-13f, 1.60590438e-10f, -2.50521084e-8f,
                                             2.75573192e-6f,  -1.98412698e-4f,  8.33333333e-3f,  -1.66666667e-1f,
                                             1.0f};
   Src p = fconst(kCoefficients[0], n);
-  for (std::size_t k = 1; k < std::size(kCoefficients); ++k) p = op("mad", n, {p, y2, fconst(kCoefficients[k], n)});
-  return op("mul", n, {p, y});
+  for (std::size_t k = 1; k < std::size(kCoefficients); ++k) p = op(Opcode::kMad, n, {p, y2, fconst(kCoefficients[k], n)});
+  return op(Opcode::kMul, n, {p, y});
 }
 
 // log2 as firmware/whitted.s's pow computes it: x = m 2^e with m in [sqrt(1/2), sqrt(2)),
 // log2 m = (2/ln 2) atanh((m-1)/(m+1)) to t^9. For x > 0; 0 gives -126.something, so
 // exp2 of a product with it still flushes to 0.
 Src Lowerer::log2(const Src& x, int n) {
-  Src e = op("shri", n, {x}, "23");
-  e = op("iaddi", n, {e}, "-127");
-  Src m = op("andi", n, {x}, "0x007fffff");
-  m = op("ori", n, {m}, "0x3f800000");
-  const Src big = op("fle", n, {fconst(1.41421356f, n), m});
-  m = select(big, op("mul", n, {m, fconst(0.5f, n)}), m, n);
-  e = select(big, op("iaddi", n, {e}, "1"), e, n);
-  const Src ef = op("i2f", n, {e});
+  Src e = op(Opcode::kShri, n, {x}, Imm::integer(23));
+  e = op(Opcode::kIaddi, n, {e}, Imm::integer(-127));
+  Src m = op(Opcode::kAndi, n, {x}, Imm::bits(0x007fffffu));
+  m = op(Opcode::kOri, n, {m}, Imm::bits(0x3f800000u));
+  const Src big = op(Opcode::kFle, n, {fconst(1.41421356f, n), m});
+  m = select(big, op(Opcode::kMul, n, {m, fconst(0.5f, n)}), m, n);
+  e = select(big, op(Opcode::kIaddi, n, {e}, Imm::integer(1)), e, n);
+  const Src ef = op(Opcode::kI2f, n, {e});
   const Src one = fconst(1.0f, n);
-  Src t = op("add", n, {m, neg(one)});
-  t = op("mul", n, {t, op("rcp", n, {op("add", n, {m, one})})});
-  const Src t2 = op("mul", n, {t, t});
+  Src t = op(Opcode::kAdd, n, {m, neg(one)});
+  t = op(Opcode::kMul, n, {t, op(Opcode::kRcp, n, {op(Opcode::kAdd, n, {m, one})})});
+  const Src t2 = op(Opcode::kMul, n, {t, t});
   static constexpr float kCoefficients[] = {0.3205988979753252f, 0.41219858311113244f, 0.5770780163555854f,
                                             0.9617966939259756f, 2.8853900817779268f};
   Src p = fconst(kCoefficients[0], n);
-  for (std::size_t k = 1; k < std::size(kCoefficients); ++k) p = op("mad", n, {p, t2, fconst(kCoefficients[k], n)});
-  p = op("mul", n, {p, t});
-  return op("add", n, {ef, p});
+  for (std::size_t k = 1; k < std::size(kCoefficients); ++k) p = op(Opcode::kMad, n, {p, t2, fconst(kCoefficients[k], n)});
+  p = op(Opcode::kMul, n, {p, t});
+  return op(Opcode::kAdd, n, {ef, p});
 }
 
 void Lowerer::trace(const Instruction& i) {
@@ -1074,15 +1060,15 @@ void Lowerer::trace(const Instruction& i) {
   call.kind = Kind::kCall;
   call.target = form.label();
   const int a = fixed(4, kRegOrigin), b = fixed(4, kRegDirection), info = fixed(4, kRegInfo);
-  op_into(a, 0b0111, "mov", {origin}, {}, true);
-  op_into(a, 0b1000, "mov", {tmin});
-  op_into(b, 0b0111, "mov", {direction}, {}, true);
-  op_into(b, 0b1000, "mov", {tmax});
+  op_into(a, 0b0111, Opcode::kMov, {origin}, {}, true);
+  op_into(a, 0b1000, Opcode::kMov, {tmin});
+  op_into(b, 0b0111, Opcode::kMov, {direction}, {}, true);
+  op_into(b, 0b1000, Opcode::kMov, {tmax});
   // The new ray's nesting level: 0 from ray generation, the shader's own + 1 elsewhere.
   if (info_ >= 0) {
-    op_into(info, 0b0010, "iaddi", {whole(info_, 1)}, "1", true);
+    op_into(info, 0b0010, Opcode::kIaddi, {whole(info_, 1)}, Imm::integer(1), true);
   } else {
-    op_into(info, 0b0010, "li", {}, "0", true);
+    op_into(info, 0b0010, Opcode::kLi, {}, Imm::integer(0), true);
   }
   call.uses = {a, b, info};
   // The payload: copied into its registers, and back after the call.
@@ -1112,29 +1098,25 @@ void Lowerer::image_store(const Instruction& i) {
   // address = framebuffer + (y * width + x) * 16; the device faults on another pixel.
   const Src base = launch_base();
   MInst l;
-  l.mn = "ld1";
+  l.op = Opcode::kLd1;
   l.dst = vreg(2);
   l.dst_comps = 0b01;
   l.fresh = true;
   l.srcs = {base};
-  l.mem = true;
-  l.imm = fmt::format("{}", mm::kLaunchFramebufferAt);
+  l.imm = Imm::integer(mm::kLaunchFramebufferAt);
   const int fbw = l.dst;
   push(std::move(l));
-  op_into(fbw, 0b10, "ld1", {base}, fmt::format("{}", mm::kLaunchWidthAt));  // lane x is written above
-  fn_.code.back().mem = true;
-  Src index = op("imul", 1, {component(coord, 1), component(whole(fbw, 2), 1)});
-  index = op("iadd", 1, {index, component(coord, 0)});
-  index = op("shli", 1, {index}, fmt::format("{}", std::countr_zero(mm::kFramebufferBytesPerPixel)));
-  const Src address = op("iadd", 1, {index, component(whole(fbw, 2), 0)});
+  op_into(fbw, 0b10, Opcode::kLd1, {base}, Imm::integer(mm::kLaunchWidthAt));  // lane x is written above
+  Src index = op(Opcode::kImul, 1, {component(coord, 1), component(whole(fbw, 2), 1)});
+  index = op(Opcode::kIadd, 1, {index, component(coord, 0)});
+  index = op(Opcode::kShli, 1, {index}, Imm::integer(std::countr_zero(mm::kFramebufferBytesPerPixel)));
+  const Src address = op(Opcode::kIadd, 1, {index, component(whole(fbw, 2), 0)});
   // st stores lanes in place: the texel must sit in lanes x..w in order.
-  if (texel.comp != std::array<std::uint8_t, 4>{0, 1, 2, 3} || texel.neg || texel.abs) texel = op("mov", 4, {texel});
+  if (texel.comp != std::array<std::uint8_t, 4>{0, 1, 2, 3} || texel.neg || texel.abs) texel = op(Opcode::kMov, 4, {texel});
   MInst s;
-  s.mn = "st";
+  s.op = Opcode::kSt;
   s.srcs = {address, texel};
-  s.mem = true;
-  s.store = true;
-  s.imm = "0";
+  s.imm = Imm::integer(0);
   push(std::move(s));
 }
 
@@ -1192,10 +1174,10 @@ void Lowerer::instruction(const Instruction& i) {
       q.any_hit = (*flags & static_cast<std::uint32_t>(spv::RayFlagsMask::TerminateOnFirstHitKHR)) != 0;
       q.a = vreg(4);
       q.b = vreg(4);
-      op_into(q.a, 0b0111, "mov", {scalar_or_vector(o[4])}, {}, true);
-      op_into(q.a, 0b1000, "mov", {scalar_or_vector(o[5])});
-      op_into(q.b, 0b0111, "mov", {scalar_or_vector(o[6])}, {}, true);
-      op_into(q.b, 0b1000, "mov", {scalar_or_vector(o[7])});
+      op_into(q.a, 0b0111, Opcode::kMov, {scalar_or_vector(o[4])}, {}, true);
+      op_into(q.a, 0b1000, Opcode::kMov, {scalar_or_vector(o[5])});
+      op_into(q.b, 0b0111, Opcode::kMov, {scalar_or_vector(o[6])}, {}, true);
+      op_into(q.b, 0b1000, Opcode::kMov, {scalar_or_vector(o[7])});
       q.hit = -1;
       return;
     }
@@ -1205,13 +1187,12 @@ void Lowerer::instruction(const Instruction& i) {
       Query& q = query(o[0]);
       if (q.hit < 0) q.hit = vreg(4);
       MInst t;
-      t.mn = q.any_hit ? "tracea" : "trace";
+      t.op = q.any_hit ? Opcode::kTracea : Opcode::kTrace;
       t.dst = q.hit;
       t.srcs = {whole(q.a, 4), whole(q.b, 4)};
-      t.shape = Shape::kPositional;
       push(std::move(t));
       Value v;
-      v.leaf = op("li", 1, {}, "0");
+      v.leaf = op(Opcode::kLi, 1, {}, Imm::integer(0));
       values_[i.result] = v;
       return;
     }
@@ -1220,7 +1201,7 @@ void Lowerer::instruction(const Instruction& i) {
       const Query& q = traced(o[0]);
       if (constant_scalar(o[1]).value_or(0) != 1) unsupported("a ray query's candidate intersection");
       const Src w = component(whole(q.hit, 4), 3);
-      set(op("xori", 1, {op("shri", 1, {w}, "31")}, "1"));
+      set(op(Opcode::kXori, 1, {op(Opcode::kShri, 1, {w}, Imm::integer(31))}, Imm::integer(1)));
       query_types_[i.result] = w;
       return;
     }
@@ -1262,8 +1243,8 @@ void Lowerer::instruction(const Instruction& i) {
       const Id from = current_block_;
       const Src sel = scalar_or_vector(o[0]);
       for (std::size_t k = 2; k + 1 < o.size(); k += 2) {
-        const Src c = op("li", 1, {}, hex(o[k]));
-        const Src eq = op("ieq", 1, {sel, c});
+        const Src c = op(Opcode::kLi, 1, {}, Imm::bits(o[k]));
+        const Src eq = op(Opcode::kIeq, 1, {sel, c});
         const std::string tramp = fmt::format(".{}_s{}_{}", fn_.label, from, k);
         // not this case: on to the next test; this case: through its own copies
         cond_branch(false, eq, tramp);
@@ -1322,8 +1303,8 @@ void Lowerer::instruction(const Instruction& i) {
         *at = expand(*at);
         const Src old = at->leaf;
         const int d = vreg(old.n);
-        op_into(d, 0, "mov", {old});
-        op_into(d, static_cast<std::uint8_t>(1u << o[k]), "mov", {concrete(obj).leaf});
+        op_into(d, 0, Opcode::kMov, {old});
+        op_into(d, static_cast<std::uint8_t>(1u << o[k]), Opcode::kMov, {concrete(obj).leaf});
         at->leaf = whole(d, old.n);
       } else {
         *at = obj;
@@ -1368,7 +1349,8 @@ void Lowerer::instruction(const Instruction& i) {
             std::uint32_t bits = *c;
             if (m_.is_bool(m_.constants.at(o[k]).type)) bits = bits ? 0xffffffffu : 0u;
             const std::uint8_t mask = static_cast<std::uint8_t>(1u << at);
-            op_into(d, mask == full ? 0 : mask, m_.is_float(m_.constants.at(o[k]).type) ? "lif" : "li", {}, hex(bits),
+            const bool is_float = m_.is_float(m_.constants.at(o[k]).type);
+            op_into(d, mask == full ? 0 : mask, is_float ? Opcode::kLif : Opcode::kLi, {}, lane_bits(bits, is_float),
                     first);
             first = false;
             ++at;
@@ -1386,7 +1368,7 @@ void Lowerer::instruction(const Instruction& i) {
             ++k;
           }
           const std::uint8_t mask = static_cast<std::uint8_t>(((1u << s.n) - 1) << at);
-          op_into(d, mask == full ? 0 : mask, "mov", {s}, {}, first);
+          op_into(d, mask == full ? 0 : mask, Opcode::kMov, {s}, {}, first);
           first = false;
           at += s.n;
         }
@@ -1418,7 +1400,7 @@ void Lowerer::instruction(const Instruction& i) {
       for (std::size_t k = 2; k < o.size(); ++k) {
         const std::uint32_t c = o[k] == 0xffffffffu ? 0 : o[k];
         const Src from = static_cast<int>(c) < a.n ? component(a, static_cast<int>(c)) : component(b, static_cast<int>(c) - a.n);
-        op_into(d, static_cast<std::uint8_t>(1u << (k - 2)), "mov", {from}, {}, k == 2);
+        op_into(d, static_cast<std::uint8_t>(1u << (k - 2)), Opcode::kMov, {from}, {}, k == 2);
       }
       set(whole(d, n));
       return;
@@ -1438,20 +1420,20 @@ void Lowerer::instruction(const Instruction& i) {
       const Src idx = scalar_or_vector(o[1]);
       Src r = component(v, 0);
       for (int k = 1; k < v.n; ++k) {
-        const Src is_k = op("ieq", 1, {idx, op("li", 1, {}, fmt::format("{}", k))});
+        const Src is_k = op(Opcode::kIeq, 1, {idx, op(Opcode::kLi, 1, {}, Imm::integer(k))});
         r = select(is_k, component(v, k), r, 1);
       }
       set(r);
       return;
     }
     // ---- float arithmetic
-    case Op::OpFAdd: set(binary(i, "add")); return;
-    case Op::OpFSub: set(op("add", n, {scalar_or_vector(o[0]), neg(scalar_or_vector(o[1]))})); return;
-    case Op::OpFMul: set(binary(i, "mul")); return;
+    case Op::OpFAdd: set(binary(i, Opcode::kAdd)); return;
+    case Op::OpFSub: set(op(Opcode::kAdd, n, {scalar_or_vector(o[0]), neg(scalar_or_vector(o[1]))})); return;
+    case Op::OpFMul: set(binary(i, Opcode::kMul)); return;
     case Op::OpFDiv: {
       if (const auto c = constant_scalar(o[0]); c && *c == 0x3f800000u && n == width_of(m_.constants.at(o[0]).type)) {
         const Src b = scalar_or_vector(o[1]);
-        set(op("rcp", n, {b.n == 1 && n > 1 ? broadcast(b, n) : b}));  // 1 / x
+        set(op(Opcode::kRcp, n, {b.n == 1 && n > 1 ? broadcast(b, n) : b}));  // 1 / x
         return;
       }
       set(divide(scalar_or_vector(o[0]), scalar_or_vector(o[1]), n));
@@ -1461,11 +1443,11 @@ void Lowerer::instruction(const Instruction& i) {
     case Op::OpFMod: {
       // x - y floor(x / y)
       const Src x = scalar_or_vector(o[0]), y = scalar_or_vector(o[1]);
-      const Src q = op("flr", n, {divide(x, y, n)});
-      set(op("mad", n, {neg(y.n == 1 && n > 1 ? broadcast(y, n) : y), q, x}));
+      const Src q = op(Opcode::kFlr, n, {divide(x, y, n)});
+      set(op(Opcode::kMad, n, {neg(y.n == 1 && n > 1 ? broadcast(y, n) : y), q, x}));
       return;
     }
-    case Op::OpVectorTimesScalar: set(op("mul", n, {scalar_or_vector(o[0]), broadcast(scalar_or_vector(o[1]), n)})); return;
+    case Op::OpVectorTimesScalar: set(op(Opcode::kMul, n, {scalar_or_vector(o[0]), broadcast(scalar_or_vector(o[1]), n)})); return;
     case Op::OpDot: set(dot(scalar_or_vector(o[0]), scalar_or_vector(o[1]))); return;
     case Op::OpMatrixTimesScalar: {
       Value m = concrete(value(o[0]));
@@ -1474,7 +1456,7 @@ void Lowerer::instruction(const Instruction& i) {
       r.aggregate = true;
       for (const Value& col : m.members) {
         Value c;
-        c.leaf = op("mul", col.leaf.n, {col.leaf, broadcast(s, col.leaf.n)});
+        c.leaf = op(Opcode::kMul, col.leaf.n, {col.leaf, broadcast(s, col.leaf.n)});
         r.members.push_back(c);
       }
       values_[i.result] = r;
@@ -1483,9 +1465,9 @@ void Lowerer::instruction(const Instruction& i) {
     case Op::OpMatrixTimesVector: {
       const Value m = concrete(value(o[0]));
       const Src v = scalar_or_vector(o[1]);
-      Src acc = op("mul", n, {m.members.at(0).leaf, broadcast(component(v, 0), n)});
+      Src acc = op(Opcode::kMul, n, {m.members.at(0).leaf, broadcast(component(v, 0), n)});
       for (std::size_t k = 1; k < m.members.size(); ++k) {
-        acc = op("mad", n, {m.members[k].leaf, broadcast(component(v, static_cast<int>(k)), n), acc});
+        acc = op(Opcode::kMad, n, {m.members[k].leaf, broadcast(component(v, static_cast<int>(k)), n), acc});
       }
       set(acc);
       return;
@@ -1496,30 +1478,30 @@ void Lowerer::instruction(const Instruction& i) {
       const int d = vreg(n);
       for (int k = 0; k < n; ++k) {
         const Src dk = dot(v, m.members.at(static_cast<std::size_t>(k)).leaf);
-        op_into(d, static_cast<std::uint8_t>(1u << k), "mov", {dk}, {}, k == 0);
+        op_into(d, static_cast<std::uint8_t>(1u << k), Opcode::kMov, {dk}, {}, k == 0);
       }
       set(whole(d, n));
       return;
     }
     // ---- comparisons (masks: all ones or zero)
-    case Op::OpFOrdEqual: set(binary(i, "feq")); return;
-    case Op::OpFUnordNotEqual: set(binary(i, "fne")); return;
-    case Op::OpFOrdLessThan: set(binary(i, "flt")); return;
-    case Op::OpFOrdGreaterThan: set(binary(i, "flt", true)); return;
-    case Op::OpFOrdLessThanEqual: set(binary(i, "fle")); return;
-    case Op::OpFOrdGreaterThanEqual: set(binary(i, "fle", true)); return;
-    case Op::OpFOrdNotEqual: set(op("or", n, {binary(i, "flt"), binary(i, "flt", true)})); return;
-    case Op::OpFUnordEqual: set(not_of(op("or", n, {binary(i, "flt"), binary(i, "flt", true)}))); return;
-    case Op::OpFUnordLessThan: set(not_of(binary(i, "fle", true))); return;
-    case Op::OpFUnordGreaterThan: set(not_of(binary(i, "fle"))); return;
-    case Op::OpFUnordLessThanEqual: set(not_of(binary(i, "flt", true))); return;
-    case Op::OpFUnordGreaterThanEqual: set(not_of(binary(i, "flt"))); return;
+    case Op::OpFOrdEqual: set(binary(i, Opcode::kFeq)); return;
+    case Op::OpFUnordNotEqual: set(binary(i, Opcode::kFne)); return;
+    case Op::OpFOrdLessThan: set(binary(i, Opcode::kFlt)); return;
+    case Op::OpFOrdGreaterThan: set(binary(i, Opcode::kFlt, true)); return;
+    case Op::OpFOrdLessThanEqual: set(binary(i, Opcode::kFle)); return;
+    case Op::OpFOrdGreaterThanEqual: set(binary(i, Opcode::kFle, true)); return;
+    case Op::OpFOrdNotEqual: set(op(Opcode::kOr, n, {binary(i, Opcode::kFlt), binary(i, Opcode::kFlt, true)})); return;
+    case Op::OpFUnordEqual: set(not_of(op(Opcode::kOr, n, {binary(i, Opcode::kFlt), binary(i, Opcode::kFlt, true)}))); return;
+    case Op::OpFUnordLessThan: set(not_of(binary(i, Opcode::kFle, true))); return;
+    case Op::OpFUnordGreaterThan: set(not_of(binary(i, Opcode::kFle))); return;
+    case Op::OpFUnordLessThanEqual: set(not_of(binary(i, Opcode::kFlt, true))); return;
+    case Op::OpFUnordGreaterThanEqual: set(not_of(binary(i, Opcode::kFlt))); return;
     case Op::OpIsNan: {
       const Src a = scalar_or_vector(o[0]);
-      set(op("fne", n, {a, a}));
+      set(op(Opcode::kFne, n, {a, a}));
       return;
     }
-    case Op::OpIsInf: set(op("feq", n, {abs(scalar_or_vector(o[0])), fconst(INFINITY, n)})); return;
+    case Op::OpIsInf: set(op(Opcode::kFeq, n, {abs(scalar_or_vector(o[0])), fconst(INFINITY, n)})); return;
     case Op::OpIEqual:
     case Op::OpINotEqual: {
       // A ray query's committed type against 0 (none): the miss mask straight from the
@@ -1529,54 +1511,54 @@ void Lowerer::instruction(const Instruction& i) {
         const auto c = constant_scalar(o[static_cast<std::size_t>(1 - k)]);
         if (t == query_types_.end() || !c || *c > 1) continue;
         const bool miss_mask = (i.op == Op::OpIEqual) == (*c == 0);
-        const Src m = op("srai", 1, {t->second}, "31");
+        const Src m = op(Opcode::kSrai, 1, {t->second}, Imm::integer(31));
         set(miss_mask ? m : not_of(m));
         return;
       }
-      set(i.op == Op::OpIEqual ? binary(i, "ieq") : not_of(binary(i, "ieq")));
+      set(i.op == Op::OpIEqual ? binary(i, Opcode::kIeq) : not_of(binary(i, Opcode::kIeq)));
       return;
     }
-    case Op::OpLogicalEqual: set(binary(i, "ieq")); return;
-    case Op::OpLogicalNotEqual: set(binary(i, "xor")); return;
-    case Op::OpSLessThan: set(int_binary(i, "ilt", "ilti")); return;
-    case Op::OpSGreaterThan: set(binary(i, "ilt", true)); return;
-    case Op::OpSLessThanEqual: set(not_of(binary(i, "ilt", true))); return;
-    case Op::OpSGreaterThanEqual: set(not_of(binary(i, "ilt"))); return;
-    case Op::OpULessThan: set(binary(i, "iltu")); return;
-    case Op::OpUGreaterThan: set(binary(i, "iltu", true)); return;
-    case Op::OpULessThanEqual: set(not_of(binary(i, "iltu", true))); return;
-    case Op::OpUGreaterThanEqual: set(not_of(binary(i, "iltu"))); return;
-    case Op::OpLogicalAnd: set(binary(i, "and")); return;
-    case Op::OpLogicalOr: set(binary(i, "or")); return;
+    case Op::OpLogicalEqual: set(binary(i, Opcode::kIeq)); return;
+    case Op::OpLogicalNotEqual: set(binary(i, Opcode::kXor)); return;
+    case Op::OpSLessThan: set(int_binary(i, Opcode::kIlt, Opcode::kIlti)); return;
+    case Op::OpSGreaterThan: set(binary(i, Opcode::kIlt, true)); return;
+    case Op::OpSLessThanEqual: set(not_of(binary(i, Opcode::kIlt, true))); return;
+    case Op::OpSGreaterThanEqual: set(not_of(binary(i, Opcode::kIlt))); return;
+    case Op::OpULessThan: set(binary(i, Opcode::kIltu)); return;
+    case Op::OpUGreaterThan: set(binary(i, Opcode::kIltu, true)); return;
+    case Op::OpULessThanEqual: set(not_of(binary(i, Opcode::kIltu, true))); return;
+    case Op::OpUGreaterThanEqual: set(not_of(binary(i, Opcode::kIltu))); return;
+    case Op::OpLogicalAnd: set(binary(i, Opcode::kAnd)); return;
+    case Op::OpLogicalOr: set(binary(i, Opcode::kOr)); return;
     case Op::OpLogicalNot:
     case Op::OpNot: set(not_of(scalar_or_vector(o[0]))); return;
     case Op::OpAny:
     case Op::OpAll: {
       const Src v = scalar_or_vector(o[0]);
       Src r = component(v, 0);
-      for (int k = 1; k < v.n; ++k) r = op(i.op == Op::OpAny ? "or" : "and", 1, {r, component(v, k)});
-      set(r.v == v.v && v.n == 1 ? op("mov", 1, {r}) : r);
+      for (int k = 1; k < v.n; ++k) r = op(i.op == Op::OpAny ? Opcode::kOr : Opcode::kAnd, 1, {r, component(v, k)});
+      set(r.v == v.v && v.n == 1 ? op(Opcode::kMov, 1, {r}) : r);
       return;
     }
     case Op::OpSelect: set(select(scalar_or_vector(o[0]), scalar_or_vector(o[1]), scalar_or_vector(o[2]), n)); return;
     // ---- integers
-    case Op::OpIAdd: set(int_binary(i, "iadd", "iaddi")); return;
+    case Op::OpIAdd: set(int_binary(i, Opcode::kIadd, Opcode::kIaddi)); return;
     case Op::OpISub: {
       if (const auto c = constant_scalar(o[1])) {
-        set(op("iaddi", n, {scalar_or_vector(o[0])}, fmt::format("{}", -static_cast<std::int64_t>(static_cast<std::int32_t>(*c)))));
+        set(op(Opcode::kIaddi, n, {scalar_or_vector(o[0])}, Imm::integer(-static_cast<std::int64_t>(static_cast<std::int32_t>(*c)))));
         return;
       }
-      set(binary(i, "isub"));
+      set(binary(i, Opcode::kIsub));
       return;
     }
-    case Op::OpIMul: set(int_binary(i, "imul", "imuli")); return;
-    case Op::OpBitwiseAnd: set(int_binary(i, "and", "andi")); return;
-    case Op::OpBitwiseOr: set(int_binary(i, "or", "ori")); return;
-    case Op::OpBitwiseXor: set(int_binary(i, "xor", "xori")); return;
-    case Op::OpShiftLeftLogical: set(int_binary(i, "shl", "shli")); return;
-    case Op::OpShiftRightLogical: set(int_binary(i, "shr", "shri")); return;
-    case Op::OpShiftRightArithmetic: set(int_binary(i, "sra", "srai")); return;
-    case Op::OpSNegate: set(op("isub", n, {op("li", n, {}, "0"), scalar_or_vector(o[0])})); return;
+    case Op::OpIMul: set(int_binary(i, Opcode::kImul, Opcode::kImuli)); return;
+    case Op::OpBitwiseAnd: set(int_binary(i, Opcode::kAnd, Opcode::kAndi)); return;
+    case Op::OpBitwiseOr: set(int_binary(i, Opcode::kOr, Opcode::kOri)); return;
+    case Op::OpBitwiseXor: set(int_binary(i, Opcode::kXor, Opcode::kXori)); return;
+    case Op::OpShiftLeftLogical: set(int_binary(i, Opcode::kShl, Opcode::kShli)); return;
+    case Op::OpShiftRightLogical: set(int_binary(i, Opcode::kShr, Opcode::kShri)); return;
+    case Op::OpShiftRightArithmetic: set(int_binary(i, Opcode::kSra, Opcode::kSrai)); return;
+    case Op::OpSNegate: set(op(Opcode::kIsub, n, {op(Opcode::kLi, n, {}, Imm::integer(0)), scalar_or_vector(o[0])})); return;
     case Op::OpUDiv:
     case Op::OpUMod:
     case Op::OpSDiv:
@@ -1591,47 +1573,47 @@ void Lowerer::instruction(const Instruction& i) {
       const int k = std::countr_zero(*c);
       const Src x = scalar_or_vector(o[0]);
       if (i.op == Op::OpUDiv) {
-        set(op("shri", n, {x}, fmt::format("{}", k)));
+        set(op(Opcode::kShri, n, {x}, Imm::integer(k)));
       } else if (i.op == Op::OpUMod || i.op == Op::OpSMod) {
         // SMod takes the divisor's sign, positive here: the low bits
-        set(op("andi", n, {x}, fmt::format("{}", *c - 1)));
+        set(op(Opcode::kAndi, n, {x}, Imm::integer(*c - 1)));
       } else if (k == 0) {
-        set(i.op == Op::OpSDiv ? x : op("li", n, {}, "0"));  // by 1
+        set(i.op == Op::OpSDiv ? x : op(Opcode::kLi, n, {}, Imm::integer(0)));  // by 1
       } else {
         // Round toward zero: add 2^k - 1 to negative x first.
-        const Src bias = op("shri", n, {op("srai", n, {x}, "31")}, fmt::format("{}", 32 - k));
-        const Src q = op("srai", n, {op("iadd", n, {x, bias})}, fmt::format("{}", k));
+        const Src bias = op(Opcode::kShri, n, {op(Opcode::kSrai, n, {x}, Imm::integer(31))}, Imm::integer(32 - k));
+        const Src q = op(Opcode::kSrai, n, {op(Opcode::kIadd, n, {x, bias})}, Imm::integer(k));
         // SRem: the remainder with x's sign
-        set(i.op == Op::OpSDiv ? q : op("isub", n, {x, op("shli", n, {q}, fmt::format("{}", k))}));
+        set(i.op == Op::OpSDiv ? q : op(Opcode::kIsub, n, {x, op(Opcode::kShli, n, {q}, Imm::integer(k))}));
       }
       return;
     }
     // ---- conversions
-    case Op::OpConvertSToF: set(op("i2f", n, {scalar_or_vector(o[0])})); return;
-    case Op::OpConvertFToS: set(op("f2i", n, {scalar_or_vector(o[0])})); return;
+    case Op::OpConvertSToF: set(op(Opcode::kI2f, n, {scalar_or_vector(o[0])})); return;
+    case Op::OpConvertFToS: set(op(Opcode::kF2i, n, {scalar_or_vector(o[0])})); return;
     case Op::OpConvertUToF: {
       const Src u = scalar_or_vector(o[0]);
       if (small_.count(u.v)) {
-        set(op("i2f", n, {u}));  // below 2^31: as a signed integer
+        set(op(Opcode::kI2f, n, {u}));  // below 2^31: as a signed integer
         return;
       }
       // Values with the top bit set: halve (keeping the low bit sticky), convert, double.
-      const Src direct = op("i2f", n, {u});
-      Src half = op("shri", n, {u}, "1");
-      half = op("or", n, {half, op("andi", n, {u}, "1")});
-      Src big = op("i2f", n, {half});
-      big = op("add", n, {big, big});
-      set(select(op("ilti", n, {u}, "0"), big, direct, n));
+      const Src direct = op(Opcode::kI2f, n, {u});
+      Src half = op(Opcode::kShri, n, {u}, Imm::integer(1));
+      half = op(Opcode::kOr, n, {half, op(Opcode::kAndi, n, {u}, Imm::integer(1))});
+      Src big = op(Opcode::kI2f, n, {half});
+      big = op(Opcode::kAdd, n, {big, big});
+      set(select(op(Opcode::kIlti, n, {u}, Imm::integer(0)), big, direct, n));
       return;
     }
     case Op::OpConvertFToU: {
       // [0, 2^31) directly, [2^31, 2^32) through f - 2^31; negatives give 0 (f2i saturates).
       const Src f = scalar_or_vector(o[0]);
       const Src two31 = fconst(2147483648.0f, n);
-      const Src low = op("f2i", n, {op("max", n, {f, fconst(0.0f, n)})});
-      Src high = op("f2i", n, {op("add", n, {f, neg(two31)})});
-      high = op("xori", n, {high}, "0x80000000");
-      set(select(op("fle", n, {two31, f}), high, low, n));
+      const Src low = op(Opcode::kF2i, n, {op(Opcode::kMax, n, {f, fconst(0.0f, n)})});
+      Src high = op(Opcode::kF2i, n, {op(Opcode::kAdd, n, {f, neg(two31)})});
+      high = op(Opcode::kXori, n, {high}, Imm::bits(0x80000000u));
+      set(select(op(Opcode::kFle, n, {two31, f}), high, low, n));
       return;
     }
     case Op::OpSConvert:
@@ -1661,41 +1643,41 @@ void Lowerer::ext_inst(const Instruction& i) {
     case GLSLstd450FAbs: set(abs(arg(0))); return;  // a modifier on its uses
     case GLSLstd450SAbs: {
       const Src x = arg(0);
-      set(select(op("ilti", n, {x}, "0"), op("isub", n, {op("li", n, {}, "0"), x}), x, n));
+      set(select(op(Opcode::kIlti, n, {x}, Imm::integer(0)), op(Opcode::kIsub, n, {op(Opcode::kLi, n, {}, Imm::integer(0)), x}), x, n));
       return;
     }
     case GLSLstd450FSign: {
       const Src x = arg(0);
-      const Src pos = op("flt", n, {fconst(0.0f, n), x});
-      const Src negative = op("flt", n, {x, fconst(0.0f, n)});
+      const Src pos = op(Opcode::kFlt, n, {fconst(0.0f, n), x});
+      const Src negative = op(Opcode::kFlt, n, {x, fconst(0.0f, n)});
       set(select(pos, fconst(1.0f, n), select(negative, fconst(-1.0f, n), fconst(0.0f, n), n), n));
       return;
     }
-    case GLSLstd450Floor: set(op("flr", n, {arg(0)})); return;
-    case GLSLstd450Ceil: set(op("mov", n, {neg(op("flr", n, {neg(arg(0))}))})); return;
+    case GLSLstd450Floor: set(op(Opcode::kFlr, n, {arg(0)})); return;
+    case GLSLstd450Ceil: set(op(Opcode::kMov, n, {neg(op(Opcode::kFlr, n, {neg(arg(0))}))})); return;
     case GLSLstd450Trunc: {
       const Src x = arg(0);
-      const Src down = op("flr", n, {abs(x)});
-      set(select(op("flt", n, {x, fconst(0.0f, n)}), op("mov", n, {neg(down)}), down, n));
+      const Src down = op(Opcode::kFlr, n, {abs(x)});
+      set(select(op(Opcode::kFlt, n, {x, fconst(0.0f, n)}), op(Opcode::kMov, n, {neg(down)}), down, n));
       return;
     }
-    case GLSLstd450Round: set(op("flr", n, {op("add", n, {arg(0), fconst(0.5f, n)})})); return;
-    case GLSLstd450Fract: set(op("frc", n, {arg(0)})); return;
-    case GLSLstd450Sqrt: set(op("sqrt", n, {arg(0)})); return;
-    case GLSLstd450InverseSqrt: set(op("rsq", n, {arg(0)})); return;
+    case GLSLstd450Round: set(op(Opcode::kFlr, n, {op(Opcode::kAdd, n, {arg(0), fconst(0.5f, n)})})); return;
+    case GLSLstd450Fract: set(op(Opcode::kFrc, n, {arg(0)})); return;
+    case GLSLstd450Sqrt: set(op(Opcode::kSqrt, n, {arg(0)})); return;
+    case GLSLstd450InverseSqrt: set(op(Opcode::kRsq, n, {arg(0)})); return;
     case GLSLstd450FMin:
-    case GLSLstd450NMin: set(op("min", n, {arg(0), bcast(arg(1))})); return;
+    case GLSLstd450NMin: set(op(Opcode::kMin, n, {arg(0), bcast(arg(1))})); return;
     case GLSLstd450FMax:
-    case GLSLstd450NMax: set(op("max", n, {arg(0), bcast(arg(1))})); return;
+    case GLSLstd450NMax: set(op(Opcode::kMax, n, {arg(0), bcast(arg(1))})); return;
     case GLSLstd450FClamp:
-    case GLSLstd450NClamp: set(op("min", n, {op("max", n, {arg(0), bcast(arg(1))}), bcast(arg(2))})); return;
+    case GLSLstd450NClamp: set(op(Opcode::kMin, n, {op(Opcode::kMax, n, {arg(0), bcast(arg(1))}), bcast(arg(2))})); return;
     case GLSLstd450SMin:
     case GLSLstd450SMax:
     case GLSLstd450UMin:
     case GLSLstd450UMax: {
       const Src a = arg(0), b = bcast(arg(1));
       const bool u = e == GLSLstd450UMin || e == GLSLstd450UMax;
-      const Src lt = op(u ? "iltu" : "ilt", n, {a, b});
+      const Src lt = op(u ? Opcode::kIltu : Opcode::kIlt, n, {a, b});
       const bool min = e == GLSLstd450SMin || e == GLSLstd450UMin;
       set(select(lt, min ? a : b, min ? b : a, n));
       return;
@@ -1704,51 +1686,51 @@ void Lowerer::ext_inst(const Instruction& i) {
     case GLSLstd450UClamp: {
       const bool u = e == GLSLstd450UClamp;
       const Src x = arg(0), lo = bcast(arg(1)), hi = bcast(arg(2));
-      const Src a = select(op(u ? "iltu" : "ilt", n, {x, lo}), lo, x, n);
-      set(select(op(u ? "iltu" : "ilt", n, {hi, a}), hi, a, n));
+      const Src a = select(op(u ? Opcode::kIltu : Opcode::kIlt, n, {x, lo}), lo, x, n);
+      set(select(op(u ? Opcode::kIltu : Opcode::kIlt, n, {hi, a}), hi, a, n));
       return;
     }
     case GLSLstd450FMix: {
       const Src x = arg(0), y = arg(1), a = bcast(arg(2));
-      set(op("mad", n, {op("add", n, {y, neg(x)}), a, x}));
+      set(op(Opcode::kMad, n, {op(Opcode::kAdd, n, {y, neg(x)}), a, x}));
       return;
     }
     case GLSLstd450Step: {
       const Src edge = bcast(arg(0)), x = arg(1);
-      set(select(op("flt", n, {x, edge}), fconst(0.0f, n), fconst(1.0f, n), n));
+      set(select(op(Opcode::kFlt, n, {x, edge}), fconst(0.0f, n), fconst(1.0f, n), n));
       return;
     }
     case GLSLstd450SmoothStep: {
       const Src e0 = bcast(arg(0)), e1 = bcast(arg(1)), x = arg(2);
-      Src t = divide(op("add", n, {x, neg(e0)}), op("add", n, {e1, neg(e0)}), n);
-      t = op("min", n, {op("max", n, {t, fconst(0.0f, n)}), fconst(1.0f, n)});
-      const Src k = op("mad", n, {t, fconst(-2.0f, n), fconst(3.0f, n)});
-      set(op("mul", n, {op("mul", n, {t, t}), k}));
+      Src t = divide(op(Opcode::kAdd, n, {x, neg(e0)}), op(Opcode::kAdd, n, {e1, neg(e0)}), n);
+      t = op(Opcode::kMin, n, {op(Opcode::kMax, n, {t, fconst(0.0f, n)}), fconst(1.0f, n)});
+      const Src k = op(Opcode::kMad, n, {t, fconst(-2.0f, n), fconst(3.0f, n)});
+      set(op(Opcode::kMul, n, {op(Opcode::kMul, n, {t, t}), k}));
       return;
     }
-    case GLSLstd450Fma: set(op("mad", n, {arg(0), arg(1), arg(2)})); return;
+    case GLSLstd450Fma: set(op(Opcode::kMad, n, {arg(0), arg(1), arg(2)})); return;
     case GLSLstd450Sin: set(sine(arg(0), n)); return;
-    case GLSLstd450Cos: set(sine(op("add", n, {arg(0), fconst(1.57079632679f, n)}), n)); return;
+    case GLSLstd450Cos: set(sine(op(Opcode::kAdd, n, {arg(0), fconst(1.57079632679f, n)}), n)); return;
     case GLSLstd450Exp2: set(exp2(arg(0), n)); return;
     case GLSLstd450Log2: set(log2(arg(0), n)); return;
-    case GLSLstd450Exp: set(exp2(op("mul", n, {arg(0), fconst(1.44269504f, n)}), n)); return;
-    case GLSLstd450Log: set(op("mul", n, {log2(arg(0), n), fconst(0.693147181f, n)})); return;
-    case GLSLstd450Pow: set(exp2(op("mul", n, {log2(arg(0), n), arg(1)}), n)); return;
+    case GLSLstd450Exp: set(exp2(op(Opcode::kMul, n, {arg(0), fconst(1.44269504f, n)}), n)); return;
+    case GLSLstd450Log: set(op(Opcode::kMul, n, {log2(arg(0), n), fconst(0.693147181f, n)})); return;
+    case GLSLstd450Pow: set(exp2(op(Opcode::kMul, n, {log2(arg(0), n), arg(1)}), n)); return;
     case GLSLstd450Length: {
       const Src v = arg(0);
-      set(v.n == 1 ? op("mov", 1, {abs(v)}) : op("sqrt", 1, {dot(v, v)}));
+      set(v.n == 1 ? op(Opcode::kMov, 1, {abs(v)}) : op(Opcode::kSqrt, 1, {dot(v, v)}));
       return;
     }
     case GLSLstd450Distance: {
       const Src a = arg(0), b = arg(1);
-      const Src d = op("add", a.n, {a, neg(b)});
-      set(d.n == 1 ? op("mov", 1, {abs(d)}) : op("sqrt", 1, {dot(d, d)}));
+      const Src d = op(Opcode::kAdd, a.n, {a, neg(b)});
+      set(d.n == 1 ? op(Opcode::kMov, 1, {abs(d)}) : op(Opcode::kSqrt, 1, {dot(d, d)}));
       return;
     }
     case GLSLstd450Normalize: {
       const Src v = arg(0);
-      const Src r = op("rsq", 1, {dot(v, v)});
-      set(op("mul", n, {v, broadcast(r, n)}));
+      const Src r = op(Opcode::kRsq, 1, {dot(v, v)});
+      set(op(Opcode::kMul, n, {v, broadcast(r, n)}));
       return;
     }
     case GLSLstd450Cross: {
@@ -1759,16 +1741,16 @@ void Lowerer::ext_inst(const Instruction& i) {
         s.n = 3;
         return s;
       };
-      const Src t = op("mul", 3, {perm(a, 2, 0, 1), perm(b, 1, 2, 0)});
-      set(op("mad", 3, {perm(a, 1, 2, 0), perm(b, 2, 0, 1), neg(t)}));
+      const Src t = op(Opcode::kMul, 3, {perm(a, 2, 0, 1), perm(b, 1, 2, 0)});
+      set(op(Opcode::kMad, 3, {perm(a, 1, 2, 0), perm(b, 2, 0, 1), neg(t)}));
       return;
     }
     case GLSLstd450Reflect: {
       // I - 2 dot(N, I) N
       const Src in = arg(0), nrm = arg(1);
       Src d = dot(nrm, in);
-      d = op("add", 1, {d, d});
-      set(op("mad", n, {nrm, broadcast(neg(d), n), in}));
+      d = op(Opcode::kAdd, 1, {d, d});
+      set(op(Opcode::kMad, n, {nrm, broadcast(neg(d), n), in}));
       return;
     }
     case GLSLstd450Refract: {
@@ -1776,18 +1758,18 @@ void Lowerer::ext_inst(const Instruction& i) {
       const Src in = arg(0), nrm = arg(1), eta = arg(2);
       const Src d = dot(nrm, in);
       const Src one = fconst(1.0f);
-      Src k = op("mad", 1, {neg(d), d, one});
-      k = op("mul", 1, {op("mul", 1, {eta, eta}), k});
-      k = op("add", 1, {one, neg(k)});
-      const Src s = op("mad", 1, {eta, d, op("sqrt", 1, {op("max", 1, {k, fconst(0.0f)})})});
-      const Src r = op("mad", n, {broadcast(eta, n), in, op("mul", n, {nrm, broadcast(neg(s), n)})});
-      set(select(op("flt", 1, {k, fconst(0.0f)}), fconst(0.0f, n), r, n));
+      Src k = op(Opcode::kMad, 1, {neg(d), d, one});
+      k = op(Opcode::kMul, 1, {op(Opcode::kMul, 1, {eta, eta}), k});
+      k = op(Opcode::kAdd, 1, {one, neg(k)});
+      const Src s = op(Opcode::kMad, 1, {eta, d, op(Opcode::kSqrt, 1, {op(Opcode::kMax, 1, {k, fconst(0.0f)})})});
+      const Src r = op(Opcode::kMad, n, {broadcast(eta, n), in, op(Opcode::kMul, n, {nrm, broadcast(neg(s), n)})});
+      set(select(op(Opcode::kFlt, 1, {k, fconst(0.0f)}), fconst(0.0f, n), r, n));
       return;
     }
     case GLSLstd450FaceForward: {
       // dot(Nref, I) < 0 ? N : -N
       const Src nn = arg(0), in = arg(1), nref = arg(2);
-      set(select(op("flt", 1, {dot(nref, in), fconst(0.0f)}), nn, op("mov", n, {neg(nn)}), n));
+      set(select(op(Opcode::kFlt, 1, {dot(nref, in), fconst(0.0f)}), nn, op(Opcode::kMov, n, {neg(nn)}), n));
       return;
     }
     default: unsupported(glsl_std_450_name(e));

@@ -6,11 +6,15 @@
 #include <array>
 #include <cstdint>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "cc/spirv_module.hpp"
+#include "isa/instruction.hpp"
 
 namespace rpu::cc {
+
+using isa::Opcode;
 
 // A virtual register: `width` lanes. A vector (width >= 2) lives in lanes 0..width-1 of
 // one machine register (what ldf/st need); a scalar in any one lane. `fixed` pins it to a
@@ -30,11 +34,31 @@ struct Src {
   bool abs = false;
 };
 
+// An immediate operand, typed by what it holds. Which field of the word it fills (imm,
+// fimm, sr, a memory offset) is the opcode's operand list in spec/isa.toml.
+struct Imm {
+  enum class Type : std::uint8_t {
+    kNone,
+    kInteger,  // a number: a count, an increment, a byte offset (the listing prints decimal)
+    kBits,     // a lane's raw bits: a constant's, a mask (hex)
+    kFloat,    // fp32 bits (hex, exact)
+    kSpecial,  // a special register's index (its name)
+  };
+  Type type = Type::kNone;
+  std::int64_t value = 0;  // the word holds its low 32 bits
+
+  static Imm integer(std::int64_t v) { return {Type::kInteger, v}; }
+  static Imm bits(std::uint32_t b) { return {Type::kBits, b}; }
+  static Imm fp32_bits(std::uint32_t b) { return {Type::kFloat, b}; }
+  static Imm special(std::uint32_t index) { return {Type::kSpecial, index}; }
+  std::uint32_t field() const { return static_cast<std::uint32_t>(value); }
+};
+
 enum class Kind : std::uint8_t {
-  kOp,       // mnemonic with dst, srcs and imm
+  kOp,       // op with dst, srcs and imm
   kLabel,    // target
   kBranch,   // bra target
-  kCondBranch,  // bz/bnz srcs[0], target
+  kCondBranch,  // op (bz/bnz) srcs[0], target
   kCall,     // call target: clobbers every register; uses and defines fixed vregs
   kRet,      // ret; uses fixed vregs (the payload it returns)
   kHalt,
@@ -43,22 +67,20 @@ enum class Kind : std::uint8_t {
   kReload,   // pop the lanes of dst from the memory stack (its kSpill's value)
 };
 
-// How a lane-wise instruction's source elements map to swizzle positions: element j of
-// every source feeds the lane of the destination's component j (add, mul, mov, ...), or
-// sits at swizzle position j (dp3, trace, addresses, branch conditions, push).
-enum class Shape : std::uint8_t { kLanewise, kPositional };
-
+// srcs are the register operands in the order of the opcode's operands (spec/isa.toml):
+// a memory operand's base address (lane x), then a, b, c; a store's data (in lanes x..)
+// after its address. How a source's elements map to swizzle positions is the opcode's:
+// lane-wise (element j of every source feeds the lane of the destination's component j:
+// add, mul, mov, ...), else positional (element j sits at swizzle position j: dp3, trace,
+// addresses, branch conditions, push).
 struct MInst {
   Kind kind = Kind::kOp;
-  std::string mn;
+  Opcode op = Opcode::kMov;    // kOp, kCondBranch
   int dst = -1;
   std::uint8_t dst_comps = 0;  // components of dst written (bit j = component j); 0: all
   bool fresh = false;          // a partial write that starts the vreg: its other lanes are not read
   std::vector<Src> srcs;
-  Shape shape = Shape::kLanewise;
-  std::string imm;     // immediate, special register, or memory offset text
-  bool mem = false;    // srcs[0] is the address (lane x), imm the offset
-  bool store = false;  // st: srcs[1] is the stored value (aligned)
+  Imm imm;
   std::string target;  // label
   std::vector<int> defs;  // kCall, kEntry: fixed vregs defined
   std::vector<int> uses;  // kCall, kRet: fixed vregs used

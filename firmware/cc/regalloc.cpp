@@ -226,7 +226,7 @@ int place(const MFunction& f, const std::vector<std::vector<std::pair<int, int>>
   // to first (phi copies, the ABI's registers): sharing one makes the mov vanish.
   std::vector<std::vector<int>> partners(nv);
   for (const MInst& m : f.code) {
-    if (m.kind == Kind::kOp && m.mn == "mov" && m.dst >= 0 && m.srcs.size() == 1 && !m.srcs[0].neg &&
+    if (m.kind == Kind::kOp && m.op == Opcode::kMov && m.dst >= 0 && m.srcs.size() == 1 && !m.srcs[0].neg &&
         !m.srcs[0].abs && m.srcs[0].n == f.vregs[static_cast<std::size_t>(m.dst)].width &&
         f.vregs[static_cast<std::size_t>(m.srcs[0].v)].width == m.srcs[0].n &&
         (m.dst_comps == 0 || m.dst_comps == (1u << m.srcs[0].n) - 1) &&
