@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 #include <spirv/unified1/GLSL.std.450.h>
 
+#include "cc/builder.hpp"
 #include "cc/spirv_names.hpp"
 #include "common/error.hpp"
 #include "isa/instruction.hpp"
@@ -61,9 +62,6 @@ struct Value {
   Id type = 0;
 };
 
-// A constant lane as its raw bits: fp32 bits for lif, an integer's or mask's for li.
-Imm lane_bits(std::uint32_t bits, bool is_float) { return is_float ? Imm::fp32_bits(bits) : Imm::bits(bits); }
-
 class Lowerer {
  public:
   Lowerer(const Module& m, const SpirvShader& shader, const LowerContext& ctx) : m_(m), shader_(shader), ctx_(ctx) {
@@ -81,7 +79,7 @@ class Lowerer {
     if (m_.functions.size() > 1) {
       for (const Function& fun : m_.functions) {
         if (fun.id != m_.entry) {
-          fail(fun.blocks.empty() || fun.blocks[0].body.empty() ? SourceLocation{} : fun.blocks[0].body[0].where,
+          b_.fail(fun.blocks.empty() || fun.blocks[0].body.empty() ? SourceLocation{} : fun.blocks[0].body[0].where,
                fmt::format("function '{}' was not inlined (recursion is not supported)", fun.name));
         }
       }
@@ -101,12 +99,12 @@ class Lowerer {
       const Block& b = f->blocks[bi];
       next_block_ = bi + 1 < f->blocks.size() ? f->blocks[bi + 1].label : 0;
       current_block_ = b.label;
-      label(block_label(b.label));
+      b_.label(block_label(b.label));
       block_constants_.clear();
       block_addresses_.clear();
       block_loads_.clear();
       for (const Instruction& i : b.body) {
-        where_ = i.where;
+        b_.where = i.where;
         instruction(i);
       }
     }
@@ -114,114 +112,6 @@ class Lowerer {
   }
 
  private:
-  [[noreturn]] void fail(const SourceLocation& at, const std::string& what) const {
-    const std::string file = at.file.empty() ? shader_.file.string() : at.file;
-    if (at.line > 0) throw Error(fmt::format("{}:{}: error: {}", file, at.line, what));
-    throw Error(fmt::format("{}: error: {}", file, what));
-  }
-  [[noreturn]] void unsupported(const std::string& what) const {
-    fail(where_, fmt::format("{} is not supported by the RPU back end (docs/shaders.md \"What compiles\")", what));
-  }
-
-  // ---- machine IR helpers -------------------------------------------------------------
-  int vreg(int width) {
-    fn_.vregs.push_back({width});
-    return static_cast<int>(fn_.vregs.size()) - 1;
-  }
-  int fixed(int width, int reg) {
-    fn_.vregs.push_back({width, reg});
-    return static_cast<int>(fn_.vregs.size()) - 1;
-  }
-  static Src whole(int v, int width) {
-    Src s;
-    s.v = v;
-    s.n = width;
-    return s;
-  }
-  Src whole(int v) const { return whole(v, fn_.vregs[static_cast<std::size_t>(v)].width); }
-  static Src component(const Src& s, int j) {
-    Src c = s;
-    c.comp[0] = s.comp[static_cast<std::size_t>(j)];
-    c.n = 1;
-    return c;
-  }
-  MInst& push(MInst i) {
-    i.where = where_;
-    // neg and abs are free only on instructions whose spec allows them (and never abs on
-    // a third source): elsewhere the value is made first.
-    if (i.kind == Kind::kOp || i.kind == Kind::kCondBranch) {
-      const bool mods = isa::find_insn(i.op)->float_modifiers;
-      for (std::size_t k = 0; k < i.srcs.size(); ++k) {
-        Src& s = i.srcs[k];
-        if (!(s.neg || s.abs) || (mods && !(k == 2 && s.abs))) continue;
-        MInst m;
-        m.op = Opcode::kMov;
-        m.dst = vreg(s.n);
-        m.srcs = {s};
-        m.where = where_;
-        fn_.code.push_back(m);
-        s = whole(m.dst, s.n);
-      }
-    }
-    fn_.code.push_back(std::move(i));
-    return fn_.code.back();
-  }
-  void label(const std::string& name) {
-    MInst i;
-    i.kind = Kind::kLabel;
-    i.target = name;
-    push(std::move(i));
-  }
-  // dst = mn srcs (lane-wise), a new vreg of `width` lanes.
-  Src op(Opcode opcode, int width, std::vector<Src> srcs, Imm imm = {}) {
-    const int d = vreg(width);
-    MInst i;
-    i.op = opcode;
-    i.dst = d;
-    i.srcs = std::move(srcs);
-    i.imm = imm;
-    push(std::move(i));
-    return whole(d, width);
-  }
-  // dst[comps] = mn srcs: a partial write into an existing vreg.
-  // fresh: the first write of a vreg whose other lanes are never read (not a use of it).
-  void op_into(int dst, std::uint8_t comps, Opcode opcode, std::vector<Src> srcs, Imm imm = {}, bool fresh = false) {
-    MInst i;
-    i.op = opcode;
-    i.dst = dst;
-    i.dst_comps = comps;
-    i.fresh = fresh;
-    i.srcs = std::move(srcs);
-    i.imm = imm;
-    push(std::move(i));
-  }
-  void copy_into(int dst, const Src& from) {
-    MInst i;
-    i.op = Opcode::kMov;
-    i.dst = dst;
-    i.srcs = {from};
-    push(std::move(i));
-  }
-  Src constant_bits(std::uint32_t bits, bool is_float, int width = 1) {
-    return op(is_float ? Opcode::kLif : Opcode::kLi, width, {}, lane_bits(bits, is_float));
-  }
-  Src fconst(float f, int width = 1) { return constant_bits(std::bit_cast<std::uint32_t>(f), true, width); }
-  static Src neg(Src s) {
-    s.neg = !s.neg;
-    return s;
-  }
-  static Src abs(Src s) {
-    s.abs = true;
-    s.neg = false;
-    return s;
-  }
-  static Src broadcast(const Src& s, int n) {
-    Src b = s;
-    for (int j = 1; j < 4; ++j) b.comp[static_cast<std::size_t>(j)] = s.comp[0];
-    b.n = n;
-    return b;
-  }
-
   // ---- values ---------------------------------------------------------------------------
   int width_of(Id type) const {
     const std::uint32_t n = m_.components(type);
@@ -253,7 +143,7 @@ class Lowerer {
       if (is_bool) {
         for (auto& b : bits) b = b ? 0xffffffffu : 0u;
       }
-      const int d = vreg(n);
+      const int d = b_.vreg(n);
       // One instruction per distinct value, with the lanes that hold it.
       std::uint8_t done = 0;
       for (int j = 0; j < n; ++j) {
@@ -262,8 +152,8 @@ class Lowerer {
         for (int k = j; k < n; ++k) {
           if (bits[static_cast<std::size_t>(k)] == bits[static_cast<std::size_t>(j)]) mask |= static_cast<std::uint8_t>(1u << k);
         }
-        op_into(d, mask == (1u << n) - 1 ? 0 : mask, is_float ? Opcode::kLif : Opcode::kLi, {},
-                lane_bits(bits[static_cast<std::size_t>(j)], is_float),
+        b_.op_into(d, mask == (1u << n) - 1 ? 0 : mask, is_float ? Opcode::kLif : Opcode::kLi, {},
+                Imm::lane(bits[static_cast<std::size_t>(j)], is_float),
                 done == 0);
         done |= mask;
       }
@@ -288,7 +178,7 @@ class Lowerer {
     const Type& t = m_.type(type);
     Value v;
     if (const int n = width_of(type); n > 0) {
-      v.leaf = op(Opcode::kLi, n, {}, Imm::integer(0));
+      v.leaf = b_.op(Opcode::kLi, n, {}, Imm::integer(0));
       return v;
     }
     v.aggregate = true;
@@ -304,13 +194,13 @@ class Lowerer {
     if (m_.constants.count(id)) return constant(id);
     if (const auto it = phis_.find(id); it != phis_.end()) return it->second;
     const auto def = defined_by_.find(id);
-    unsupported(def == defined_by_.end()
+    b_.unsupported(def == defined_by_.end()
                     ? fmt::format("the value %{} (an operand the back end has no value for)", id)
                     : fmt::format("using the result of {} as a value", op_name(def->second)));
   }
   Src scalar_or_vector(Id id) {
     const Value v = concrete(value(id));
-    if (v.aggregate) unsupported("an aggregate where a scalar or vector belongs");
+    if (v.aggregate) b_.unsupported("an aggregate where a scalar or vector belongs");
     return v.leaf;
   }
   std::optional<std::uint32_t> constant_scalar(Id id) const {
@@ -332,7 +222,7 @@ class Lowerer {
   Value fresh(Id type) {
     Value v;
     if (const int n = width_of(type); n > 0) {
-      v.leaf = whole(vreg(n), n);
+      v.leaf = whole(b_.vreg(n), n);
       return v;
     }
     const Type& t = m_.type(type);
@@ -342,7 +232,7 @@ class Lowerer {
     } else if (t.op == spv::Op::OpTypeArray || t.op == spv::Op::OpTypeMatrix) {
       for (std::uint32_t k = 0; k < t.count; ++k) v.members.push_back(fresh(t.element));
     } else {
-      unsupported(fmt::format("a value of type {}", op_name(t.op)));
+      b_.unsupported(fmt::format("a value of type {}", op_name(t.op)));
     }
     return v;
   }
@@ -382,14 +272,14 @@ class Lowerer {
     std::vector<Src> a, b;
     leaves(to, a);
     leaves(from, b);
-    for (std::size_t k = 0; k < a.size() && k < b.size(); ++k) copy_into(a[k].v, b[k]);
+    for (std::size_t k = 0; k < a.size() && k < b.size(); ++k) b_.copy_into(a[k].v, b[k]);
   }
   Value copy_of(const Value& lazy_or_not) {
     if (lazy_or_not.lazy) return load_memory(lazy_or_not.at, lazy_or_not.type, true);  // a fresh load is a copy
     const Value& from = lazy_or_not;
     if (!from.aggregate) {
       Value v;
-      v.leaf = op(Opcode::kMov, from.leaf.n, {from.leaf});
+      v.leaf = b_.op(Opcode::kMov, from.leaf.n, {from.leaf});
       return v;
     }
     Value v;
@@ -400,25 +290,25 @@ class Lowerer {
 
   // ---- entry and exit -------------------------------------------------------------------
   void entry() {
-    label(fn_.label);
+    b_.label(fn_.label);
     const bool hit = shader_.stage == Stage::kClosestHit, miss = shader_.stage == Stage::kMiss;
-    if (shader_.stage == Stage::kAnyHit) unsupported("an any-hit shader (the traversal unit decides hits itself)");
+    if (shader_.stage == Stage::kAnyHit) b_.unsupported("an any-hit shader (the traversal unit decides hits itself)");
     if (!hit && !miss) return;
     MInst e;
     e.kind = Kind::kEntry;
-    origin_ = fixed(4, kRegOrigin);
-    direction_ = fixed(4, kRegDirection);
+    origin_ = b_.fixed(4, kRegOrigin);
+    direction_ = b_.fixed(4, kRegDirection);
     e.defs = {origin_, direction_};
     if (hit) {
-      hit_ = fixed(4, kRegHit);
+      hit_ = b_.fixed(4, kRegHit);
       e.defs.push_back(hit_);
     }
-    info_ = fixed(4, kRegInfo);
+    info_ = b_.fixed(4, kRegInfo);
     e.defs.push_back(info_);
     // The incoming payload, one register per leaf.
     for (const auto& [id, var] : m_.variables) {
       if (var.storage != spv::StorageClass::IncomingRayPayloadKHR) continue;
-      if (incoming_payload_) unsupported("more than one rayPayloadInEXT variable");
+      if (incoming_payload_) b_.unsupported("more than one rayPayloadInEXT variable");
       incoming_payload_ = id;
     }
     std::vector<int> payload_in;
@@ -426,7 +316,7 @@ class Lowerer {
       const Id type = m_.type(m_.variables.at(incoming_payload_).type).element;
       payload_in = payload_registers(type, e.defs);
     }
-    push(std::move(e));
+    b_.push(std::move(e));
     // Copies out of the ABI's registers, so that a nested trace may reuse them; the
     // allocator gives a copy its source's place where it can, and the mov disappears.
     // Each built-in its own value, so that one no longer used frees its lanes.
@@ -434,7 +324,7 @@ class Lowerer {
       Src s = whole(reg, 4);
       s.comp = comps;
       s.n = n;
-      return op(Opcode::kMov, n, {s}).v;
+      return b_.op(Opcode::kMov, n, {s}).v;
     };
     const int origin = origin_, direction = direction_, hit_record = hit_, info = info_;
     origin_ = part(origin, {0, 1, 2, 0}, 3);
@@ -453,10 +343,10 @@ class Lowerer {
       Value home = fresh(type);
       std::vector<Src> dst;
       leaves(home, dst);
-      for (std::size_t k = 0; k < dst.size(); ++k) copy_into(dst[k].v, whole(payload_in[k]));
+      for (std::size_t k = 0; k < dst.size(); ++k) b_.copy_into(dst[k].v, b_.whole(payload_in[k]));
       homes_[incoming_payload_] = home;
     }
-    if (has_calls_) return_address_ = op(Opcode::kMfra, 1, {}).v;
+    if (has_calls_) return_address_ = b_.op(Opcode::kMfra, 1, {}).v;
   }
   std::vector<int> payload_registers(Id type, std::vector<int>& defs) {
     std::vector<int> regs;
@@ -464,10 +354,10 @@ class Lowerer {
       if (const int n = width_of(t); n > 0) {
         const int reg = kRegPayload + static_cast<int>(regs.size());
         if (reg >= ctx_.registers) {
-          unsupported(fmt::format("a ray payload of more than {} scalar or vector members (one register each)",
+          b_.unsupported(fmt::format("a ray payload of more than {} scalar or vector members (one register each)",
                                   ctx_.registers - kRegPayload));
         }
-        regs.push_back(fixed(n, reg));
+        regs.push_back(b_.fixed(n, reg));
         defs.push_back(regs.back());
         return;
       }
@@ -477,7 +367,7 @@ class Lowerer {
       } else if (ty.op == spv::Op::OpTypeArray || ty.op == spv::Op::OpTypeMatrix) {
         for (std::uint32_t k = 0; k < ty.count; ++k) walk(ty.element);
       } else {
-        unsupported(fmt::format("a ray payload member of type {}", op_name(ty.op)));
+        b_.unsupported(fmt::format("a ray payload member of type {}", op_name(ty.op)));
       }
     };
     walk(type);
@@ -487,7 +377,7 @@ class Lowerer {
     if (fn_.is_raygen) {
       MInst h;
       h.kind = Kind::kHalt;
-      push(std::move(h));
+      b_.push(std::move(h));
       return;
     }
     MInst r;
@@ -497,15 +387,15 @@ class Lowerer {
       std::vector<int> regs = payload_registers(type, r.uses);
       std::vector<Src> home;
       leaves(homes_.at(incoming_payload_), home);
-      for (std::size_t k = 0; k < regs.size(); ++k) copy_into(regs[k], home[k]);
+      for (std::size_t k = 0; k < regs.size(); ++k) b_.copy_into(regs[k], home[k]);
     }
     if (return_address_ >= 0) {
       MInst t;
       t.op = Opcode::kMtra;
       t.srcs = {whole(return_address_, 1)};
-      push(std::move(t));
+      b_.push(std::move(t));
     }
-    push(std::move(r));
+    b_.push(std::move(r));
   }
 
   // ---- control flow ---------------------------------------------------------------------
@@ -554,37 +444,23 @@ class Lowerer {
     }
     for (const auto& [dst, src] : staged) assign(dst, src);
   }
-  void branch(const std::string& target) {
-    MInst b;
-    b.kind = Kind::kBranch;
-    b.target = target;
-    push(std::move(b));
-  }
-  void cond_branch(bool if_nonzero, const Src& cond, const std::string& target) {
-    MInst b;
-    b.kind = Kind::kCondBranch;
-    b.op = if_nonzero ? Opcode::kBnz : Opcode::kBz;
-    b.srcs = {component(cond, 0)};
-    b.target = target;
-    push(std::move(b));
-  }
   void jump_to(Id from, Id to) {
     emit_edge_copies(from, to);
-    branch(block_label(to));
+    b_.branch(block_label(to));
   }
   void conditional(Id from, const Src& cond, Id on_true, Id on_false) {
     const bool copies_true = !edge_copies(from, on_true).empty();
     if (on_true == next_block_ && edge_copies(from, on_false).empty()) {
       // falls through into the true block: one branch around it
-      cond_branch(false, cond, block_label(on_false));
+      b_.cond_branch(false, cond, block_label(on_false));
       jump_to(from, on_true);
       return;
     }
     const std::string tramp = fmt::format(".{}_e{}_{}", fn_.label, from, on_true);
-    cond_branch(true, cond, copies_true ? tramp : block_label(on_true));
+    b_.cond_branch(true, cond, copies_true ? tramp : block_label(on_true));
     jump_to(from, on_false);
     if (copies_true) {
-      label(tramp);
+      b_.label(tramp);
       block_constants_.clear();
       block_addresses_.clear();
       block_loads_.clear();
@@ -599,12 +475,12 @@ class Lowerer {
     }
     return ~0u;
   }
-  Src launch_base() { return op(Opcode::kLi, 1, {}, Imm::bits(mm::kDeviceLaunchBase)); }
+  Src launch_base() { return b_.op(Opcode::kLi, 1, {}, Imm::bits(mm::kDeviceLaunchBase)); }
   Pointer buffer_pointer(Id var_id, const Variable& var) {
     const Decorations& d = m_.decoration(var_id);
     const Id block_type = m_.type(var.type).element;
     const std::uint32_t binding = d.binding.value_or(~0u);
-    if (d.set.value_or(0) != 0) unsupported(fmt::format("descriptor set {} (the chip has set 0)", *d.set));
+    if (d.set.value_or(0) != 0) b_.unsupported(fmt::format("descriptor set {} (the chip has set 0)", *d.set));
     for (const spec::ShaderBuffer& b : spec::kShaderBuffers) {
       if (b.binding != binding) continue;
       Pointer p;
@@ -618,18 +494,18 @@ class Lowerer {
       if (b.in_launch_block) {
         MInst l;
         l.op = Opcode::kLd1;
-        l.dst = vreg(1);
+        l.dst = b_.vreg(1);
         l.srcs = {base};
         l.imm = Imm::integer(b.launch_word_at);
         const int d2 = l.dst;
-        push(std::move(l));
+        b_.push(std::move(l));
         base = whole(d2, 1);
       }
       block_addresses_[binding] = base.v;
       p.address = base.v;
       return p;
     }
-    fail(where_, fmt::format("storage buffer '{}' at binding {}: the chip's buffers are at bindings 0-{} "
+    b_.fail(b_.where, fmt::format("storage buffer '{}' at binding {}: the chip's buffers are at bindings 0-{} "
                              "(spec/shaders.toml, docs/shaders.md)",
                              m_.names.count(var_id) ? m_.names.at(var_id) : "", binding,
                              spec::kShaderBuffers.size() - 1));
@@ -637,7 +513,7 @@ class Lowerer {
   Pointer pointer(Id id) {
     if (const auto it = pointers_.find(id); it != pointers_.end()) return it->second;
     const auto v = m_.variables.find(id);
-    if (v == m_.variables.end()) unsupported(fmt::format("the pointer %{}", id));
+    if (v == m_.variables.end()) b_.unsupported(fmt::format("the pointer %{}", id));
     const Variable& var = v->second;
     const Id pointee = m_.type(var.type).element;
     Pointer p;
@@ -648,7 +524,7 @@ class Lowerer {
       case spv::StorageClass::Uniform:
         return buffer_pointer(id, var);
       case spv::StorageClass::Input:
-        if (!m_.decoration(id).builtin) unsupported("an input variable that is not a built-in");
+        if (!m_.decoration(id).builtin) b_.unsupported("an input variable that is not a built-in");
         p.where = Pointer::Where::kBuiltin;
         return p;
       case spv::StorageClass::HitAttributeKHR:
@@ -673,7 +549,7 @@ class Lowerer {
         }
         return p;
       default:
-        unsupported(fmt::format("a variable in storage class {}", storage_class_name(static_cast<std::uint32_t>(var.storage))));
+        b_.unsupported(fmt::format("a variable in storage class {}", storage_class_name(static_cast<std::uint32_t>(var.storage))));
     }
   }
   void access_chain(const Instruction& i) {
@@ -683,7 +559,7 @@ class Lowerer {
       const Type& t = m_.type(p.type);
       const auto c = constant_scalar(index);
       if (p.where != Pointer::Where::kMemory) {
-        if (!c) unsupported("a dynamic index into a variable kept in registers (a local array indexed by a variable)");
+        if (!c) b_.unsupported("a dynamic index into a variable kept in registers (a local array indexed by a variable)");
         p.path.push_back(*c);
         p.type = t.op == spv::Op::OpTypeStruct ? t.members.at(*c) : t.element;
         continue;
@@ -696,9 +572,9 @@ class Lowerer {
       std::uint32_t stride = 4;
       if (t.op == spv::Op::OpTypeArray || t.op == spv::Op::OpTypeRuntimeArray) {
         stride = m_.decoration(p.type).array_stride.value_or(0);
-        if (stride == 0) unsupported("an array without an ArrayStride in a buffer");
+        if (stride == 0) b_.unsupported("an array without an ArrayStride in a buffer");
       } else if (t.op != spv::Op::OpTypeVector) {
-        unsupported(fmt::format("indexing a {} in a buffer", op_name(t.op)));
+        b_.unsupported(fmt::format("indexing a {} in a buffer", op_name(t.op)));
       }
       p.type = t.element;
       if (c) {
@@ -707,9 +583,9 @@ class Lowerer {
       }
       const Src idx = scalar_or_vector(index);
       const Src scaled = std::has_single_bit(stride)
-                             ? op(Opcode::kShli, 1, {idx}, Imm::integer(std::countr_zero(stride)))
-                             : op(Opcode::kImuli, 1, {idx}, Imm::integer(stride));
-      p.address = op(Opcode::kIadd, 1, {whole(p.address, 1), scaled}).v;
+                             ? b_.op(Opcode::kShli, 1, {idx}, Imm::integer(std::countr_zero(stride)))
+                             : b_.op(Opcode::kImuli, 1, {idx}, Imm::integer(stride));
+      p.address = b_.op(Opcode::kIadd, 1, {whole(p.address, 1), scaled}).v;
     }
     pointers_[i.result] = p;
   }
@@ -732,19 +608,19 @@ class Lowerer {
         return v;
       }
       const bool f = m_.is_float(type);
-      if (m_.is_bool(type)) unsupported("a bool in a buffer");
+      if (m_.is_bool(type)) b_.unsupported("a bool in a buffer");
       if (p.binding == camera_binding() && p.offset <= mm::kCameraApertureAt &&
           mm::kCameraApertureAt < p.offset + 4u * static_cast<std::uint32_t>(n)) {
         reads_aperture_ = true;
       }
       MInst l;
       l.op = n == 1 ? (f ? Opcode::kLd1f : Opcode::kLd1) : (f ? Opcode::kLdf : Opcode::kLd);
-      l.dst = vreg(n);
+      l.dst = b_.vreg(n);
       l.srcs = {whole(p.address, 1)};
       l.imm = Imm::integer(static_cast<std::int32_t>(p.offset));
       Value v;
       v.leaf = whole(l.dst, n);
-      push(std::move(l));
+      b_.push(std::move(l));
       block_loads_[key] = v.leaf;
       return v;
     }
@@ -764,7 +640,7 @@ class Lowerer {
         v.members.push_back(load_memory(q, t.element, eager));
       }
     } else {
-      unsupported(fmt::format("loading a {} from a buffer", op_name(t.op)));
+      b_.unsupported(fmt::format("loading a {} from a buffer", op_name(t.op)));
     }
     return v;
   }
@@ -792,13 +668,13 @@ class Lowerer {
       case spv::BuiltIn::LaunchSizeKHR: {
         MInst r;
         r.op = Opcode::kRdsr;
-        r.dst = vreg(3);
+        r.dst = b_.vreg(3);
         r.dst_comps = 0b011;
         r.fresh = true;
         r.imm = Imm::special(b == spv::BuiltIn::LaunchIdKHR ? spec::isa::kSpecialPixel : spec::isa::kSpecialLaunch);
         const int d = r.dst;
-        push(std::move(r));
-        op_into(d, 0b100, Opcode::kLi, {}, Imm::integer(b == spv::BuiltIn::LaunchIdKHR ? 0 : 1));
+        b_.push(std::move(r));
+        b_.op_into(d, 0b100, Opcode::kLi, {}, Imm::integer(b == spv::BuiltIn::LaunchIdKHR ? 0 : 1));
         small_.insert(d);  // pixel coordinates and sizes are far below 2^31
         s = whole(d, 3);
         break;
@@ -815,9 +691,9 @@ class Lowerer {
       case spv::BuiltIn::PrimitiveId: s = whole(need(primitive_), 1); break;
       case spv::BuiltIn::InstanceCustomIndexKHR: s = whole(need(material_), 1); break;
       case spv::BuiltIn::InstanceId:
-      case spv::BuiltIn::RayGeometryIndexKHR: s = op(Opcode::kLi, 1, {}, Imm::integer(0)); break;
+      case spv::BuiltIn::RayGeometryIndexKHR: s = b_.op(Opcode::kLi, 1, {}, Imm::integer(0)); break;
       default:
-        unsupported(fmt::format("the built-in {} (the chip provides launch id and size, world ray origin and "
+        b_.unsupported(fmt::format("the built-in {} (the chip provides launch id and size, world ray origin and "
                                 "direction, t min and max, hit t, primitive id and instance custom index)",
                                 builtin_name(static_cast<std::uint32_t>(b))));
     }
@@ -828,7 +704,7 @@ class Lowerer {
     return v;
   }
   int need(int v) const {
-    if (v < 0) unsupported("this built-in in this stage");
+    if (v < 0) b_.unsupported("this built-in in this stage");
     return v;
   }
   void load(const Instruction& i) {
@@ -837,10 +713,10 @@ class Lowerer {
       case Pointer::Where::kMemory: values_[i.result] = load_memory(p, i.type); return;
       case Pointer::Where::kBuiltin: values_[i.result] = builtin(p, i.type); return;
       case Pointer::Where::kHitAttribute: {
-        if (shader_.stage != Stage::kClosestHit) unsupported("hit attributes outside a closest-hit shader");
+        if (shader_.stage != Stage::kClosestHit) b_.unsupported("hit attributes outside a closest-hit shader");
         const Id var_type = m_.type(m_.variables.at(p.variable).type).element;
         if (width_of(var_type) != 2 || !m_.is_float(var_type)) {
-          unsupported("a hit attribute that is not a vec2 (the chip's hit attributes are the barycentrics)");
+          b_.unsupported("a hit attribute that is not a vec2 (the chip's hit attributes are the barycentrics)");
         }
         Src s = whole(barycentrics_, 2);
         for (const std::uint32_t k : p.path) s = component(s, static_cast<int>(k));
@@ -854,7 +730,7 @@ class Lowerer {
         const Place pl = place(p);
         if (pl.component >= 0) {
           Value v;
-          v.leaf = op(Opcode::kMov, 1, {component(pl.value->leaf, pl.component)});
+          v.leaf = b_.op(Opcode::kMov, 1, {component(pl.value->leaf, pl.component)});
           values_[i.result] = v;
         } else {
           values_[i.result] = copy_of(*pl.value);
@@ -866,12 +742,12 @@ class Lowerer {
   void store(const Instruction& i) {
     const Pointer p = pointer(i.operands[0]);
     if (p.where != Pointer::Where::kRegisters) {
-      unsupported("a store to a buffer (the scene's buffers are read-only; write the framebuffer with imageStore)");
+      b_.unsupported("a store to a buffer (the scene's buffers are read-only; write the framebuffer with imageStore)");
     }
     const Value from = value(i.operands[1]);
     const Place pl = place(p);
     if (pl.component >= 0) {
-      op_into(pl.value->leaf.v, static_cast<std::uint8_t>(1u << pl.value->leaf.comp[static_cast<std::size_t>(pl.component)]),
+      b_.op_into(pl.value->leaf.v, static_cast<std::uint8_t>(1u << pl.value->leaf.comp[static_cast<std::size_t>(pl.component)]),
               Opcode::kMov, {from.leaf});
       return;
     }
@@ -886,43 +762,39 @@ class Lowerer {
   Src binary(const Instruction& i, Opcode mn, bool swap = false) {
     Src a = scalar_or_vector(i.operands[0]), b = scalar_or_vector(i.operands[1]);
     if (swap) std::swap(a, b);
-    return op(mn, width_of(i.type), {a, b});
+    return b_.op(mn, width_of(i.type), {a, b});
   }
-  Src not_of(const Src& s) { return op(Opcode::kXori, s.n, {s}, Imm::bits(0xffffffffu)); }
   // Integer op with an immediate form when the second operand is a constant.
   Src int_binary(const Instruction& i, Opcode mn, Opcode imm_mn) {
     const int n = width_of(i.type);
     if (const auto c = constant_scalar(i.operands[1])) {
       const std::uint32_t v = *c;
       const bool shift = imm_mn == Opcode::kShli || imm_mn == Opcode::kShri || imm_mn == Opcode::kSrai;
-      return op(imm_mn, n, {scalar_or_vector(i.operands[0])},
+      return b_.op(imm_mn, n, {scalar_or_vector(i.operands[0])},
                 Imm::integer(shift ? std::int64_t{v & 31} : static_cast<std::int32_t>(v)));
     }
-    return op(mn, n, {scalar_or_vector(i.operands[0]), scalar_or_vector(i.operands[1])});
-  }
-  Src select(const Src& cond, const Src& a, const Src& b, int n) {
-    return op(Opcode::kSel, n, {cond.n == 1 ? broadcast(cond, n) : cond, a.n == 1 && n > 1 ? broadcast(a, n) : a,
-                         b.n == 1 && n > 1 ? broadcast(b, n) : b});
+    return b_.op(mn, n, {scalar_or_vector(i.operands[0]), scalar_or_vector(i.operands[1])});
   }
   Src dot(const Src& a, const Src& b) {
-    if (a.n == 3) return op(Opcode::kDp3, 1, {a, b});
-    if (a.n == 4) return op(Opcode::kDp4, 1, {a, b});
-    if (a.n == 1) return op(Opcode::kMul, 1, {a, b});
-    const Src p = op(Opcode::kMul, 2, {a, b});
-    return op(Opcode::kAdd, 1, {component(p, 0), component(p, 1)});
+    if (a.n == 3) return b_.op(Opcode::kDp3, 1, {a, b});
+    if (a.n == 4) return b_.op(Opcode::kDp4, 1, {a, b});
+    if (a.n == 1) return b_.op(Opcode::kMul, 1, {a, b});
+    const Src p = b_.op(Opcode::kMul, 2, {a, b});
+    return b_.op(Opcode::kAdd, 1, {component(p, 0), component(p, 1)});
   }
   Src exp2(const Src& y, int n);
   Src sine(const Src& x, int n);
   Src log2(const Src& x, int n);
   Src divide(const Src& a, const Src& b, int n) {
-    const Src r = op(Opcode::kRcp, b.n, {b});
-    return op(Opcode::kMul, n, {a, r.n == 1 && n > 1 ? broadcast(r, n) : r});
+    const Src r = b_.op(Opcode::kRcp, b.n, {b});
+    return b_.op(Opcode::kMul, n, {a, r.n == 1 && n > 1 ? broadcast(r, n) : r});
   }
 
   const Module& m_;
   const SpirvShader& shader_;
   const LowerContext& ctx_;
   MFunction fn_;
+  Builder b_{fn_};
   std::set<TraceForm> traces_;
   bool reads_aperture_ = false;
   std::unordered_map<Id, Value> values_, phis_, homes_;
@@ -939,12 +811,12 @@ class Lowerer {
   std::unordered_map<Id, Src> query_types_;
   Query& query(Id pointer_id) {
     const auto it = queries_.find(pointer(pointer_id).variable);
-    if (it == queries_.end()) unsupported("a ray query used before rayQueryInitializeEXT in the code's order");
+    if (it == queries_.end()) b_.unsupported("a ray query used before rayQueryInitializeEXT in the code's order");
     return it->second;
   }
   const Query& traced(Id pointer_id) {
     const Query& q = query(pointer_id);
-    if (q.hit < 0) unsupported("a ray query's intersection read before rayQueryProceedEXT in the code's order");
+    if (q.hit < 0) b_.unsupported("a ray query's intersection read before rayQueryProceedEXT in the code's order");
     return q;
   }
   std::unordered_map<Id, Id> opaque_;
@@ -952,7 +824,6 @@ class Lowerer {
   std::unordered_map<Id, Value> block_constants_;
   std::map<std::tuple<int, std::uint32_t, Id>, Src> block_loads_;  // (address, offset, type) loaded in this block
   std::unordered_map<std::uint32_t, int> block_addresses_;
-  SourceLocation where_;
   Id next_block_ = 0;
   Id current_block_ = 0;
   Id incoming_payload_ = 0;
@@ -965,62 +836,62 @@ class Lowerer {
 // exp2 as firmware/whitted.s's pow computes it: 2^i 2^(g) sqrt(2) with g = y - i - 1/2,
 // the Taylor series of 2^g to g^6 (relative error < 2e-7); y clamped to [-126, 128].
 Src Lowerer::exp2(const Src& y_in, int n) {
-  Src y = op(Opcode::kMax, n, {y_in, fconst(-126.0f, n)});
-  y = op(Opcode::kMin, n, {y, fconst(128.0f, n)});
-  const Src i = op(Opcode::kFlr, n, {y});
-  Src g = op(Opcode::kAdd, n, {y, neg(i)});
-  g = op(Opcode::kAdd, n, {g, neg(fconst(0.5f, n))});
+  Src y = b_.op(Opcode::kMax, n, {y_in, b_.fconst(-126.0f, n)});
+  y = b_.op(Opcode::kMin, n, {y, b_.fconst(128.0f, n)});
+  const Src i = b_.op(Opcode::kFlr, n, {y});
+  Src g = b_.op(Opcode::kAdd, n, {y, neg(i)});
+  g = b_.op(Opcode::kAdd, n, {g, neg(b_.fconst(0.5f, n))});
   static constexpr float kCoefficients[] = {0.00015403530393381606f, 0.0013333558146428443f, 0.009618129107628477f,
                                             0.05550410866482158f,    0.2402265069591007f,    0.6931471805599453f,
                                             1.0f};
-  Src p = fconst(kCoefficients[0], n);
-  for (std::size_t k = 1; k < std::size(kCoefficients); ++k) p = op(Opcode::kMad, n, {p, g, fconst(kCoefficients[k], n)});
-  Src e = op(Opcode::kF2i, n, {i});
-  e = op(Opcode::kIaddi, n, {e}, Imm::integer(127));
-  e = op(Opcode::kShli, n, {e}, Imm::integer(23));  // 2^i as fp32 bits
-  p = op(Opcode::kMul, n, {p, e});
-  return op(Opcode::kMul, n, {p, fconst(1.41421356f, n)});
+  Src p = b_.fconst(kCoefficients[0], n);
+  for (std::size_t k = 1; k < std::size(kCoefficients); ++k) p = b_.op(Opcode::kMad, n, {p, g, b_.fconst(kCoefficients[k], n)});
+  Src e = b_.op(Opcode::kF2i, n, {i});
+  e = b_.op(Opcode::kIaddi, n, {e}, Imm::integer(127));
+  e = b_.op(Opcode::kShli, n, {e}, Imm::integer(23));  // 2^i as fp32 bits
+  p = b_.op(Opcode::kMul, n, {p, e});
+  return b_.op(Opcode::kMul, n, {p, b_.fconst(1.41421356f, n)});
 }
 
 // sin: x reduced to y in [-pi, pi) through the fraction of x / 2pi, then the Taylor
 // series to y^17 (absolute error below 3e-8 on the interval, plus the reduction's
 // rounding, which grows with |x|).
 Src Lowerer::sine(const Src& x, int n) {
-  Src f = op(Opcode::kMad, n, {x, fconst(0.159154943f, n), fconst(0.5f, n)});  // x / 2pi + 1/2
-  f = op(Opcode::kFrc, n, {f});
-  const Src y = op(Opcode::kMul, n, {op(Opcode::kAdd, n, {f, neg(fconst(0.5f, n))}), fconst(6.28318531f, n)});
-  const Src y2 = op(Opcode::kMul, n, {y, y});
+  Src f = b_.op(Opcode::kMad, n, {x, b_.fconst(0.159154943f, n), b_.fconst(0.5f, n)});  // x / 2pi + 1/2
+  f = b_.op(Opcode::kFrc, n, {f});
+  const Src y = b_.op(Opcode::kMul, n, {b_.op(Opcode::kAdd, n, {f, neg(b_.fconst(0.5f, n))}), b_.fconst(6.28318531f, n)});
+  const Src y2 = b_.op(Opcode::kMul, n, {y, y});
   // sin y = y (1 - y^2/3! (1 - y^2/(4 5) (1 - ...))): Horner in y^2 with 1/k! coefficients
   static constexpr float kCoefficients[] = {2.81145725e-15f, -7.64716373e-13f, 1.60590438e-10f, -2.50521084e-8f,
                                             2.75573192e-6f,  -1.98412698e-4f,  8.33333333e-3f,  -1.66666667e-1f,
                                             1.0f};
-  Src p = fconst(kCoefficients[0], n);
-  for (std::size_t k = 1; k < std::size(kCoefficients); ++k) p = op(Opcode::kMad, n, {p, y2, fconst(kCoefficients[k], n)});
-  return op(Opcode::kMul, n, {p, y});
+  Src p = b_.fconst(kCoefficients[0], n);
+  for (std::size_t k = 1; k < std::size(kCoefficients); ++k) p = b_.op(Opcode::kMad, n, {p, y2, b_.fconst(kCoefficients[k], n)});
+  return b_.op(Opcode::kMul, n, {p, y});
 }
 
 // log2 as firmware/whitted.s's pow computes it: x = m 2^e with m in [sqrt(1/2), sqrt(2)),
 // log2 m = (2/ln 2) atanh((m-1)/(m+1)) to t^9. For x > 0; 0 gives -126.something, so
 // exp2 of a product with it still flushes to 0.
 Src Lowerer::log2(const Src& x, int n) {
-  Src e = op(Opcode::kShri, n, {x}, Imm::integer(23));
-  e = op(Opcode::kIaddi, n, {e}, Imm::integer(-127));
-  Src m = op(Opcode::kAndi, n, {x}, Imm::bits(0x007fffffu));
-  m = op(Opcode::kOri, n, {m}, Imm::bits(0x3f800000u));
-  const Src big = op(Opcode::kFle, n, {fconst(1.41421356f, n), m});
-  m = select(big, op(Opcode::kMul, n, {m, fconst(0.5f, n)}), m, n);
-  e = select(big, op(Opcode::kIaddi, n, {e}, Imm::integer(1)), e, n);
-  const Src ef = op(Opcode::kI2f, n, {e});
-  const Src one = fconst(1.0f, n);
-  Src t = op(Opcode::kAdd, n, {m, neg(one)});
-  t = op(Opcode::kMul, n, {t, op(Opcode::kRcp, n, {op(Opcode::kAdd, n, {m, one})})});
-  const Src t2 = op(Opcode::kMul, n, {t, t});
+  Src e = b_.op(Opcode::kShri, n, {x}, Imm::integer(23));
+  e = b_.op(Opcode::kIaddi, n, {e}, Imm::integer(-127));
+  Src m = b_.op(Opcode::kAndi, n, {x}, Imm::bits(0x007fffffu));
+  m = b_.op(Opcode::kOri, n, {m}, Imm::bits(0x3f800000u));
+  const Src big = b_.op(Opcode::kFle, n, {b_.fconst(1.41421356f, n), m});
+  m = b_.select(big, b_.op(Opcode::kMul, n, {m, b_.fconst(0.5f, n)}), m, n);
+  e = b_.select(big, b_.op(Opcode::kIaddi, n, {e}, Imm::integer(1)), e, n);
+  const Src ef = b_.op(Opcode::kI2f, n, {e});
+  const Src one = b_.fconst(1.0f, n);
+  Src t = b_.op(Opcode::kAdd, n, {m, neg(one)});
+  t = b_.op(Opcode::kMul, n, {t, b_.op(Opcode::kRcp, n, {b_.op(Opcode::kAdd, n, {m, one})})});
+  const Src t2 = b_.op(Opcode::kMul, n, {t, t});
   static constexpr float kCoefficients[] = {0.3205988979753252f, 0.41219858311113244f, 0.5770780163555854f,
                                             0.9617966939259756f, 2.8853900817779268f};
-  Src p = fconst(kCoefficients[0], n);
-  for (std::size_t k = 1; k < std::size(kCoefficients); ++k) p = op(Opcode::kMad, n, {p, t2, fconst(kCoefficients[k], n)});
-  p = op(Opcode::kMul, n, {p, t});
-  return op(Opcode::kAdd, n, {ef, p});
+  Src p = b_.fconst(kCoefficients[0], n);
+  for (std::size_t k = 1; k < std::size(kCoefficients); ++k) p = b_.op(Opcode::kMad, n, {p, t2, b_.fconst(kCoefficients[k], n)});
+  p = b_.op(Opcode::kMul, n, {p, t});
+  return b_.op(Opcode::kAdd, n, {ef, p});
 }
 
 void Lowerer::trace(const Instruction& i) {
@@ -1028,8 +899,8 @@ void Lowerer::trace(const Instruction& i) {
   const auto flags = constant_scalar(i.operands[1]);
   const auto sbt_offset = constant_scalar(i.operands[3]);
   const auto miss = constant_scalar(i.operands[5]);
-  if (!flags) unsupported("traceRayEXT with ray flags that are not a constant");
-  if (!miss) unsupported("traceRayEXT with a miss index that is not a constant");
+  if (!flags) b_.unsupported("traceRayEXT with ray flags that are not a constant");
+  if (!miss) b_.unsupported("traceRayEXT with a miss index that is not a constant");
   TraceForm form;
   form.any_hit = (*flags & static_cast<std::uint32_t>(spv::RayFlagsMask::TerminateOnFirstHitKHR)) != 0;
   form.skip_closest = (*flags & static_cast<std::uint32_t>(spv::RayFlagsMask::SkipClosestHitShaderKHR)) != 0;
@@ -1038,13 +909,13 @@ void Lowerer::trace(const Instruction& i) {
       static_cast<std::uint32_t>(spv::RayFlagsMask::CullFrontFacingTrianglesKHR) |
       static_cast<std::uint32_t>(spv::RayFlagsMask::CullOpaqueKHR) |
       static_cast<std::uint32_t>(spv::RayFlagsMask::CullNoOpaqueKHR);
-  if (*flags & unsupported_flags) unsupported("traceRayEXT with a face or opacity culling flag");
+  if (*flags & unsupported_flags) b_.unsupported("traceRayEXT with a face or opacity culling flag");
   if (!form.skip_closest && (!sbt_offset || *sbt_offset != 0)) {
-    unsupported("traceRayEXT with an sbtRecordOffset other than 0 (the hit shader is the material's)");
+    b_.unsupported("traceRayEXT with an sbtRecordOffset other than 0 (the hit shader is the material's)");
   }
   if (static_cast<int>(*miss) >= ctx_.miss_shaders) {
     if (ctx_.miss_shaders > 0 || *miss != 0) {
-      fail(where_, fmt::format("traceRayEXT names miss shader {}, but the firmware has {} (the .rmiss files in "
+      b_.fail(b_.where, fmt::format("traceRayEXT names miss shader {}, but the firmware has {} (the .rmiss files in "
                                "the order given)",
                                *miss, ctx_.miss_shaders));
     }
@@ -1059,29 +930,29 @@ void Lowerer::trace(const Instruction& i) {
   MInst call;
   call.kind = Kind::kCall;
   call.target = form.label();
-  const int a = fixed(4, kRegOrigin), b = fixed(4, kRegDirection), info = fixed(4, kRegInfo);
-  op_into(a, 0b0111, Opcode::kMov, {origin}, {}, true);
-  op_into(a, 0b1000, Opcode::kMov, {tmin});
-  op_into(b, 0b0111, Opcode::kMov, {direction}, {}, true);
-  op_into(b, 0b1000, Opcode::kMov, {tmax});
+  const int a = b_.fixed(4, kRegOrigin), b = b_.fixed(4, kRegDirection), info = b_.fixed(4, kRegInfo);
+  b_.op_into(a, 0b0111, Opcode::kMov, {origin}, {}, true);
+  b_.op_into(a, 0b1000, Opcode::kMov, {tmin});
+  b_.op_into(b, 0b0111, Opcode::kMov, {direction}, {}, true);
+  b_.op_into(b, 0b1000, Opcode::kMov, {tmax});
   // The new ray's nesting level: 0 from ray generation, the shader's own + 1 elsewhere.
   if (info_ >= 0) {
-    op_into(info, 0b0010, Opcode::kIaddi, {whole(info_, 1)}, Imm::integer(1), true);
+    b_.op_into(info, 0b0010, Opcode::kIaddi, {whole(info_, 1)}, Imm::integer(1), true);
   } else {
-    op_into(info, 0b0010, Opcode::kLi, {}, Imm::integer(0), true);
+    b_.op_into(info, 0b0010, Opcode::kLi, {}, Imm::integer(0), true);
   }
   call.uses = {a, b, info};
   // The payload: copied into its registers, and back after the call.
   const Id payload_var = i.operands[10];
   const Pointer p = pointer(payload_var);
-  if (p.where != Pointer::Where::kRegisters) unsupported("a payload that is not a rayPayloadEXT variable");
+  if (p.where != Pointer::Where::kRegisters) b_.unsupported("a payload that is not a rayPayloadEXT variable");
   std::vector<int> in_regs = payload_registers(p.type, call.uses);
   std::vector<Src> home;
   leaves(homes_.at(payload_var), home);
-  for (std::size_t k = 0; k < in_regs.size(); ++k) copy_into(in_regs[k], home[k]);
+  for (std::size_t k = 0; k < in_regs.size(); ++k) b_.copy_into(in_regs[k], home[k]);
   std::vector<int> out_regs = payload_registers(p.type, call.defs);
-  push(std::move(call));
-  for (std::size_t k = 0; k < out_regs.size(); ++k) copy_into(home[k].v, whole(out_regs[k]));
+  b_.push(std::move(call));
+  for (std::size_t k = 0; k < out_regs.size(); ++k) b_.copy_into(home[k].v, b_.whole(out_regs[k]));
 }
 
 void Lowerer::image_store(const Instruction& i) {
@@ -1089,35 +960,35 @@ void Lowerer::image_store(const Instruction& i) {
   const auto img = opaque_.find(i.operands[0]);
   const Id var = img == opaque_.end() ? 0 : img->second;
   if (m_.decoration(var).binding.value_or(~0u) != spec::kShaderFramebufferBinding) {
-    fail(where_, fmt::format("imageStore to an image that is not the framebuffer (binding {})",
+    b_.fail(b_.where, fmt::format("imageStore to an image that is not the framebuffer (binding {})",
                              spec::kShaderFramebufferBinding));
   }
   const Src coord = scalar_or_vector(i.operands[1]);
   Src texel = scalar_or_vector(i.operands[2]);
-  if (texel.n != 4) unsupported("an imageStore of other than 4 components");
+  if (texel.n != 4) b_.unsupported("an imageStore of other than 4 components");
   // address = framebuffer + (y * width + x) * 16; the device faults on another pixel.
   const Src base = launch_base();
   MInst l;
   l.op = Opcode::kLd1;
-  l.dst = vreg(2);
+  l.dst = b_.vreg(2);
   l.dst_comps = 0b01;
   l.fresh = true;
   l.srcs = {base};
   l.imm = Imm::integer(mm::kLaunchFramebufferAt);
   const int fbw = l.dst;
-  push(std::move(l));
-  op_into(fbw, 0b10, Opcode::kLd1, {base}, Imm::integer(mm::kLaunchWidthAt));  // lane x is written above
-  Src index = op(Opcode::kImul, 1, {component(coord, 1), component(whole(fbw, 2), 1)});
-  index = op(Opcode::kIadd, 1, {index, component(coord, 0)});
-  index = op(Opcode::kShli, 1, {index}, Imm::integer(std::countr_zero(mm::kFramebufferBytesPerPixel)));
-  const Src address = op(Opcode::kIadd, 1, {index, component(whole(fbw, 2), 0)});
+  b_.push(std::move(l));
+  b_.op_into(fbw, 0b10, Opcode::kLd1, {base}, Imm::integer(mm::kLaunchWidthAt));  // lane x is written above
+  Src index = b_.op(Opcode::kImul, 1, {component(coord, 1), component(whole(fbw, 2), 1)});
+  index = b_.op(Opcode::kIadd, 1, {index, component(coord, 0)});
+  index = b_.op(Opcode::kShli, 1, {index}, Imm::integer(std::countr_zero(mm::kFramebufferBytesPerPixel)));
+  const Src address = b_.op(Opcode::kIadd, 1, {index, component(whole(fbw, 2), 0)});
   // st stores lanes in place: the texel must sit in lanes x..w in order.
-  if (texel.comp != std::array<std::uint8_t, 4>{0, 1, 2, 3} || texel.neg || texel.abs) texel = op(Opcode::kMov, 4, {texel});
+  if (texel.comp != std::array<std::uint8_t, 4>{0, 1, 2, 3} || texel.neg || texel.abs) texel = b_.op(Opcode::kMov, 4, {texel});
   MInst s;
   s.op = Opcode::kSt;
   s.srcs = {address, texel};
   s.imm = Imm::integer(0);
-  push(std::move(s));
+  b_.push(std::move(s));
 }
 
 void Lowerer::instruction(const Instruction& i) {
@@ -1170,14 +1041,14 @@ void Lowerer::instruction(const Instruction& i) {
       // query accel flags cullmask origin tmin direction tmax: the ray, traced at Proceed.
       Query& q = queries_[pointer(o[0]).variable];
       const auto flags = constant_scalar(o[2]);
-      if (!flags) unsupported("rayQueryInitializeEXT with ray flags that are not a constant");
+      if (!flags) b_.unsupported("rayQueryInitializeEXT with ray flags that are not a constant");
       q.any_hit = (*flags & static_cast<std::uint32_t>(spv::RayFlagsMask::TerminateOnFirstHitKHR)) != 0;
-      q.a = vreg(4);
-      q.b = vreg(4);
-      op_into(q.a, 0b0111, Opcode::kMov, {scalar_or_vector(o[4])}, {}, true);
-      op_into(q.a, 0b1000, Opcode::kMov, {scalar_or_vector(o[5])});
-      op_into(q.b, 0b0111, Opcode::kMov, {scalar_or_vector(o[6])}, {}, true);
-      op_into(q.b, 0b1000, Opcode::kMov, {scalar_or_vector(o[7])});
+      q.a = b_.vreg(4);
+      q.b = b_.vreg(4);
+      b_.op_into(q.a, 0b0111, Opcode::kMov, {scalar_or_vector(o[4])}, {}, true);
+      b_.op_into(q.a, 0b1000, Opcode::kMov, {scalar_or_vector(o[5])});
+      b_.op_into(q.b, 0b0111, Opcode::kMov, {scalar_or_vector(o[6])}, {}, true);
+      b_.op_into(q.b, 0b1000, Opcode::kMov, {scalar_or_vector(o[7])});
       q.hit = -1;
       return;
     }
@@ -1185,23 +1056,23 @@ void Lowerer::instruction(const Instruction& i) {
       // The traversal unit commits the closest (or first) opaque triangle: nothing is
       // left to proceed with afterwards.
       Query& q = query(o[0]);
-      if (q.hit < 0) q.hit = vreg(4);
+      if (q.hit < 0) q.hit = b_.vreg(4);
       MInst t;
       t.op = q.any_hit ? Opcode::kTracea : Opcode::kTrace;
       t.dst = q.hit;
       t.srcs = {whole(q.a, 4), whole(q.b, 4)};
-      push(std::move(t));
+      b_.push(std::move(t));
       Value v;
-      v.leaf = op(Opcode::kLi, 1, {}, Imm::integer(0));
+      v.leaf = b_.op(Opcode::kLi, 1, {}, Imm::integer(0));
       values_[i.result] = v;
       return;
     }
     case Op::OpRayQueryGetIntersectionTypeKHR: {
       // Committed: 0 none, 1 triangle. A miss's primitive is 0xffffffff, a hit's below 2^31.
       const Query& q = traced(o[0]);
-      if (constant_scalar(o[1]).value_or(0) != 1) unsupported("a ray query's candidate intersection");
+      if (constant_scalar(o[1]).value_or(0) != 1) b_.unsupported("a ray query's candidate intersection");
       const Src w = component(whole(q.hit, 4), 3);
-      set(op(Opcode::kXori, 1, {op(Opcode::kShri, 1, {w}, Imm::integer(31))}, Imm::integer(1)));
+      set(b_.op(Opcode::kXori, 1, {b_.op(Opcode::kShri, 1, {w}, Imm::integer(31))}, Imm::integer(1)));
       query_types_[i.result] = w;
       return;
     }
@@ -1243,13 +1114,13 @@ void Lowerer::instruction(const Instruction& i) {
       const Id from = current_block_;
       const Src sel = scalar_or_vector(o[0]);
       for (std::size_t k = 2; k + 1 < o.size(); k += 2) {
-        const Src c = op(Opcode::kLi, 1, {}, Imm::bits(o[k]));
-        const Src eq = op(Opcode::kIeq, 1, {sel, c});
+        const Src c = b_.op(Opcode::kLi, 1, {}, Imm::bits(o[k]));
+        const Src eq = b_.op(Opcode::kIeq, 1, {sel, c});
         const std::string tramp = fmt::format(".{}_s{}_{}", fn_.label, from, k);
         // not this case: on to the next test; this case: through its own copies
-        cond_branch(false, eq, tramp);
+        b_.cond_branch(false, eq, tramp);
         jump_to(from, o[k + 1]);
-        label(tramp);
+        b_.label(tramp);
         block_constants_.clear();
         block_addresses_.clear();
       block_loads_.clear();
@@ -1264,14 +1135,14 @@ void Lowerer::instruction(const Instruction& i) {
       if (!fn_.is_raygen) {
         function_return();
       } else {
-        push(std::move(h));
+        b_.push(std::move(h));
       }
       return;
     }
-    case Op::OpReturnValue: unsupported("a function returning a value outside the entry point");
+    case Op::OpReturnValue: b_.unsupported("a function returning a value outside the entry point");
     case Op::OpKill:
     case Op::OpTerminateRayKHR:
-    case Op::OpIgnoreIntersectionKHR: unsupported(op_name(i.op));
+    case Op::OpIgnoreIntersectionKHR: b_.unsupported(op_name(i.op));
     // ---- composites
     case Op::OpCompositeExtract: {
       // Into a buffer's record the member stays lazy: loaded where it is used.
@@ -1302,9 +1173,9 @@ void Lowerer::instruction(const Instruction& i) {
       if (k < o.size()) {
         *at = expand(*at);
         const Src old = at->leaf;
-        const int d = vreg(old.n);
-        op_into(d, 0, Opcode::kMov, {old});
-        op_into(d, static_cast<std::uint8_t>(1u << o[k]), Opcode::kMov, {concrete(obj).leaf});
+        const int d = b_.vreg(old.n);
+        b_.op_into(d, 0, Opcode::kMov, {old});
+        b_.op_into(d, static_cast<std::uint8_t>(1u << o[k]), Opcode::kMov, {concrete(obj).leaf});
         at->leaf = whole(d, old.n);
       } else {
         *at = obj;
@@ -1339,7 +1210,7 @@ void Lowerer::instruction(const Instruction& i) {
             return;
           }
         }
-        const int d = vreg(n);
+        const int d = b_.vreg(n);
         int at = 0;
         bool first = true;
         for (std::size_t k = 0; k < o.size();) {
@@ -1350,7 +1221,7 @@ void Lowerer::instruction(const Instruction& i) {
             if (m_.is_bool(m_.constants.at(o[k]).type)) bits = bits ? 0xffffffffu : 0u;
             const std::uint8_t mask = static_cast<std::uint8_t>(1u << at);
             const bool is_float = m_.is_float(m_.constants.at(o[k]).type);
-            op_into(d, mask == full ? 0 : mask, is_float ? Opcode::kLif : Opcode::kLi, {}, lane_bits(bits, is_float),
+            b_.op_into(d, mask == full ? 0 : mask, is_float ? Opcode::kLif : Opcode::kLi, {}, Imm::lane(bits, is_float),
                     first);
             first = false;
             ++at;
@@ -1368,7 +1239,7 @@ void Lowerer::instruction(const Instruction& i) {
             ++k;
           }
           const std::uint8_t mask = static_cast<std::uint8_t>(((1u << s.n) - 1) << at);
-          op_into(d, mask == full ? 0 : mask, Opcode::kMov, {s}, {}, first);
+          b_.op_into(d, mask == full ? 0 : mask, Opcode::kMov, {s}, {}, first);
           first = false;
           at += s.n;
         }
@@ -1396,11 +1267,11 @@ void Lowerer::instruction(const Instruction& i) {
         set(s);
         return;
       }
-      const int d = vreg(n);
+      const int d = b_.vreg(n);
       for (std::size_t k = 2; k < o.size(); ++k) {
         const std::uint32_t c = o[k] == 0xffffffffu ? 0 : o[k];
         const Src from = static_cast<int>(c) < a.n ? component(a, static_cast<int>(c)) : component(b, static_cast<int>(c) - a.n);
-        op_into(d, static_cast<std::uint8_t>(1u << (k - 2)), Opcode::kMov, {from}, {}, k == 2);
+        b_.op_into(d, static_cast<std::uint8_t>(1u << (k - 2)), Opcode::kMov, {from}, {}, k == 2);
       }
       set(whole(d, n));
       return;
@@ -1409,7 +1280,7 @@ void Lowerer::instruction(const Instruction& i) {
     case Op::OpCopyLogical:  // a buffer's struct as a plain one: the same values
     case Op::OpBitcast: {
       if (i.op == Op::OpBitcast && width_of(i.type) != scalar_or_vector(o[0]).n) {
-        unsupported("a bitcast between types of different component counts");
+        b_.unsupported("a bitcast between types of different component counts");
       }
       values_[i.result] = value(o[0]);
       return;
@@ -1420,20 +1291,20 @@ void Lowerer::instruction(const Instruction& i) {
       const Src idx = scalar_or_vector(o[1]);
       Src r = component(v, 0);
       for (int k = 1; k < v.n; ++k) {
-        const Src is_k = op(Opcode::kIeq, 1, {idx, op(Opcode::kLi, 1, {}, Imm::integer(k))});
-        r = select(is_k, component(v, k), r, 1);
+        const Src is_k = b_.op(Opcode::kIeq, 1, {idx, b_.op(Opcode::kLi, 1, {}, Imm::integer(k))});
+        r = b_.select(is_k, component(v, k), r, 1);
       }
       set(r);
       return;
     }
     // ---- float arithmetic
     case Op::OpFAdd: set(binary(i, Opcode::kAdd)); return;
-    case Op::OpFSub: set(op(Opcode::kAdd, n, {scalar_or_vector(o[0]), neg(scalar_or_vector(o[1]))})); return;
+    case Op::OpFSub: set(b_.op(Opcode::kAdd, n, {scalar_or_vector(o[0]), neg(scalar_or_vector(o[1]))})); return;
     case Op::OpFMul: set(binary(i, Opcode::kMul)); return;
     case Op::OpFDiv: {
       if (const auto c = constant_scalar(o[0]); c && *c == 0x3f800000u && n == width_of(m_.constants.at(o[0]).type)) {
         const Src b = scalar_or_vector(o[1]);
-        set(op(Opcode::kRcp, n, {b.n == 1 && n > 1 ? broadcast(b, n) : b}));  // 1 / x
+        set(b_.op(Opcode::kRcp, n, {b.n == 1 && n > 1 ? broadcast(b, n) : b}));  // 1 / x
         return;
       }
       set(divide(scalar_or_vector(o[0]), scalar_or_vector(o[1]), n));
@@ -1443,11 +1314,11 @@ void Lowerer::instruction(const Instruction& i) {
     case Op::OpFMod: {
       // x - y floor(x / y)
       const Src x = scalar_or_vector(o[0]), y = scalar_or_vector(o[1]);
-      const Src q = op(Opcode::kFlr, n, {divide(x, y, n)});
-      set(op(Opcode::kMad, n, {neg(y.n == 1 && n > 1 ? broadcast(y, n) : y), q, x}));
+      const Src q = b_.op(Opcode::kFlr, n, {divide(x, y, n)});
+      set(b_.op(Opcode::kMad, n, {neg(y.n == 1 && n > 1 ? broadcast(y, n) : y), q, x}));
       return;
     }
-    case Op::OpVectorTimesScalar: set(op(Opcode::kMul, n, {scalar_or_vector(o[0]), broadcast(scalar_or_vector(o[1]), n)})); return;
+    case Op::OpVectorTimesScalar: set(b_.op(Opcode::kMul, n, {scalar_or_vector(o[0]), broadcast(scalar_or_vector(o[1]), n)})); return;
     case Op::OpDot: set(dot(scalar_or_vector(o[0]), scalar_or_vector(o[1]))); return;
     case Op::OpMatrixTimesScalar: {
       Value m = concrete(value(o[0]));
@@ -1456,7 +1327,7 @@ void Lowerer::instruction(const Instruction& i) {
       r.aggregate = true;
       for (const Value& col : m.members) {
         Value c;
-        c.leaf = op(Opcode::kMul, col.leaf.n, {col.leaf, broadcast(s, col.leaf.n)});
+        c.leaf = b_.op(Opcode::kMul, col.leaf.n, {col.leaf, broadcast(s, col.leaf.n)});
         r.members.push_back(c);
       }
       values_[i.result] = r;
@@ -1465,9 +1336,9 @@ void Lowerer::instruction(const Instruction& i) {
     case Op::OpMatrixTimesVector: {
       const Value m = concrete(value(o[0]));
       const Src v = scalar_or_vector(o[1]);
-      Src acc = op(Opcode::kMul, n, {m.members.at(0).leaf, broadcast(component(v, 0), n)});
+      Src acc = b_.op(Opcode::kMul, n, {m.members.at(0).leaf, broadcast(component(v, 0), n)});
       for (std::size_t k = 1; k < m.members.size(); ++k) {
-        acc = op(Opcode::kMad, n, {m.members[k].leaf, broadcast(component(v, static_cast<int>(k)), n), acc});
+        acc = b_.op(Opcode::kMad, n, {m.members[k].leaf, broadcast(component(v, static_cast<int>(k)), n), acc});
       }
       set(acc);
       return;
@@ -1475,10 +1346,10 @@ void Lowerer::instruction(const Instruction& i) {
     case Op::OpVectorTimesMatrix: {
       const Src v = scalar_or_vector(o[0]);
       const Value m = concrete(value(o[1]));
-      const int d = vreg(n);
+      const int d = b_.vreg(n);
       for (int k = 0; k < n; ++k) {
         const Src dk = dot(v, m.members.at(static_cast<std::size_t>(k)).leaf);
-        op_into(d, static_cast<std::uint8_t>(1u << k), Opcode::kMov, {dk}, {}, k == 0);
+        b_.op_into(d, static_cast<std::uint8_t>(1u << k), Opcode::kMov, {dk}, {}, k == 0);
       }
       set(whole(d, n));
       return;
@@ -1490,18 +1361,18 @@ void Lowerer::instruction(const Instruction& i) {
     case Op::OpFOrdGreaterThan: set(binary(i, Opcode::kFlt, true)); return;
     case Op::OpFOrdLessThanEqual: set(binary(i, Opcode::kFle)); return;
     case Op::OpFOrdGreaterThanEqual: set(binary(i, Opcode::kFle, true)); return;
-    case Op::OpFOrdNotEqual: set(op(Opcode::kOr, n, {binary(i, Opcode::kFlt), binary(i, Opcode::kFlt, true)})); return;
-    case Op::OpFUnordEqual: set(not_of(op(Opcode::kOr, n, {binary(i, Opcode::kFlt), binary(i, Opcode::kFlt, true)}))); return;
-    case Op::OpFUnordLessThan: set(not_of(binary(i, Opcode::kFle, true))); return;
-    case Op::OpFUnordGreaterThan: set(not_of(binary(i, Opcode::kFle))); return;
-    case Op::OpFUnordLessThanEqual: set(not_of(binary(i, Opcode::kFlt, true))); return;
-    case Op::OpFUnordGreaterThanEqual: set(not_of(binary(i, Opcode::kFlt))); return;
+    case Op::OpFOrdNotEqual: set(b_.op(Opcode::kOr, n, {binary(i, Opcode::kFlt), binary(i, Opcode::kFlt, true)})); return;
+    case Op::OpFUnordEqual: set(b_.not_of(b_.op(Opcode::kOr, n, {binary(i, Opcode::kFlt), binary(i, Opcode::kFlt, true)}))); return;
+    case Op::OpFUnordLessThan: set(b_.not_of(binary(i, Opcode::kFle, true))); return;
+    case Op::OpFUnordGreaterThan: set(b_.not_of(binary(i, Opcode::kFle))); return;
+    case Op::OpFUnordLessThanEqual: set(b_.not_of(binary(i, Opcode::kFlt, true))); return;
+    case Op::OpFUnordGreaterThanEqual: set(b_.not_of(binary(i, Opcode::kFlt))); return;
     case Op::OpIsNan: {
       const Src a = scalar_or_vector(o[0]);
-      set(op(Opcode::kFne, n, {a, a}));
+      set(b_.op(Opcode::kFne, n, {a, a}));
       return;
     }
-    case Op::OpIsInf: set(op(Opcode::kFeq, n, {abs(scalar_or_vector(o[0])), fconst(INFINITY, n)})); return;
+    case Op::OpIsInf: set(b_.op(Opcode::kFeq, n, {abs(scalar_or_vector(o[0])), b_.fconst(INFINITY, n)})); return;
     case Op::OpIEqual:
     case Op::OpINotEqual: {
       // A ray query's committed type against 0 (none): the miss mask straight from the
@@ -1511,41 +1382,41 @@ void Lowerer::instruction(const Instruction& i) {
         const auto c = constant_scalar(o[static_cast<std::size_t>(1 - k)]);
         if (t == query_types_.end() || !c || *c > 1) continue;
         const bool miss_mask = (i.op == Op::OpIEqual) == (*c == 0);
-        const Src m = op(Opcode::kSrai, 1, {t->second}, Imm::integer(31));
-        set(miss_mask ? m : not_of(m));
+        const Src m = b_.op(Opcode::kSrai, 1, {t->second}, Imm::integer(31));
+        set(miss_mask ? m : b_.not_of(m));
         return;
       }
-      set(i.op == Op::OpIEqual ? binary(i, Opcode::kIeq) : not_of(binary(i, Opcode::kIeq)));
+      set(i.op == Op::OpIEqual ? binary(i, Opcode::kIeq) : b_.not_of(binary(i, Opcode::kIeq)));
       return;
     }
     case Op::OpLogicalEqual: set(binary(i, Opcode::kIeq)); return;
     case Op::OpLogicalNotEqual: set(binary(i, Opcode::kXor)); return;
     case Op::OpSLessThan: set(int_binary(i, Opcode::kIlt, Opcode::kIlti)); return;
     case Op::OpSGreaterThan: set(binary(i, Opcode::kIlt, true)); return;
-    case Op::OpSLessThanEqual: set(not_of(binary(i, Opcode::kIlt, true))); return;
-    case Op::OpSGreaterThanEqual: set(not_of(binary(i, Opcode::kIlt))); return;
+    case Op::OpSLessThanEqual: set(b_.not_of(binary(i, Opcode::kIlt, true))); return;
+    case Op::OpSGreaterThanEqual: set(b_.not_of(binary(i, Opcode::kIlt))); return;
     case Op::OpULessThan: set(binary(i, Opcode::kIltu)); return;
     case Op::OpUGreaterThan: set(binary(i, Opcode::kIltu, true)); return;
-    case Op::OpULessThanEqual: set(not_of(binary(i, Opcode::kIltu, true))); return;
-    case Op::OpUGreaterThanEqual: set(not_of(binary(i, Opcode::kIltu))); return;
+    case Op::OpULessThanEqual: set(b_.not_of(binary(i, Opcode::kIltu, true))); return;
+    case Op::OpUGreaterThanEqual: set(b_.not_of(binary(i, Opcode::kIltu))); return;
     case Op::OpLogicalAnd: set(binary(i, Opcode::kAnd)); return;
     case Op::OpLogicalOr: set(binary(i, Opcode::kOr)); return;
     case Op::OpLogicalNot:
-    case Op::OpNot: set(not_of(scalar_or_vector(o[0]))); return;
+    case Op::OpNot: set(b_.not_of(scalar_or_vector(o[0]))); return;
     case Op::OpAny:
     case Op::OpAll: {
       const Src v = scalar_or_vector(o[0]);
       Src r = component(v, 0);
-      for (int k = 1; k < v.n; ++k) r = op(i.op == Op::OpAny ? Opcode::kOr : Opcode::kAnd, 1, {r, component(v, k)});
-      set(r.v == v.v && v.n == 1 ? op(Opcode::kMov, 1, {r}) : r);
+      for (int k = 1; k < v.n; ++k) r = b_.op(i.op == Op::OpAny ? Opcode::kOr : Opcode::kAnd, 1, {r, component(v, k)});
+      set(r.v == v.v && v.n == 1 ? b_.op(Opcode::kMov, 1, {r}) : r);
       return;
     }
-    case Op::OpSelect: set(select(scalar_or_vector(o[0]), scalar_or_vector(o[1]), scalar_or_vector(o[2]), n)); return;
+    case Op::OpSelect: set(b_.select(scalar_or_vector(o[0]), scalar_or_vector(o[1]), scalar_or_vector(o[2]), n)); return;
     // ---- integers
     case Op::OpIAdd: set(int_binary(i, Opcode::kIadd, Opcode::kIaddi)); return;
     case Op::OpISub: {
       if (const auto c = constant_scalar(o[1])) {
-        set(op(Opcode::kIaddi, n, {scalar_or_vector(o[0])}, Imm::integer(-static_cast<std::int64_t>(static_cast<std::int32_t>(*c)))));
+        set(b_.op(Opcode::kIaddi, n, {scalar_or_vector(o[0])}, Imm::integer(-static_cast<std::int64_t>(static_cast<std::int32_t>(*c)))));
         return;
       }
       set(binary(i, Opcode::kIsub));
@@ -1558,7 +1429,7 @@ void Lowerer::instruction(const Instruction& i) {
     case Op::OpShiftLeftLogical: set(int_binary(i, Opcode::kShl, Opcode::kShli)); return;
     case Op::OpShiftRightLogical: set(int_binary(i, Opcode::kShr, Opcode::kShri)); return;
     case Op::OpShiftRightArithmetic: set(int_binary(i, Opcode::kSra, Opcode::kSrai)); return;
-    case Op::OpSNegate: set(op(Opcode::kIsub, n, {op(Opcode::kLi, n, {}, Imm::integer(0)), scalar_or_vector(o[0])})); return;
+    case Op::OpSNegate: set(b_.op(Opcode::kIsub, n, {b_.op(Opcode::kLi, n, {}, Imm::integer(0)), scalar_or_vector(o[0])})); return;
     case Op::OpUDiv:
     case Op::OpUMod:
     case Op::OpSDiv:
@@ -1567,69 +1438,69 @@ void Lowerer::instruction(const Instruction& i) {
       const auto c = constant_scalar(o[1]);
       const bool is_signed = i.op != Op::OpUDiv && i.op != Op::OpUMod;
       if (!c || !std::has_single_bit(*c) || (is_signed && static_cast<std::int32_t>(*c) <= 0)) {
-        unsupported(fmt::format("{} by other than a constant power of two (the RPU has no integer divider)",
+        b_.unsupported(fmt::format("{} by other than a constant power of two (the RPU has no integer divider)",
                                 op_name(i.op)));
       }
       const int k = std::countr_zero(*c);
       const Src x = scalar_or_vector(o[0]);
       if (i.op == Op::OpUDiv) {
-        set(op(Opcode::kShri, n, {x}, Imm::integer(k)));
+        set(b_.op(Opcode::kShri, n, {x}, Imm::integer(k)));
       } else if (i.op == Op::OpUMod || i.op == Op::OpSMod) {
         // SMod takes the divisor's sign, positive here: the low bits
-        set(op(Opcode::kAndi, n, {x}, Imm::integer(*c - 1)));
+        set(b_.op(Opcode::kAndi, n, {x}, Imm::integer(*c - 1)));
       } else if (k == 0) {
-        set(i.op == Op::OpSDiv ? x : op(Opcode::kLi, n, {}, Imm::integer(0)));  // by 1
+        set(i.op == Op::OpSDiv ? x : b_.op(Opcode::kLi, n, {}, Imm::integer(0)));  // by 1
       } else {
         // Round toward zero: add 2^k - 1 to negative x first.
-        const Src bias = op(Opcode::kShri, n, {op(Opcode::kSrai, n, {x}, Imm::integer(31))}, Imm::integer(32 - k));
-        const Src q = op(Opcode::kSrai, n, {op(Opcode::kIadd, n, {x, bias})}, Imm::integer(k));
+        const Src bias = b_.op(Opcode::kShri, n, {b_.op(Opcode::kSrai, n, {x}, Imm::integer(31))}, Imm::integer(32 - k));
+        const Src q = b_.op(Opcode::kSrai, n, {b_.op(Opcode::kIadd, n, {x, bias})}, Imm::integer(k));
         // SRem: the remainder with x's sign
-        set(i.op == Op::OpSDiv ? q : op(Opcode::kIsub, n, {x, op(Opcode::kShli, n, {q}, Imm::integer(k))}));
+        set(i.op == Op::OpSDiv ? q : b_.op(Opcode::kIsub, n, {x, b_.op(Opcode::kShli, n, {q}, Imm::integer(k))}));
       }
       return;
     }
     // ---- conversions
-    case Op::OpConvertSToF: set(op(Opcode::kI2f, n, {scalar_or_vector(o[0])})); return;
-    case Op::OpConvertFToS: set(op(Opcode::kF2i, n, {scalar_or_vector(o[0])})); return;
+    case Op::OpConvertSToF: set(b_.op(Opcode::kI2f, n, {scalar_or_vector(o[0])})); return;
+    case Op::OpConvertFToS: set(b_.op(Opcode::kF2i, n, {scalar_or_vector(o[0])})); return;
     case Op::OpConvertUToF: {
       const Src u = scalar_or_vector(o[0]);
       if (small_.count(u.v)) {
-        set(op(Opcode::kI2f, n, {u}));  // below 2^31: as a signed integer
+        set(b_.op(Opcode::kI2f, n, {u}));  // below 2^31: as a signed integer
         return;
       }
       // Values with the top bit set: halve (keeping the low bit sticky), convert, double.
-      const Src direct = op(Opcode::kI2f, n, {u});
-      Src half = op(Opcode::kShri, n, {u}, Imm::integer(1));
-      half = op(Opcode::kOr, n, {half, op(Opcode::kAndi, n, {u}, Imm::integer(1))});
-      Src big = op(Opcode::kI2f, n, {half});
-      big = op(Opcode::kAdd, n, {big, big});
-      set(select(op(Opcode::kIlti, n, {u}, Imm::integer(0)), big, direct, n));
+      const Src direct = b_.op(Opcode::kI2f, n, {u});
+      Src half = b_.op(Opcode::kShri, n, {u}, Imm::integer(1));
+      half = b_.op(Opcode::kOr, n, {half, b_.op(Opcode::kAndi, n, {u}, Imm::integer(1))});
+      Src big = b_.op(Opcode::kI2f, n, {half});
+      big = b_.op(Opcode::kAdd, n, {big, big});
+      set(b_.select(b_.op(Opcode::kIlti, n, {u}, Imm::integer(0)), big, direct, n));
       return;
     }
     case Op::OpConvertFToU: {
       // [0, 2^31) directly, [2^31, 2^32) through f - 2^31; negatives give 0 (f2i saturates).
       const Src f = scalar_or_vector(o[0]);
-      const Src two31 = fconst(2147483648.0f, n);
-      const Src low = op(Opcode::kF2i, n, {op(Opcode::kMax, n, {f, fconst(0.0f, n)})});
-      Src high = op(Opcode::kF2i, n, {op(Opcode::kAdd, n, {f, neg(two31)})});
-      high = op(Opcode::kXori, n, {high}, Imm::bits(0x80000000u));
-      set(select(op(Opcode::kFle, n, {two31, f}), high, low, n));
+      const Src two31 = b_.fconst(2147483648.0f, n);
+      const Src low = b_.op(Opcode::kF2i, n, {b_.op(Opcode::kMax, n, {f, b_.fconst(0.0f, n)})});
+      Src high = b_.op(Opcode::kF2i, n, {b_.op(Opcode::kAdd, n, {f, neg(two31)})});
+      high = b_.op(Opcode::kXori, n, {high}, Imm::bits(0x80000000u));
+      set(b_.select(b_.op(Opcode::kFle, n, {two31, f}), high, low, n));
       return;
     }
     case Op::OpSConvert:
     case Op::OpUConvert:
     case Op::OpFConvert: {
-      if (m_.type(m_.scalar_of(i.type)).count != 32) unsupported("a conversion to other than 32 bits");
+      if (m_.type(m_.scalar_of(i.type)).count != 32) b_.unsupported("a conversion to other than 32 bits");
       values_[i.result] = value(o[0]);
       return;
     }
-    default: unsupported(op_name(i.op));
+    default: b_.unsupported(op_name(i.op));
   }
 }
 
 void Lowerer::ext_inst(const Instruction& i) {
   const auto& o = i.operands;
-  if (o.size() < 2 || o[0] != m_.glsl_std_450) unsupported("an extended instruction set other than GLSL.std.450");
+  if (o.size() < 2 || o[0] != m_.glsl_std_450) b_.unsupported("an extended instruction set other than GLSL.std.450");
   const std::uint32_t e = o[1];
   const int n = width_of(i.type);
   const auto arg = [&](std::size_t k) { return scalar_or_vector(o.at(2 + k)); };
@@ -1643,94 +1514,94 @@ void Lowerer::ext_inst(const Instruction& i) {
     case GLSLstd450FAbs: set(abs(arg(0))); return;  // a modifier on its uses
     case GLSLstd450SAbs: {
       const Src x = arg(0);
-      set(select(op(Opcode::kIlti, n, {x}, Imm::integer(0)), op(Opcode::kIsub, n, {op(Opcode::kLi, n, {}, Imm::integer(0)), x}), x, n));
+      set(b_.select(b_.op(Opcode::kIlti, n, {x}, Imm::integer(0)), b_.op(Opcode::kIsub, n, {b_.op(Opcode::kLi, n, {}, Imm::integer(0)), x}), x, n));
       return;
     }
     case GLSLstd450FSign: {
       const Src x = arg(0);
-      const Src pos = op(Opcode::kFlt, n, {fconst(0.0f, n), x});
-      const Src negative = op(Opcode::kFlt, n, {x, fconst(0.0f, n)});
-      set(select(pos, fconst(1.0f, n), select(negative, fconst(-1.0f, n), fconst(0.0f, n), n), n));
+      const Src pos = b_.op(Opcode::kFlt, n, {b_.fconst(0.0f, n), x});
+      const Src negative = b_.op(Opcode::kFlt, n, {x, b_.fconst(0.0f, n)});
+      set(b_.select(pos, b_.fconst(1.0f, n), b_.select(negative, b_.fconst(-1.0f, n), b_.fconst(0.0f, n), n), n));
       return;
     }
-    case GLSLstd450Floor: set(op(Opcode::kFlr, n, {arg(0)})); return;
-    case GLSLstd450Ceil: set(op(Opcode::kMov, n, {neg(op(Opcode::kFlr, n, {neg(arg(0))}))})); return;
+    case GLSLstd450Floor: set(b_.op(Opcode::kFlr, n, {arg(0)})); return;
+    case GLSLstd450Ceil: set(b_.op(Opcode::kMov, n, {neg(b_.op(Opcode::kFlr, n, {neg(arg(0))}))})); return;
     case GLSLstd450Trunc: {
       const Src x = arg(0);
-      const Src down = op(Opcode::kFlr, n, {abs(x)});
-      set(select(op(Opcode::kFlt, n, {x, fconst(0.0f, n)}), op(Opcode::kMov, n, {neg(down)}), down, n));
+      const Src down = b_.op(Opcode::kFlr, n, {abs(x)});
+      set(b_.select(b_.op(Opcode::kFlt, n, {x, b_.fconst(0.0f, n)}), b_.op(Opcode::kMov, n, {neg(down)}), down, n));
       return;
     }
-    case GLSLstd450Round: set(op(Opcode::kFlr, n, {op(Opcode::kAdd, n, {arg(0), fconst(0.5f, n)})})); return;
-    case GLSLstd450Fract: set(op(Opcode::kFrc, n, {arg(0)})); return;
-    case GLSLstd450Sqrt: set(op(Opcode::kSqrt, n, {arg(0)})); return;
-    case GLSLstd450InverseSqrt: set(op(Opcode::kRsq, n, {arg(0)})); return;
+    case GLSLstd450Round: set(b_.op(Opcode::kFlr, n, {b_.op(Opcode::kAdd, n, {arg(0), b_.fconst(0.5f, n)})})); return;
+    case GLSLstd450Fract: set(b_.op(Opcode::kFrc, n, {arg(0)})); return;
+    case GLSLstd450Sqrt: set(b_.op(Opcode::kSqrt, n, {arg(0)})); return;
+    case GLSLstd450InverseSqrt: set(b_.op(Opcode::kRsq, n, {arg(0)})); return;
     case GLSLstd450FMin:
-    case GLSLstd450NMin: set(op(Opcode::kMin, n, {arg(0), bcast(arg(1))})); return;
+    case GLSLstd450NMin: set(b_.op(Opcode::kMin, n, {arg(0), bcast(arg(1))})); return;
     case GLSLstd450FMax:
-    case GLSLstd450NMax: set(op(Opcode::kMax, n, {arg(0), bcast(arg(1))})); return;
+    case GLSLstd450NMax: set(b_.op(Opcode::kMax, n, {arg(0), bcast(arg(1))})); return;
     case GLSLstd450FClamp:
-    case GLSLstd450NClamp: set(op(Opcode::kMin, n, {op(Opcode::kMax, n, {arg(0), bcast(arg(1))}), bcast(arg(2))})); return;
+    case GLSLstd450NClamp: set(b_.op(Opcode::kMin, n, {b_.op(Opcode::kMax, n, {arg(0), bcast(arg(1))}), bcast(arg(2))})); return;
     case GLSLstd450SMin:
     case GLSLstd450SMax:
     case GLSLstd450UMin:
     case GLSLstd450UMax: {
       const Src a = arg(0), b = bcast(arg(1));
       const bool u = e == GLSLstd450UMin || e == GLSLstd450UMax;
-      const Src lt = op(u ? Opcode::kIltu : Opcode::kIlt, n, {a, b});
+      const Src lt = b_.op(u ? Opcode::kIltu : Opcode::kIlt, n, {a, b});
       const bool min = e == GLSLstd450SMin || e == GLSLstd450UMin;
-      set(select(lt, min ? a : b, min ? b : a, n));
+      set(b_.select(lt, min ? a : b, min ? b : a, n));
       return;
     }
     case GLSLstd450SClamp:
     case GLSLstd450UClamp: {
       const bool u = e == GLSLstd450UClamp;
       const Src x = arg(0), lo = bcast(arg(1)), hi = bcast(arg(2));
-      const Src a = select(op(u ? Opcode::kIltu : Opcode::kIlt, n, {x, lo}), lo, x, n);
-      set(select(op(u ? Opcode::kIltu : Opcode::kIlt, n, {hi, a}), hi, a, n));
+      const Src a = b_.select(b_.op(u ? Opcode::kIltu : Opcode::kIlt, n, {x, lo}), lo, x, n);
+      set(b_.select(b_.op(u ? Opcode::kIltu : Opcode::kIlt, n, {hi, a}), hi, a, n));
       return;
     }
     case GLSLstd450FMix: {
       const Src x = arg(0), y = arg(1), a = bcast(arg(2));
-      set(op(Opcode::kMad, n, {op(Opcode::kAdd, n, {y, neg(x)}), a, x}));
+      set(b_.op(Opcode::kMad, n, {b_.op(Opcode::kAdd, n, {y, neg(x)}), a, x}));
       return;
     }
     case GLSLstd450Step: {
       const Src edge = bcast(arg(0)), x = arg(1);
-      set(select(op(Opcode::kFlt, n, {x, edge}), fconst(0.0f, n), fconst(1.0f, n), n));
+      set(b_.select(b_.op(Opcode::kFlt, n, {x, edge}), b_.fconst(0.0f, n), b_.fconst(1.0f, n), n));
       return;
     }
     case GLSLstd450SmoothStep: {
       const Src e0 = bcast(arg(0)), e1 = bcast(arg(1)), x = arg(2);
-      Src t = divide(op(Opcode::kAdd, n, {x, neg(e0)}), op(Opcode::kAdd, n, {e1, neg(e0)}), n);
-      t = op(Opcode::kMin, n, {op(Opcode::kMax, n, {t, fconst(0.0f, n)}), fconst(1.0f, n)});
-      const Src k = op(Opcode::kMad, n, {t, fconst(-2.0f, n), fconst(3.0f, n)});
-      set(op(Opcode::kMul, n, {op(Opcode::kMul, n, {t, t}), k}));
+      Src t = divide(b_.op(Opcode::kAdd, n, {x, neg(e0)}), b_.op(Opcode::kAdd, n, {e1, neg(e0)}), n);
+      t = b_.op(Opcode::kMin, n, {b_.op(Opcode::kMax, n, {t, b_.fconst(0.0f, n)}), b_.fconst(1.0f, n)});
+      const Src k = b_.op(Opcode::kMad, n, {t, b_.fconst(-2.0f, n), b_.fconst(3.0f, n)});
+      set(b_.op(Opcode::kMul, n, {b_.op(Opcode::kMul, n, {t, t}), k}));
       return;
     }
-    case GLSLstd450Fma: set(op(Opcode::kMad, n, {arg(0), arg(1), arg(2)})); return;
+    case GLSLstd450Fma: set(b_.op(Opcode::kMad, n, {arg(0), arg(1), arg(2)})); return;
     case GLSLstd450Sin: set(sine(arg(0), n)); return;
-    case GLSLstd450Cos: set(sine(op(Opcode::kAdd, n, {arg(0), fconst(1.57079632679f, n)}), n)); return;
+    case GLSLstd450Cos: set(sine(b_.op(Opcode::kAdd, n, {arg(0), b_.fconst(1.57079632679f, n)}), n)); return;
     case GLSLstd450Exp2: set(exp2(arg(0), n)); return;
     case GLSLstd450Log2: set(log2(arg(0), n)); return;
-    case GLSLstd450Exp: set(exp2(op(Opcode::kMul, n, {arg(0), fconst(1.44269504f, n)}), n)); return;
-    case GLSLstd450Log: set(op(Opcode::kMul, n, {log2(arg(0), n), fconst(0.693147181f, n)})); return;
-    case GLSLstd450Pow: set(exp2(op(Opcode::kMul, n, {log2(arg(0), n), arg(1)}), n)); return;
+    case GLSLstd450Exp: set(exp2(b_.op(Opcode::kMul, n, {arg(0), b_.fconst(1.44269504f, n)}), n)); return;
+    case GLSLstd450Log: set(b_.op(Opcode::kMul, n, {log2(arg(0), n), b_.fconst(0.693147181f, n)})); return;
+    case GLSLstd450Pow: set(exp2(b_.op(Opcode::kMul, n, {log2(arg(0), n), arg(1)}), n)); return;
     case GLSLstd450Length: {
       const Src v = arg(0);
-      set(v.n == 1 ? op(Opcode::kMov, 1, {abs(v)}) : op(Opcode::kSqrt, 1, {dot(v, v)}));
+      set(v.n == 1 ? b_.op(Opcode::kMov, 1, {abs(v)}) : b_.op(Opcode::kSqrt, 1, {dot(v, v)}));
       return;
     }
     case GLSLstd450Distance: {
       const Src a = arg(0), b = arg(1);
-      const Src d = op(Opcode::kAdd, a.n, {a, neg(b)});
-      set(d.n == 1 ? op(Opcode::kMov, 1, {abs(d)}) : op(Opcode::kSqrt, 1, {dot(d, d)}));
+      const Src d = b_.op(Opcode::kAdd, a.n, {a, neg(b)});
+      set(d.n == 1 ? b_.op(Opcode::kMov, 1, {abs(d)}) : b_.op(Opcode::kSqrt, 1, {dot(d, d)}));
       return;
     }
     case GLSLstd450Normalize: {
       const Src v = arg(0);
-      const Src r = op(Opcode::kRsq, 1, {dot(v, v)});
-      set(op(Opcode::kMul, n, {v, broadcast(r, n)}));
+      const Src r = b_.op(Opcode::kRsq, 1, {dot(v, v)});
+      set(b_.op(Opcode::kMul, n, {v, broadcast(r, n)}));
       return;
     }
     case GLSLstd450Cross: {
@@ -1741,38 +1612,38 @@ void Lowerer::ext_inst(const Instruction& i) {
         s.n = 3;
         return s;
       };
-      const Src t = op(Opcode::kMul, 3, {perm(a, 2, 0, 1), perm(b, 1, 2, 0)});
-      set(op(Opcode::kMad, 3, {perm(a, 1, 2, 0), perm(b, 2, 0, 1), neg(t)}));
+      const Src t = b_.op(Opcode::kMul, 3, {perm(a, 2, 0, 1), perm(b, 1, 2, 0)});
+      set(b_.op(Opcode::kMad, 3, {perm(a, 1, 2, 0), perm(b, 2, 0, 1), neg(t)}));
       return;
     }
     case GLSLstd450Reflect: {
       // I - 2 dot(N, I) N
       const Src in = arg(0), nrm = arg(1);
       Src d = dot(nrm, in);
-      d = op(Opcode::kAdd, 1, {d, d});
-      set(op(Opcode::kMad, n, {nrm, broadcast(neg(d), n), in}));
+      d = b_.op(Opcode::kAdd, 1, {d, d});
+      set(b_.op(Opcode::kMad, n, {nrm, broadcast(neg(d), n), in}));
       return;
     }
     case GLSLstd450Refract: {
       // k = 1 - eta^2 (1 - dot(N,I)^2); k < 0 ? 0 : eta I - (eta dot(N,I) + sqrt(k)) N
       const Src in = arg(0), nrm = arg(1), eta = arg(2);
       const Src d = dot(nrm, in);
-      const Src one = fconst(1.0f);
-      Src k = op(Opcode::kMad, 1, {neg(d), d, one});
-      k = op(Opcode::kMul, 1, {op(Opcode::kMul, 1, {eta, eta}), k});
-      k = op(Opcode::kAdd, 1, {one, neg(k)});
-      const Src s = op(Opcode::kMad, 1, {eta, d, op(Opcode::kSqrt, 1, {op(Opcode::kMax, 1, {k, fconst(0.0f)})})});
-      const Src r = op(Opcode::kMad, n, {broadcast(eta, n), in, op(Opcode::kMul, n, {nrm, broadcast(neg(s), n)})});
-      set(select(op(Opcode::kFlt, 1, {k, fconst(0.0f)}), fconst(0.0f, n), r, n));
+      const Src one = b_.fconst(1.0f);
+      Src k = b_.op(Opcode::kMad, 1, {neg(d), d, one});
+      k = b_.op(Opcode::kMul, 1, {b_.op(Opcode::kMul, 1, {eta, eta}), k});
+      k = b_.op(Opcode::kAdd, 1, {one, neg(k)});
+      const Src s = b_.op(Opcode::kMad, 1, {eta, d, b_.op(Opcode::kSqrt, 1, {b_.op(Opcode::kMax, 1, {k, b_.fconst(0.0f)})})});
+      const Src r = b_.op(Opcode::kMad, n, {broadcast(eta, n), in, b_.op(Opcode::kMul, n, {nrm, broadcast(neg(s), n)})});
+      set(b_.select(b_.op(Opcode::kFlt, 1, {k, b_.fconst(0.0f)}), b_.fconst(0.0f, n), r, n));
       return;
     }
     case GLSLstd450FaceForward: {
       // dot(Nref, I) < 0 ? N : -N
       const Src nn = arg(0), in = arg(1), nref = arg(2);
-      set(select(op(Opcode::kFlt, 1, {dot(nref, in), fconst(0.0f)}), nn, op(Opcode::kMov, n, {neg(nn)}), n));
+      set(b_.select(b_.op(Opcode::kFlt, 1, {dot(nref, in), b_.fconst(0.0f)}), nn, b_.op(Opcode::kMov, n, {neg(nn)}), n));
       return;
     }
-    default: unsupported(glsl_std_450_name(e));
+    default: b_.unsupported(glsl_std_450_name(e));
   }
 }
 

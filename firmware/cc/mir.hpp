@@ -1,6 +1,7 @@
 // The back end's machine IR: RPU instructions over virtual registers of 1 to 4 lanes.
-// Lowering (lower.cpp) writes it, the register allocator (regalloc.cpp) places every
-// virtual register in lanes of a machine register, and emit.cpp prints assembly.
+// Lowering (lower.cpp) writes it through a Builder (builder.hpp), the register
+// allocator (regalloc.cpp) places every virtual register in lanes of a machine register,
+// and emit.cpp prints assembly.
 #pragma once
 
 #include <array>
@@ -51,8 +52,39 @@ struct Imm {
   static Imm bits(std::uint32_t b) { return {Type::kBits, b}; }
   static Imm fp32_bits(std::uint32_t b) { return {Type::kFloat, b}; }
   static Imm special(std::uint32_t index) { return {Type::kSpecial, index}; }
+  // A constant lane's bits: fp32 for lif, raw for li.
+  static Imm lane(std::uint32_t b, bool is_float) { return is_float ? fp32_bits(b) : bits(b); }
   std::uint32_t field() const { return static_cast<std::uint32_t>(value); }
 };
+
+inline Src whole(int v, int width) {
+  Src s;
+  s.v = v;
+  s.n = width;
+  return s;
+}
+inline Src component(const Src& s, int j) {
+  Src c = s;
+  c.comp[0] = s.comp[static_cast<std::size_t>(j)];
+  c.n = 1;
+  return c;
+}
+inline Src neg(Src s) {
+  s.neg = !s.neg;
+  return s;
+}
+inline Src abs(Src s) {
+  s.abs = true;
+  s.neg = false;
+  return s;
+}
+// Every element is element 0 of s.
+inline Src broadcast(const Src& s, int n) {
+  Src b = s;
+  for (int j = 1; j < 4; ++j) b.comp[static_cast<std::size_t>(j)] = s.comp[0];
+  b.n = n;
+  return b;
+}
 
 enum class Kind : std::uint8_t {
   kOp,       // op with dst, srcs and imm
