@@ -10,6 +10,7 @@
 #include <spirv/unified1/GLSL.std.450.h>
 
 #include "cc/builder.hpp"
+#include "cc/math.hpp"
 #include "cc/spirv_names.hpp"
 #include "common/error.hpp"
 #include "isa/instruction.hpp"
@@ -775,20 +776,6 @@ class Lowerer {
     }
     return b_.op(mn, n, {scalar_or_vector(i.operands[0]), scalar_or_vector(i.operands[1])});
   }
-  Src dot(const Src& a, const Src& b) {
-    if (a.n == 3) return b_.op(Opcode::kDp3, 1, {a, b});
-    if (a.n == 4) return b_.op(Opcode::kDp4, 1, {a, b});
-    if (a.n == 1) return b_.op(Opcode::kMul, 1, {a, b});
-    const Src p = b_.op(Opcode::kMul, 2, {a, b});
-    return b_.op(Opcode::kAdd, 1, {component(p, 0), component(p, 1)});
-  }
-  Src exp2(const Src& y, int n);
-  Src sine(const Src& x, int n);
-  Src log2(const Src& x, int n);
-  Src divide(const Src& a, const Src& b, int n) {
-    const Src r = b_.op(Opcode::kRcp, b.n, {b});
-    return b_.op(Opcode::kMul, n, {a, r.n == 1 && n > 1 ? broadcast(r, n) : r});
-  }
 
   const Module& m_;
   const SpirvShader& shader_;
@@ -832,67 +819,6 @@ class Lowerer {
   int origin_ = -1, direction_ = -1, hit_ = -1, info_ = -1, return_address_ = -1;
   int tmin_ = -1, tmax_ = -1, barycentrics_ = -1, primitive_ = -1, material_ = -1;
 };
-
-// exp2 as firmware/whitted.s's pow computes it: 2^i 2^(g) sqrt(2) with g = y - i - 1/2,
-// the Taylor series of 2^g to g^6 (relative error < 2e-7); y clamped to [-126, 128].
-Src Lowerer::exp2(const Src& y_in, int n) {
-  Src y = b_.op(Opcode::kMax, n, {y_in, b_.fconst(-126.0f, n)});
-  y = b_.op(Opcode::kMin, n, {y, b_.fconst(128.0f, n)});
-  const Src i = b_.op(Opcode::kFlr, n, {y});
-  Src g = b_.op(Opcode::kAdd, n, {y, neg(i)});
-  g = b_.op(Opcode::kAdd, n, {g, neg(b_.fconst(0.5f, n))});
-  static constexpr float kCoefficients[] = {0.00015403530393381606f, 0.0013333558146428443f, 0.009618129107628477f,
-                                            0.05550410866482158f,    0.2402265069591007f,    0.6931471805599453f,
-                                            1.0f};
-  Src p = b_.fconst(kCoefficients[0], n);
-  for (std::size_t k = 1; k < std::size(kCoefficients); ++k) p = b_.op(Opcode::kMad, n, {p, g, b_.fconst(kCoefficients[k], n)});
-  Src e = b_.op(Opcode::kF2i, n, {i});
-  e = b_.op(Opcode::kIaddi, n, {e}, Imm::integer(127));
-  e = b_.op(Opcode::kShli, n, {e}, Imm::integer(23));  // 2^i as fp32 bits
-  p = b_.op(Opcode::kMul, n, {p, e});
-  return b_.op(Opcode::kMul, n, {p, b_.fconst(1.41421356f, n)});
-}
-
-// sin: x reduced to y in [-pi, pi) through the fraction of x / 2pi, then the Taylor
-// series to y^17 (absolute error below 3e-8 on the interval, plus the reduction's
-// rounding, which grows with |x|).
-Src Lowerer::sine(const Src& x, int n) {
-  Src f = b_.op(Opcode::kMad, n, {x, b_.fconst(0.159154943f, n), b_.fconst(0.5f, n)});  // x / 2pi + 1/2
-  f = b_.op(Opcode::kFrc, n, {f});
-  const Src y = b_.op(Opcode::kMul, n, {b_.op(Opcode::kAdd, n, {f, neg(b_.fconst(0.5f, n))}), b_.fconst(6.28318531f, n)});
-  const Src y2 = b_.op(Opcode::kMul, n, {y, y});
-  // sin y = y (1 - y^2/3! (1 - y^2/(4 5) (1 - ...))): Horner in y^2 with 1/k! coefficients
-  static constexpr float kCoefficients[] = {2.81145725e-15f, -7.64716373e-13f, 1.60590438e-10f, -2.50521084e-8f,
-                                            2.75573192e-6f,  -1.98412698e-4f,  8.33333333e-3f,  -1.66666667e-1f,
-                                            1.0f};
-  Src p = b_.fconst(kCoefficients[0], n);
-  for (std::size_t k = 1; k < std::size(kCoefficients); ++k) p = b_.op(Opcode::kMad, n, {p, y2, b_.fconst(kCoefficients[k], n)});
-  return b_.op(Opcode::kMul, n, {p, y});
-}
-
-// log2 as firmware/whitted.s's pow computes it: x = m 2^e with m in [sqrt(1/2), sqrt(2)),
-// log2 m = (2/ln 2) atanh((m-1)/(m+1)) to t^9. For x > 0; 0 gives -126.something, so
-// exp2 of a product with it still flushes to 0.
-Src Lowerer::log2(const Src& x, int n) {
-  Src e = b_.op(Opcode::kShri, n, {x}, Imm::integer(23));
-  e = b_.op(Opcode::kIaddi, n, {e}, Imm::integer(-127));
-  Src m = b_.op(Opcode::kAndi, n, {x}, Imm::bits(0x007fffffu));
-  m = b_.op(Opcode::kOri, n, {m}, Imm::bits(0x3f800000u));
-  const Src big = b_.op(Opcode::kFle, n, {b_.fconst(1.41421356f, n), m});
-  m = b_.select(big, b_.op(Opcode::kMul, n, {m, b_.fconst(0.5f, n)}), m, n);
-  e = b_.select(big, b_.op(Opcode::kIaddi, n, {e}, Imm::integer(1)), e, n);
-  const Src ef = b_.op(Opcode::kI2f, n, {e});
-  const Src one = b_.fconst(1.0f, n);
-  Src t = b_.op(Opcode::kAdd, n, {m, neg(one)});
-  t = b_.op(Opcode::kMul, n, {t, b_.op(Opcode::kRcp, n, {b_.op(Opcode::kAdd, n, {m, one})})});
-  const Src t2 = b_.op(Opcode::kMul, n, {t, t});
-  static constexpr float kCoefficients[] = {0.3205988979753252f, 0.41219858311113244f, 0.5770780163555854f,
-                                            0.9617966939259756f, 2.8853900817779268f};
-  Src p = b_.fconst(kCoefficients[0], n);
-  for (std::size_t k = 1; k < std::size(kCoefficients); ++k) p = b_.op(Opcode::kMad, n, {p, t2, b_.fconst(kCoefficients[k], n)});
-  p = b_.op(Opcode::kMul, n, {p, t});
-  return b_.op(Opcode::kAdd, n, {ef, p});
-}
 
 void Lowerer::trace(const Instruction& i) {
   // OpTraceRayKHR accel flags cullmask sbt_offset sbt_stride miss origin tmin direction tmax payload
@@ -1307,19 +1233,19 @@ void Lowerer::instruction(const Instruction& i) {
         set(b_.op(Opcode::kRcp, n, {b.n == 1 && n > 1 ? broadcast(b, n) : b}));  // 1 / x
         return;
       }
-      set(divide(scalar_or_vector(o[0]), scalar_or_vector(o[1]), n));
+      set(divide(b_, scalar_or_vector(o[0]), scalar_or_vector(o[1]), n));
       return;
     }
     case Op::OpFNegate: set(neg(scalar_or_vector(o[0]))); return;  // a modifier on its uses
     case Op::OpFMod: {
       // x - y floor(x / y)
       const Src x = scalar_or_vector(o[0]), y = scalar_or_vector(o[1]);
-      const Src q = b_.op(Opcode::kFlr, n, {divide(x, y, n)});
+      const Src q = b_.op(Opcode::kFlr, n, {divide(b_, x, y, n)});
       set(b_.op(Opcode::kMad, n, {neg(y.n == 1 && n > 1 ? broadcast(y, n) : y), q, x}));
       return;
     }
     case Op::OpVectorTimesScalar: set(b_.op(Opcode::kMul, n, {scalar_or_vector(o[0]), broadcast(scalar_or_vector(o[1]), n)})); return;
-    case Op::OpDot: set(dot(scalar_or_vector(o[0]), scalar_or_vector(o[1]))); return;
+    case Op::OpDot: set(dot(b_, scalar_or_vector(o[0]), scalar_or_vector(o[1]))); return;
     case Op::OpMatrixTimesScalar: {
       Value m = concrete(value(o[0]));
       const Src s = scalar_or_vector(o[1]);
@@ -1348,7 +1274,7 @@ void Lowerer::instruction(const Instruction& i) {
       const Value m = concrete(value(o[1]));
       const int d = b_.vreg(n);
       for (int k = 0; k < n; ++k) {
-        const Src dk = dot(v, m.members.at(static_cast<std::size_t>(k)).leaf);
+        const Src dk = dot(b_, v, m.members.at(static_cast<std::size_t>(k)).leaf);
         b_.op_into(d, static_cast<std::uint8_t>(1u << k), Opcode::kMov, {dk}, {}, k == 0);
       }
       set(whole(d, n));
@@ -1573,34 +1499,34 @@ void Lowerer::ext_inst(const Instruction& i) {
     }
     case GLSLstd450SmoothStep: {
       const Src e0 = bcast(arg(0)), e1 = bcast(arg(1)), x = arg(2);
-      Src t = divide(b_.op(Opcode::kAdd, n, {x, neg(e0)}), b_.op(Opcode::kAdd, n, {e1, neg(e0)}), n);
+      Src t = divide(b_, b_.op(Opcode::kAdd, n, {x, neg(e0)}), b_.op(Opcode::kAdd, n, {e1, neg(e0)}), n);
       t = b_.op(Opcode::kMin, n, {b_.op(Opcode::kMax, n, {t, b_.fconst(0.0f, n)}), b_.fconst(1.0f, n)});
       const Src k = b_.op(Opcode::kMad, n, {t, b_.fconst(-2.0f, n), b_.fconst(3.0f, n)});
       set(b_.op(Opcode::kMul, n, {b_.op(Opcode::kMul, n, {t, t}), k}));
       return;
     }
     case GLSLstd450Fma: set(b_.op(Opcode::kMad, n, {arg(0), arg(1), arg(2)})); return;
-    case GLSLstd450Sin: set(sine(arg(0), n)); return;
-    case GLSLstd450Cos: set(sine(b_.op(Opcode::kAdd, n, {arg(0), b_.fconst(1.57079632679f, n)}), n)); return;
-    case GLSLstd450Exp2: set(exp2(arg(0), n)); return;
-    case GLSLstd450Log2: set(log2(arg(0), n)); return;
-    case GLSLstd450Exp: set(exp2(b_.op(Opcode::kMul, n, {arg(0), b_.fconst(1.44269504f, n)}), n)); return;
-    case GLSLstd450Log: set(b_.op(Opcode::kMul, n, {log2(arg(0), n), b_.fconst(0.693147181f, n)})); return;
-    case GLSLstd450Pow: set(exp2(b_.op(Opcode::kMul, n, {log2(arg(0), n), arg(1)}), n)); return;
+    case GLSLstd450Sin: set(sine(b_, arg(0), n)); return;
+    case GLSLstd450Cos: set(sine(b_, b_.op(Opcode::kAdd, n, {arg(0), b_.fconst(1.57079632679f, n)}), n)); return;
+    case GLSLstd450Exp2: set(exp2(b_, arg(0), n)); return;
+    case GLSLstd450Log2: set(log2(b_, arg(0), n)); return;
+    case GLSLstd450Exp: set(exp2(b_, b_.op(Opcode::kMul, n, {arg(0), b_.fconst(1.44269504f, n)}), n)); return;
+    case GLSLstd450Log: set(b_.op(Opcode::kMul, n, {log2(b_, arg(0), n), b_.fconst(0.693147181f, n)})); return;
+    case GLSLstd450Pow: set(exp2(b_, b_.op(Opcode::kMul, n, {log2(b_, arg(0), n), arg(1)}), n)); return;
     case GLSLstd450Length: {
       const Src v = arg(0);
-      set(v.n == 1 ? b_.op(Opcode::kMov, 1, {abs(v)}) : b_.op(Opcode::kSqrt, 1, {dot(v, v)}));
+      set(v.n == 1 ? b_.op(Opcode::kMov, 1, {abs(v)}) : b_.op(Opcode::kSqrt, 1, {dot(b_, v, v)}));
       return;
     }
     case GLSLstd450Distance: {
       const Src a = arg(0), b = arg(1);
       const Src d = b_.op(Opcode::kAdd, a.n, {a, neg(b)});
-      set(d.n == 1 ? b_.op(Opcode::kMov, 1, {abs(d)}) : b_.op(Opcode::kSqrt, 1, {dot(d, d)}));
+      set(d.n == 1 ? b_.op(Opcode::kMov, 1, {abs(d)}) : b_.op(Opcode::kSqrt, 1, {dot(b_, d, d)}));
       return;
     }
     case GLSLstd450Normalize: {
       const Src v = arg(0);
-      const Src r = b_.op(Opcode::kRsq, 1, {dot(v, v)});
+      const Src r = b_.op(Opcode::kRsq, 1, {dot(b_, v, v)});
       set(b_.op(Opcode::kMul, n, {v, broadcast(r, n)}));
       return;
     }
@@ -1619,7 +1545,7 @@ void Lowerer::ext_inst(const Instruction& i) {
     case GLSLstd450Reflect: {
       // I - 2 dot(N, I) N
       const Src in = arg(0), nrm = arg(1);
-      Src d = dot(nrm, in);
+      Src d = dot(b_, nrm, in);
       d = b_.op(Opcode::kAdd, 1, {d, d});
       set(b_.op(Opcode::kMad, n, {nrm, broadcast(neg(d), n), in}));
       return;
@@ -1627,7 +1553,7 @@ void Lowerer::ext_inst(const Instruction& i) {
     case GLSLstd450Refract: {
       // k = 1 - eta^2 (1 - dot(N,I)^2); k < 0 ? 0 : eta I - (eta dot(N,I) + sqrt(k)) N
       const Src in = arg(0), nrm = arg(1), eta = arg(2);
-      const Src d = dot(nrm, in);
+      const Src d = dot(b_, nrm, in);
       const Src one = b_.fconst(1.0f);
       Src k = b_.op(Opcode::kMad, 1, {neg(d), d, one});
       k = b_.op(Opcode::kMul, 1, {b_.op(Opcode::kMul, 1, {eta, eta}), k});
@@ -1640,7 +1566,7 @@ void Lowerer::ext_inst(const Instruction& i) {
     case GLSLstd450FaceForward: {
       // dot(Nref, I) < 0 ? N : -N
       const Src nn = arg(0), in = arg(1), nref = arg(2);
-      set(b_.select(b_.op(Opcode::kFlt, 1, {dot(nref, in), b_.fconst(0.0f)}), nn, b_.op(Opcode::kMov, n, {neg(nn)}), n));
+      set(b_.select(b_.op(Opcode::kFlt, 1, {dot(b_, nref, in), b_.fconst(0.0f)}), nn, b_.op(Opcode::kMov, n, {neg(nn)}), n));
       return;
     }
     default: b_.unsupported(glsl_std_450_name(e));

@@ -1,0 +1,20 @@
+// The math library: GLSL functions the RPU has no instruction for, as instruction
+// sequences over n lanes (docs/shaders.md "What compiles" states their accuracy).
+#pragma once
+
+#include "cc/builder.hpp"
+
+namespace rpu::cc {
+
+// x . y of 1 to 4 components, into one lane: dp3 and dp4 where they fit.
+Src dot(Builder& b, const Src& x, const Src& y);
+// x / y as x * (1/y), with the correctly rounded reciprocal (a scalar y broadcast).
+Src divide(Builder& b, const Src& x, const Src& y, int n);
+// 2^y, as firmware/whitted.s's pow computes it.
+Src exp2(Builder& b, const Src& y, int n);
+// log2 x for x > 0, as firmware/whitted.s's pow computes it.
+Src log2(Builder& b, const Src& x, int n);
+// sin x; cos x is sin(x + pi/2).
+Src sine(Builder& b, const Src& x, int n);
+
+}  // namespace rpu::cc
