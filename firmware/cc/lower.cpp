@@ -7,10 +7,9 @@
 #include <unordered_map>
 
 #include <fmt/format.h>
-#include <spirv/unified1/GLSL.std.450.h>
 
 #include "cc/builder.hpp"
-#include "cc/math.hpp"
+#include "cc/select.hpp"
 #include "cc/spirv_names.hpp"
 #include "common/error.hpp"
 #include "isa/instruction.hpp"
@@ -756,27 +755,29 @@ class Lowerer {
   }
 
   // ---- instructions -------------------------------------------------------------------------
+  // An instruction's operands from `first` on, as selection reads them.
+  class Args final : public Operands {
+   public:
+    Args(Lowerer& l, const Instruction& i, std::size_t first) : l_(l), i_(i), first_(first) {}
+    Src value(std::size_t k) override { return l_.scalar_or_vector(id(k)); }
+    std::optional<std::uint32_t> constant(std::size_t k) const override { return l_.constant_scalar(id(k)); }
+    std::vector<Src> columns(std::size_t k) override {
+      std::vector<Src> out;
+      for (const Value& c : l_.concrete(l_.value(id(k))).members) out.push_back(c.leaf);
+      return out;
+    }
+    bool below_2_31(const Src& s) const override { return l_.small_.count(s.v) != 0; }
+
+   private:
+    Id id(std::size_t k) const { return i_.operands.at(first_ + k); }
+    Lowerer& l_;
+    const Instruction& i_;
+    std::size_t first_;
+  };
   void instruction(const Instruction& i);
   void ext_inst(const Instruction& i);
   void trace(const Instruction& i);
   void image_store(const Instruction& i);
-  Src binary(const Instruction& i, Opcode mn, bool swap = false) {
-    Src a = scalar_or_vector(i.operands[0]), b = scalar_or_vector(i.operands[1]);
-    if (swap) std::swap(a, b);
-    return b_.op(mn, width_of(i.type), {a, b});
-  }
-  // Integer op with an immediate form when the second operand is a constant.
-  Src int_binary(const Instruction& i, Opcode mn, Opcode imm_mn) {
-    const int n = width_of(i.type);
-    if (const auto c = constant_scalar(i.operands[1])) {
-      const std::uint32_t v = *c;
-      const bool shift = imm_mn == Opcode::kShli || imm_mn == Opcode::kShri || imm_mn == Opcode::kSrai;
-      return b_.op(imm_mn, n, {scalar_or_vector(i.operands[0])},
-                Imm::integer(shift ? std::int64_t{v & 31} : static_cast<std::int32_t>(v)));
-    }
-    return b_.op(mn, n, {scalar_or_vector(i.operands[0]), scalar_or_vector(i.operands[1])});
-  }
-
   const Module& m_;
   const SpirvShader& shader_;
   const LowerContext& ctx_;
@@ -1223,29 +1224,7 @@ void Lowerer::instruction(const Instruction& i) {
       set(r);
       return;
     }
-    // ---- float arithmetic
-    case Op::OpFAdd: set(binary(i, Opcode::kAdd)); return;
-    case Op::OpFSub: set(b_.op(Opcode::kAdd, n, {scalar_or_vector(o[0]), neg(scalar_or_vector(o[1]))})); return;
-    case Op::OpFMul: set(binary(i, Opcode::kMul)); return;
-    case Op::OpFDiv: {
-      if (const auto c = constant_scalar(o[0]); c && *c == 0x3f800000u && n == width_of(m_.constants.at(o[0]).type)) {
-        const Src b = scalar_or_vector(o[1]);
-        set(b_.op(Opcode::kRcp, n, {b.n == 1 && n > 1 ? broadcast(b, n) : b}));  // 1 / x
-        return;
-      }
-      set(divide(b_, scalar_or_vector(o[0]), scalar_or_vector(o[1]), n));
-      return;
-    }
-    case Op::OpFNegate: set(neg(scalar_or_vector(o[0]))); return;  // a modifier on its uses
-    case Op::OpFMod: {
-      // x - y floor(x / y)
-      const Src x = scalar_or_vector(o[0]), y = scalar_or_vector(o[1]);
-      const Src q = b_.op(Opcode::kFlr, n, {divide(b_, x, y, n)});
-      set(b_.op(Opcode::kMad, n, {neg(y.n == 1 && n > 1 ? broadcast(y, n) : y), q, x}));
-      return;
-    }
-    case Op::OpVectorTimesScalar: set(b_.op(Opcode::kMul, n, {scalar_or_vector(o[0]), broadcast(scalar_or_vector(o[1]), n)})); return;
-    case Op::OpDot: set(dot(b_, scalar_or_vector(o[0]), scalar_or_vector(o[1]))); return;
+    // ---- aggregates
     case Op::OpMatrixTimesScalar: {
       Value m = concrete(value(o[0]));
       const Src s = scalar_or_vector(o[1]);
@@ -1259,46 +1238,7 @@ void Lowerer::instruction(const Instruction& i) {
       values_[i.result] = r;
       return;
     }
-    case Op::OpMatrixTimesVector: {
-      const Value m = concrete(value(o[0]));
-      const Src v = scalar_or_vector(o[1]);
-      Src acc = b_.op(Opcode::kMul, n, {m.members.at(0).leaf, broadcast(component(v, 0), n)});
-      for (std::size_t k = 1; k < m.members.size(); ++k) {
-        acc = b_.op(Opcode::kMad, n, {m.members[k].leaf, broadcast(component(v, static_cast<int>(k)), n), acc});
-      }
-      set(acc);
-      return;
-    }
-    case Op::OpVectorTimesMatrix: {
-      const Src v = scalar_or_vector(o[0]);
-      const Value m = concrete(value(o[1]));
-      const int d = b_.vreg(n);
-      for (int k = 0; k < n; ++k) {
-        const Src dk = dot(b_, v, m.members.at(static_cast<std::size_t>(k)).leaf);
-        b_.op_into(d, static_cast<std::uint8_t>(1u << k), Opcode::kMov, {dk}, {}, k == 0);
-      }
-      set(whole(d, n));
-      return;
-    }
-    // ---- comparisons (masks: all ones or zero)
-    case Op::OpFOrdEqual: set(binary(i, Opcode::kFeq)); return;
-    case Op::OpFUnordNotEqual: set(binary(i, Opcode::kFne)); return;
-    case Op::OpFOrdLessThan: set(binary(i, Opcode::kFlt)); return;
-    case Op::OpFOrdGreaterThan: set(binary(i, Opcode::kFlt, true)); return;
-    case Op::OpFOrdLessThanEqual: set(binary(i, Opcode::kFle)); return;
-    case Op::OpFOrdGreaterThanEqual: set(binary(i, Opcode::kFle, true)); return;
-    case Op::OpFOrdNotEqual: set(b_.op(Opcode::kOr, n, {binary(i, Opcode::kFlt), binary(i, Opcode::kFlt, true)})); return;
-    case Op::OpFUnordEqual: set(b_.not_of(b_.op(Opcode::kOr, n, {binary(i, Opcode::kFlt), binary(i, Opcode::kFlt, true)}))); return;
-    case Op::OpFUnordLessThan: set(b_.not_of(binary(i, Opcode::kFle, true))); return;
-    case Op::OpFUnordGreaterThan: set(b_.not_of(binary(i, Opcode::kFle))); return;
-    case Op::OpFUnordLessThanEqual: set(b_.not_of(binary(i, Opcode::kFlt, true))); return;
-    case Op::OpFUnordGreaterThanEqual: set(b_.not_of(binary(i, Opcode::kFlt))); return;
-    case Op::OpIsNan: {
-      const Src a = scalar_or_vector(o[0]);
-      set(b_.op(Opcode::kFne, n, {a, a}));
-      return;
-    }
-    case Op::OpIsInf: set(b_.op(Opcode::kFeq, n, {abs(scalar_or_vector(o[0])), b_.fconst(INFINITY, n)})); return;
+    // ---- a ray query's committed type against a constant (else selected below)
     case Op::OpIEqual:
     case Op::OpINotEqual: {
       // A ray query's committed type against 0 (none): the miss mask straight from the
@@ -1312,106 +1252,7 @@ void Lowerer::instruction(const Instruction& i) {
         set(miss_mask ? m : b_.not_of(m));
         return;
       }
-      set(i.op == Op::OpIEqual ? binary(i, Opcode::kIeq) : b_.not_of(binary(i, Opcode::kIeq)));
-      return;
-    }
-    case Op::OpLogicalEqual: set(binary(i, Opcode::kIeq)); return;
-    case Op::OpLogicalNotEqual: set(binary(i, Opcode::kXor)); return;
-    case Op::OpSLessThan: set(int_binary(i, Opcode::kIlt, Opcode::kIlti)); return;
-    case Op::OpSGreaterThan: set(binary(i, Opcode::kIlt, true)); return;
-    case Op::OpSLessThanEqual: set(b_.not_of(binary(i, Opcode::kIlt, true))); return;
-    case Op::OpSGreaterThanEqual: set(b_.not_of(binary(i, Opcode::kIlt))); return;
-    case Op::OpULessThan: set(binary(i, Opcode::kIltu)); return;
-    case Op::OpUGreaterThan: set(binary(i, Opcode::kIltu, true)); return;
-    case Op::OpULessThanEqual: set(b_.not_of(binary(i, Opcode::kIltu, true))); return;
-    case Op::OpUGreaterThanEqual: set(b_.not_of(binary(i, Opcode::kIltu))); return;
-    case Op::OpLogicalAnd: set(binary(i, Opcode::kAnd)); return;
-    case Op::OpLogicalOr: set(binary(i, Opcode::kOr)); return;
-    case Op::OpLogicalNot:
-    case Op::OpNot: set(b_.not_of(scalar_or_vector(o[0]))); return;
-    case Op::OpAny:
-    case Op::OpAll: {
-      const Src v = scalar_or_vector(o[0]);
-      Src r = component(v, 0);
-      for (int k = 1; k < v.n; ++k) r = b_.op(i.op == Op::OpAny ? Opcode::kOr : Opcode::kAnd, 1, {r, component(v, k)});
-      set(r.v == v.v && v.n == 1 ? b_.op(Opcode::kMov, 1, {r}) : r);
-      return;
-    }
-    case Op::OpSelect: set(b_.select(scalar_or_vector(o[0]), scalar_or_vector(o[1]), scalar_or_vector(o[2]), n)); return;
-    // ---- integers
-    case Op::OpIAdd: set(int_binary(i, Opcode::kIadd, Opcode::kIaddi)); return;
-    case Op::OpISub: {
-      if (const auto c = constant_scalar(o[1])) {
-        set(b_.op(Opcode::kIaddi, n, {scalar_or_vector(o[0])}, Imm::integer(-static_cast<std::int64_t>(static_cast<std::int32_t>(*c)))));
-        return;
-      }
-      set(binary(i, Opcode::kIsub));
-      return;
-    }
-    case Op::OpIMul: set(int_binary(i, Opcode::kImul, Opcode::kImuli)); return;
-    case Op::OpBitwiseAnd: set(int_binary(i, Opcode::kAnd, Opcode::kAndi)); return;
-    case Op::OpBitwiseOr: set(int_binary(i, Opcode::kOr, Opcode::kOri)); return;
-    case Op::OpBitwiseXor: set(int_binary(i, Opcode::kXor, Opcode::kXori)); return;
-    case Op::OpShiftLeftLogical: set(int_binary(i, Opcode::kShl, Opcode::kShli)); return;
-    case Op::OpShiftRightLogical: set(int_binary(i, Opcode::kShr, Opcode::kShri)); return;
-    case Op::OpShiftRightArithmetic: set(int_binary(i, Opcode::kSra, Opcode::kSrai)); return;
-    case Op::OpSNegate: set(b_.op(Opcode::kIsub, n, {b_.op(Opcode::kLi, n, {}, Imm::integer(0)), scalar_or_vector(o[0])})); return;
-    case Op::OpUDiv:
-    case Op::OpUMod:
-    case Op::OpSDiv:
-    case Op::OpSMod:
-    case Op::OpSRem: {
-      const auto c = constant_scalar(o[1]);
-      const bool is_signed = i.op != Op::OpUDiv && i.op != Op::OpUMod;
-      if (!c || !std::has_single_bit(*c) || (is_signed && static_cast<std::int32_t>(*c) <= 0)) {
-        b_.unsupported(fmt::format("{} by other than a constant power of two (the RPU has no integer divider)",
-                                op_name(i.op)));
-      }
-      const int k = std::countr_zero(*c);
-      const Src x = scalar_or_vector(o[0]);
-      if (i.op == Op::OpUDiv) {
-        set(b_.op(Opcode::kShri, n, {x}, Imm::integer(k)));
-      } else if (i.op == Op::OpUMod || i.op == Op::OpSMod) {
-        // SMod takes the divisor's sign, positive here: the low bits
-        set(b_.op(Opcode::kAndi, n, {x}, Imm::integer(*c - 1)));
-      } else if (k == 0) {
-        set(i.op == Op::OpSDiv ? x : b_.op(Opcode::kLi, n, {}, Imm::integer(0)));  // by 1
-      } else {
-        // Round toward zero: add 2^k - 1 to negative x first.
-        const Src bias = b_.op(Opcode::kShri, n, {b_.op(Opcode::kSrai, n, {x}, Imm::integer(31))}, Imm::integer(32 - k));
-        const Src q = b_.op(Opcode::kSrai, n, {b_.op(Opcode::kIadd, n, {x, bias})}, Imm::integer(k));
-        // SRem: the remainder with x's sign
-        set(i.op == Op::OpSDiv ? q : b_.op(Opcode::kIsub, n, {x, b_.op(Opcode::kShli, n, {q}, Imm::integer(k))}));
-      }
-      return;
-    }
-    // ---- conversions
-    case Op::OpConvertSToF: set(b_.op(Opcode::kI2f, n, {scalar_or_vector(o[0])})); return;
-    case Op::OpConvertFToS: set(b_.op(Opcode::kF2i, n, {scalar_or_vector(o[0])})); return;
-    case Op::OpConvertUToF: {
-      const Src u = scalar_or_vector(o[0]);
-      if (small_.count(u.v)) {
-        set(b_.op(Opcode::kI2f, n, {u}));  // below 2^31: as a signed integer
-        return;
-      }
-      // Values with the top bit set: halve (keeping the low bit sticky), convert, double.
-      const Src direct = b_.op(Opcode::kI2f, n, {u});
-      Src half = b_.op(Opcode::kShri, n, {u}, Imm::integer(1));
-      half = b_.op(Opcode::kOr, n, {half, b_.op(Opcode::kAndi, n, {u}, Imm::integer(1))});
-      Src big = b_.op(Opcode::kI2f, n, {half});
-      big = b_.op(Opcode::kAdd, n, {big, big});
-      set(b_.select(b_.op(Opcode::kIlti, n, {u}, Imm::integer(0)), big, direct, n));
-      return;
-    }
-    case Op::OpConvertFToU: {
-      // [0, 2^31) directly, [2^31, 2^32) through f - 2^31; negatives give 0 (f2i saturates).
-      const Src f = scalar_or_vector(o[0]);
-      const Src two31 = b_.fconst(2147483648.0f, n);
-      const Src low = b_.op(Opcode::kF2i, n, {b_.op(Opcode::kMax, n, {f, b_.fconst(0.0f, n)})});
-      Src high = b_.op(Opcode::kF2i, n, {b_.op(Opcode::kAdd, n, {f, neg(two31)})});
-      high = b_.op(Opcode::kXori, n, {high}, Imm::bits(0x80000000u));
-      set(b_.select(b_.op(Opcode::kFle, n, {two31, f}), high, low, n));
-      return;
+      break;
     }
     case Op::OpSConvert:
     case Op::OpUConvert:
@@ -1420,157 +1261,23 @@ void Lowerer::instruction(const Instruction& i) {
       values_[i.result] = value(o[0]);
       return;
     }
-    default: b_.unsupported(op_name(i.op));
+    default: break;
   }
+  Args args(*this, i, 0);
+  if (const std::optional<Src> s = select(b_, i.op, n, args)) {
+    set(*s);
+    return;
+  }
+  b_.unsupported(op_name(i.op));
 }
 
 void Lowerer::ext_inst(const Instruction& i) {
   const auto& o = i.operands;
   if (o.size() < 2 || o[0] != m_.glsl_std_450) b_.unsupported("an extended instruction set other than GLSL.std.450");
-  const std::uint32_t e = o[1];
-  const int n = width_of(i.type);
-  const auto arg = [&](std::size_t k) { return scalar_or_vector(o.at(2 + k)); };
-  const auto set = [&](const Src& s) {
-    Value v;
-    v.leaf = s;
-    values_[i.result] = v;
-  };
-  const auto bcast = [&](const Src& s) { return s.n == 1 && n > 1 ? broadcast(s, n) : s; };
-  switch (e) {
-    case GLSLstd450FAbs: set(abs(arg(0))); return;  // a modifier on its uses
-    case GLSLstd450SAbs: {
-      const Src x = arg(0);
-      set(b_.select(b_.op(Opcode::kIlti, n, {x}, Imm::integer(0)), b_.op(Opcode::kIsub, n, {b_.op(Opcode::kLi, n, {}, Imm::integer(0)), x}), x, n));
-      return;
-    }
-    case GLSLstd450FSign: {
-      const Src x = arg(0);
-      const Src pos = b_.op(Opcode::kFlt, n, {b_.fconst(0.0f, n), x});
-      const Src negative = b_.op(Opcode::kFlt, n, {x, b_.fconst(0.0f, n)});
-      set(b_.select(pos, b_.fconst(1.0f, n), b_.select(negative, b_.fconst(-1.0f, n), b_.fconst(0.0f, n), n), n));
-      return;
-    }
-    case GLSLstd450Floor: set(b_.op(Opcode::kFlr, n, {arg(0)})); return;
-    case GLSLstd450Ceil: set(b_.op(Opcode::kMov, n, {neg(b_.op(Opcode::kFlr, n, {neg(arg(0))}))})); return;
-    case GLSLstd450Trunc: {
-      const Src x = arg(0);
-      const Src down = b_.op(Opcode::kFlr, n, {abs(x)});
-      set(b_.select(b_.op(Opcode::kFlt, n, {x, b_.fconst(0.0f, n)}), b_.op(Opcode::kMov, n, {neg(down)}), down, n));
-      return;
-    }
-    case GLSLstd450Round: set(b_.op(Opcode::kFlr, n, {b_.op(Opcode::kAdd, n, {arg(0), b_.fconst(0.5f, n)})})); return;
-    case GLSLstd450Fract: set(b_.op(Opcode::kFrc, n, {arg(0)})); return;
-    case GLSLstd450Sqrt: set(b_.op(Opcode::kSqrt, n, {arg(0)})); return;
-    case GLSLstd450InverseSqrt: set(b_.op(Opcode::kRsq, n, {arg(0)})); return;
-    case GLSLstd450FMin:
-    case GLSLstd450NMin: set(b_.op(Opcode::kMin, n, {arg(0), bcast(arg(1))})); return;
-    case GLSLstd450FMax:
-    case GLSLstd450NMax: set(b_.op(Opcode::kMax, n, {arg(0), bcast(arg(1))})); return;
-    case GLSLstd450FClamp:
-    case GLSLstd450NClamp: set(b_.op(Opcode::kMin, n, {b_.op(Opcode::kMax, n, {arg(0), bcast(arg(1))}), bcast(arg(2))})); return;
-    case GLSLstd450SMin:
-    case GLSLstd450SMax:
-    case GLSLstd450UMin:
-    case GLSLstd450UMax: {
-      const Src a = arg(0), b = bcast(arg(1));
-      const bool u = e == GLSLstd450UMin || e == GLSLstd450UMax;
-      const Src lt = b_.op(u ? Opcode::kIltu : Opcode::kIlt, n, {a, b});
-      const bool min = e == GLSLstd450SMin || e == GLSLstd450UMin;
-      set(b_.select(lt, min ? a : b, min ? b : a, n));
-      return;
-    }
-    case GLSLstd450SClamp:
-    case GLSLstd450UClamp: {
-      const bool u = e == GLSLstd450UClamp;
-      const Src x = arg(0), lo = bcast(arg(1)), hi = bcast(arg(2));
-      const Src a = b_.select(b_.op(u ? Opcode::kIltu : Opcode::kIlt, n, {x, lo}), lo, x, n);
-      set(b_.select(b_.op(u ? Opcode::kIltu : Opcode::kIlt, n, {hi, a}), hi, a, n));
-      return;
-    }
-    case GLSLstd450FMix: {
-      const Src x = arg(0), y = arg(1), a = bcast(arg(2));
-      set(b_.op(Opcode::kMad, n, {b_.op(Opcode::kAdd, n, {y, neg(x)}), a, x}));
-      return;
-    }
-    case GLSLstd450Step: {
-      const Src edge = bcast(arg(0)), x = arg(1);
-      set(b_.select(b_.op(Opcode::kFlt, n, {x, edge}), b_.fconst(0.0f, n), b_.fconst(1.0f, n), n));
-      return;
-    }
-    case GLSLstd450SmoothStep: {
-      const Src e0 = bcast(arg(0)), e1 = bcast(arg(1)), x = arg(2);
-      Src t = divide(b_, b_.op(Opcode::kAdd, n, {x, neg(e0)}), b_.op(Opcode::kAdd, n, {e1, neg(e0)}), n);
-      t = b_.op(Opcode::kMin, n, {b_.op(Opcode::kMax, n, {t, b_.fconst(0.0f, n)}), b_.fconst(1.0f, n)});
-      const Src k = b_.op(Opcode::kMad, n, {t, b_.fconst(-2.0f, n), b_.fconst(3.0f, n)});
-      set(b_.op(Opcode::kMul, n, {b_.op(Opcode::kMul, n, {t, t}), k}));
-      return;
-    }
-    case GLSLstd450Fma: set(b_.op(Opcode::kMad, n, {arg(0), arg(1), arg(2)})); return;
-    case GLSLstd450Sin: set(sine(b_, arg(0), n)); return;
-    case GLSLstd450Cos: set(sine(b_, b_.op(Opcode::kAdd, n, {arg(0), b_.fconst(1.57079632679f, n)}), n)); return;
-    case GLSLstd450Exp2: set(exp2(b_, arg(0), n)); return;
-    case GLSLstd450Log2: set(log2(b_, arg(0), n)); return;
-    case GLSLstd450Exp: set(exp2(b_, b_.op(Opcode::kMul, n, {arg(0), b_.fconst(1.44269504f, n)}), n)); return;
-    case GLSLstd450Log: set(b_.op(Opcode::kMul, n, {log2(b_, arg(0), n), b_.fconst(0.693147181f, n)})); return;
-    case GLSLstd450Pow: set(exp2(b_, b_.op(Opcode::kMul, n, {log2(b_, arg(0), n), arg(1)}), n)); return;
-    case GLSLstd450Length: {
-      const Src v = arg(0);
-      set(v.n == 1 ? b_.op(Opcode::kMov, 1, {abs(v)}) : b_.op(Opcode::kSqrt, 1, {dot(b_, v, v)}));
-      return;
-    }
-    case GLSLstd450Distance: {
-      const Src a = arg(0), b = arg(1);
-      const Src d = b_.op(Opcode::kAdd, a.n, {a, neg(b)});
-      set(d.n == 1 ? b_.op(Opcode::kMov, 1, {abs(d)}) : b_.op(Opcode::kSqrt, 1, {dot(b_, d, d)}));
-      return;
-    }
-    case GLSLstd450Normalize: {
-      const Src v = arg(0);
-      const Src r = b_.op(Opcode::kRsq, 1, {dot(b_, v, v)});
-      set(b_.op(Opcode::kMul, n, {v, broadcast(r, n)}));
-      return;
-    }
-    case GLSLstd450Cross: {
-      const Src a = arg(0), b = arg(1);
-      const auto perm = [](Src s, std::uint8_t x, std::uint8_t y, std::uint8_t z) {
-        const auto c = s.comp;
-        s.comp = {c[x], c[y], c[z], c[x]};
-        s.n = 3;
-        return s;
-      };
-      const Src t = b_.op(Opcode::kMul, 3, {perm(a, 2, 0, 1), perm(b, 1, 2, 0)});
-      set(b_.op(Opcode::kMad, 3, {perm(a, 1, 2, 0), perm(b, 2, 0, 1), neg(t)}));
-      return;
-    }
-    case GLSLstd450Reflect: {
-      // I - 2 dot(N, I) N
-      const Src in = arg(0), nrm = arg(1);
-      Src d = dot(b_, nrm, in);
-      d = b_.op(Opcode::kAdd, 1, {d, d});
-      set(b_.op(Opcode::kMad, n, {nrm, broadcast(neg(d), n), in}));
-      return;
-    }
-    case GLSLstd450Refract: {
-      // k = 1 - eta^2 (1 - dot(N,I)^2); k < 0 ? 0 : eta I - (eta dot(N,I) + sqrt(k)) N
-      const Src in = arg(0), nrm = arg(1), eta = arg(2);
-      const Src d = dot(b_, nrm, in);
-      const Src one = b_.fconst(1.0f);
-      Src k = b_.op(Opcode::kMad, 1, {neg(d), d, one});
-      k = b_.op(Opcode::kMul, 1, {b_.op(Opcode::kMul, 1, {eta, eta}), k});
-      k = b_.op(Opcode::kAdd, 1, {one, neg(k)});
-      const Src s = b_.op(Opcode::kMad, 1, {eta, d, b_.op(Opcode::kSqrt, 1, {b_.op(Opcode::kMax, 1, {k, b_.fconst(0.0f)})})});
-      const Src r = b_.op(Opcode::kMad, n, {broadcast(eta, n), in, b_.op(Opcode::kMul, n, {nrm, broadcast(neg(s), n)})});
-      set(b_.select(b_.op(Opcode::kFlt, 1, {k, b_.fconst(0.0f)}), b_.fconst(0.0f, n), r, n));
-      return;
-    }
-    case GLSLstd450FaceForward: {
-      // dot(Nref, I) < 0 ? N : -N
-      const Src nn = arg(0), in = arg(1), nref = arg(2);
-      set(b_.select(b_.op(Opcode::kFlt, 1, {dot(b_, nref, in), b_.fconst(0.0f)}), nn, b_.op(Opcode::kMov, n, {neg(nn)}), n));
-      return;
-    }
-    default: b_.unsupported(glsl_std_450_name(e));
-  }
+  Args args(*this, i, 2);
+  Value v;
+  v.leaf = select_glsl_std_450(b_, o[1], width_of(i.type), args);
+  values_[i.result] = v;
 }
 
 }  // namespace
