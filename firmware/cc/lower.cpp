@@ -8,6 +8,7 @@
 
 #include <fmt/format.h>
 
+#include "cc/abi.hpp"
 #include "cc/builder.hpp"
 #include "cc/select.hpp"
 #include "cc/spirv_names.hpp"
@@ -18,22 +19,6 @@
 namespace rpu::cc {
 
 namespace mm = spec::memory;
-
-std::string TraceForm::label() const {
-  return fmt::format("rpu_trace_{}{}{}", any_hit ? "any" : "closest", skip_closest ? "_skip" : "",
-                     miss < 0 ? std::string("_nomiss") : fmt::format("_miss{}", miss));
-}
-
-std::string shader_label(const SpirvShader& shader) {
-  const std::string stem = shader.file.stem().string();
-  switch (shader.stage) {
-    case Stage::kRaygen: return "raygen";
-    case Stage::kClosestHit: return "hit_" + stem;
-    case Stage::kMiss: return "miss_" + stem;
-    case Stage::kAnyHit: return "anyhit_" + stem;
-  }
-  return stem;
-}
 
 namespace {
 
@@ -291,74 +276,31 @@ class Lowerer {
   // ---- entry and exit -------------------------------------------------------------------
   void entry() {
     b_.label(fn_.label);
-    const bool hit = shader_.stage == Stage::kClosestHit, miss = shader_.stage == Stage::kMiss;
     if (shader_.stage == Stage::kAnyHit) b_.unsupported("an any-hit shader (the traversal unit decides hits itself)");
-    if (!hit && !miss) return;
-    MInst e;
-    e.kind = Kind::kEntry;
-    origin_ = b_.fixed(4, kRegOrigin);
-    direction_ = b_.fixed(4, kRegDirection);
-    e.defs = {origin_, direction_};
-    if (hit) {
-      hit_ = b_.fixed(4, kRegHit);
-      e.defs.push_back(hit_);
-    }
-    info_ = b_.fixed(4, kRegInfo);
-    e.defs.push_back(info_);
-    // The incoming payload, one register per leaf.
+    if (shader_.stage == Stage::kRaygen) return;
     for (const auto& [id, var] : m_.variables) {
       if (var.storage != spv::StorageClass::IncomingRayPayloadKHR) continue;
       if (incoming_payload_) b_.unsupported("more than one rayPayloadInEXT variable");
       incoming_payload_ = id;
     }
-    std::vector<int> payload_in;
+    const Id payload_type = incoming_payload_ ? m_.type(m_.variables.at(incoming_payload_).type).element : 0;
+    if (incoming_payload_) payload_widths_ = payload_widths(payload_type);
+    entry_ = enter(b_, shader_.stage, payload_widths_, ctx_.registers);
     if (incoming_payload_) {
-      const Id type = m_.type(m_.variables.at(incoming_payload_).type).element;
-      payload_in = payload_registers(type, e.defs);
-    }
-    b_.push(std::move(e));
-    // Copies out of the ABI's registers, so that a nested trace may reuse them; the
-    // allocator gives a copy its source's place where it can, and the mov disappears.
-    // Each built-in its own value, so that one no longer used frees its lanes.
-    const auto part = [&](int reg, std::array<std::uint8_t, 4> comps, int n) {
-      Src s = whole(reg, 4);
-      s.comp = comps;
-      s.n = n;
-      return b_.op(Opcode::kMov, n, {s}).v;
-    };
-    const int origin = origin_, direction = direction_, hit_record = hit_, info = info_;
-    origin_ = part(origin, {0, 1, 2, 0}, 3);
-    tmin_ = part(origin, {3, 0, 0, 0}, 1);
-    direction_ = part(direction, {0, 1, 2, 0}, 3);
-    tmax_ = part(direction, {3, 0, 0, 0}, 1);
-    if (hit) {
-      hit_ = part(hit_record, {0, 0, 0, 0}, 1);
-      barycentrics_ = part(hit_record, {1, 2, 0, 0}, 2);
-      primitive_ = part(hit_record, {3, 0, 0, 0}, 1);
-    }
-    material_ = part(info, {0, 0, 0, 0}, 1);
-    info_ = part(info, {1, 0, 0, 0}, 1);  // the nesting level
-    if (incoming_payload_) {
-      const Id type = m_.type(m_.variables.at(incoming_payload_).type).element;
-      Value home = fresh(type);
+      Value home = fresh(payload_type);
       std::vector<Src> dst;
       leaves(home, dst);
-      for (std::size_t k = 0; k < dst.size(); ++k) b_.copy_into(dst[k].v, b_.whole(payload_in[k]));
+      for (std::size_t k = 0; k < dst.size(); ++k) b_.copy_into(dst[k].v, b_.whole(entry_.payload[k]));
       homes_[incoming_payload_] = home;
     }
-    if (has_calls_) return_address_ = b_.op(Opcode::kMfra, 1, {}).v;
+    if (has_calls_) return_address_ = save_return_address(b_);
   }
-  std::vector<int> payload_registers(Id type, std::vector<int>& defs) {
-    std::vector<int> regs;
+  // The widths of a payload's scalar and vector leaves (one register each), in declaration order.
+  std::vector<int> payload_widths(Id type) {
+    std::vector<int> widths;
     std::function<void(Id)> walk = [&](Id t) {
       if (const int n = width_of(t); n > 0) {
-        const int reg = kRegPayload + static_cast<int>(regs.size());
-        if (reg >= ctx_.registers) {
-          b_.unsupported(fmt::format("a ray payload of more than {} scalar or vector members (one register each)",
-                                  ctx_.registers - kRegPayload));
-        }
-        regs.push_back(b_.fixed(n, reg));
-        defs.push_back(regs.back());
+        widths.push_back(n);
         return;
       }
       const Type& ty = m_.type(t);
@@ -371,31 +313,12 @@ class Lowerer {
       }
     };
     walk(type);
-    return regs;
+    return widths;
   }
   void function_return() {
-    if (fn_.is_raygen) {
-      MInst h;
-      h.kind = Kind::kHalt;
-      b_.push(std::move(h));
-      return;
-    }
-    MInst r;
-    r.kind = Kind::kRet;
-    if (incoming_payload_) {
-      const Id type = m_.type(m_.variables.at(incoming_payload_).type).element;
-      std::vector<int> regs = payload_registers(type, r.uses);
-      std::vector<Src> home;
-      leaves(homes_.at(incoming_payload_), home);
-      for (std::size_t k = 0; k < regs.size(); ++k) b_.copy_into(regs[k], home[k]);
-    }
-    if (return_address_ >= 0) {
-      MInst t;
-      t.op = Opcode::kMtra;
-      t.srcs = {whole(return_address_, 1)};
-      b_.push(std::move(t));
-    }
-    b_.push(std::move(r));
+    std::vector<Src> payload;
+    if (incoming_payload_) leaves(homes_.at(incoming_payload_), payload);
+    leave(b_, shader_.stage, payload_widths_, payload, return_address_, ctx_.registers);
   }
 
   // ---- control flow ---------------------------------------------------------------------
@@ -680,16 +603,16 @@ class Lowerer {
         break;
       }
       case spv::BuiltIn::WorldRayOriginKHR:
-      case spv::BuiltIn::ObjectRayOriginKHR: s = whole(need(origin_), 3); break;
+      case spv::BuiltIn::ObjectRayOriginKHR: s = whole(need(entry_.origin), 3); break;
       case spv::BuiltIn::WorldRayDirectionKHR:
-      case spv::BuiltIn::ObjectRayDirectionKHR: s = whole(need(direction_), 3); break;
-      case spv::BuiltIn::RayTminKHR: s = whole(need(tmin_), 1); break;
+      case spv::BuiltIn::ObjectRayDirectionKHR: s = whole(need(entry_.direction), 3); break;
+      case spv::BuiltIn::RayTminKHR: s = whole(need(entry_.tmin), 1); break;
       case spv::BuiltIn::RayTmaxKHR:
       case spv::BuiltIn::HitTNV:
-        s = hit_ >= 0 ? whole(hit_, 1) : whole(need(tmax_), 1);
+        s = entry_.hit_t >= 0 ? whole(entry_.hit_t, 1) : whole(need(entry_.tmax), 1);
         break;
-      case spv::BuiltIn::PrimitiveId: s = whole(need(primitive_), 1); break;
-      case spv::BuiltIn::InstanceCustomIndexKHR: s = whole(need(material_), 1); break;
+      case spv::BuiltIn::PrimitiveId: s = whole(need(entry_.primitive), 1); break;
+      case spv::BuiltIn::InstanceCustomIndexKHR: s = whole(need(entry_.material), 1); break;
       case spv::BuiltIn::InstanceId:
       case spv::BuiltIn::RayGeometryIndexKHR: s = b_.op(Opcode::kLi, 1, {}, Imm::integer(0)); break;
       default:
@@ -718,7 +641,7 @@ class Lowerer {
         if (width_of(var_type) != 2 || !m_.is_float(var_type)) {
           b_.unsupported("a hit attribute that is not a vec2 (the chip's hit attributes are the barycentrics)");
         }
-        Src s = whole(barycentrics_, 2);
+        Src s = whole(entry_.barycentrics, 2);
         for (const std::uint32_t k : p.path) s = component(s, static_cast<int>(k));
         Value v;
         v.leaf = s;
@@ -816,9 +739,10 @@ class Lowerer {
   Id current_block_ = 0;
   Id incoming_payload_ = 0;
   bool has_calls_ = false;
-  // Hit and miss shaders' built-ins: the entry registers' parts, one vreg each.
-  int origin_ = -1, direction_ = -1, hit_ = -1, info_ = -1, return_address_ = -1;
-  int tmin_ = -1, tmax_ = -1, barycentrics_ = -1, primitive_ = -1, material_ = -1;
+  // Hit and miss shaders' built-ins, the incoming payload's leaves and the return address.
+  Entry entry_;
+  std::vector<int> payload_widths_;
+  int return_address_ = -1;
 };
 
 void Lowerer::trace(const Instruction& i) {
@@ -854,32 +778,14 @@ void Lowerer::trace(const Instruction& i) {
 
   const Src origin = scalar_or_vector(i.operands[6]), tmin = scalar_or_vector(i.operands[7]);
   const Src direction = scalar_or_vector(i.operands[8]), tmax = scalar_or_vector(i.operands[9]);
-  MInst call;
-  call.kind = Kind::kCall;
-  call.target = form.label();
-  const int a = b_.fixed(4, kRegOrigin), b = b_.fixed(4, kRegDirection), info = b_.fixed(4, kRegInfo);
-  b_.op_into(a, 0b0111, Opcode::kMov, {origin}, {}, true);
-  b_.op_into(a, 0b1000, Opcode::kMov, {tmin});
-  b_.op_into(b, 0b0111, Opcode::kMov, {direction}, {}, true);
-  b_.op_into(b, 0b1000, Opcode::kMov, {tmax});
-  // The new ray's nesting level: 0 from ray generation, the shader's own + 1 elsewhere.
-  if (info_ >= 0) {
-    b_.op_into(info, 0b0010, Opcode::kIaddi, {whole(info_, 1)}, Imm::integer(1), true);
-  } else {
-    b_.op_into(info, 0b0010, Opcode::kLi, {}, Imm::integer(0), true);
-  }
-  call.uses = {a, b, info};
+  const std::vector<int> ray = set_ray(b_, origin, tmin, direction, tmax, entry_.level);
   // The payload: copied into its registers, and back after the call.
   const Id payload_var = i.operands[10];
   const Pointer p = pointer(payload_var);
   if (p.where != Pointer::Where::kRegisters) b_.unsupported("a payload that is not a rayPayloadEXT variable");
-  std::vector<int> in_regs = payload_registers(p.type, call.uses);
   std::vector<Src> home;
   leaves(homes_.at(payload_var), home);
-  for (std::size_t k = 0; k < in_regs.size(); ++k) b_.copy_into(in_regs[k], home[k]);
-  std::vector<int> out_regs = payload_registers(p.type, call.defs);
-  b_.push(std::move(call));
-  for (std::size_t k = 0; k < out_regs.size(); ++k) b_.copy_into(home[k].v, b_.whole(out_regs[k]));
+  call_trace_routine(b_, form, ray, payload_widths(p.type), home, ctx_.registers);
 }
 
 void Lowerer::image_store(const Instruction& i) {
@@ -1055,17 +961,8 @@ void Lowerer::instruction(const Instruction& i) {
       jump_to(from, o[1]);
       return;
     }
-    case Op::OpReturn: function_return(); return;
-    case Op::OpUnreachable: {
-      MInst h;
-      h.kind = fn_.is_raygen ? Kind::kHalt : Kind::kRet;
-      if (!fn_.is_raygen) {
-        function_return();
-      } else {
-        b_.push(std::move(h));
-      }
-      return;
-    }
+    case Op::OpReturn:
+    case Op::OpUnreachable: function_return(); return;
     case Op::OpReturnValue: b_.unsupported("a function returning a value outside the entry point");
     case Op::OpKill:
     case Op::OpTerminateRayKHR:
