@@ -114,7 +114,7 @@ void call_trace_routine(Builder& b, const TraceForm& form, std::vector<int> ray,
                         const std::vector<Src>& payload, int registers) {
   MInst call;
   call.kind = Kind::kCall;
-  call.target = form.label();
+  call.imm = Imm::code_label(form.label());
   call.uses = std::move(ray);
   const std::vector<int> in = payload_registers(b, payload_widths, registers);
   call.uses.insert(call.uses.end(), in.begin(), in.end());
@@ -130,35 +130,58 @@ void call_trace_routine(Builder& b, const TraceForm& form, std::vector<int> ray,
 // material's closest-hit shader through the shader table with r2 = (t, u, v, primitive)
 // and r3.x = the material index; a miss jumps to the miss shader, which returns to the
 // tracing shader itself.
-std::string trace_routine(const TraceForm& form, const std::vector<std::string>& miss_labels) {
-  std::string s = fmt::format("{}:\n", form.label());
-  s += "        li      r3.z, DEVICE_LAUNCH_BASE\n"
-       "        ld1     r3.w, [r3.z + LAUNCH_MAX_DEPTH_AT]\n"
-       "        iaddi   r3.w, r3.w, 1\n"
-       "        ilt     r3.w, r3.w, r3.y            ; nested deeper than max depth + 1?\n"
-       "        bnz     r3.w, rpu_trace_recursion_limit\n";
-  s += fmt::format("        {:<7} r2, r0, r1\n", form.any_hit ? "tracea" : "trace");
-  s += "        iaddi   r3.w, r2.w, 1\n";
-  const std::string miss = form.miss < 0 ? std::string() : miss_labels.at(static_cast<std::size_t>(form.miss));
-  s += fmt::format("        bz      r3.w, {}\n", miss.empty() ? form.label() + "_done" : miss);
+MFunction trace_routine(const TraceForm& form, const std::vector<std::string>& miss_labels) {
+  MFunction f;
+  f.label = form.label();
+  f.name = f.label;
+  Builder b(f);
+  const int r0 = b.fixed(4, kRegOrigin), r1 = b.fixed(4, kRegDirection), r2 = b.fixed(4, kRegHit);
+  const int r3 = b.fixed(4, kRegInfo);
+  const int r3x = b.fixed(1, kRegInfo, 0), r3y = b.fixed(1, kRegInfo, 1), r3z = b.fixed(1, kRegInfo, 2);
+  const int r3w = b.fixed(1, kRegInfo, 3);
+  const Src hit_primitive = component(whole(r2, 4), 3);
+  const auto into = [&](int dst, Opcode op, std::vector<Src> srcs, Imm imm = {}) -> MInst& {
+    MInst i;
+    i.op = op;
+    i.dst = dst;
+    i.srcs = std::move(srcs);
+    i.imm = std::move(imm);
+    return b.push(std::move(i));
+  };
+  const auto scalar = [](int v) { return whole(v, 1); };
+  const auto field = [](const spec::isa::AsmSymbol& s) { return Imm::memory_map(s); };
+  b.label(f.label);
+  into(r3z, Opcode::kLi, {}, field(memory_map_symbol("DEVICE_LAUNCH_BASE")));
+  into(r3w, Opcode::kLd1, {scalar(r3z)}, field(memory_map_symbol("LAUNCH_MAX_DEPTH_AT")));
+  into(r3w, Opcode::kIaddi, {scalar(r3w)}, Imm::integer(1));
+  into(r3w, Opcode::kIlt, {scalar(r3w), scalar(r3y)}).note = "nested deeper than max depth + 1?";
+  b.cond_branch(true, scalar(r3w), std::string(kRecursionLimitLabel));
+  into(r2, form.any_hit ? Opcode::kTracea : Opcode::kTrace, {whole(r0, 4), whole(r1, 4)});
+  into(r3w, Opcode::kIaddi, {hit_primitive}, Imm::integer(1));  // 0 on a miss: primitive 0xffffffff
+  const std::string done = form.label() + "_done";
+  const std::string miss = form.miss < 0 ? done : miss_labels.at(static_cast<std::size_t>(form.miss));
+  b.cond_branch(false, scalar(r3w), miss);
   if (!form.skip_closest) {
-    s += "        ld1     r3.w, [r3.z + LAUNCH_TRIANGLES_AT]\n"
-         "        imuli   r3.x, r2.w, TRIANGLE_BYTES\n"
-         "        iadd    r3.w, r3.w, r3.x\n"
-         "        ld1     r3.x, [r3.w + TRIANGLE_MATERIAL_AT]\n"
-         "        ld1     r3.w, [r3.z + LAUNCH_MATERIALS_AT]\n"
-         "        imuli   r3.z, r3.x, MATERIAL_BYTES\n"
-         "        iadd    r3.w, r3.w, r3.z\n"
-         "        ld1     r3.w, [r3.w + MATERIAL_SHADER_AT]\n"
-         "        mfra    r3.z                        ; kept on the memory stack: the return stack\n"
-         "        push    r3                          ; stays one entry deep at any nesting\n"
-         "        calli   r3.w\n"
-         "        pop     r3\n"
-         "        mtra    r3.z\n";
+    // The hit triangle's material's shader, through the launch block's tables.
+    into(r3w, Opcode::kLd1, {scalar(r3z)}, field(memory_map_symbol("LAUNCH_TRIANGLES_AT")));
+    into(r3x, Opcode::kImuli, {hit_primitive}, field(memory_map_symbol("TRIANGLE_BYTES")));
+    into(r3w, Opcode::kIadd, {scalar(r3w), scalar(r3x)});
+    into(r3x, Opcode::kLd1, {scalar(r3w)}, field(memory_map_symbol("TRIANGLE_MATERIAL_AT")));
+    into(r3w, Opcode::kLd1, {scalar(r3z)}, field(memory_map_symbol("LAUNCH_MATERIALS_AT")));
+    into(r3z, Opcode::kImuli, {scalar(r3x)}, field(memory_map_symbol("MATERIAL_BYTES")));
+    into(r3w, Opcode::kIadd, {scalar(r3w), scalar(r3z)});
+    into(r3w, Opcode::kLd1, {scalar(r3w)}, field(memory_map_symbol("MATERIAL_SHADER_AT")));
+    into(r3z, Opcode::kMfra, {}).note = "kept on the memory stack: the return stack";
+    into(-1, Opcode::kPush, {whole(r3, 4)}).note = "stays one entry deep at any nesting";
+    into(-1, Opcode::kCalli, {scalar(r3w)});
+    into(r3, Opcode::kPop, {});
+    into(-1, Opcode::kMtra, {scalar(r3z)});
   }
-  if (miss.empty()) s += form.label() + "_done:\n";
-  s += "        ret\n";
-  return s;
+  if (form.miss < 0) b.label(done);
+  MInst ret;
+  ret.kind = Kind::kRet;
+  b.push(std::move(ret));
+  return f;
 }
 
 std::vector<Declaration> declarations(int raygen_stack_bytes, int shader_stack_bytes, bool thin_lens) {

@@ -62,8 +62,12 @@ std::vector<int> set_ray(Builder& b, const Src& origin, const Src& tmin, const S
 void call_trace_routine(Builder& b, const TraceForm& form, std::vector<int> ray, const std::vector<int>& payload_widths,
                         const std::vector<Src>& payload, int registers);
 
-// The routine behind one traceRayEXT form, as assembly text.
-std::string trace_routine(const TraceForm& form, const std::vector<std::string>& miss_labels);
+// The routine behind one traceRayEXT form, on machine registers (pinned vregs).
+MFunction trace_routine(const TraceForm& form, const std::vector<std::string>& miss_labels);
+
+// Where a trace nested deeper than max depth + 1 goes: a word that stops the thread with
+// an illegal-instruction fault.
+inline constexpr std::string_view kRecursionLimitLabel = "rpu_trace_recursion_limit";
 
 // The firmware's declarations of its needs (.equ constants the device checks): one
 // return stack entry, and the stack bytes from what ray generation and the hit and miss

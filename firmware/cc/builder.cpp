@@ -73,14 +73,14 @@ Src Builder::select(const Src& cond, const Src& a, const Src& b, int n) {
 void Builder::label(const std::string& name) {
   MInst i;
   i.kind = Kind::kLabel;
-  i.target = name;
+  i.label = name;
   push(std::move(i));
 }
 
 void Builder::branch(const std::string& target) {
   MInst b;
   b.kind = Kind::kBranch;
-  b.target = target;
+  b.imm = Imm::code_label(target);
   push(std::move(b));
 }
 
@@ -89,7 +89,7 @@ void Builder::cond_branch(bool if_nonzero, const Src& cond, const std::string& t
   b.kind = Kind::kCondBranch;
   b.op = if_nonzero ? Opcode::kBnz : Opcode::kBz;
   b.srcs = {component(cond, 0)};
-  b.target = target;
+  b.imm = Imm::code_label(target);
   push(std::move(b));
 }
 

@@ -99,10 +99,13 @@ Compiled compile(const std::vector<ShaderSource>& sources, const CompileOptions&
   // Ray generation first: pc 0 is where a listing starts reading.
   text += body;
   text += "\n; traceRayEXT, one routine per form used\n";
-  for (const TraceForm& form : traces) text += trace_routine(form, miss_labels);
-  text += "; a trace nested deeper than max depth + 1: stop the thread with an illegal-instruction fault\n"
-          "rpu_trace_recursion_limit:\n"
-          "        .insn 0\n";
+  for (const TraceForm& form : traces) {
+    const MFunction routine = trace_routine(form, miss_labels);
+    text += emit(routine, pinned(routine));
+  }
+  text += fmt::format("; a trace nested deeper than max depth + 1: stop the thread with an illegal-instruction "
+                      "fault\n{}:\n        .insn 0\n",
+                      kRecursionLimitLabel);
   Compiled out;
   out.assembly = text;
   const fs::path name = "<rpu cc>.s";

@@ -84,6 +84,7 @@ class Emitter {
   // [r + offset]: the base address in lane x of the swizzled register.
   std::string address(const Src& a, const Imm& offset) const {
     const std::string r = fmt::format("r{}{}", loc(a.v).reg, swizzle_text({loc(a.v).lane[a.comp[0]], -1, -1, -1}));
+    if (offset.type == Imm::Type::kSymbol) return fmt::format("[{} + {}]", r, offset.symbol->name);
     const std::int64_t off = offset.value;
     if (off == 0) return "[" + r + "]";
     return off < 0 ? fmt::format("[{} - {}]", r, -off) : fmt::format("[{} + {}]", r, off);
@@ -98,23 +99,25 @@ class Emitter {
           if (s.index == imm.value) return std::string(s.name);
         }
         break;
+      case Imm::Type::kSymbol: return std::string(imm.symbol->name);
+      case Imm::Type::kLabel: return imm.label;
       case Imm::Type::kNone: break;
     }
     return fmt::format("{}", imm.value);
   }
-  void line(const MInst& m, const std::string& text) {
+  void line(const MInst& m, const std::string& text, std::string_view note = {}) {
     if (m.where.line > 0 && (m.where.line != last_line_ || m.where.file != last_file_)) {
       out_ += fmt::format("        ; {}:{}\n", m.where.file, m.where.line);
       last_line_ = m.where.line;
       last_file_ = m.where.file;
     }
-    out_ += "        " + text + "\n";
+    out_ += "        " + (note.empty() ? text : fmt::format("{:<39} ; {}", text, note)) + "\n";
   }
   // Is the next instruction that emits code a label `target` (so a bra to it falls through)?
   bool falls_to(std::size_t i, const std::string& target) const {
     for (std::size_t k = i + 1; k < f_.code.size(); ++k) {
       if (f_.code[k].kind != Kind::kLabel) return false;
-      if (f_.code[k].target == target) return true;
+      if (f_.code[k].label == target) return true;
     }
     return false;
   }
@@ -123,16 +126,16 @@ class Emitter {
     const MInst& m = f_.code[i];
     switch (m.kind) {
       case Kind::kEntry: return;
-      case Kind::kLabel: out_ += m.target + ":\n"; return;
+      case Kind::kLabel: out_ += m.label + ":\n"; return;
       case Kind::kBranch:
-        if (!falls_to(i, m.target)) line(m, "bra     " + m.target);
+        if (!falls_to(i, m.imm.label)) line(m, "bra     " + m.imm.label);
         return;
       case Kind::kRet: line(m, "ret"); return;
       case Kind::kHalt: line(m, "halt"); return;
       case Kind::kCall: {
         const auto& saves = a_.saves[i];
         for (const SavedRegister& s : saves) line(m, fmt::format("push    r{}", s.reg));
-        line(m, "call    " + m.target);
+        line(m, "call    " + m.imm.label);
         for (auto it = saves.rbegin(); it != saves.rend(); ++it) {
           std::vector<int> lanes;
           for (int l = 0; l < 4; ++l) {
@@ -145,11 +148,11 @@ class Emitter {
       case Kind::kSpill:
         // A vector lives in lanes x.. wherever it is; a scalar may come back in another
         // lane than it left from, so it is pushed to all four.
-        line(m, fmt::format("{:<39} ; spill", "push    " + (width(m.srcs[0].v) == 1 ? positional(m.srcs[0])
-                                                                      : fmt::format("r{}", loc(m.srcs[0].v).reg))));
+        line(m, "push    " + (width(m.srcs[0].v) == 1 ? positional(m.srcs[0]) : fmt::format("r{}", loc(m.srcs[0].v).reg)),
+             "spill");
         return;
       case Kind::kReload:
-        line(m, fmt::format("{:<39} ; reload", fmt::format("pop     r{}{}", loc(m.dst).reg, mask_text(dst_lanes(m)))));
+        line(m, fmt::format("pop     r{}{}", loc(m.dst).reg, mask_text(dst_lanes(m))), "reload");
         return;
       case Kind::kOp:
       case Kind::kCondBranch: break;
@@ -187,7 +190,7 @@ class Emitter {
         case isa::Operand::kImm:
         case isa::Operand::kFimm:
         case isa::Operand::kSr: operands.push_back(imm_text(m.imm)); break;
-        case isa::Operand::kTarget: operands.push_back(m.target); break;
+        case isa::Operand::kTarget: operands.push_back(m.imm.label); break;
       }
     }
     // A copy onto itself is no instruction.
@@ -202,7 +205,7 @@ class Emitter {
     std::string text = fmt::format("{:<7}", spec.mnemonic);
     for (std::size_t k = 0; k < operands.size(); ++k) text += (k ? ", " : " ") + operands[k];
     while (!text.empty() && text.back() == ' ') text.pop_back();
-    line(m, text);
+    line(m, text, m.note);
   }
 
   const MFunction& f_;

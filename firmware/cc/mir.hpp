@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "cc/spirv_module.hpp"
@@ -35,8 +36,18 @@ struct Src {
   bool abs = false;
 };
 
+// A memory-map constant of spec/memory_map.toml by its assembler name (DEVICE_LAUNCH_BASE,
+// ...); a name the spec does not have does not compile.
+consteval const spec::isa::AsmSymbol& memory_map_symbol(std::string_view name) {
+  for (const spec::isa::AsmSymbol& s : spec::isa::kAsmSymbols) {
+    if (s.name == name) return s;
+  }
+  throw "not a memory-map symbol of spec/memory_map.toml";
+}
+
 // An immediate operand, typed by what it holds. Which field of the word it fills (imm,
-// fimm, sr, a memory offset) is the opcode's operand list in spec/isa.toml.
+// fimm, sr, a memory offset, a branch target) is the opcode's operand list in
+// spec/isa.toml.
 struct Imm {
   enum class Type : std::uint8_t {
     kNone,
@@ -44,17 +55,39 @@ struct Imm {
     kBits,     // a lane's raw bits: a constant's, a mask (hex)
     kFloat,    // fp32 bits (hex, exact)
     kSpecial,  // a special register's index (its name)
+    kSymbol,   // a memory-map constant (its name)
+    kLabel,    // a code label: the instruction index it stands for once the code is laid out
   };
   Type type = Type::kNone;
-  std::int64_t value = 0;  // the word holds its low 32 bits
+  std::int64_t value = 0;  // all but kLabel: the word holds its low 32 bits
+  const spec::isa::AsmSymbol* symbol = nullptr;  // kSymbol
+  std::string label;                             // kLabel
 
-  static Imm integer(std::int64_t v) { return {Type::kInteger, v}; }
-  static Imm bits(std::uint32_t b) { return {Type::kBits, b}; }
-  static Imm fp32_bits(std::uint32_t b) { return {Type::kFloat, b}; }
-  static Imm special(std::uint32_t index) { return {Type::kSpecial, index}; }
+  static Imm integer(std::int64_t v) { return of(Type::kInteger, v); }
+  static Imm bits(std::uint32_t b) { return of(Type::kBits, b); }
+  static Imm fp32_bits(std::uint32_t b) { return of(Type::kFloat, b); }
+  static Imm special(std::uint32_t index) { return of(Type::kSpecial, index); }
   // A constant lane's bits: fp32 for lif, raw for li.
   static Imm lane(std::uint32_t b, bool is_float) { return is_float ? fp32_bits(b) : bits(b); }
+  static Imm memory_map(const spec::isa::AsmSymbol& s) {
+    Imm i = of(Type::kSymbol, s.value);
+    i.symbol = &s;
+    return i;
+  }
+  static Imm code_label(std::string name) {
+    Imm i = of(Type::kLabel, 0);
+    i.label = std::move(name);
+    return i;
+  }
   std::uint32_t field() const { return static_cast<std::uint32_t>(value); }
+
+ private:
+  static Imm of(Type t, std::int64_t v) {
+    Imm i;
+    i.type = t;
+    i.value = v;
+    return i;
+  }
 };
 
 inline Src whole(int v, int width) {
@@ -88,10 +121,10 @@ inline Src broadcast(const Src& s, int n) {
 
 enum class Kind : std::uint8_t {
   kOp,       // op with dst, srcs and imm
-  kLabel,    // target
-  kBranch,   // bra target
-  kCondBranch,  // op (bz/bnz) srcs[0], target
-  kCall,     // call target: clobbers every register; uses and defines fixed vregs
+  kLabel,    // label:
+  kBranch,   // bra imm
+  kCondBranch,  // op (bz/bnz) srcs[0], imm
+  kCall,     // call imm: clobbers every register; uses and defines fixed vregs
   kRet,      // ret; uses fixed vregs (the payload it returns)
   kHalt,
   kEntry,    // defines the fixed vregs a shader is entered with
@@ -112,8 +145,9 @@ struct MInst {
   std::uint8_t dst_comps = 0;  // components of dst written (bit j = component j); 0: all
   bool fresh = false;          // a partial write that starts the vreg: its other lanes are not read
   std::vector<Src> srcs;
-  Imm imm;
-  std::string target;  // label
+  Imm imm;                 // kBranch, kCondBranch, kCall: the target, a label
+  std::string label;       // kLabel: the label it defines
+  std::string_view note;   // the listing's comment on it
   std::vector<int> defs;  // kCall, kEntry: fixed vregs defined
   std::vector<int> uses;  // kCall, kRet: fixed vregs used
   SourceLocation where;

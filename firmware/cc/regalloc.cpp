@@ -85,7 +85,7 @@ Cfg cfg_of(const MFunction& f) {
   const std::size_t n = f.code.size();
   std::unordered_map<std::string, std::size_t> labels;
   for (std::size_t i = 0; i < n; ++i) {
-    if (f.code[i].kind == Kind::kLabel) labels[f.code[i].target] = i;
+    if (f.code[i].kind == Kind::kLabel) labels[f.code[i].label] = i;
   }
   Cfg c;
   c.target.assign(n, Cfg::kNone);
@@ -94,8 +94,8 @@ Cfg cfg_of(const MFunction& f) {
   for (std::size_t i = 0; i < n; ++i) {
     const MInst& m = f.code[i];
     if (m.kind == Kind::kBranch || m.kind == Kind::kCondBranch) {
-      const auto it = labels.find(m.target);
-      if (it == labels.end()) throw Error(fmt::format("{}: internal error: no label {}", f.name, m.target));
+      const auto it = labels.find(m.imm.label);
+      if (it == labels.end()) throw Error(fmt::format("{}: internal error: no label {}", f.name, m.imm.label));
       c.target[i] = it->second;
       c.succ[i].push_back(it->second);
     }
@@ -649,6 +649,18 @@ Allocation allocate(MFunction& f, int registers) {
     for (const auto& [reg, lanes] : regs) a.saves[i].push_back({reg, lanes});
     a.max_save_bytes = std::max(a.max_save_bytes, 16 * (depth + static_cast<int>(regs.size())));
   }
+  return a;
+}
+
+Allocation pinned(const MFunction& f) {
+  Allocation a;
+  for (const VReg& r : f.vregs) {
+    Location l{r.fixed, {0, 1, 2, 3}};
+    if (r.width == 1) l.lane[0] = static_cast<std::uint8_t>(r.fixed_lane);
+    a.location.push_back(l);
+    a.registers_used = std::max(a.registers_used, r.fixed + 1);
+  }
+  a.saves.assign(f.code.size(), {});
   return a;
 }
 

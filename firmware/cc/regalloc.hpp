@@ -35,4 +35,8 @@ struct Allocation {
 // fit even so, naming the source line of the value that did not fit.
 Allocation allocate(MFunction& function, int registers);
 
+// Every vreg in the register it is pinned to (a scalar in its lane): the allocation of
+// code written on machine registers (the trace routines).
+Allocation pinned(const MFunction& function);
+
 }  // namespace rpu::cc
