@@ -47,11 +47,6 @@ std::string swizzle_text(std::uint8_t swizzle) {
   return s;
 }
 
-std::string source_text(const Source& s) {
-  return fmt::format("{}{}r{}{}{}", s.neg ? "-" : "", s.abs ? "|" : "", s.reg, s.abs ? "|" : "",
-                     swizzle_text(s.swizzle));
-}
-
 std::string imm_text(std::uint32_t imm) {
   const auto v = static_cast<std::int32_t>(imm);
   if (v >= -65536 && v <= 65536) return fmt::format("{}", v);
@@ -70,6 +65,13 @@ std::string fimm_text(std::uint32_t imm) {
 }
 
 }  // namespace
+
+std::string destination_text(std::uint8_t reg, std::uint8_t wmask) { return fmt::format("r{}{}", reg, mask_text(wmask)); }
+
+std::string source_text(const Source& s) {
+  return fmt::format("{}{}r{}{}{}", s.neg ? "-" : "", s.abs ? "|" : "", s.reg, s.abs ? "|" : "",
+                     swizzle_text(s.swizzle));
+}
 
 const InsnSpec* find_insn(std::string_view mnemonic) {
   for (const InsnSpec& s : si::kInsns) {
@@ -161,7 +163,7 @@ std::string disassemble(const Instruction& insn) {
   for (int k = 0; k < insn.spec->operand_count; ++k) {
     text += k == 0 ? " " : ", ";
     switch (insn.spec->operands[k]) {
-      case Operand::kD: text += fmt::format("r{}{}", insn.dst, mask_text(insn.wmask)); break;
+      case Operand::kD: text += destination_text(insn.dst, insn.wmask); break;
       case Operand::kA: text += source_text(insn.src[0]); break;
       case Operand::kB: text += source_text(insn.src[1]); break;
       case Operand::kC: text += source_text(insn.src[2]); break;

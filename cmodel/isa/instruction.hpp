@@ -76,4 +76,9 @@ std::uint64_t encode(const Instruction& insn);
 std::string disassemble(std::uint64_t word);
 std::string disassemble(const Instruction& insn);
 
+// The text of a destination register with its write mask (r1.xyz) and of a source
+// operand with its modifiers and swizzle (-|r3|.zx), as disassemble prints them.
+std::string destination_text(std::uint8_t reg, std::uint8_t wmask);
+std::string source_text(const Source& s);
+
 }  // namespace rpu::isa
