@@ -47,11 +47,12 @@ Command add_cc_command(CLI::App& app) {
             cc::CompileOptions options;
             options.opt_level = o->opt_level;
             options.registers = o->registers;
+            options.listing = !o->listing.empty();
             const cc::Compiled compiled = cc::compile_files(files, options);
             isa::save_firmware(compiled.firmware, o->output);
             if (!o->listing.empty()) {
               OutputFile listing(o->listing);
-              listing.stream() << compiled.assembly;
+              listing.stream() << compiled.listing;
               listing.commit();
             }
             fmt::print(stderr, "rpu: {} shader(s): {} instructions -> {}\n", files.size(),

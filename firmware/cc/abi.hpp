@@ -10,6 +10,7 @@
 
 #include "cc/builder.hpp"
 #include "cc/frontend.hpp"
+#include "cc/machine.hpp"
 
 namespace rpu::cc {
 
@@ -72,11 +73,6 @@ inline constexpr std::string_view kRecursionLimitLabel = "rpu_trace_recursion_li
 // The firmware's declarations of its needs (.equ constants the device checks): one
 // return stack entry, and the stack bytes from what ray generation and the hit and miss
 // shaders keep on it at once (spills, saves at a trace).
-struct Declaration {
-  std::string_view name;
-  std::uint32_t value = 0;
-  std::string_view note;  // the listing's comment, if any
-};
 std::vector<Declaration> declarations(int raygen_stack_bytes, int shader_stack_bytes, bool thin_lens);
 
 }  // namespace rpu::cc

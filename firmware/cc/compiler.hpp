@@ -11,13 +11,14 @@
 namespace rpu::cc {
 
 struct CompileOptions {
-  int opt_level = 2;   // 0: SPIRV-Tools' legalisation passes only; 2: its performance passes too
-  int registers = 16;  // the firmware uses r0..r(registers-1): 16 runs on every configuration
+  int opt_level = 2;     // 0: SPIRV-Tools' legalisation passes only; 2: its performance passes too
+  int registers = 16;    // the firmware uses r0..r(registers-1): 16 runs on every configuration
+  bool listing = false;  // also print the firmware as assembly text
 };
 
 struct Compiled {
   isa::Firmware firmware;
-  std::string assembly;  // what was assembled: every shader, the trace routines, the stack constants
+  std::string listing;  // with CompileOptions::listing: the stack constants, every shader, the trace routines
 };
 
 struct ShaderSource {

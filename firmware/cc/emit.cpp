@@ -1,47 +1,46 @@
 #include "cc/emit.hpp"
 
-#include <fmt/format.h>
+#include <algorithm>
+#include <array>
+#include <utility>
 
 namespace rpu::cc {
 
 namespace {
 
-constexpr char kLanes[] = "xyzw";
+// The swizzle byte of source lanes per position, -1 where a position is not read:
+// such a position takes the nearest read one to its left (or the first read one), so
+// that the listing's shortest text (".x" for xxxx, ".zy" for zyyy) reads back to it.
+std::uint8_t swizzle_of(std::array<int, 4> swz) {
+  const auto first = std::find_if(swz.begin(), swz.end(), [](int s) { return s >= 0; });
+  int last = first == swz.end() ? 0 : *first;
+  std::uint8_t byte = 0;
+  for (std::size_t p = 0; p < 4; ++p) {
+    if (swz[p] >= 0) last = swz[p];
+    byte = static_cast<std::uint8_t>(byte | last << (2 * p));
+  }
+  return byte;
+}
 
-std::string swizzle_text(std::array<int, 4> swz) {
-  // Unset positions take the nearest set one to their left (or the first set one).
-  int first = -1;
-  for (int p = 0; p < 4; ++p) {
-    if (swz[static_cast<std::size_t>(p)] >= 0) {
-      first = swz[static_cast<std::size_t>(p)];
-      break;
-    }
-  }
-  if (first < 0) first = 0;
-  int last = first;
-  for (int& s : swz) {
-    if (s < 0) s = last;
-    last = s;
-  }
-  std::string t;
-  for (int s : swz) t += kLanes[s];
-  if (t == "xyzw") return "";
-  while (t.size() > 1 && t[t.size() - 1] == t[t.size() - 2]) t.pop_back();
-  return "." + t;
+std::uint8_t mask_of(const std::vector<int>& lanes) {
+  std::uint8_t mask = 0;
+  for (const int l : lanes) mask = static_cast<std::uint8_t>(mask | 1u << l);
+  return mask;
 }
 
 class Emitter {
  public:
   Emitter(const MFunction& f, const Allocation& a) : f_(f), a_(a) {}
 
-  std::string run() {
+  std::vector<MachineItem> run() {
     for (std::size_t i = 0; i < f_.code.size(); ++i) instruction(i);
-    return out_;
+    return std::move(out_);
   }
 
  private:
   const Location& loc(int v) const { return a_.location.at(static_cast<std::size_t>(v)); }
   int width(int v) const { return f_.vregs.at(static_cast<std::size_t>(v)).width; }
+  std::uint8_t reg(int v) const { return static_cast<std::uint8_t>(loc(v).reg); }
 
   // The machine lanes a write to `dst` touches, in component order.
   std::vector<int> dst_lanes(const MInst& m) const {
@@ -52,66 +51,42 @@ class Emitter {
     }
     return lanes;
   }
-  static std::string mask_text(const std::vector<int>& lanes) {
-    int mask = 0;
-    for (int l : lanes) mask |= 1 << l;
-    if (mask == 0xf) return "";
-    std::string t = ".";
-    for (int l = 0; l < 4; ++l) {
-      if ((mask >> l) & 1) t += kLanes[l];
-    }
-    return t;
+  isa::Source source(const Src& s, const std::array<int, 4>& swz) const {
+    return {reg(s.v), swizzle_of(swz), s.neg, s.abs};
   }
-  std::string reg_text(const Src& s, const std::array<int, 4>& swz) const {
-    std::string r = fmt::format("r{}", loc(s.v).reg);
-    if (s.abs) r = "|" + r + "|";
-    if (s.neg) r = "-" + r;
-    return r + swizzle_text(swz);
-  }
-  std::string lanewise(const Src& s, const std::vector<int>& lanes) const {
+  // Element k of s feeds the destination lane lanes[k] (the last element the rest).
+  isa::Source lanewise(const Src& s, const std::vector<int>& lanes) const {
     std::array<int, 4> swz{-1, -1, -1, -1};
     for (std::size_t k = 0; k < lanes.size(); ++k) {
       const int e = std::min(static_cast<int>(k), s.n - 1);
       swz[static_cast<std::size_t>(lanes[k])] = loc(s.v).lane[s.comp[static_cast<std::size_t>(e)]];
     }
-    return reg_text(s, swz);
+    return source(s, swz);
   }
-  std::string positional(const Src& s) const {
+  // Element j of s at position j.
+  isa::Source positional(const Src& s) const {
     std::array<int, 4> swz{-1, -1, -1, -1};
     for (int j = 0; j < s.n; ++j) swz[static_cast<std::size_t>(j)] = loc(s.v).lane[s.comp[static_cast<std::size_t>(j)]];
-    return reg_text(s, swz);
+    return source(s, swz);
   }
-  // [r + offset]: the base address in lane x of the swizzled register.
-  std::string address(const Src& a, const Imm& offset) const {
-    const std::string r = fmt::format("r{}{}", loc(a.v).reg, swizzle_text({loc(a.v).lane[a.comp[0]], -1, -1, -1}));
-    if (offset.type == Imm::Type::kSymbol) return fmt::format("[{} + {}]", r, offset.symbol->name);
-    const std::int64_t off = offset.value;
-    if (off == 0) return "[" + r + "]";
-    return off < 0 ? fmt::format("[{} - {}]", r, -off) : fmt::format("[{} + {}]", r, off);
+  // A whole register, lanes in place (what push and pop move).
+  static isa::Source whole_register(int r) { return {static_cast<std::uint8_t>(r), isa::kIdentitySwizzle, false, false}; }
+
+  void put(const MInst& m, Opcode op, isa::Instruction insn, Imm imm = {}, std::string_view note = {}) {
+    insn.spec = isa::find_insn(op);
+    if (imm.type != Imm::Type::kLabel) insn.imm = imm.field();
+    out_.emplace_back(MachineInstruction{insn, std::move(imm), m.where, note});
   }
-  static std::string imm_text(const Imm& imm) {
-    switch (imm.type) {
-      case Imm::Type::kInteger: return fmt::format("{}", imm.value);
-      case Imm::Type::kBits:
-      case Imm::Type::kFloat: return fmt::format("{:#x}", imm.field());
-      case Imm::Type::kSpecial:
-        for (const spec::isa::SpecialSpec& s : spec::isa::kSpecials) {
-          if (s.index == imm.value) return std::string(s.name);
-        }
-        break;
-      case Imm::Type::kSymbol: return std::string(imm.symbol->name);
-      case Imm::Type::kLabel: return imm.label;
-      case Imm::Type::kNone: break;
-    }
-    return fmt::format("{}", imm.value);
+  void put_push(const MInst& m, const isa::Source& s, std::string_view note = {}) {
+    isa::Instruction insn;
+    insn.src[0] = s;
+    put(m, Opcode::kPush, insn, {}, note);
   }
-  void line(const MInst& m, const std::string& text, std::string_view note = {}) {
-    if (m.where.line > 0 && (m.where.line != last_line_ || m.where.file != last_file_)) {
-      out_ += fmt::format("        ; {}:{}\n", m.where.file, m.where.line);
-      last_line_ = m.where.line;
-      last_file_ = m.where.file;
-    }
-    out_ += "        " + (note.empty() ? text : fmt::format("{:<39} ; {}", text, note)) + "\n";
+  void put_pop(const MInst& m, int r, std::uint8_t lanes, std::string_view note = {}) {
+    isa::Instruction insn;
+    insn.dst = static_cast<std::uint8_t>(r);
+    insn.wmask = lanes;
+    put(m, Opcode::kPop, insn, {}, note);
   }
   // Is the next instruction that emits code a label `target` (so a bra to it falls through)?
   bool falls_to(std::size_t i, const std::string& target) const {
@@ -126,71 +101,62 @@ class Emitter {
     const MInst& m = f_.code[i];
     switch (m.kind) {
       case Kind::kEntry: return;
-      case Kind::kLabel: out_ += m.label + ":\n"; return;
+      case Kind::kLabel: out_.emplace_back(Label{m.label, {}}); return;
       case Kind::kBranch:
-        if (!falls_to(i, m.imm.label)) line(m, "bra     " + m.imm.label);
+        if (!falls_to(i, m.imm.label)) put(m, Opcode::kBra, {}, m.imm);
         return;
-      case Kind::kRet: line(m, "ret"); return;
-      case Kind::kHalt: line(m, "halt"); return;
+      case Kind::kRet: put(m, Opcode::kRet, {}); return;
+      case Kind::kHalt: put(m, Opcode::kHalt, {}); return;
       case Kind::kCall: {
+        // What lives across the call: every register is the callee's.
         const auto& saves = a_.saves[i];
-        for (const SavedRegister& s : saves) line(m, fmt::format("push    r{}", s.reg));
-        line(m, "call    " + m.imm.label);
-        for (auto it = saves.rbegin(); it != saves.rend(); ++it) {
-          std::vector<int> lanes;
-          for (int l = 0; l < 4; ++l) {
-            if ((it->lanes >> l) & 1) lanes.push_back(l);
-          }
-          line(m, fmt::format("pop     r{}{}", it->reg, mask_text(lanes)));
-        }
+        for (const SavedRegister& s : saves) put_push(m, whole_register(s.reg));
+        put(m, Opcode::kCall, {}, m.imm);
+        for (auto it = saves.rbegin(); it != saves.rend(); ++it) put_pop(m, it->reg, it->lanes);
         return;
       }
-      case Kind::kSpill:
+      case Kind::kSpill: {
         // A vector lives in lanes x.. wherever it is; a scalar may come back in another
         // lane than it left from, so it is pushed to all four.
-        line(m, "push    " + (width(m.srcs[0].v) == 1 ? positional(m.srcs[0]) : fmt::format("r{}", loc(m.srcs[0].v).reg)),
-             "spill");
+        const Src& s = m.srcs[0];
+        put_push(m, width(s.v) == 1 ? positional(s) : whole_register(loc(s.v).reg), "spill");
         return;
-      case Kind::kReload:
-        line(m, fmt::format("pop     r{}{}", loc(m.dst).reg, mask_text(dst_lanes(m))), "reload");
-        return;
+      }
+      case Kind::kReload: put_pop(m, loc(m.dst).reg, mask_of(dst_lanes(m)), "reload"); return;
       case Kind::kOp:
       case Kind::kCondBranch: break;
     }
     // The operands in the order of the opcode's (spec/isa.toml); m.srcs in the same order.
     const isa::InsnSpec& spec = *isa::find_insn(m.op);
-    std::vector<std::string> operands;
     const std::vector<int> lanes = m.dst >= 0 ? dst_lanes(m) : std::vector<int>{};
+    isa::Instruction insn;
     std::size_t next = 0;
     for (int k = 0; k < spec.operand_count; ++k) {
-      switch (spec.operands[static_cast<std::size_t>(k)]) {
+      switch (const isa::Operand operand = spec.operands[static_cast<std::size_t>(k)]) {
         case isa::Operand::kD:
           if (spec.dst_is_data) {
-            // a store's data: lanes x.. in place
+            // a store's data: its lanes x.. in place
             const Src& v = m.srcs[next++];
-            std::vector<int> data(static_cast<std::size_t>(v.n));
-            for (int j = 0; j < v.n; ++j) data[static_cast<std::size_t>(j)] = j;
-            operands.push_back(fmt::format("r{}{}", loc(v.v).reg, mask_text(data)));
+            insn.dst = reg(v.v);
+            insn.wmask = static_cast<std::uint8_t>((1u << v.n) - 1);
           } else {
-            operands.push_back(fmt::format("r{}{}", loc(m.dst).reg, mask_text(lanes)));
+            insn.dst = reg(m.dst);
+            insn.wmask = mask_of(lanes);
           }
           break;
         case isa::Operand::kA:
         case isa::Operand::kB:
         case isa::Operand::kC: {
           const Src& s = m.srcs[next++];
-          operands.push_back(spec.lanewise ? lanewise(s, lanes) : positional(s));
+          insn.src[static_cast<std::size_t>(operand) - static_cast<std::size_t>(isa::Operand::kA)] =
+              spec.lanewise ? lanewise(s, lanes) : positional(s);
           break;
         }
-        case isa::Operand::kMem: {
-          const Src& a = m.srcs[next++];
-          operands.push_back(address(a, m.imm));
-          break;
-        }
+        case isa::Operand::kMem: insn.src[0] = positional(component(m.srcs[next++], 0)); break;
         case isa::Operand::kImm:
         case isa::Operand::kFimm:
-        case isa::Operand::kSr: operands.push_back(imm_text(m.imm)); break;
-        case isa::Operand::kTarget: operands.push_back(m.imm.label); break;
+        case isa::Operand::kSr:
+        case isa::Operand::kTarget: break;  // the immediate, below
       }
     }
     // A copy onto itself is no instruction.
@@ -202,22 +168,17 @@ class Emitter {
       }
       if (same) return;
     }
-    std::string text = fmt::format("{:<7}", spec.mnemonic);
-    for (std::size_t k = 0; k < operands.size(); ++k) text += (k ? ", " : " ") + operands[k];
-    while (!text.empty() && text.back() == ' ') text.pop_back();
-    line(m, text, m.note);
+    put(m, m.op, insn, m.imm, m.note);
   }
 
   const MFunction& f_;
   const Allocation& a_;
-  std::string out_;
-  int last_line_ = -1;
-  std::string last_file_;
+  std::vector<MachineItem> out_;
 };
 
 }  // namespace
 
-std::string emit(const MFunction& function, const Allocation& allocation) {
+std::vector<MachineItem> emit(const MFunction& function, const Allocation& allocation) {
   return Emitter(function, allocation).run();
 }
 

@@ -1,14 +1,16 @@
-// Assembly text (docs/assembler.md) of an allocated function.
+// Machine code of an allocated function: every instruction of the machine IR on the
+// machine registers and lanes the allocation gave its vregs, with the pushes and pops
+// around calls and spills.
 #pragma once
 
-#include <string>
+#include <vector>
 
+#include "cc/machine.hpp"
 #include "cc/mir.hpp"
 #include "cc/regalloc.hpp"
 
 namespace rpu::cc {
 
-// One instruction per line, a comment with the source file and line where it changes.
-std::string emit(const MFunction& function, const Allocation& allocation);
+std::vector<MachineItem> emit(const MFunction& function, const Allocation& allocation);
 
 }  // namespace rpu::cc

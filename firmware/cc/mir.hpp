@@ -1,7 +1,7 @@
 // The back end's machine IR: RPU instructions over virtual registers of 1 to 4 lanes.
 // Lowering (lower.cpp) writes it through a Builder (builder.hpp), the register
 // allocator (regalloc.cpp) places every virtual register in lanes of a machine register,
-// and emit.cpp prints assembly.
+// and emit.cpp makes machine instructions of it (machine.hpp).
 #pragma once
 
 #include <array>
