@@ -66,8 +66,9 @@ Src Builder::fconst(float f, int width) { return constant(std::bit_cast<std::uin
 Src Builder::not_of(const Src& s) { return op(Opcode::kXori, s.n, {s}, Imm::bits(0xffffffffu)); }
 
 Src Builder::select(const Src& cond, const Src& a, const Src& b, int n) {
-  return op(Opcode::kSel, n, {cond.n == 1 ? broadcast(cond, n) : cond, a.n == 1 && n > 1 ? broadcast(a, n) : a,
-                              b.n == 1 && n > 1 ? broadcast(b, n) : b});
+  return op(Opcode::kSel, n,
+            {cond.n == 1 ? broadcast(cond, n) : cond, a.n == 1 && n > 1 ? broadcast(a, n) : a,
+             b.n == 1 && n > 1 ? broadcast(b, n) : b});
 }
 
 void Builder::label(const std::string& name) {

@@ -15,8 +15,6 @@ class Builder {
  public:
   explicit Builder(MFunction& function) : fn_(function) {}
 
-  MFunction& function() { return fn_; }
-
   // The source line of the instructions made now, and of the refusals.
   SourceLocation where;
 

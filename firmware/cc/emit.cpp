@@ -70,7 +70,9 @@ class Emitter {
     return source(s, swz);
   }
   // A whole register, lanes in place (what push and pop move).
-  static isa::Source whole_register(int r) { return {static_cast<std::uint8_t>(r), isa::kIdentitySwizzle, false, false}; }
+  static isa::Source whole_register(int r) {
+    return {static_cast<std::uint8_t>(r), isa::kIdentitySwizzle, false, false};
+  }
 
   void put(const MInst& m, Opcode op, isa::Instruction insn, Imm imm = {}, std::string_view note = {}) {
     insn.spec = isa::find_insn(op);

@@ -52,7 +52,6 @@ class Lowerer {
   Lowerer(const Module& m, const SpirvShader& shader, const LowerContext& ctx) : m_(m), shader_(shader), ctx_(ctx) {
     fn_.label = shader_label(shader);
     fn_.name = shader.file.string();
-    fn_.is_raygen = shader.stage == Stage::kRaygen;
   }
 
   Lowered run() {
@@ -65,7 +64,7 @@ class Lowerer {
       for (const Function& fun : m_.functions) {
         if (fun.id != m_.entry) {
           b_.fail(fun.blocks.empty() || fun.blocks[0].body.empty() ? SourceLocation{} : fun.blocks[0].body[0].where,
-               fmt::format("function '{}' was not inlined (recursion is not supported)", fun.name));
+                  fmt::format("function '{}' was not inlined (recursion is not supported)", fun.name));
         }
       }
     }
@@ -135,10 +134,12 @@ class Lowerer {
         if (done & (1u << j)) continue;
         std::uint8_t mask = 0;
         for (int k = j; k < n; ++k) {
-          if (bits[static_cast<std::size_t>(k)] == bits[static_cast<std::size_t>(j)]) mask |= static_cast<std::uint8_t>(1u << k);
+          if (bits[static_cast<std::size_t>(k)] == bits[static_cast<std::size_t>(j)]) {
+            mask |= static_cast<std::uint8_t>(1u << k);
+          }
         }
         b_.op_into(d, mask == (1u << n) - 1 ? 0 : mask, is_float ? Opcode::kLif : Opcode::kLi, {},
-                Imm::lane(bits[static_cast<std::size_t>(j)], is_float),
+                   Imm::lane(bits[static_cast<std::size_t>(j)], is_float),
                 done == 0);
         done |= mask;
       }
@@ -180,8 +181,8 @@ class Lowerer {
     if (const auto it = phis_.find(id); it != phis_.end()) return it->second;
     const auto def = defined_by_.find(id);
     b_.unsupported(def == defined_by_.end()
-                    ? fmt::format("the value %{} (an operand the back end has no value for)", id)
-                    : fmt::format("using the result of {} as a value", op_name(def->second)));
+                       ? fmt::format("the value %{} (an operand the back end has no value for)", id)
+                       : fmt::format("using the result of {} as a value", op_name(def->second)));
   }
   Src scalar_or_vector(Id id) {
     const Value v = concrete(value(id));
@@ -429,9 +430,9 @@ class Lowerer {
       return p;
     }
     b_.fail(b_.where, fmt::format("storage buffer '{}' at binding {}: the chip's buffers are at bindings 0-{} "
-                             "(spec/shaders.toml, docs/shaders.md)",
-                             m_.names.count(var_id) ? m_.names.at(var_id) : "", binding,
-                             spec::kShaderBuffers.size() - 1));
+                                  "(spec/shaders.toml, docs/shaders.md)",
+                                  m_.names.count(var_id) ? m_.names.at(var_id) : "", binding,
+                                  spec::kShaderBuffers.size() - 1));
   }
   Pointer pointer(Id id) {
     if (const auto it = pointers_.find(id); it != pointers_.end()) return it->second;
@@ -472,7 +473,8 @@ class Lowerer {
         }
         return p;
       default:
-        b_.unsupported(fmt::format("a variable in storage class {}", storage_class_name(static_cast<std::uint32_t>(var.storage))));
+        b_.unsupported(fmt::format("a variable in storage class {}",
+                                   storage_class_name(static_cast<std::uint32_t>(var.storage))));
     }
   }
   void access_chain(const Instruction& i) {
@@ -482,7 +484,9 @@ class Lowerer {
       const Type& t = m_.type(p.type);
       const auto c = constant_scalar(index);
       if (p.where != Pointer::Where::kMemory) {
-        if (!c) b_.unsupported("a dynamic index into a variable kept in registers (a local array indexed by a variable)");
+        if (!c) {
+          b_.unsupported("a dynamic index into a variable kept in registers (a local array indexed by a variable)");
+        }
         p.path.push_back(*c);
         p.type = t.op == spv::Op::OpTypeStruct ? t.members.at(*c) : t.element;
         continue;
@@ -617,8 +621,8 @@ class Lowerer {
       case spv::BuiltIn::RayGeometryIndexKHR: s = b_.op(Opcode::kLi, 1, {}, Imm::integer(0)); break;
       default:
         b_.unsupported(fmt::format("the built-in {} (the chip provides launch id and size, world ray origin and "
-                                "direction, t min and max, hit t, primitive id and instance custom index)",
-                                builtin_name(static_cast<std::uint32_t>(b))));
+                                   "direction, t min and max, hit t, primitive id and instance custom index)",
+                                   builtin_name(static_cast<std::uint32_t>(b))));
     }
     for (const std::uint32_t k : p.path) s = component(s, static_cast<int>(k));
     Value v;
@@ -670,8 +674,8 @@ class Lowerer {
     const Value from = value(i.operands[1]);
     const Place pl = place(p);
     if (pl.component >= 0) {
-      b_.op_into(pl.value->leaf.v, static_cast<std::uint8_t>(1u << pl.value->leaf.comp[static_cast<std::size_t>(pl.component)]),
-              Opcode::kMov, {from.leaf});
+      const auto lane = pl.value->leaf.comp[static_cast<std::size_t>(pl.component)];
+      b_.op_into(pl.value->leaf.v, static_cast<std::uint8_t>(1u << lane), Opcode::kMov, {from.leaf});
       return;
     }
     assign(*pl.value, from);
@@ -697,10 +701,29 @@ class Lowerer {
     const Instruction& i_;
     std::size_t first_;
   };
+  void set(const Instruction& i, const Src& s) {
+    Value v;
+    v.leaf = s;
+    values_[i.result] = v;
+  }
   void instruction(const Instruction& i);
   void ext_inst(const Instruction& i);
+  void variable(const Instruction& i);
   void trace(const Instruction& i);
   void image_store(const Instruction& i);
+  void ray_query_initialize(const Instruction& i);
+  void ray_query_proceed(const Instruction& i);
+  void ray_query_type(const Instruction& i);
+  bool ray_query_type_test(const Instruction& i);
+  Src ray_query_value(const Instruction& i);
+  void switch_cases(const Instruction& i);
+  void composite_extract(const Instruction& i);
+  void composite_insert(const Instruction& i);
+  void composite_construct(const Instruction& i);
+  void vector_shuffle(const Instruction& i);
+  void vector_extract_dynamic(const Instruction& i);
+  void matrix_times_scalar(const Instruction& i);
+  void same_bits(const Instruction& i);
   const Module& m_;
   const SpirvShader& shader_;
   const LowerContext& ctx_;
@@ -766,9 +789,9 @@ void Lowerer::trace(const Instruction& i) {
   }
   if (static_cast<int>(*miss) >= ctx_.miss_shaders) {
     if (ctx_.miss_shaders > 0 || *miss != 0) {
-      b_.fail(b_.where, fmt::format("traceRayEXT names miss shader {}, but the firmware has {} (the .rmiss files in "
-                               "the order given)",
-                               *miss, ctx_.miss_shaders));
+      b_.fail(b_.where, fmt::format("traceRayEXT names miss shader {}, but the firmware has {} (the .rmiss files "
+                                    "in the order given)",
+                                    *miss, ctx_.miss_shaders));
     }
     form.miss = -1;
   } else {
@@ -794,7 +817,7 @@ void Lowerer::image_store(const Instruction& i) {
   const Id var = img == opaque_.end() ? 0 : img->second;
   if (m_.decoration(var).binding.value_or(~0u) != spec::kShaderFramebufferBinding) {
     b_.fail(b_.where, fmt::format("imageStore to an image that is not the framebuffer (binding {})",
-                             spec::kShaderFramebufferBinding));
+                                  spec::kShaderFramebufferBinding));
   }
   const Src coord = scalar_or_vector(i.operands[1]);
   Src texel = scalar_or_vector(i.operands[2]);
@@ -816,7 +839,9 @@ void Lowerer::image_store(const Instruction& i) {
   index = b_.op(Opcode::kShli, 1, {index}, Imm::integer(std::countr_zero(mm::kFramebufferBytesPerPixel)));
   const Src address = b_.op(Opcode::kIadd, 1, {index, component(whole(fbw, 2), 0)});
   // st stores lanes in place: the texel must sit in lanes x..w in order.
-  if (texel.comp != std::array<std::uint8_t, 4>{0, 1, 2, 3} || texel.neg || texel.abs) texel = b_.op(Opcode::kMov, 4, {texel});
+  if (texel.comp != std::array<std::uint8_t, 4>{0, 1, 2, 3} || texel.neg || texel.abs) {
+    texel = b_.op(Opcode::kMov, 4, {texel});
+  }
   MInst s;
   s.op = Opcode::kSt;
   s.srcs = {address, texel};
@@ -826,141 +851,39 @@ void Lowerer::image_store(const Instruction& i) {
 
 void Lowerer::instruction(const Instruction& i) {
   using spv::Op;
-  const auto& o = i.operands;
-  const int n = i.type ? width_of(i.type) : 0;
-  const auto set = [&](const Src& s) {
-    Value v;
-    v.leaf = s;
-    values_[i.result] = v;
-  };
+  const Id from = current_block_;
   switch (i.op) {
-    case Op::OpPhi: {
-      values_[i.result] = phi(i);
-      return;
-    }
     case Op::OpLine:
     case Op::OpNoLine:
-    case Op::OpSelectionMerge:
-    case Op::OpLoopMerge:
-    case Op::OpExtInst:
-      if (i.op == Op::OpExtInst) {
-        ext_inst(i);
-      }
-      return;
-    case Op::OpVariable: {
-      // A function variable SPIRV-Tools did not turn into SSA values: kept in registers.
-      if (m_.type(m_.type(i.type).element).op == spv::Op::OpTypeRayQueryKHR) {
-        Pointer q;
-        q.where = Pointer::Where::kOpaque;
-        q.variable = i.result;
-        pointers_[i.result] = q;
-        return;
-      }
-      Pointer p;
-      p.where = Pointer::Where::kRegisters;
-      p.variable = i.result;
-      p.type = m_.type(i.type).element;
-      homes_[i.result] = fresh(p.type);
-      if (o.size() > 1) assign(homes_[i.result], value(o[1]));
-      pointers_[i.result] = p;
-      return;
-    }
+    case Op::OpSelectionMerge:  // the block order keeps the structure
+    case Op::OpLoopMerge: return;
+    case Op::OpPhi: values_[i.result] = phi(i); return;
+    case Op::OpExtInst: ext_inst(i); return;
+    // ---- memory and pointers
+    case Op::OpVariable: variable(i); return;
     case Op::OpLoad: load(i); return;
     case Op::OpStore: store(i); return;
     case Op::OpAccessChain:
     case Op::OpInBoundsAccessChain: access_chain(i); return;
-    case Op::OpTraceRayKHR: trace(i); return;
-    case Op::OpRayQueryInitializeKHR: {
-      // query accel flags cullmask origin tmin direction tmax: the ray, traced at Proceed.
-      Query& q = queries_[pointer(o[0]).variable];
-      const auto flags = constant_scalar(o[2]);
-      if (!flags) b_.unsupported("rayQueryInitializeEXT with ray flags that are not a constant");
-      q.any_hit = (*flags & static_cast<std::uint32_t>(spv::RayFlagsMask::TerminateOnFirstHitKHR)) != 0;
-      q.a = b_.vreg(4);
-      q.b = b_.vreg(4);
-      b_.op_into(q.a, 0b0111, Opcode::kMov, {scalar_or_vector(o[4])}, {}, true);
-      b_.op_into(q.a, 0b1000, Opcode::kMov, {scalar_or_vector(o[5])});
-      b_.op_into(q.b, 0b0111, Opcode::kMov, {scalar_or_vector(o[6])}, {}, true);
-      b_.op_into(q.b, 0b1000, Opcode::kMov, {scalar_or_vector(o[7])});
-      q.hit = -1;
-      return;
-    }
-    case Op::OpRayQueryProceedKHR: {
-      // The traversal unit commits the closest (or first) opaque triangle: nothing is
-      // left to proceed with afterwards.
-      Query& q = query(o[0]);
-      if (q.hit < 0) q.hit = b_.vreg(4);
-      MInst t;
-      t.op = q.any_hit ? Opcode::kTracea : Opcode::kTrace;
-      t.dst = q.hit;
-      t.srcs = {whole(q.a, 4), whole(q.b, 4)};
-      b_.push(std::move(t));
-      Value v;
-      v.leaf = b_.op(Opcode::kLi, 1, {}, Imm::integer(0));
-      values_[i.result] = v;
-      return;
-    }
-    case Op::OpRayQueryGetIntersectionTypeKHR: {
-      // Committed: 0 none, 1 triangle. A miss's primitive is 0xffffffff, a hit's below 2^31.
-      const Query& q = traced(o[0]);
-      if (constant_scalar(o[1]).value_or(0) != 1) b_.unsupported("a ray query's candidate intersection");
-      const Src w = component(whole(q.hit, 4), 3);
-      set(b_.op(Opcode::kXori, 1, {b_.op(Opcode::kShri, 1, {w}, Imm::integer(31))}, Imm::integer(1)));
-      query_types_[i.result] = w;
-      return;
-    }
-    case Op::OpRayQueryGetIntersectionTKHR: set(component(whole(traced(o[0]).hit, 4), 0)); return;
-    case Op::OpRayQueryGetIntersectionPrimitiveIndexKHR: set(component(whole(traced(o[0]).hit, 4), 3)); return;
-    case Op::OpRayQueryGetIntersectionBarycentricsKHR: {
-      Src s = whole(traced(o[0]).hit, 4);
-      s.comp = {1, 2, 0, 0};
-      s.n = 2;
-      set(s);
-      return;
-    }
-    case Op::OpRayQueryGetWorldRayOriginKHR: {
-      Src s = whole(query(o[0]).a, 4);
-      s.n = 3;
-      set(s);
-      return;
-    }
-    case Op::OpRayQueryGetWorldRayDirectionKHR: {
-      Src s = whole(query(o[0]).b, 4);
-      s.n = 3;
-      set(s);
-      return;
-    }
-    case Op::OpRayQueryGetRayTMinKHR: set(component(whole(query(o[0]).a, 4), 3)); return;
-    case Op::OpRayQueryTerminateKHR: return;
     case Op::OpImageWrite: image_store(i); return;
-    case Op::OpBranch: {
-      const Id from = current_block_;
-      jump_to(from, o[0]);
+    // ---- rays
+    case Op::OpTraceRayKHR: trace(i); return;
+    case Op::OpRayQueryInitializeKHR: ray_query_initialize(i); return;
+    case Op::OpRayQueryProceedKHR: ray_query_proceed(i); return;
+    case Op::OpRayQueryGetIntersectionTypeKHR: ray_query_type(i); return;
+    case Op::OpRayQueryGetIntersectionTKHR:
+    case Op::OpRayQueryGetIntersectionPrimitiveIndexKHR:
+    case Op::OpRayQueryGetIntersectionBarycentricsKHR:
+    case Op::OpRayQueryGetWorldRayOriginKHR:
+    case Op::OpRayQueryGetWorldRayDirectionKHR:
+    case Op::OpRayQueryGetRayTMinKHR: set(i, ray_query_value(i)); return;
+    case Op::OpRayQueryTerminateKHR: return;
+    // ---- control flow
+    case Op::OpBranch: jump_to(from, i.operands[0]); return;
+    case Op::OpBranchConditional:
+      conditional(from, scalar_or_vector(i.operands[0]), i.operands[1], i.operands[2]);
       return;
-    }
-    case Op::OpBranchConditional: {
-      const Id from = current_block_;
-      conditional(from, scalar_or_vector(o[0]), o[1], o[2]);
-      return;
-    }
-    case Op::OpSwitch: {
-      const Id from = current_block_;
-      const Src sel = scalar_or_vector(o[0]);
-      for (std::size_t k = 2; k + 1 < o.size(); k += 2) {
-        const Src c = b_.op(Opcode::kLi, 1, {}, Imm::bits(o[k]));
-        const Src eq = b_.op(Opcode::kIeq, 1, {sel, c});
-        const std::string tramp = fmt::format(".{}_s{}_{}", fn_.label, from, k);
-        // not this case: on to the next test; this case: through its own copies
-        b_.cond_branch(false, eq, tramp);
-        jump_to(from, o[k + 1]);
-        b_.label(tramp);
-        block_constants_.clear();
-        block_addresses_.clear();
-      block_loads_.clear();
-      }
-      jump_to(from, o[1]);
-      return;
-    }
+    case Op::OpSwitch: switch_cases(i); return;
     case Op::OpReturn:
     case Op::OpUnreachable: function_return(); return;
     case Op::OpReturnValue: b_.unsupported("a function returning a value outside the entry point");
@@ -968,213 +891,321 @@ void Lowerer::instruction(const Instruction& i) {
     case Op::OpTerminateRayKHR:
     case Op::OpIgnoreIntersectionKHR: b_.unsupported(op_name(i.op));
     // ---- composites
-    case Op::OpCompositeExtract: {
-      // Into a buffer's record the member stays lazy: loaded where it is used.
-      Value v = value(o[0]);
-      for (std::size_t k = 1; k < o.size(); ++k) {
-        if (v.lazy) v = expand(v);
-        if (v.aggregate) {
-          v = v.members.at(o[k]);
-        } else {
-          v.leaf = component(v.leaf, static_cast<int>(o[k]));
-        }
-      }
-      values_[i.result] = v;
-      return;
-    }
-    case Op::OpCompositeInsert: {
-      // object composite indexes...: values are SSA, so the members an insert leaves
-      // alone are shared; only the changed leaf is new.
-      Value v = expand(value(o[1]));
-      Value* at = &v;
-      std::size_t k = 2;
-      for (; k < o.size(); ++k) {
-        *at = expand(*at);
-        if (!at->aggregate) break;
-        at = &at->members.at(o[k]);
-      }
-      const Value obj = value(o[0]);
-      if (k < o.size()) {
-        *at = expand(*at);
-        const Src old = at->leaf;
-        const int d = b_.vreg(old.n);
-        b_.op_into(d, 0, Opcode::kMov, {old});
-        b_.op_into(d, static_cast<std::uint8_t>(1u << o[k]), Opcode::kMov, {concrete(obj).leaf});
-        at->leaf = whole(d, old.n);
-      } else {
-        *at = obj;
-      }
-      values_[i.result] = v;
-      return;
-    }
-    case Op::OpCompositeConstruct: {
-      if (n > 0) {
-        // Components of one vreg (a splat, a reordering) are a view of it: no instruction.
-        {
-          Src view;
-          bool ok = true;
-          int at = 0;
-          for (const Id part : o) {
-            if (constant_scalar(part) && m_.constants.count(part)) {
-              ok = false;
-              break;
-            }
-            const Src t = scalar_or_vector(part);
-            if (at == 0) view = t;
-            if (t.v != view.v || t.neg != view.neg || t.abs != view.abs || at + t.n > 4) {
-              ok = false;
-              break;
-            }
-            for (int j = 0; j < t.n; ++j) view.comp[static_cast<std::size_t>(at + j)] = t.comp[static_cast<std::size_t>(j)];
-            at += t.n;
-          }
-          if (ok && at == n) {
-            view.n = n;
-            set(view);
-            return;
-          }
-        }
-        const int d = b_.vreg(n);
-        int at = 0;
-        bool first = true;
-        for (std::size_t k = 0; k < o.size();) {
-          const std::uint8_t full = static_cast<std::uint8_t>((1u << n) - 1);
-          if (const auto c = constant_scalar(o[k]); c && width_of(m_.constants.at(o[k]).type) == 1) {
-            // a constant goes straight into its lane
-            std::uint32_t bits = *c;
-            if (m_.is_bool(m_.constants.at(o[k]).type)) bits = bits ? 0xffffffffu : 0u;
-            const std::uint8_t mask = static_cast<std::uint8_t>(1u << at);
-            const bool is_float = m_.is_float(m_.constants.at(o[k]).type);
-            b_.op_into(d, mask == full ? 0 : mask, is_float ? Opcode::kLif : Opcode::kLi, {}, Imm::lane(bits, is_float),
-                    first);
-            first = false;
-            ++at;
-            ++k;
-            continue;
-          }
-          Src s = scalar_or_vector(o[k]);
-          ++k;
-          // consecutive scalars from one vreg move together
-          while (k < o.size() && s.n < 4 && !constant_scalar(o[k])) {
-            const Src t = scalar_or_vector(o[k]);
-            if (t.n != 1 || t.v != s.v || t.neg != s.neg || t.abs != s.abs) break;
-            s.comp[static_cast<std::size_t>(s.n)] = t.comp[0];
-            ++s.n;
-            ++k;
-          }
-          const std::uint8_t mask = static_cast<std::uint8_t>(((1u << s.n) - 1) << at);
-          b_.op_into(d, mask == full ? 0 : mask, Opcode::kMov, {s}, {}, first);
-          first = false;
-          at += s.n;
-        }
-        set(whole(d, n));
-        return;
-      }
-      Value v;
-      v.aggregate = true;
-      for (const Id part : o) v.members.push_back(value(part));
-      values_[i.result] = v;
-      return;
-    }
-    case Op::OpVectorShuffle: {
-      const Src a = scalar_or_vector(o[0]), b = scalar_or_vector(o[1]);
-      bool only_a = true;
-      for (std::size_t k = 2; k < o.size(); ++k) {
-        if (o[k] != 0xffffffffu && static_cast<int>(o[k]) >= a.n) only_a = false;
-      }
-      if (only_a) {
-        Src s = a;
-        for (std::size_t k = 2; k < o.size(); ++k) {
-          s.comp[k - 2] = a.comp[o[k] == 0xffffffffu ? 0 : o[k]];
-        }
-        s.n = n;
-        set(s);
-        return;
-      }
-      const int d = b_.vreg(n);
-      for (std::size_t k = 2; k < o.size(); ++k) {
-        const std::uint32_t c = o[k] == 0xffffffffu ? 0 : o[k];
-        const Src from = static_cast<int>(c) < a.n ? component(a, static_cast<int>(c)) : component(b, static_cast<int>(c) - a.n);
-        b_.op_into(d, static_cast<std::uint8_t>(1u << (k - 2)), Opcode::kMov, {from}, {}, k == 2);
-      }
-      set(whole(d, n));
-      return;
-    }
+    case Op::OpCompositeExtract: composite_extract(i); return;
+    case Op::OpCompositeInsert: composite_insert(i); return;
+    case Op::OpCompositeConstruct: composite_construct(i); return;
+    case Op::OpVectorShuffle: vector_shuffle(i); return;
+    case Op::OpVectorExtractDynamic: vector_extract_dynamic(i); return;
+    case Op::OpMatrixTimesScalar: matrix_times_scalar(i); return;
     case Op::OpCopyObject:
     case Op::OpCopyLogical:  // a buffer's struct as a plain one: the same values
-    case Op::OpBitcast: {
-      if (i.op == Op::OpBitcast && width_of(i.type) != scalar_or_vector(o[0]).n) {
-        b_.unsupported("a bitcast between types of different component counts");
-      }
-      values_[i.result] = value(o[0]);
-      return;
-    }
-    case Op::OpUndef: values_[i.result] = zero(i.type); return;
-    case Op::OpVectorExtractDynamic: {
-      const Src v = scalar_or_vector(o[0]);
-      const Src idx = scalar_or_vector(o[1]);
-      Src r = component(v, 0);
-      for (int k = 1; k < v.n; ++k) {
-        const Src is_k = b_.op(Opcode::kIeq, 1, {idx, b_.op(Opcode::kLi, 1, {}, Imm::integer(k))});
-        r = b_.select(is_k, component(v, k), r, 1);
-      }
-      set(r);
-      return;
-    }
-    // ---- aggregates
-    case Op::OpMatrixTimesScalar: {
-      Value m = concrete(value(o[0]));
-      const Src s = scalar_or_vector(o[1]);
-      Value r;
-      r.aggregate = true;
-      for (const Value& col : m.members) {
-        Value c;
-        c.leaf = b_.op(Opcode::kMul, col.leaf.n, {col.leaf, broadcast(s, col.leaf.n)});
-        r.members.push_back(c);
-      }
-      values_[i.result] = r;
-      return;
-    }
-    // ---- a ray query's committed type against a constant (else selected below)
-    case Op::OpIEqual:
-    case Op::OpINotEqual: {
-      // A ray query's committed type against 0 (none): the miss mask straight from the
-      // primitive's top bit.
-      for (int k = 0; k < 2; ++k) {
-        const auto t = query_types_.find(o[static_cast<std::size_t>(k)]);
-        const auto c = constant_scalar(o[static_cast<std::size_t>(1 - k)]);
-        if (t == query_types_.end() || !c || *c > 1) continue;
-        const bool miss_mask = (i.op == Op::OpIEqual) == (*c == 0);
-        const Src m = b_.op(Opcode::kSrai, 1, {t->second}, Imm::integer(31));
-        set(miss_mask ? m : b_.not_of(m));
-        return;
-      }
-      break;
-    }
+    case Op::OpBitcast:
     case Op::OpSConvert:
     case Op::OpUConvert:
-    case Op::OpFConvert: {
-      if (m_.type(m_.scalar_of(i.type)).count != 32) b_.unsupported("a conversion to other than 32 bits");
-      values_[i.result] = value(o[0]);
-      return;
-    }
+    case Op::OpFConvert: same_bits(i); return;
+    case Op::OpUndef: values_[i.result] = zero(i.type); return;
+    case Op::OpIEqual:
+    case Op::OpINotEqual:
+      if (ray_query_type_test(i)) return;
+      break;  // selected below
     default: break;
   }
   Args args(*this, i, 0);
-  if (const std::optional<Src> s = select(b_, i.op, n, args)) {
-    set(*s);
+  if (const std::optional<Src> s = select(b_, i.op, i.type ? width_of(i.type) : 0, args)) {
+    set(i, *s);
     return;
   }
   b_.unsupported(op_name(i.op));
+}
+
+// A function variable SPIRV-Tools did not turn into SSA values: kept in registers.
+void Lowerer::variable(const Instruction& i) {
+  if (m_.type(m_.type(i.type).element).op == spv::Op::OpTypeRayQueryKHR) {
+    Pointer q;
+    q.where = Pointer::Where::kOpaque;
+    q.variable = i.result;
+    pointers_[i.result] = q;
+    return;
+  }
+  Pointer p;
+  p.where = Pointer::Where::kRegisters;
+  p.variable = i.result;
+  p.type = m_.type(i.type).element;
+  homes_[i.result] = fresh(p.type);
+  if (i.operands.size() > 1) assign(homes_[i.result], value(i.operands[1]));
+  pointers_[i.result] = p;
+}
+
+// query accel flags cullmask origin tmin direction tmax: the ray, traced at Proceed.
+void Lowerer::ray_query_initialize(const Instruction& i) {
+  const auto& o = i.operands;
+  Query& q = queries_[pointer(o[0]).variable];
+  const auto flags = constant_scalar(o[2]);
+  if (!flags) b_.unsupported("rayQueryInitializeEXT with ray flags that are not a constant");
+  q.any_hit = (*flags & static_cast<std::uint32_t>(spv::RayFlagsMask::TerminateOnFirstHitKHR)) != 0;
+  q.a = b_.vreg(4);
+  q.b = b_.vreg(4);
+  b_.op_into(q.a, 0b0111, Opcode::kMov, {scalar_or_vector(o[4])}, {}, true);
+  b_.op_into(q.a, 0b1000, Opcode::kMov, {scalar_or_vector(o[5])});
+  b_.op_into(q.b, 0b0111, Opcode::kMov, {scalar_or_vector(o[6])}, {}, true);
+  b_.op_into(q.b, 0b1000, Opcode::kMov, {scalar_or_vector(o[7])});
+  q.hit = -1;
+}
+
+// The traversal unit commits the closest (or first) opaque triangle: nothing is left to
+// proceed with afterwards.
+void Lowerer::ray_query_proceed(const Instruction& i) {
+  Query& q = query(i.operands[0]);
+  if (q.hit < 0) q.hit = b_.vreg(4);
+  MInst t;
+  t.op = q.any_hit ? Opcode::kTracea : Opcode::kTrace;
+  t.dst = q.hit;
+  t.srcs = {whole(q.a, 4), whole(q.b, 4)};
+  b_.push(std::move(t));
+  set(i, b_.op(Opcode::kLi, 1, {}, Imm::integer(0)));
+}
+
+// Committed: 0 none, 1 triangle. A miss's primitive is 0xffffffff, a hit's below 2^31.
+void Lowerer::ray_query_type(const Instruction& i) {
+  const Query& q = traced(i.operands[0]);
+  if (constant_scalar(i.operands[1]).value_or(0) != 1) b_.unsupported("a ray query's candidate intersection");
+  const Src w = component(whole(q.hit, 4), 3);
+  set(i, b_.op(Opcode::kXori, 1, {b_.op(Opcode::kShri, 1, {w}, Imm::integer(31))}, Imm::integer(1)));
+  query_types_[i.result] = w;
+}
+
+// A ray query's committed type against 0 (none) or 1: the miss mask straight from the
+// primitive's top bit. False if `i` compares something else.
+bool Lowerer::ray_query_type_test(const Instruction& i) {
+  const auto& o = i.operands;
+  for (int k = 0; k < 2; ++k) {
+    const auto t = query_types_.find(o[static_cast<std::size_t>(k)]);
+    const auto c = constant_scalar(o[static_cast<std::size_t>(1 - k)]);
+    if (t == query_types_.end() || !c || *c > 1) continue;
+    const bool miss_mask = (i.op == spv::Op::OpIEqual) == (*c == 0);
+    const Src m = b_.op(Opcode::kSrai, 1, {t->second}, Imm::integer(31));
+    set(i, miss_mask ? m : b_.not_of(m));
+    return true;
+  }
+  return false;
+}
+
+// The ray (origin, t_min; direction, t_max) and the hit record (t, u, v, primitive).
+Src Lowerer::ray_query_value(const Instruction& i) {
+  const Id q = i.operands[0];
+  switch (i.op) {
+    case spv::Op::OpRayQueryGetIntersectionTKHR: return component(whole(traced(q).hit, 4), 0);
+    case spv::Op::OpRayQueryGetIntersectionPrimitiveIndexKHR: return component(whole(traced(q).hit, 4), 3);
+    case spv::Op::OpRayQueryGetIntersectionBarycentricsKHR: {
+      Src s = whole(traced(q).hit, 4);
+      s.comp = {1, 2, 0, 0};
+      s.n = 2;
+      return s;
+    }
+    case spv::Op::OpRayQueryGetWorldRayOriginKHR: return whole(query(q).a, 3);
+    case spv::Op::OpRayQueryGetWorldRayDirectionKHR: return whole(query(q).b, 3);
+    default: return component(whole(query(q).a, 4), 3);  // t_min
+  }
+}
+
+// One test per case, in order: not this case, on to the next test; this case, through
+// its own phi copies.
+void Lowerer::switch_cases(const Instruction& i) {
+  const auto& o = i.operands;
+  const Id from = current_block_;
+  const Src sel = scalar_or_vector(o[0]);
+  for (std::size_t k = 2; k + 1 < o.size(); k += 2) {
+    const Src c = b_.op(Opcode::kLi, 1, {}, Imm::bits(o[k]));
+    const Src eq = b_.op(Opcode::kIeq, 1, {sel, c});
+    const std::string tramp = fmt::format(".{}_s{}_{}", fn_.label, from, k);
+    b_.cond_branch(false, eq, tramp);
+    jump_to(from, o[k + 1]);
+    b_.label(tramp);
+    block_constants_.clear();
+    block_addresses_.clear();
+    block_loads_.clear();
+  }
+  jump_to(from, o[1]);
+}
+
+// Into a buffer's record the member stays lazy: loaded where it is used.
+void Lowerer::composite_extract(const Instruction& i) {
+  const auto& o = i.operands;
+  Value v = value(o[0]);
+  for (std::size_t k = 1; k < o.size(); ++k) {
+    if (v.lazy) v = expand(v);
+    if (v.aggregate) {
+      v = v.members.at(o[k]);
+    } else {
+      v.leaf = component(v.leaf, static_cast<int>(o[k]));
+    }
+  }
+  values_[i.result] = v;
+}
+
+// object composite indexes...: values are SSA, so the members an insert leaves alone
+// are shared; only the changed leaf is new.
+void Lowerer::composite_insert(const Instruction& i) {
+  const auto& o = i.operands;
+  Value v = expand(value(o[1]));
+  Value* at = &v;
+  std::size_t k = 2;
+  for (; k < o.size(); ++k) {
+    *at = expand(*at);
+    if (!at->aggregate) break;
+    at = &at->members.at(o[k]);
+  }
+  const Value obj = value(o[0]);
+  if (k < o.size()) {
+    *at = expand(*at);
+    const Src old = at->leaf;
+    const int d = b_.vreg(old.n);
+    b_.op_into(d, 0, Opcode::kMov, {old});
+    b_.op_into(d, static_cast<std::uint8_t>(1u << o[k]), Opcode::kMov, {concrete(obj).leaf});
+    at->leaf = whole(d, old.n);
+  } else {
+    *at = obj;
+  }
+  values_[i.result] = v;
+}
+
+void Lowerer::composite_construct(const Instruction& i) {
+  const auto& o = i.operands;
+  const int n = width_of(i.type);
+  if (n == 0) {
+    Value v;
+    v.aggregate = true;
+    for (const Id part : o) v.members.push_back(value(part));
+    values_[i.result] = v;
+    return;
+  }
+  // Components of one vreg (a splat, a reordering) are a view of it: no instruction.
+  {
+    Src view;
+    bool ok = true;
+    int at = 0;
+    for (const Id part : o) {
+      if (constant_scalar(part) && m_.constants.count(part)) {
+        ok = false;
+        break;
+      }
+      const Src t = scalar_or_vector(part);
+      if (at == 0) view = t;
+      if (t.v != view.v || t.neg != view.neg || t.abs != view.abs || at + t.n > 4) {
+        ok = false;
+        break;
+      }
+      for (int j = 0; j < t.n; ++j) view.comp[static_cast<std::size_t>(at + j)] = t.comp[static_cast<std::size_t>(j)];
+      at += t.n;
+    }
+    if (ok && at == n) {
+      view.n = n;
+      set(i, view);
+      return;
+    }
+  }
+  const int d = b_.vreg(n);
+  int at = 0;
+  bool first = true;
+  for (std::size_t k = 0; k < o.size();) {
+    const std::uint8_t full = static_cast<std::uint8_t>((1u << n) - 1);
+    if (const auto c = constant_scalar(o[k]); c && width_of(m_.constants.at(o[k]).type) == 1) {
+      // a constant goes straight into its lane
+      std::uint32_t bits = *c;
+      if (m_.is_bool(m_.constants.at(o[k]).type)) bits = bits ? 0xffffffffu : 0u;
+      const std::uint8_t mask = static_cast<std::uint8_t>(1u << at);
+      const bool is_float = m_.is_float(m_.constants.at(o[k]).type);
+      b_.op_into(d, mask == full ? 0 : mask, is_float ? Opcode::kLif : Opcode::kLi, {}, Imm::lane(bits, is_float),
+                 first);
+      first = false;
+      ++at;
+      ++k;
+      continue;
+    }
+    Src s = scalar_or_vector(o[k]);
+    ++k;
+    // consecutive scalars from one vreg move together
+    while (k < o.size() && s.n < 4 && !constant_scalar(o[k])) {
+      const Src t = scalar_or_vector(o[k]);
+      if (t.n != 1 || t.v != s.v || t.neg != s.neg || t.abs != s.abs) break;
+      s.comp[static_cast<std::size_t>(s.n)] = t.comp[0];
+      ++s.n;
+      ++k;
+    }
+    const std::uint8_t mask = static_cast<std::uint8_t>(((1u << s.n) - 1) << at);
+    b_.op_into(d, mask == full ? 0 : mask, Opcode::kMov, {s}, {}, first);
+    first = false;
+    at += s.n;
+  }
+  set(i, whole(d, n));
+}
+
+void Lowerer::vector_shuffle(const Instruction& i) {
+  const auto& o = i.operands;
+  const int n = width_of(i.type);
+  const Src a = scalar_or_vector(o[0]), b = scalar_or_vector(o[1]);
+  bool only_a = true;
+  for (std::size_t k = 2; k < o.size(); ++k) {
+    if (o[k] != 0xffffffffu && static_cast<int>(o[k]) >= a.n) only_a = false;
+  }
+  if (only_a) {
+    Src s = a;
+    for (std::size_t k = 2; k < o.size(); ++k) s.comp[k - 2] = a.comp[o[k] == 0xffffffffu ? 0 : o[k]];
+    s.n = n;
+    set(i, s);
+    return;
+  }
+  const int d = b_.vreg(n);
+  for (std::size_t k = 2; k < o.size(); ++k) {
+    const std::uint32_t c = o[k] == 0xffffffffu ? 0 : o[k];
+    const Src from =
+        static_cast<int>(c) < a.n ? component(a, static_cast<int>(c)) : component(b, static_cast<int>(c) - a.n);
+    b_.op_into(d, static_cast<std::uint8_t>(1u << (k - 2)), Opcode::kMov, {from}, {}, k == 2);
+  }
+  set(i, whole(d, n));
+}
+
+void Lowerer::vector_extract_dynamic(const Instruction& i) {
+  const Src v = scalar_or_vector(i.operands[0]);
+  const Src idx = scalar_or_vector(i.operands[1]);
+  Src r = component(v, 0);
+  for (int k = 1; k < v.n; ++k) {
+    const Src is_k = b_.op(Opcode::kIeq, 1, {idx, b_.op(Opcode::kLi, 1, {}, Imm::integer(k))});
+    r = b_.select(is_k, component(v, k), r, 1);
+  }
+  set(i, r);
+}
+
+void Lowerer::matrix_times_scalar(const Instruction& i) {
+  Value m = concrete(value(i.operands[0]));
+  const Src s = scalar_or_vector(i.operands[1]);
+  Value r;
+  r.aggregate = true;
+  for (const Value& col : m.members) {
+    Value c;
+    c.leaf = b_.op(Opcode::kMul, col.leaf.n, {col.leaf, broadcast(s, col.leaf.n)});
+    r.members.push_back(c);
+  }
+  values_[i.result] = r;
+}
+
+// Copies, a bitcast between types of one shape, and conversions between 32-bit types
+// (the only width there is): the operand's value.
+void Lowerer::same_bits(const Instruction& i) {
+  if (i.op == spv::Op::OpBitcast && width_of(i.type) != scalar_or_vector(i.operands[0]).n) {
+    b_.unsupported("a bitcast between types of different component counts");
+  }
+  const bool conversion =
+      i.op == spv::Op::OpSConvert || i.op == spv::Op::OpUConvert || i.op == spv::Op::OpFConvert;
+  if (conversion && m_.type(m_.scalar_of(i.type)).count != 32) b_.unsupported("a conversion to other than 32 bits");
+  values_[i.result] = value(i.operands[0]);
 }
 
 void Lowerer::ext_inst(const Instruction& i) {
   const auto& o = i.operands;
   if (o.size() < 2 || o[0] != m_.glsl_std_450) b_.unsupported("an extended instruction set other than GLSL.std.450");
   Args args(*this, i, 2);
-  Value v;
-  v.leaf = select_glsl_std_450(b_, o[1], width_of(i.type), args);
-  values_[i.result] = v;
+  set(i, select_glsl_std_450(b_, o[1], width_of(i.type), args));
 }
 
 }  // namespace

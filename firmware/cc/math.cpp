@@ -29,7 +29,9 @@ Src exp2(Builder& b, const Src& y_in, int n) {
                                             0.05550410866482158f,    0.2402265069591007f,    0.6931471805599453f,
                                             1.0f};
   Src p = b.fconst(kCoefficients[0], n);
-  for (std::size_t k = 1; k < std::size(kCoefficients); ++k) p = b.op(Opcode::kMad, n, {p, g, b.fconst(kCoefficients[k], n)});
+  for (std::size_t k = 1; k < std::size(kCoefficients); ++k) {
+    p = b.op(Opcode::kMad, n, {p, g, b.fconst(kCoefficients[k], n)});
+  }
   Src e = b.op(Opcode::kF2i, n, {i});
   e = b.op(Opcode::kIaddi, n, {e}, Imm::integer(127));
   e = b.op(Opcode::kShli, n, {e}, Imm::integer(23));  // 2^i as fp32 bits
@@ -50,7 +52,9 @@ Src sine(Builder& b, const Src& x, int n) {
                                             2.75573192e-6f,  -1.98412698e-4f,  8.33333333e-3f,  -1.66666667e-1f,
                                             1.0f};
   Src p = b.fconst(kCoefficients[0], n);
-  for (std::size_t k = 1; k < std::size(kCoefficients); ++k) p = b.op(Opcode::kMad, n, {p, y2, b.fconst(kCoefficients[k], n)});
+  for (std::size_t k = 1; k < std::size(kCoefficients); ++k) {
+    p = b.op(Opcode::kMad, n, {p, y2, b.fconst(kCoefficients[k], n)});
+  }
   return b.op(Opcode::kMul, n, {p, y});
 }
 
@@ -73,7 +77,9 @@ Src log2(Builder& b, const Src& x, int n) {
   static constexpr float kCoefficients[] = {0.3205988979753252f, 0.41219858311113244f, 0.5770780163555854f,
                                             0.9617966939259756f, 2.8853900817779268f};
   Src p = b.fconst(kCoefficients[0], n);
-  for (std::size_t k = 1; k < std::size(kCoefficients); ++k) p = b.op(Opcode::kMad, n, {p, t2, b.fconst(kCoefficients[k], n)});
+  for (std::size_t k = 1; k < std::size(kCoefficients); ++k) {
+    p = b.op(Opcode::kMad, n, {p, t2, b.fconst(kCoefficients[k], n)});
+  }
   p = b.op(Opcode::kMul, n, {p, t});
   return b.op(Opcode::kAdd, n, {ef, p});
 }

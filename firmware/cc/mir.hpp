@@ -158,7 +158,6 @@ struct MFunction {
   std::string name;      // for messages: the source file
   std::vector<VReg> vregs;
   std::vector<MInst> code;
-  bool is_raygen = false;
 };
 
 }  // namespace rpu::cc

@@ -173,7 +173,8 @@ Src complement(Selection& s) { return s.b.not_of(s.in.value(0)); }
 Src any_or_all(Selection& s) {
   const Src v = s.in.value(0);
   Src r = component(v, 0);
-  for (int k = 1; k < v.n; ++k) r = s.b.op(static_cast<Op>(s.op) == Op::OpAny ? Opcode::kOr : Opcode::kAnd, 1, {r, component(v, k)});
+  const Opcode combine = static_cast<Op>(s.op) == Op::OpAny ? Opcode::kOr : Opcode::kAnd;
+  for (int k = 1; k < v.n; ++k) r = s.b.op(combine, 1, {r, component(v, k)});
   return r.v == v.v && v.n == 1 ? s.b.op(Opcode::kMov, 1, {r}) : r;
 }
 
