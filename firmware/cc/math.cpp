@@ -14,7 +14,7 @@ Src dot(Builder& b, const Src& x, const Src& y) {
 
 Src divide(Builder& b, const Src& x, const Src& y, int n) {
   const Src r = b.op(Opcode::kRcp, y.n, {y});
-  return b.op(Opcode::kMul, n, {x, r.n == 1 && n > 1 ? broadcast(r, n) : r});
+  return b.op(Opcode::kMul, n, {x, r});
 }
 
 // exp2 as firmware/whitted.s's pow computes it: 2^i 2^(g) sqrt(2) with g = y - i - 1/2,

@@ -8,7 +8,7 @@ namespace rpu::cc {
 
 // x . y of 1 to 4 components, into one lane: dp3 and dp4 where they fit.
 Src dot(Builder& b, const Src& x, const Src& y);
-// x / y as x * (1/y), with the correctly rounded reciprocal (a scalar y broadcast).
+// x / y as x * (1/y), with the correctly rounded reciprocal.
 Src divide(Builder& b, const Src& x, const Src& y, int n);
 // 2^y, as firmware/whitted.s's pow computes it.
 Src exp2(Builder& b, const Src& y, int n);

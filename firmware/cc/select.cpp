@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <bit>
-#include <span>
 #include <cmath>
+#include <optional>
+#include <span>
 #include <utility>
+#include <vector>
 
 #include <fmt/format.h>
 #include <spirv/unified1/GLSL.std.450.h>
@@ -29,7 +31,7 @@ struct Selection {
 
 // An op that is one RPU instruction on its operands, in order or swapped, or the
 // complement of that instruction's result (a mask: all ones or zero). SPIR-V gives these
-// ops operands of the result's type, so no operand is broadcast.
+// ops operands with as many components as the result, so no operand is broadcast.
 struct Direct {
   Opcode opcode;
   std::optional<Opcode> with_constant = std::nullopt;  // the form with a constant second operand as its immediate
@@ -110,8 +112,7 @@ Src subtract(Selection& s) { return s.b.op(Opcode::kAdd, s.n, {s.in.value(0), ne
 Src fdiv(Selection& s) {
   const int n = s.n;
   if (const auto c = s.in.constant(0); c && *c == std::bit_cast<std::uint32_t>(1.0f)) {
-    const Src y = s.in.value(1);
-    return s.b.op(Opcode::kRcp, n, {y.n == 1 && n > 1 ? broadcast(y, n) : y});  // 1 / y
+    return s.b.op(Opcode::kRcp, n, {s.in.value(1)});  // 1 / y
   }
   return divide(s.b, s.in.value(0), s.in.value(1), n);
 }
@@ -123,7 +124,7 @@ Src float_mod(Selection& s) {
   const int n = s.n;
   const Src x = s.in.value(0), y = s.in.value(1);
   const Src q = s.b.op(Opcode::kFlr, n, {divide(s.b, x, y, n)});
-  return s.b.op(Opcode::kMad, n, {neg(y.n == 1 && n > 1 ? broadcast(y, n) : y), q, x});
+  return s.b.op(Opcode::kMad, n, {neg(y), q, x});
 }
 
 Src vector_times_scalar(Selection& s) {
