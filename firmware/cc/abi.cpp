@@ -184,6 +184,14 @@ MFunction trace_routine(const TraceForm& form, const std::vector<std::string>& m
   return f;
 }
 
+std::vector<MachineItem> recursion_limit() {
+  std::vector<MachineItem> code;
+  code.emplace_back(Label{std::string(kRecursionLimitLabel),
+                          "a trace nested deeper than max depth + 1: stop the thread with an illegal-instruction fault"});
+  code.emplace_back(IllegalWord{});
+  return code;
+}
+
 std::vector<Declaration> declarations(int raygen_stack_bytes, int shader_stack_bytes, bool thin_lens) {
   // Per nesting level a trace routine's frame (r3, 16 bytes) and what a hit or miss
   // shader keeps; levels run to max depth + 1 (docs/shaders.md "Recursion").

@@ -66,9 +66,11 @@ void call_trace_routine(Builder& b, const TraceForm& form, std::vector<int> ray,
 // The routine behind one traceRayEXT form, on machine registers (pinned vregs).
 MFunction trace_routine(const TraceForm& form, const std::vector<std::string>& miss_labels);
 
-// Where a trace nested deeper than max depth + 1 goes: a word that stops the thread with
-// an illegal-instruction fault.
+// Where a trace nested deeper than max depth + 1 goes, after the trace routines: the
+// label rpu_trace_recursion_limit on a word that stops the thread with an
+// illegal-instruction fault (docs/shaders.md "Recursion").
 inline constexpr std::string_view kRecursionLimitLabel = "rpu_trace_recursion_limit";
+std::vector<MachineItem> recursion_limit();
 
 // The firmware's declarations of its needs (.equ constants the device checks): one
 // return stack entry, and the stack bytes from what ray generation and the hit and miss

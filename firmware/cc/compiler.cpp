@@ -1,8 +1,9 @@
 #include "cc/compiler.hpp"
 
 #include <cstdlib>
+#include <algorithm>
 #include <fstream>
-#include <map>
+#include <iterator>
 #include <set>
 #include <sstream>
 
@@ -94,16 +95,15 @@ Compiled compile(const std::vector<ShaderSource>& sources, const CompileOptions&
   }
   program.declarations = declarations(raygen_saves, shader_saves, thin_lens);
   Section& routines = program.sections.emplace_back(Section{"traceRayEXT, one routine per form used", {}});
-  for (const TraceForm& form : traces) {
-    const MFunction routine = trace_routine(form, miss_labels);
-    std::vector<MachineItem> code = emit(routine, pinned(routine));
+  const auto append = [&](std::vector<MachineItem> code) {
     routines.items.insert(routines.items.end(), std::make_move_iterator(code.begin()),
                           std::make_move_iterator(code.end()));
+  };
+  for (const TraceForm& form : traces) {
+    const MFunction routine = trace_routine(form, miss_labels);
+    append(emit(routine, pinned(routine)));
   }
-  routines.items.emplace_back(Label{std::string(kRecursionLimitLabel),
-                                    "a trace nested deeper than max depth + 1: stop the thread with an "
-                                    "illegal-instruction fault"});
-  routines.items.emplace_back(IllegalWord{});
+  append(recursion_limit());
   Compiled out;
   out.firmware = link(program);
   if (options.listing) out.listing = listing(program);
