@@ -338,10 +338,7 @@ def gen_binding_hpp(h: Harness, banner: str) -> str:
         if p.direction != "input":
             continue
         if p.stream and p.count:
-            out.append(f"    for (std::size_t k = 0; k < in.{p.field}.size() && k < port_streams<streams::"
-                       f"{camel(p.stream)}>(t.{p.name}); ++k) {{")
-            out.append(f"      to_port_at(t.{p.name}, k, in.{p.field}[k]);")
-            out.append("    }")
+            out += _each_stream(p, "in", f"to_port_at(t.{p.name}, k, in.{p.field}[k]);")
         elif p.stream:
             out.append(f"    to_port(t.{p.name}, in.{p.field}.pack());")
         elif p.bit_array:
@@ -362,6 +359,13 @@ def gen_binding_hpp(h: Harness, banner: str) -> str:
     return "\n".join(out)
 
 
+def _each_stream(p: Port, side: str, body: str) -> list[str]:
+    """A loop over the streams side by side in port p, as many as both the C++ array
+    (`side`.field) and this model's port hold."""
+    return [f"    for (std::size_t k = 0; k < {side}.{p.field}.size() && k < port_streams<streams::"
+            f"{camel(p.stream)}>(t.{p.name}); ++k) {{", f"      {body}", "    }"]
+
+
 def _reads(h: Harness, ports: list[Port]) -> list[str]:
     out = []
     for p in ports:
@@ -370,10 +374,8 @@ def _reads(h: Harness, ports: list[Port]) -> list[str]:
             # Side-by-side records are unpacked only where valid: every core's every
             # cycle would cost more than the model.
             guard = f"if (out.{valid.field}[k]) " if valid is not None and valid.bit_array else ""
-            out.append(f"    for (std::size_t k = 0; k < out.{p.field}.size() && k < port_streams<streams::"
-                       f"{camel(p.stream)}>(t.{p.name}); ++k) {{")
-            out.append(f"      {guard}out.{p.field}[k] = from_port_at<streams::{camel(p.stream)}>(t.{p.name}, k);")
-            out.append("    }")
+            out += _each_stream(p, "out", f"{guard}out.{p.field}[k] = from_port_at<streams::{camel(p.stream)}>("
+                                          f"t.{p.name}, k);")
         elif p.stream:
             out.append(f"    out.{p.field} = from_port<streams::{camel(p.stream)}>(t.{p.name});")
         elif p.bit_array:
