@@ -72,9 +72,7 @@ module rpu_spu #(
   output logic                      wb_valid_o,
   output rpu_pkg::writeback_t       wb_o,
   output logic                      fault_valid_o,
-  output rpu_pkg::fault_t           fault_o,
-  // Debug: chunk instructions issued since reset.
-  output logic [31:0]               debug_issues_o
+  output rpu_pkg::fault_t           fault_o
 );
 
   localparam int unsigned Chunks       = Threads / ChunkSize;
@@ -1004,17 +1002,6 @@ module rpu_spu #(
     end
   end
   assign counters_o = counters_q;
-
-  logic [31:0] debug_issues_d, debug_issues_q;
-  assign debug_issues_d = debug_issues_q + {31'd0, selected};
-  assign debug_issues_o = debug_issues_q;
-  always_ff @(posedge clk_i or negedge rst_ni) begin : debug_regs
-    if (!rst_ni) begin
-      debug_issues_q <= '0;
-    end else begin
-      debug_issues_q <= debug_issues_d;
-    end
-  end
 
   always_ff @(posedge clk_i or negedge rst_ni) begin : counter_regs
     if (!rst_ni) begin

@@ -148,7 +148,6 @@ module rpu_top #(
     logic [ReqBits-1:0]   req;
     logic [RspBits-1:0]   rsp;
 
-    logic [31:0] debug_issues;
     rpu_spu #(
       .CoreId(c), .Cores(Cores), .Threads(Threads), .ChunkSize(ChunkSize), .Registers(Registers),
       .CallDepth(CallDepth), .StackBytes(StackBytes), .SfuUnits(SfuUnits), .CodeWords(CodeWords),
@@ -167,11 +166,8 @@ module rpu_top #(
       .issue_valid_o(issue_valid_o[c]), .issue_o(issue_o[rpu_pkg::IssueBits*c +: rpu_pkg::IssueBits]),
       .retire_valid_o(retire_valid_o[c]), .retire_o(retire_o[rpu_pkg::RetireBits*c +: rpu_pkg::RetireBits]),
       .wb_valid_o(wb_valid_o[c]), .wb_o(wb_o[rpu_pkg::WritebackBits*c +: rpu_pkg::WritebackBits]),
-      .fault_valid_o(fault_valid_o[c]), .fault_o(fault_o[rpu_pkg::FaultBits*c +: rpu_pkg::FaultBits]),
-      .debug_issues_o(debug_issues)
+      .fault_valid_o(fault_valid_o[c]), .fault_o(fault_o[rpu_pkg::FaultBits*c +: rpu_pkg::FaultBits])
     );
-    logic unused_debug_issues;
-    assign unused_debug_issues = ^debug_issues;
 
     rpu_cache #(
       .Bytes(DataBytes), .Ways(DataWays), .HitLatency(DataHitLatency), .Mshrs(DataMshrs),
