@@ -29,6 +29,13 @@ struct Selection {
   std::uint32_t op;
 };
 
+// Where one call takes several values that emit code (an operand's first read, a
+// constant, an instruction), they are made first, into named locals, in the order the
+// firmware has always had them: C++ leaves the order of a call's arguments unspecified
+// (GCC evaluates them right to left, clang left to right), and the firmware must not
+// depend on the compiler that built rpu. An instruction's sources in braces are made
+// left to right, as a braced list is evaluated.
+
 // An op that is one RPU instruction on its operands, in order or swapped, or the
 // complement of that instruction's result (a mask: all ones or zero). SPIR-V gives these
 // ops operands with as many components as the result, so no operand is broadcast.
@@ -114,7 +121,9 @@ Src fdiv(Selection& s) {
   if (const auto c = s.in.constant(0); c && *c == std::bit_cast<std::uint32_t>(1.0f)) {
     return s.b.op(Opcode::kRcp, n, {s.in.value(1)});  // 1 / y
   }
-  return divide(s.b, s.in.value(0), s.in.value(1), n);
+  const Src y = s.in.value(1);  // y read before x, as always
+  const Src x = s.in.value(0);
+  return divide(s.b, x, y, n);
 }
 
 Src negate(Selection& s) { return neg(s.in.value(0)); }  // a modifier on its uses
@@ -131,7 +140,11 @@ Src vector_times_scalar(Selection& s) {
   return s.b.op(Opcode::kMul, s.n, {s.in.value(0), broadcast(s.in.value(1), s.n)});
 }
 
-Src dot_product(Selection& s) { return dot(s.b, s.in.value(0), s.in.value(1)); }
+Src dot_product(Selection& s) {
+  const Src y = s.in.value(1);  // y read before x, as always
+  const Src x = s.in.value(0);
+  return dot(s.b, x, y);
+}
 
 Src matrix_times_vector(Selection& s) {
   const int n = s.n;
@@ -179,7 +192,13 @@ Src any_or_all(Selection& s) {
   return r.v == v.v && v.n == 1 ? s.b.op(Opcode::kMov, 1, {r}) : r;
 }
 
-Src select_op(Selection& s) { return s.b.select(s.in.value(0), s.in.value(1), s.in.value(2), s.n); }
+Src select_op(Selection& s) {
+  // the operands read last to first, as always
+  const Src on_false = s.in.value(2);
+  const Src on_true = s.in.value(1);
+  const Src cond = s.in.value(0);
+  return s.b.select(cond, on_true, on_false, s.n);
+}
 
 Src isub(Selection& s) {
   if (const auto c = s.in.constant(1)) {
