@@ -305,8 +305,10 @@ Src absolute(Selection& s) { return abs(s.in.value(0)); }  // a modifier on its 
 Src int_absolute(Selection& s) {
   const int n = s.n;
   const Src x = s.in.value(0);
-  return s.b.select(s.b.op(Opcode::kIlti, n, {x}, Imm::integer(0)),
-                    s.b.op(Opcode::kIsub, n, {s.b.op(Opcode::kLi, n, {}, Imm::integer(0)), x}), x, n);
+  // -x before the test, as always
+  const Src negated = s.b.op(Opcode::kIsub, n, {s.b.op(Opcode::kLi, n, {}, Imm::integer(0)), x});
+  const Src negative = s.b.op(Opcode::kIlti, n, {x}, Imm::integer(0));
+  return s.b.select(negative, negated, x, n);
 }
 
 Src sign(Selection& s) {
@@ -314,7 +316,12 @@ Src sign(Selection& s) {
   const Src x = s.in.value(0);
   const Src pos = s.b.op(Opcode::kFlt, n, {s.b.fconst(0.0f, n), x});
   const Src negative = s.b.op(Opcode::kFlt, n, {x, s.b.fconst(0.0f, n)});
-  return s.b.select(pos, s.b.fconst(1.0f, n), s.b.select(negative, s.b.fconst(-1.0f, n), s.b.fconst(0.0f, n), n), n);
+  // 0, -1, their select, then 1, as always
+  const Src zero = s.b.fconst(0.0f, n);
+  const Src minus_one = s.b.fconst(-1.0f, n);
+  const Src not_pos = s.b.select(negative, minus_one, zero, n);
+  const Src one = s.b.fconst(1.0f, n);
+  return s.b.select(pos, one, not_pos, n);
 }
 
 Src ceiling(Selection& s) {
@@ -325,7 +332,9 @@ Src truncate(Selection& s) {
   const int n = s.n;
   const Src x = s.in.value(0);
   const Src down = s.b.op(Opcode::kFlr, n, {abs(x)});
-  return s.b.select(s.b.op(Opcode::kFlt, n, {x, s.b.fconst(0.0f, n)}), s.b.op(Opcode::kMov, n, {neg(down)}), down, n);
+  const Src up = s.b.op(Opcode::kMov, n, {neg(down)});  // -down before the test, as always
+  const Src negative = s.b.op(Opcode::kFlt, n, {x, s.b.fconst(0.0f, n)});
+  return s.b.select(negative, up, down, n);
 }
 
 Src round_half_up(Selection& s) {
@@ -363,14 +372,19 @@ Src mix(Selection& s) {
 Src step(Selection& s) {
   const int n = s.n;
   const Src edge = s.in.value(0), x = s.in.value(1);
-  return s.b.select(s.b.op(Opcode::kFlt, n, {x, edge}), s.b.fconst(0.0f, n), s.b.fconst(1.0f, n), n);
+  // 1, 0, then the test, as always
+  const Src one = s.b.fconst(1.0f, n);
+  const Src zero = s.b.fconst(0.0f, n);
+  const Src below = s.b.op(Opcode::kFlt, n, {x, edge});
+  return s.b.select(below, zero, one, n);
 }
 
 // t = clamp((x - e0) / (e1 - e0), 0, 1); t^2 (3 - 2t)
 Src smoothstep(Selection& s) {
   const int n = s.n;
   const Src e0 = s.in.value(0), e1 = s.in.value(1), x = s.in.value(2);
-  Src t = divide(s.b, s.b.op(Opcode::kAdd, n, {x, neg(e0)}), s.b.op(Opcode::kAdd, n, {e1, neg(e0)}), n);
+  const Src range = s.b.op(Opcode::kAdd, n, {e1, neg(e0)});  // e1 - e0 before x - e0, as always
+  Src t = divide(s.b, s.b.op(Opcode::kAdd, n, {x, neg(e0)}), range, n);
   t = s.b.op(Opcode::kMin, n, {s.b.op(Opcode::kMax, n, {t, s.b.fconst(0.0f, n)}), s.b.fconst(1.0f, n)});
   const Src k = s.b.op(Opcode::kMad, n, {t, s.b.fconst(-2.0f, n), s.b.fconst(3.0f, n)});
   return s.b.op(Opcode::kMul, n, {s.b.op(Opcode::kMul, n, {t, t}), k});
@@ -448,14 +462,17 @@ Src refract(Selection& s) {
   const Src q = s.b.op(Opcode::kMad, 1,
                        {eta, d, s.b.op(Opcode::kSqrt, 1, {s.b.op(Opcode::kMax, 1, {k, s.b.fconst(0.0f)})})});
   const Src r = s.b.op(Opcode::kMad, n, {broadcast(eta, n), in, s.b.op(Opcode::kMul, n, {nrm, broadcast(neg(q), n)})});
-  return s.b.select(s.b.op(Opcode::kFlt, 1, {k, s.b.fconst(0.0f)}), s.b.fconst(0.0f, n), r, n);
+  const Src zero = s.b.fconst(0.0f, n);  // the 0 before the test, as always
+  const Src total_reflection = s.b.op(Opcode::kFlt, 1, {k, s.b.fconst(0.0f)});
+  return s.b.select(total_reflection, zero, r, n);
 }
 
 // dot(Nref, I) < 0 ? N : -N
 Src faceforward(Selection& s) {
   const Src nn = s.in.value(0), in = s.in.value(1), nref = s.in.value(2);
-  return s.b.select(s.b.op(Opcode::kFlt, 1, {dot(s.b, nref, in), s.b.fconst(0.0f)}), nn,
-                    s.b.op(Opcode::kMov, s.n, {neg(nn)}), s.n);
+  const Src flipped = s.b.op(Opcode::kMov, s.n, {neg(nn)});  // -N before the test, as always
+  const Src facing = s.b.op(Opcode::kFlt, 1, {dot(s.b, nref, in), s.b.fconst(0.0f)});
+  return s.b.select(facing, nn, flipped, s.n);
 }
 
 constexpr std::pair<GLSLstd450, Expansion> kExpandedStd450[] = {
