@@ -3,7 +3,7 @@
 # Woop test, and tiny's also with the watertight test; chip_cosim renders frames on it
 # with every core in lockstep, and the rtl backend of the Device API (rtl_device.hpp)
 # renders on it for `rpu render --backend rtl`. RPU_CHIP_MODELS narrows the set (CI
-# builds one: its time budget, docs/rtl.md "What CI builds").
+# builds two: its time budget, docs/rtl.md "Tiers").
 set(RPU_CHIP_MODELS "" CACHE STRING
     "Chips to verilate as config/isect pairs, e.g. tiny/woop;rpu2005/woop (default: all)")
 set(RPU_CHIP_THREADS 1 CACHE STRING
