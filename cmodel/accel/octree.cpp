@@ -42,8 +42,11 @@ glm::dvec3 Octree::cost_split(const glm::dvec3& lo, const glm::dvec3& hi,
     // plane k (at lo + k/kBins of the extent) has on its low side those starting in a bin
     // below k, on its high side those ending in bin k or above.
     std::array<std::uint32_t, kBins> starts{}, ends{};
+    // Clamped before the conversion: a triangle reaching far past the node (or a flat
+    // node's NaN) would not fit an int, and converting it is undefined.
     auto bin = [&](double x) {
-      return std::clamp(static_cast<int>((x - lo[a]) / extent[a] * kBins), 0, kBins - 1);
+      const double at = (x - lo[a]) / extent[a] * kBins;
+      return at >= kBins - 1 ? kBins - 1 : at >= 0.0 ? static_cast<int>(at) : 0;
     };
     for (const std::uint32_t k : items) {
       const Triangle& t = triangles_[k];
