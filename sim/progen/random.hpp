@@ -8,7 +8,9 @@ namespace rpu::progen {
 // The generator's random numbers: SplitMix64 (Steele, Lea, Flood 2014, the seeding
 // generator of java.util.SplittableRandom). Its own code rather than <random>'s
 // distributions, whose output differs between standard libraries: a seed must name the
-// same program on every host, so that anyone can reproduce a failing one.
+// same program on every host, so that anyone can reproduce a failing one. It does so for
+// one compiler: the generator still passes several draws as one call's arguments, whose
+// order C++ leaves open, so a GCC build and a clang build make different programs.
 class Random {
  public:
   explicit Random(std::uint64_t seed) : state_(seed) {}
