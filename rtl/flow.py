@@ -97,8 +97,15 @@ def run(cmd: list, **kw) -> subprocess.CompletedProcess:
 
 
 def lint(args) -> int:
-    """verilator --lint-only -Wall on every unit in every format, and on the sim tops."""
+    """verilator --lint-only -Wall on every unit in every format (or in --formats), and on
+    the sim tops."""
     formats, units = spec()
+    if args.formats:
+        unknown = set(args.formats) - set(formats)
+        if unknown:
+            print(f"flow.py lint: no format {', '.join(sorted(unknown))} in spec/formats.toml", file=sys.stderr)
+            return 2
+        formats = {name: f for name, f in formats.items() if name in args.formats}
     failures = 0
     jobs = []
     for unit in units:
@@ -867,6 +874,7 @@ def main() -> int:
     sub = ap.add_subparsers(dest="cmd", required=True)
     p = sub.add_parser("lint")
     p.add_argument("--verilator", default=shutil.which("verilator"))
+    p.add_argument("--formats", nargs="+", help="lint the format-parameterised units in these formats only")
     p.add_argument("--pkg", required=True, help="the generated rpu_pkg.sv")
     p = sub.add_parser("synth")
     p.add_argument("--unit", required=True, help="an FP unit of spec/fp_units.toml, iu, tu, mem or chip")
