@@ -73,9 +73,6 @@ foreach(format rpu24 fp16)
   endif()
 endforeach()
 if(rpu_trace_format)
-  add_test(NAME cosim.fp.trace_outputs
-           COMMAND Python3::Interpreter ${CMAKE_CURRENT_SOURCE_DIR}/trace_outputs.py
-                   ${CMAKE_CURRENT_BINARY_DIR}/fp_trace_outputs --small-waves --
-                   $<TARGET_FILE:fp_cosim> --unit fma --op add --format ${rpu_trace_format} --count 100000)
-  set_tests_properties(cosim.fp.trace_outputs PROPERTIES LABELS unit TIMEOUT 600)
+  rpu_trace_outputs_test(fp --small-waves --
+                         $<TARGET_FILE:fp_cosim> --unit fma --op add --format ${rpu_trace_format} --count 100000)
 endif()

@@ -61,12 +61,8 @@ if(RPU_YOSYS)
   endforeach()
 endif()
 
-# --trace on a missing directory, under a file-size limit and on a full tmpfs (root):
-# an error naming the file, status 2, the old file kept (sim/trace_outputs.py).
+# --trace's failures (rpu_trace_outputs_test).
 if("fp32 woop" IN_LIST rpu_iu_cases)
-  add_test(NAME cosim.iu.trace_outputs
-           COMMAND Python3::Interpreter ${CMAKE_CURRENT_SOURCE_DIR}/trace_outputs.py
-                   ${CMAKE_CURRENT_BINARY_DIR}/iu_trace_outputs --
-                   $<TARGET_FILE:iu_cosim> --format fp32 --isect woop --scene cornell --rays 300)
-  set_tests_properties(cosim.iu.trace_outputs PROPERTIES LABELS unit TIMEOUT 600)
+  rpu_trace_outputs_test(iu --
+                         $<TARGET_FILE:iu_cosim> --format fp32 --isect woop --scene cornell --rays 300)
 endif()

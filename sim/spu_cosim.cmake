@@ -29,11 +29,8 @@ add_executable(spu_cosim spu_cosim.cpp)
 target_link_libraries(spu_cosim PRIVATE rpu_spu_rtl_models rpu_spu_check rpu_device rpu_asm rpu_builtin_firmware
                       rpu_scene rpu_kdtree rpu_output_file CLI11::CLI11 rpu_flags)
 
-add_test(NAME cosim.spu.trace_outputs
-         COMMAND Python3::Interpreter ${CMAKE_CURRENT_SOURCE_DIR}/trace_outputs.py
-                 ${CMAKE_CURRENT_BINARY_DIR}/spu_trace_outputs --
-                 $<TARGET_FILE:spu_cosim> --config tiny --scene cornell --width 2 --height 2 --max-depth 0)
-set_tests_properties(cosim.spu.trace_outputs PROPERTIES LABELS unit TIMEOUT 600)
+rpu_trace_outputs_test(spu --
+                       $<TARGET_FILE:spu_cosim> --config tiny --scene cornell --width 2 --height 2 --max-depth 0)
 
 # Frames of the built-in firmware on every configuration's core.
 foreach(config IN LISTS rpu_spu_configs)

@@ -11,9 +11,10 @@ rpu_cosim_library(tu)
 #   tu_pipe   the TU alone with rpu_tu_cosim_pipe_slots slots sharing one node-step
 #             pipeline and rpu_tu_cosim_pipe_setups set-up engines (rpu_tu_pipe);
 #   ray_pipe  the ray unit with it.
-# Every kind in fp32 with Woop's test; the others every kind but tu_slots, or in the `ci`
-# tier only ray_pipe (fp32 watertight, rpu24 Woop: the chips' units) and no rpu24
-# watertight at all. rpu_tu_built lists what is built, "<format> <isect> <kind>".
+# Every kind in fp32 with Woop's test (in the `ci` tier but tu_slots, whose walker slots
+# no named configuration has); the others every kind but tu_slots, or in the `ci` tier
+# only ray_pipe (fp32 watertight, rpu24 Woop: the chips' units) and no rpu24 watertight at
+# all. rpu_tu_built lists what is built, "<format> <isect> <kind>".
 set(rpu_tu_cosim_slots 4)
 set(rpu_tu_cosim_pipe_slots 16)
 set(rpu_tu_cosim_pipe_setups 4)
@@ -25,8 +26,10 @@ set(rpu_tu_kind_ray_pipe "1 ${rpu_tu_cosim_pipe_slots} 1")
 set(rpu_tu_built)
 foreach(format IN LISTS rpu_ray_unit_formats)
   foreach(isect woop watertight)
-    if("${format} ${isect}" STREQUAL "fp32 woop")
+    if("${format} ${isect}" STREQUAL "fp32 woop" AND RPU_COSIM_TIER STREQUAL "full")
       set(kinds tu ray tu_slots tu_pipe ray_pipe)
+    elseif("${format} ${isect}" STREQUAL "fp32 woop")
+      set(kinds tu ray tu_pipe ray_pipe)
     elseif(RPU_COSIM_TIER STREQUAL "full")
       set(kinds tu ray tu_pipe ray_pipe)
     elseif("${format} ${isect}" MATCHES "^(fp32 watertight|rpu24 woop)$")
@@ -74,28 +77,52 @@ function(rpu_scene_name out scene)
   set(${out} "${name}" PARENT_SCOPE)
 endfunction()
 
-# Rays of each kind (camera, random, shadow) per scene (CI budget, docs/rtl.md): in CI
-# 1,000 through the TU alone and 500 through the ray unit (the RTL IU makes it 3-8x
-# slower); under `slow` 34,000 (10^5 rays per scene) through each.
+# tu_test(NAME LABEL TIMEOUT ARGS...): a tu_cosim run as a test.
+function(rpu_tu_test name label timeout)
+  add_test(NAME ${name} COMMAND tu_cosim ${ARGN})
+  set_tests_properties(${name} PROPERTIES LABELS ${label} TIMEOUT ${timeout})
+endfunction()
+
+# Per format, mode and scene, what the build has of (CI budget, docs/rtl.md): the TU alone
+# (tu), with the RTL IU (ray, 3-8x slower), the TU with a shared node-step pipeline, its IU
+# answered in random order by tag (tu_pipe, 24 in flight), and the ray unit built with it
+# (ray_pipe). Rays of each kind (camera, random, shadow): in CI 1,000 through a TU alone
+# and 500 through a ray unit; under `slow` 34,000 (10^5 rays per scene) through each.
 foreach(case IN LISTS rpu_tu_cosim_cases)
   string(REPLACE " " ";" case "${case}")
   list(GET case 0 format)
   list(GET case 1 isect)
+  # The configuration named for the format, whose step cycles the cycle model takes.
+  if(format STREQUAL "fp32")
+    set(config default)
+  else()
+    set(config rpu2005)
+  endif()
   foreach(scene IN LISTS rpu_ray_scenes)
     rpu_scene_name(scene_name "${scene}")
+    set(at ${scene_name}.${format}.${isect})
     set(args --scene ${scene} --format ${format} --isect ${isect})
+    set(ray_args ${args} --with-iu --slots ${rpu_tu_cosim_slots} --in-flight 8)
+    set(pipe_args ${args} --pipe --slots ${rpu_tu_cosim_pipe_slots} --in-flight 24)
     if("${format} ${isect} tu" IN_LIST rpu_tu_built)
-      add_test(NAME cosim.tu.${scene_name}.${format}.${isect} COMMAND tu_cosim ${args} --rays 1000)
-      set_tests_properties(cosim.tu.${scene_name}.${format}.${isect} PROPERTIES LABELS cosim TIMEOUT 900)
-      add_test(NAME slow.cosim.tu.${scene_name}.${format}.${isect} COMMAND tu_cosim ${args} --rays 34000)
-      set_tests_properties(slow.cosim.tu.${scene_name}.${format}.${isect} PROPERTIES LABELS slow TIMEOUT 7200)
+      rpu_tu_test(cosim.tu.${at} cosim 900 ${args} --rays 1000)
+      rpu_tu_test(slow.cosim.tu.${at} slow 7200 ${args} --rays 34000)
     endif()
     if("${format} ${isect} ray" IN_LIST rpu_tu_built)
-      set(ray_args ${args} --with-iu --slots ${rpu_tu_cosim_slots} --in-flight 8)
-      add_test(NAME cosim.ray.${scene_name}.${format}.${isect} COMMAND tu_cosim ${ray_args} --rays 500)
-      set_tests_properties(cosim.ray.${scene_name}.${format}.${isect} PROPERTIES LABELS cosim TIMEOUT 900)
-      add_test(NAME slow.cosim.ray.${scene_name}.${format}.${isect} COMMAND tu_cosim ${ray_args} --rays 34000)
-      set_tests_properties(slow.cosim.ray.${scene_name}.${format}.${isect} PROPERTIES LABELS slow TIMEOUT 7200)
+      rpu_tu_test(cosim.ray.${at} cosim 900 ${ray_args} --rays 500)
+      rpu_tu_test(slow.cosim.ray.${at} slow 7200 ${ray_args} --rays 34000)
+    endif()
+    if("${format} ${isect} tu_pipe" IN_LIST rpu_tu_built)
+      rpu_tu_test(cosim.tu_pipe.${at} cosim 900 ${pipe_args} --rays 1000)
+      rpu_tu_test(slow.cosim.tu_pipe.${at} slow 7200 ${pipe_args} --rays 34000)
+    endif()
+    if("${format} ${isect} ray_pipe" IN_LIST rpu_tu_built)
+      rpu_tu_test(cosim.ray_pipe.${at} cosim 900 ${pipe_args} --with-iu --rays 500)
+      # The cycle model's pipelined unit against the RTL ray unit's, cycle for cycle, at
+      # the pipe_* cycles of the configuration (spec/latencies.toml [tu]).
+      rpu_tu_test(cosim.ray_pipe.cycle_model.${at} cosim 900 ${pipe_args} --with-iu --rays 3300 --stall 0
+                  --mem-jitter 0 --cycle-model ${config} --cycle-tolerance 0)
+      rpu_tu_test(slow.cosim.ray_pipe.${at} slow 7200 ${pipe_args} --with-iu --rays 34000)
     endif()
   endforeach()
   if(NOT "${format} ${isect} ray" IN_LIST rpu_tu_built)
@@ -105,10 +132,8 @@ foreach(case IN LISTS rpu_tu_cosim_cases)
   # through the ray unit's scaling of rays and hits (docs/traversal.md §1).
   foreach(k -60 60)
     string(REPLACE "-" "m" k_name "${k}")
-    add_test(NAME cosim.ray.cornell_2e${k_name}.${format}.${isect}
-             COMMAND tu_cosim --scene cornell --scale ${k} --format ${format} --isect ${isect} --with-iu
-                     --slots ${rpu_tu_cosim_slots} --in-flight 8 --rays 300)
-    set_tests_properties(cosim.ray.cornell_2e${k_name}.${format}.${isect} PROPERTIES LABELS cosim TIMEOUT 900)
+    rpu_tu_test(cosim.ray.cornell_2e${k_name}.${format}.${isect} cosim 900 --scene cornell --scale ${k}
+                --format ${format} --isect ${isect} --with-iu --slots ${rpu_tu_cosim_slots} --in-flight 8 --rays 300)
   endforeach()
 endforeach()
 
@@ -131,11 +156,9 @@ foreach(pair "fp32 default" "rpu24 rpu2005")
     endif()
     foreach(scene IN LISTS rpu_ray_scenes)
       rpu_scene_name(scene_name "${scene}")
-      add_test(NAME ${name}.${scene_name}.${format}.${isect}
-               COMMAND tu_cosim --scene ${scene} --format ${format} --isect ${isect} --with-iu
-                       --slots ${rpu_tu_cosim_slots} --in-flight 8 --rays 3300 --stall 0 --mem-jitter 0
-                       --cycle-model ${config} --cycle-tolerance 2)
-      set_tests_properties(${name}.${scene_name}.${format}.${isect} PROPERTIES LABELS ${label} TIMEOUT 1800)
+      rpu_tu_test(${name}.${scene_name}.${format}.${isect} ${label} 1800 --scene ${scene} --format ${format}
+                  --isect ${isect} --with-iu --slots ${rpu_tu_cosim_slots} --in-flight 8 --rays 3300 --stall 0
+                  --mem-jitter 0 --cycle-model ${config} --cycle-tolerance 2)
     endforeach()
   endforeach()
 endforeach()
@@ -144,61 +167,15 @@ endforeach()
 if("fp32 woop tu_slots" IN_LIST rpu_tu_built)
   foreach(scene IN LISTS rpu_ray_scenes)
     rpu_scene_name(scene_name "${scene}")
-    add_test(NAME cosim.tu_slots.${scene_name}.fp32.woop
-             COMMAND tu_cosim --scene ${scene} --format fp32 --isect woop --slots ${rpu_tu_cosim_slots}
-                     --in-flight 8 --rays 1000)
-    set_tests_properties(cosim.tu_slots.${scene_name}.fp32.woop PROPERTIES LABELS cosim TIMEOUT 900)
+    rpu_tu_test(cosim.tu_slots.${scene_name}.fp32.woop cosim 900 --scene ${scene} --format fp32 --isect woop
+                --slots ${rpu_tu_cosim_slots} --in-flight 8 --rays 1000)
   endforeach()
 endif()
 
-# The TU with a shared node-step pipeline, every format and mode, its IU answered in
-# random order by tag: 1,000 rays of each kind per scene, 24 in flight; and the ray unit
-# built with it.
-foreach(case IN LISTS rpu_tu_cosim_cases)
-  string(REPLACE " " ";" case "${case}")
-  list(GET case 0 format)
-  list(GET case 1 isect)
-  foreach(scene IN LISTS rpu_ray_scenes)
-    rpu_scene_name(scene_name "${scene}")
-    set(pipe_args --scene ${scene} --format ${format} --isect ${isect} --pipe --slots ${rpu_tu_cosim_pipe_slots}
-                  --in-flight 24)
-    if("${format} ${isect} tu_pipe" IN_LIST rpu_tu_built)
-      add_test(NAME cosim.tu_pipe.${scene_name}.${format}.${isect} COMMAND tu_cosim ${pipe_args} --rays 1000)
-      set_tests_properties(cosim.tu_pipe.${scene_name}.${format}.${isect} PROPERTIES LABELS cosim TIMEOUT 900)
-      add_test(NAME slow.cosim.tu_pipe.${scene_name}.${format}.${isect} COMMAND tu_cosim ${pipe_args} --rays 34000)
-      set_tests_properties(slow.cosim.tu_pipe.${scene_name}.${format}.${isect} PROPERTIES LABELS slow TIMEOUT 7200)
-    endif()
-    if(NOT "${format} ${isect} ray_pipe" IN_LIST rpu_tu_built)
-      continue()
-    endif()
-    # The ray unit with it (the RTL IU): 500 rays of each kind in CI, 10^5 under slow.
-    add_test(NAME cosim.ray_pipe.${scene_name}.${format}.${isect} COMMAND tu_cosim ${pipe_args} --with-iu --rays 500)
-    set_tests_properties(cosim.ray_pipe.${scene_name}.${format}.${isect} PROPERTIES LABELS cosim TIMEOUT 900)
-    # The cycle model's pipelined unit against the RTL ray unit's, cycle for cycle, at the
-    # pipe_* cycles of the configuration named for the format (spec/latencies.toml [tu]).
-    if(format STREQUAL "fp32")
-      set(config default)
-    else()
-      set(config rpu2005)
-    endif()
-    add_test(NAME cosim.ray_pipe.cycle_model.${scene_name}.${format}.${isect}
-             COMMAND tu_cosim ${pipe_args} --with-iu --rays 3300 --stall 0 --mem-jitter 0 --cycle-model ${config}
-                     --cycle-tolerance 0)
-    set_tests_properties(cosim.ray_pipe.cycle_model.${scene_name}.${format}.${isect} PROPERTIES LABELS cosim TIMEOUT 900)
-    add_test(NAME slow.cosim.ray_pipe.${scene_name}.${format}.${isect}
-             COMMAND tu_cosim ${pipe_args} --with-iu --rays 34000)
-    set_tests_properties(slow.cosim.ray_pipe.${scene_name}.${format}.${isect} PROPERTIES LABELS slow TIMEOUT 7200)
-  endforeach()
-endforeach()
-
-# --trace on a missing directory, under a file-size limit and on a full tmpfs (root):
-# an error naming the file, status 2, the old file kept (sim/trace_outputs.py).
+# --trace's failures (rpu_trace_outputs_test).
 if("fp32 woop tu" IN_LIST rpu_tu_built)
-  add_test(NAME cosim.tu.trace_outputs
-           COMMAND Python3::Interpreter ${CMAKE_CURRENT_SOURCE_DIR}/trace_outputs.py
-                   ${CMAKE_CURRENT_BINARY_DIR}/tu_trace_outputs --
-                   $<TARGET_FILE:tu_cosim> --scene cornell --format fp32 --isect woop --rays 100)
-  set_tests_properties(cosim.tu.trace_outputs PROPERTIES LABELS unit TIMEOUT 600)
+  rpu_trace_outputs_test(tu --
+                         $<TARGET_FILE:tu_cosim> --scene cornell --format fp32 --isect woop --rays 100)
 endif()
 
 # The step cycles of spec/latencies.toml [tu.<format>] against the RTL's (docs/rtl.md):
