@@ -845,11 +845,17 @@ def area(args) -> int:
     # synthesised it (flow.py synth --unit chip).
     keep_chip = ("unit", "config", "isect", "units", "hierarchical", "flat", "synth_seconds", "netlist_frame",
                  "netlist_cycles", "netlist_simulator", "netlist_build_seconds", "netlist_seconds", "command")
+    # A memory system's record: its data cache alone and the whole (flow.py synth --unit mem).
+    keep_mem = ("unit", "config", "data_cache", "memory_system", "netlist_cycles", "netlist_requests_per_cache",
+                "netlist_simulator", "netlist_build_seconds", "netlist_seconds")
     for p in sorted(pathlib.Path(getattr(args, "from")).glob("*.json")):
         s = json.loads(p.read_text())
         rec = {"commit": args.commit, "date": time.strftime("%Y-%m-%d")}
         if s["unit"] == "chip":
             rec.update({k: s[k] for k in keep_chip if k in s})
+        elif s["unit"] == "mem":
+            rec["command"] = f"ctest --preset release -L slow -R '^slow\\.synth\\.mem\\.{s['config']}$'"
+            rec.update({k: s[k] for k in keep_mem if k in s})
         else:
             ray_unit = s["unit"].startswith(("iu_", "tu_"))
             rec["command"] = ("ctest --preset ci -L slow -R '^slow\\.synth\\.'" if ray_unit

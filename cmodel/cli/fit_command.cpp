@@ -11,6 +11,7 @@
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
+#include <nlohmann/json.hpp>
 
 #include "cli/chip_options.hpp"
 #include "cli/commands.hpp"
@@ -45,6 +46,7 @@ struct FitOptions {
   std::uint32_t leak_rays = 4096;
   RenderSettings settings;
   fs::path output;
+  fs::path json;  // the fit as one JSON document (scripts/bench-record fit reads it)
 };
 
 constexpr const char* kCaches[] = {"node_cache", "triangle_cache", "data_cache"};
@@ -228,6 +230,7 @@ std::string saving(double base, double fitted) { return fmt::format("{:+.1f}%", 
 int run_fit(const FitOptions& o) {
   std::vector<PlannedOutput> outputs;
   if (!o.output.empty()) outputs.push_back({"-o", o.output, {".toml"}});
+  if (!o.json.empty()) outputs.push_back({"--json", o.json, {".json"}});
   std::vector<PlannedInput> inputs;
   if (fs::is_regular_file(o.scene)) inputs.push_back({"the scene", o.scene});
   check_outputs(outputs, inputs);
@@ -307,6 +310,7 @@ int run_fit(const FitOptions& o) {
     throw Error(fmt::format("internal: the fitted configuration misses the target ({})", fmt::join(f, "; ")));
   }
   fmt::print("  {:<20} {:>10} {:>10} {:>12}  {}\n", "parameter", o.base, "fitted", "one narrower", "fails the target:");
+  nlohmann::json rows = nlohmann::json::array();
   bool proved = true;
   for (const Parameter& p : params) {
     const std::optional<std::string> next = p.narrower(chosen);
@@ -326,6 +330,8 @@ int run_fit(const FitOptions& o) {
       }
     }
     fmt::print("  {:<20} {:>10} {:>10} {:>12}  {}\n", p.key, p.value(base), p.value(chosen), next.value_or("-"), why);
+    rows.push_back({{"parameter", p.key}, {"base", p.value(base)}, {"fitted", p.value(chosen)},
+                    {"narrower", next ? nlohmann::json(*next) : nlohmann::json()}, {"narrower_fails", why}});
   }
   const IsectMode mode = o.isect == "watertight" ? IsectMode::kWatertight : IsectMode::kWoop;
   const sweep::AreaEstimate base_area = sweep::estimate_area(base, mode), fitted_area = sweep::estimate_area(chosen, mode);
@@ -341,6 +347,24 @@ int run_fit(const FitOptions& o) {
              saving(static_cast<double>(base_area.ram_bits), static_cast<double>(fitted_area.ram_bits)), o.base,
              area_text(base_area));
   fmt::print("; {} renders\n", fit.evaluations());
+  if (!o.json.empty()) {
+    const auto optional = [](const auto& v) { return v ? nlohmann::json(*v) : nlohmann::json(); };
+    const nlohmann::json doc = {
+        {"scene", o.scene}, {"triangles", triangles}, {"width", o.settings.width}, {"height", o.settings.height},
+        {"spp", o.settings.spp}, {"max_depth", o.settings.max_depth}, {"isect", o.isect}, {"base", o.base},
+        {"formats", o.formats},
+        {"target", {{"min_psnr", o.min_psnr}, {"max_leaks", optional(o.max_leaks)}, {"leak_rays", o.leak_rays},
+                    {"max_slowdown", o.max_slowdown}, {"hit_rate_drop", o.hit_rate_drop}}},
+        {"base_result", {{"cycles", fit.base().cycles}, {"logic_cells", optional(base_area.logic_cells)},
+                         {"ram_bits", base_area.ram_bits}}},
+        {"fitted_result", {{"psnr", std::isinf(result.psnr) ? nlohmann::json() : nlohmann::json(result.psnr)},
+                           {"leaks", result.leaks}, {"cycles", result.cycles},
+                           {"logic_cells", optional(fitted_area.logic_cells)}, {"ram_bits", fitted_area.ram_bits}}},
+        {"parameters", rows}, {"renders", fit.evaluations()}, {"proved", proved}};
+    OutputFile out(o.json);
+    out.stream() << doc.dump(1) << '\n';
+    out.commit();
+  }
   spec::HardwareConfig named = chosen;
   named.name = o.output.empty() ? "fitted" : o.output.stem().string();
   named.doc = fmt::format("fitted to {} by: {}", o.scene, invocation().command_line);
@@ -402,6 +426,7 @@ Command add_fit_command(CLI::App& app) {
   cmd->add_option("--height", o->settings.height, "Image height")->check(CLI::Range(1, 4096))->capture_default_str();
   cmd->add_option("--spp", o->settings.spp, "Samples per pixel")->check(CLI::Range(1, 1024))->capture_default_str();
   cmd->add_option("--max-depth", o->settings.max_depth, "Bounces")->check(CLI::Range(0, 64))->capture_default_str();
+  cmd->add_option("--json", o->json, "Write the fit (target, each parameter's proof, the fitted result) as JSON");
   cmd->add_option("-o,--output", o->output, "Write the fitted configuration here (.toml; rpu --config reads it)");
   return {cmd, [o] { return run_fit(*o); }};
 }
