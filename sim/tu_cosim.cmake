@@ -83,6 +83,12 @@ function(rpu_tu_test name label timeout)
   set_tests_properties(${name} PROPERTIES LABELS ${label} TIMEOUT ${timeout})
 endfunction()
 
+# Rays of each kind per scene in the cycle model's comparisons with the RTL ray units.
+set(rpu_cycle_model_rays 3300)
+if(RPU_COSIM_TIER STREQUAL "ci")
+  set(rpu_cycle_model_rays 1000)
+endif()
+
 # Per format, mode and scene, what the build has of (CI budget, docs/rtl.md): the TU alone
 # (tu), with the RTL IU (ray, 3-8x slower), the TU with a shared node-step pipeline, its IU
 # answered in random order by tag (tu_pipe, 24 in flight), and the ray unit built with it
@@ -120,8 +126,8 @@ foreach(case IN LISTS rpu_tu_cosim_cases)
       rpu_tu_test(cosim.ray_pipe.${at} cosim 900 ${pipe_args} --with-iu --rays 500)
       # The cycle model's pipelined unit against the RTL ray unit's, cycle for cycle, at
       # the pipe_* cycles of the configuration (spec/latencies.toml [tu]).
-      rpu_tu_test(cosim.ray_pipe.cycle_model.${at} cosim 900 ${pipe_args} --with-iu --rays 3300 --stall 0
-                  --mem-jitter 0 --cycle-model ${config} --cycle-tolerance 0)
+      rpu_tu_test(cosim.ray_pipe.cycle_model.${at} cosim 900 ${pipe_args} --with-iu --rays ${rpu_cycle_model_rays}
+                  --stall 0 --mem-jitter 0 --cycle-model ${config} --cycle-tolerance 0)
       rpu_tu_test(slow.cosim.ray_pipe.${at} slow 7200 ${pipe_args} --with-iu --rays 34000)
     endif()
   endforeach()
@@ -138,8 +144,9 @@ foreach(case IN LISTS rpu_tu_cosim_cases)
 endforeach()
 
 # The cycle model's ray unit against the RTL's (docs/cycle-model.md "Traversal and
-# intersection units"): the same 10^4 rays per scene, 4 slots, the cycles within 2%, at the
-# step cycles of the named configuration in that format; fp32 Woop in CI, the rest under slow.
+# intersection units"): the same 10^4 rays per scene (3,000 in the ci tier), 4 slots, the
+# cycles within 2%, at the step cycles of the named configuration in that format; fp32
+# Woop in CI, the rest under slow.
 foreach(pair "fp32 default" "rpu24 rpu2005")
   string(REPLACE " " ";" pair "${pair}")
   list(GET pair 0 format)
@@ -157,8 +164,8 @@ foreach(pair "fp32 default" "rpu24 rpu2005")
     foreach(scene IN LISTS rpu_ray_scenes)
       rpu_scene_name(scene_name "${scene}")
       rpu_tu_test(${name}.${scene_name}.${format}.${isect} ${label} 1800 --scene ${scene} --format ${format}
-                  --isect ${isect} --with-iu --slots ${rpu_tu_cosim_slots} --in-flight 8 --rays 3300 --stall 0
-                  --mem-jitter 0 --cycle-model ${config} --cycle-tolerance 2)
+                  --isect ${isect} --with-iu --slots ${rpu_tu_cosim_slots} --in-flight 8 --rays ${rpu_cycle_model_rays}
+                  --stall 0 --mem-jitter 0 --cycle-model ${config} --cycle-tolerance 2)
     endforeach()
   endforeach()
 endforeach()
