@@ -48,9 +48,7 @@ target_link_libraries(chip_cosim PRIVATE rpu_rtl_device rpu_chip_rtl_models rpu_
 
 # Frames in lockstep on every configuration's chip.
 foreach(case IN LISTS rpu_chip_cases)
-  string(REPLACE " " ";" case "${case}")
-  list(GET case 0 config)
-  list(GET case 1 isect)
+  rpu_fields("${case}" config isect)
   foreach(scene cornell balls:1)
     string(REPLACE ":" "" scene_name "${scene}")
     add_test(NAME cosim.chip.${config}.${isect}.${scene_name}
@@ -68,9 +66,7 @@ if(RPU_IDIFF)
   set(rpu_frame_scenes cornell balls:1 ${PROJECT_SOURCE_DIR}/scenes/bunny.json
       /usr/share/assimp/models/OBJ/WusonOBJ.obj)
   foreach(case IN LISTS rpu_chip_cases)
-    string(REPLACE " " ";" case "${case}")
-    list(GET case 0 config)
-    list(GET case 1 isect)
+    rpu_fields("${case}" config isect)
     foreach(scene IN LISTS rpu_frame_scenes)
       get_filename_component(scene_name "${scene}" NAME_WE)
       string(REPLACE ":" "" scene_name "${scene_name}")
@@ -125,9 +121,7 @@ endif()
 # The cycle model's shader-core timing against the chip's, loop by loop (docs/chip.md
 # "Calibration"), on every configuration's chip.
 foreach(case IN LISTS rpu_chip_cases)
-  string(REPLACE " " ";" case "${case}")
-  list(GET case 0 config)
-  list(GET case 1 isect)
+  rpu_fields("${case}" config isect)
   if(isect STREQUAL "woop")
     add_test(NAME cosim.timing.core.${config}
              COMMAND Python3::Interpreter ${CMAKE_CURRENT_SOURCE_DIR}/core_timing.py $<TARGET_FILE:rpu> --config ${config})
@@ -138,8 +132,7 @@ endforeach()
 # The rtl backend's refusals (docs/chip.md "The rtl backend").
 if(rpu_chip_cases)
   list(GET rpu_chip_cases 0 first_case)
-  string(REPLACE " " ";" first_case "${first_case}")
-  list(GET first_case 0 config)
+  rpu_fields("${first_case}" config)
   set(cli ${PROJECT_SOURCE_DIR}/tests/cli/expect_cli.py)
   set(out ${CMAKE_CURRENT_BINARY_DIR})
   add_test(NAME cli.rtl_backend_refuses_a_changed_configuration

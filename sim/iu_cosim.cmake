@@ -27,9 +27,7 @@ target_link_libraries(iu_cosim PRIVATE rpu_iu_rtl_models rpu_test_support rpu_ou
 # cosim.iu.timing.*: the measured latency and interval against spec/latencies.toml, and
 # at least 0.9 tests per cycle on a burst of 1,000 tests (the pipeline's fill included).
 foreach(case IN LISTS rpu_iu_cases)
-  string(REPLACE " " ";" case "${case}")
-  list(GET case 0 format)
-  list(GET case 1 isect)
+  rpu_fields("${case}" format isect)
   set(scenes --scene cornell --scene balls:2 --scene ${PROJECT_SOURCE_DIR}/scenes/bunny.json)
   add_test(NAME cosim.iu.${format}.${isect}
            COMMAND iu_cosim --format ${format} --isect ${isect} ${scenes} --rays 1000)
