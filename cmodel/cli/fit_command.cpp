@@ -310,6 +310,7 @@ int run_fit(const FitOptions& o) {
     throw Error(fmt::format("internal: the fitted configuration misses the target ({})", fmt::join(f, "; ")));
   }
   fmt::print("  {:<20} {:>10} {:>10} {:>12}  {}\n", "parameter", o.base, "fitted", "one narrower", "fails the target:");
+  const auto optional = [](const auto& v) { return v ? nlohmann::json(*v) : nlohmann::json(); };
   nlohmann::json rows = nlohmann::json::array();
   bool proved = true;
   for (const Parameter& p : params) {
@@ -331,7 +332,7 @@ int run_fit(const FitOptions& o) {
     }
     fmt::print("  {:<20} {:>10} {:>10} {:>12}  {}\n", p.key, p.value(base), p.value(chosen), next.value_or("-"), why);
     rows.push_back({{"parameter", p.key}, {"base", p.value(base)}, {"fitted", p.value(chosen)},
-                    {"narrower", next ? nlohmann::json(*next) : nlohmann::json()}, {"narrower_fails", why}});
+                    {"narrower", optional(next)}, {"narrower_fails", why}});
   }
   const IsectMode mode = o.isect == "watertight" ? IsectMode::kWatertight : IsectMode::kWoop;
   const sweep::AreaEstimate base_area = sweep::estimate_area(base, mode), fitted_area = sweep::estimate_area(chosen, mode);
@@ -348,7 +349,6 @@ int run_fit(const FitOptions& o) {
              area_text(base_area));
   fmt::print("; {} renders\n", fit.evaluations());
   if (!o.json.empty()) {
-    const auto optional = [](const auto& v) { return v ? nlohmann::json(*v) : nlohmann::json(); };
     const nlohmann::json doc = {
         {"scene", o.scene}, {"triangles", triangles}, {"width", o.settings.width}, {"height", o.settings.height},
         {"spp", o.settings.spp}, {"max_depth", o.settings.max_depth}, {"isect", o.isect}, {"base", o.base},

@@ -5,8 +5,11 @@
 For each scene: rpu fit exits 0, the table shows every parameter that can be narrowed
 failing the target one step narrower (none "MEETS THE TARGET"), and the written
 configuration, rendered again by `rpu render --backend cycle --config FILE --compare`,
-reaches the PSNR asked for. The three fitted files must not all be the same.
+reaches the PSNR asked for. The three fitted files must not all be the same. The --json
+document (scripts/bench-record fit) holds the table's rows, says the fit is proved, and
+its fitted result is within the target.
 """
+import json
 import os
 import re
 import shutil
@@ -25,17 +28,33 @@ CASES = [
 failures, fitted = [], {}
 for scene, target in CASES:
     out = os.path.join(work, re.sub(r"\W", "_", scene) + ".toml")
-    r = subprocess.run([rpu, "fit", scene, *target, *SIZE, "-o", out], capture_output=True, text=True, timeout=600)
+    doc_file = os.path.join(work, re.sub(r"\W", "_", scene) + ".json")
+    r = subprocess.run([rpu, "fit", scene, *target, *SIZE, "-o", out, "--json", doc_file], capture_output=True,
+                       text=True, timeout=600)
     print(r.stdout)
     if r.returncode != 0:
         failures.append(f"{scene}: rpu fit exited {r.returncode}: {r.stderr}")
         continue
-    rows = [line for line in r.stdout.splitlines() if re.match(r"  \S+ +\S+ +\S+ +\S+  ", line)][1:]
+    rows = [line for line in r.stdout.splitlines()
+            if re.match(r"  \S+ +\S+ +\S+ +\S+  ", line) and not line.startswith("  parameter ")]
     if len(rows) < 10:
         failures.append(f"{scene}: the proof table has {len(rows)} rows")
     for line in rows:
         if "MEETS THE TARGET" in line:
             failures.append(f"{scene}: a narrower parameter meets the target: {line}")
+    with open(doc_file) as f:
+        doc = json.load(f)
+    table = [line.split()[:4] for line in rows]
+    written = [[p["parameter"], p["base"], p["fitted"], p["narrower"] or "-"] for p in doc["parameters"]]
+    if written != table:
+        failures.append(f"{scene}: --json's parameters {written} are not the table's {table}")
+    result, base, goal = doc["fitted_result"], doc["base_result"], doc["target"]
+    if not doc["proved"]:
+        failures.append(f"{scene}: --json says the fit is not proved")
+    if result["psnr"] is not None and result["psnr"] < goal["min_psnr"]:
+        failures.append(f"{scene}: --json's fitted PSNR {result['psnr']} is under {goal['min_psnr']}")
+    if result["cycles"] > base["cycles"] * (1 + goal["max_slowdown"]):
+        failures.append(f"{scene}: --json's fitted cycles {result['cycles']} are over the target")
     with open(out) as f:
         fitted[scene] = [l for l in f if not l.startswith(("name", "doc", "#"))]
     # Render with the fitted file, as a user would, against the reference.
