@@ -157,10 +157,16 @@ def lint(args) -> int:
     for r in tables["resolved"]:
         params = gen.rtl_parameters(tables, r["values"])
         spu = {k: v for k, v in params.items()
-               if k not in ("StackDepth", "RayUnits", "TuSlots", "TuPipe", "TuSetups") and k not in cache_parameters()}
+               if k not in ("StackDepth", "RayUnits", "TuSlots", "TuPipe", "TuSetups", "TuByTag")
+               and k not in cache_parameters()}
         jobs.append((f"rpu_spu {r['name']}", ["rpu_spu"], [f"-G{k}={v}" for k, v in spu.items()], []))
         # The chip takes every parameter of the configuration.
         jobs.append((f"rpu_top {r['name']}", ["rpu_top"], [f"-G{k}={v}" for k, v in params.items()], []))
+        # A pipelined unit's memory answers either way (tu_by_tag): lint the other too.
+        if params["TuPipe"]:
+            other = {**params, "TuByTag": 1 - params["TuByTag"]}
+            jobs.append((f"rpu_top {r['name']} TuByTag={other['TuByTag']}", ["rpu_top"],
+                         [f"-G{k}={v}" for k, v in other.items()], []))
     jobs.append(("rpu_spu chunks of 1", ["rpu_spu"], ["-GThreads=4", "-GChunkSize=1", "-GSfuUnits=4"], []))
     jobs.append(("rpu_spu_cosim_top", ["rpu_spu_cosim_top"], [], [harness_top("spu")]))
     # The memory system: each named configuration's three caches, the co-simulation

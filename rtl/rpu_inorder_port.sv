@@ -1,10 +1,10 @@
-// A traversal unit's memory port (mem_req/mem_rsp: reads of MemLineBytes lines,
-// answered in request order) onto a cache port (answered by tag in any order). Each
-// request leaves at once, in the cycle it is taken, tagged with its place in a reorder
-// buffer of 2^TagBits entries; an answer waits there until every older one has left.
-// The TU sends an intersection record's lines back to back (rtl/rpu_tu.sv), three at
-// most in flight; TagBits is what a cache arbiter leaves of the cache's tag
-// (rpu_cache_arbiter's OwnTagBits).
+// A traversal unit's memory port (mem_req/mem_rsp: reads of MemLineBytes lines) onto a
+// cache port (answered by tag in any order), answering in request order. Each request
+// leaves at once, in the cycle it is taken, tagged with its place in a reorder buffer of
+// 2^TagBits entries; an answer waits there until every older one has left, and leaves
+// with the unit's own tag. A walker sends an intersection record's lines back to back
+// (rtl/rpu_tu.sv), three at most in flight; TagBits is what a cache arbiter leaves of
+// the cache's tag (rpu_cache_arbiter's OwnTagBits).
 module rpu_inorder_port #(
   parameter int unsigned TagBits = rpu_pkg::CacheTagBits,
   localparam int unsigned Entries = 1 << TagBits
@@ -37,6 +37,7 @@ module rpu_inorder_port #(
   logic [CountBits-1:0]      count_d, count_q;
   logic [Entries-1:0]        done_d, done_q;  // its answer is here
   logic [Entries*LineBits-1:0] line_d, line_q;
+  logic [Entries*rpu_pkg::CacheTagBits-1:0] unit_tag_d, unit_tag_q;  // the unit's tag of each entry
 
   logic room, push, pop;
   logic [TagBits-1:0] rsp_entry;
@@ -53,6 +54,7 @@ module rpu_inorder_port #(
   assign cache_rsp_ready_o = 1'b1;  // every answer has its entry
 
   assign mem_rsp_valid_o = done_q[head_q];
+  assign mem_rsp_o.tag   = unit_tag_q[32'(head_q)*rpu_pkg::CacheTagBits +: rpu_pkg::CacheTagBits];
   assign mem_rsp_o.data  = line_q[32'(head_q)*LineBits +: LineBits];
 
   assign push = mem_req_valid_i && mem_req_ready_o;
@@ -64,6 +66,8 @@ module rpu_inorder_port #(
     count_d = count_q + CountBits'(push) - CountBits'(pop);
     done_d  = done_q;
     line_d  = line_q;
+    unit_tag_d = unit_tag_q;
+    if (push) unit_tag_d[32'(tail_q)*rpu_pkg::CacheTagBits +: rpu_pkg::CacheTagBits] = mem_req_i.tag;
     if (pop) done_d[head_q] = 1'b0;
     if (cache_rsp_valid_i) begin
       done_d[rsp_entry] = 1'b1;
@@ -78,12 +82,14 @@ module rpu_inorder_port #(
       count_q <= '0;
       done_q  <= '0;
       line_q  <= '0;
+      unit_tag_q <= '0;
     end else begin
       head_q  <= head_d;
       tail_q  <= tail_d;
       count_q <= count_d;
       done_q  <= done_d;
       line_q  <= line_d;
+      unit_tag_q <= unit_tag_d;
     end
   end
 

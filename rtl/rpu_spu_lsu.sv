@@ -9,7 +9,7 @@
 module rpu_spu_lsu #(
   parameter int unsigned TagBits = 1,  // what the core needs back with a load's data
   parameter int unsigned Depth   = 4,
-  localparam int unsigned Slots     = 1 << (rpu_pkg::CacheTagBits - 1),
+  localparam int unsigned Slots     = rpu_pkg::LsuLoadSlots,
   localparam int unsigned CountBits = $clog2(Depth + 1)
 ) (
   input  logic                  clk_i,
@@ -128,7 +128,7 @@ module rpu_spu_lsu #(
     cache_req_o       = '0;
     cache_req_o.addr  = piece ? first_addr + 32'(PieceBytes) : first_addr;
     cache_req_o.write = h_store;
-    cache_req_o.tag   = {sent_first_q ? head_slot_q : free_slot, piece};
+    cache_req_o.tag   = rpu_pkg::CacheTagBits'({sent_first_q ? head_slot_q : free_slot, piece});
     cache_req_o.wmask = h_store ? span[PieceWords*piece +: PieceWords] : '0;
     cache_req_o.data  = span_data[PieceWords*32*piece +: PieceWords*32];
   end
@@ -171,7 +171,7 @@ module rpu_spu_lsu #(
 
   logic [SlotBits-1:0] rsp_slot;
   logic                rsp_piece;
-  assign {rsp_slot, rsp_piece} = cache_rsp_i.tag;
+  assign {rsp_slot, rsp_piece} = cache_rsp_i.tag[SlotBits:0];
 
   always_comb begin : next_slots
     busy_d   = busy_q;
@@ -218,9 +218,14 @@ module rpu_spu_lsu #(
 
   // The core sends only aligned addresses (it faults on the others).
   logic unused;
-  assign unused = ^h_addr[1:0];
+  assign unused = ^{h_addr[1:0], cache_rsp_i.tag[rpu_pkg::CacheTagBits-1:SlotBits+1]};
 
 `ifndef SYNTHESIS
+  initial begin
+    assert (SlotBits + 1 < rpu_pkg::CacheTagBits)
+      else $fatal(1, "rpu_spu_lsu: %0d load slots of two pieces need more than CacheTagBits %0d", Slots,
+                  rpu_pkg::CacheTagBits);
+  end
   always_ff @(posedge clk_i or negedge rst_ni) begin : check_answers
     if (rst_ni && cache_rsp_valid_i) begin
       assert (busy_q[rsp_slot] && wait_q[2*rsp_slot + 32'(rsp_piece)])

@@ -1,7 +1,8 @@
 // The chip (docs/chip.md): Cores shader cores (rpu_spu), each with its data cache;
 // RayUnits ray units (rpu_ray_unit: a traversal unit and its intersection unit) fed by
-// rpu_ray_dispatch, their memory ports in order (rpu_inorder_port) on a node cache
-// (kd nodes) and a triangle cache (leaf lists and intersection records); every cache
+// rpu_ray_dispatch, their memory ports on a node cache (kd nodes) and a triangle cache
+// (leaf lists and intersection records), answered in order (rpu_inorder_port) or with
+// TuByTag by tag, as the caches answer; every cache
 // on one memory port (rpu_mem_arbiter). Built for a named configuration of
 // spec/configs.toml (its parameters from gen.py --list rtl-configs).
 //
@@ -24,6 +25,7 @@ module rpu_top #(
   parameter int unsigned TuSlots             = rpu_pkg::ConfigTinyTuSlots,
   parameter int unsigned TuPipe              = rpu_pkg::ConfigTinyTuPipe,
   parameter int unsigned TuSetups            = rpu_pkg::ConfigTinyTuSetups,
+  parameter int unsigned TuByTag             = rpu_pkg::ConfigTinyTuByTag,
   parameter int unsigned IsectMode           = rpu_pkg::IsectModeWoop,
   parameter int unsigned NodeBytes      = rpu_pkg::ConfigTinyNodeCacheBytes,
   parameter int unsigned NodeWays       = rpu_pkg::ConfigTinyNodeCacheWays,
@@ -207,12 +209,12 @@ module rpu_top #(
     .idle_o(dispatch_idle)
   );
 
-  // Each unit's memory port, in order, on the node cache (the kd nodes, which the
-  // image lays out before the leaf lists) or the triangle cache (the rest); which one
-  // decides only where a line is kept, never what is read. A walker waits for each of its
-  // requests' answers before it asks the other cache, so answers from the two never
+  // Each unit's memory port, in order or by tag, on the node cache (the kd nodes, which
+  // the image lays out before the leaf lists) or the triangle cache (the rest); which
+  // one decides only where a line is kept, never what is read. A walker waits for each of
+  // its requests' answers before it asks the other cache, so answers from the two never
   // meet at one port; a pipelined unit's may, and the node cache's goes first (the
-  // in-order port reorders them). Requests to cache k (NodeCache, TriangleCache) from
+  // in-order port reorders them; by tag, the unit takes them as they come). Requests to cache k (NodeCache, TriangleCache) from
   // unit u sit at index k * RayUnits + u.
   logic [2*RayUnits-1:0]         k_req_valid, k_req_ready, k_rsp_valid, k_rsp_ready;
   logic [2*RayUnits*ReqBits-1:0] k_req;
@@ -237,7 +239,8 @@ module rpu_top #(
     logic [rpu_pkg::MemReqBits-1:0]   q;
 
     rpu_ray_unit #(.ExpBits(ExpBits), .FracBits(FracBits), .IsectMode(IsectMode), .StackDepth(StackDepth),
-                   .TuSlots(TuSlots), .TuPipe(TuPipe), .TuSetups(TuSetups)) u_unit (
+                   .TuSlots(TuSlots), .TuPipe(TuPipe), .TuSetups(TuSetups),
+                   .LineTagBits(PortTagBits)) u_unit (
       .clk_i, .rst_ni, .cfg_i(tu_cfg_q),
       .req_valid_i(u_req_valid[u]), .req_ready_o(u_req_ready[u]),
       .req_i(u_req[rpu_pkg::TuReqBits*u +: rpu_pkg::TuReqBits]),
@@ -258,14 +261,43 @@ module rpu_top #(
       .valid_o(mem_req_valid), .ready_i(mem_req_ready), .data_o(mem_req)
     );
 
-    rpu_inorder_port #(.TagBits(PortTagBits)) u_port (
-      .clk_i, .rst_ni,
-      .mem_req_valid_i(mem_req_valid), .mem_req_ready_o(mem_req_ready), .mem_req_i(mem_req),
-      .mem_rsp_valid_o(mem_rsp_valid), .mem_rsp_ready_i(mem_rsp_ready), .mem_rsp_o(mem_rsp),
-      .cache_req_valid_o(p_req_valid), .cache_req_ready_i(p_req_ready), .cache_req_o(p_req),
-      .cache_rsp_valid_i(p_rsp_valid), .cache_rsp_ready_o(p_rsp_ready), .cache_rsp_i(p_rsp),
-      .idle_o(port_idle[u])
-    );
+    if (TuByTag != 0) begin : g_by_tag
+      // The unit's tags go to the caches as they are; answers come back as they leave.
+      rpu_pkg::mem_req_t unit_req;
+      rpu_pkg::cache_req_t by_tag_req;
+      rpu_pkg::cache_rsp_t by_tag_rsp;
+      rpu_pkg::mem_rsp_t unit_rsp;
+      assign unit_req          = mem_req;
+      assign by_tag_req.tag    = unit_req.tag;
+      assign by_tag_req.addr   = unit_req.addr;
+      assign by_tag_req.write  = 1'b0;
+      assign by_tag_req.wmask  = '0;
+      assign by_tag_req.data   = '0;
+      assign p_req             = by_tag_req;
+      assign p_req_valid       = mem_req_valid;
+      assign mem_req_ready     = p_req_ready;
+      assign by_tag_rsp        = p_rsp;
+      assign unit_rsp.tag      = by_tag_rsp.tag;
+      assign unit_rsp.data     = by_tag_rsp.data;
+      assign mem_rsp           = unit_rsp;
+      assign mem_rsp_valid     = p_rsp_valid;
+      assign p_rsp_ready       = mem_rsp_ready;
+      assign port_idle[u]      = 1'b1;  // the unit and the caches hold what is in flight
+`ifndef SYNTHESIS
+      initial begin
+        assert (TuPipe != 0) else $fatal(1, "rpu_top: TuByTag needs TuPipe: a walker takes its answers in order");
+      end
+`endif
+    end else begin : g_in_order
+      rpu_inorder_port #(.TagBits(PortTagBits)) u_port (
+        .clk_i, .rst_ni,
+        .mem_req_valid_i(mem_req_valid), .mem_req_ready_o(mem_req_ready), .mem_req_i(mem_req),
+        .mem_rsp_valid_o(mem_rsp_valid), .mem_rsp_ready_i(mem_rsp_ready), .mem_rsp_o(mem_rsp),
+        .cache_req_valid_o(p_req_valid), .cache_req_ready_i(p_req_ready), .cache_req_o(p_req),
+        .cache_rsp_valid_i(p_rsp_valid), .cache_rsp_ready_o(p_rsp_ready), .cache_rsp_i(p_rsp),
+        .idle_o(port_idle[u])
+      );
+    end
 
     // The request's address: the field below the tag (cache_req_t {tag, addr, ...}).
     logic [31:0] addr;

@@ -360,6 +360,7 @@ module rpu_tu #(
     div_a           = SrcZero;
     div_b           = SrcZero;
     mem_req_valid_o = 1'b0;
+    mem_req_o.tag   = '0;  // answered in order
     mem_req_o.addr  = {node_addr[31:OffsetBits], OffsetBits'(0)};
     mem_rsp_ready_o = 1'b0;
     iu_req_valid_o  = 1'b0;
@@ -1013,10 +1014,11 @@ module rpu_tu #(
 
   // Bits the unit does not read: the FP units' ready (they never stall here), result
   // bits above the format's width, tag bits beyond the destination, the IU's tag (one
-  // test is in flight) and the high bits of its format values.
+  // test is in flight), the memory answer's tag (answers come in order) and the high
+  // bits of its format values.
   logic unused;
   assign unused = ^{fma_ready_unused, misc_ready_unused, fma_rsp.tag[7:5], div_rsp.tag[7:5],
-                    misc_rsp.tag[5], iu_rsp_i.tag, node_addr[2:0],
+                    misc_rsp.tag[5], iu_rsp_i.tag, mem_rsp_i.tag, node_addr[2:0],
                     ref_addr[1:0]};
   if (W < 32) begin : g_unused_high
     logic unused_high;

@@ -9,7 +9,9 @@
 //   slot        a ray's walk state: the ray, t_near, t_far, the nearest hit, the node
 //               to visit, the counters, its stack (one RAM banked by slot).
 //   fetch       round robin among the slots with a node to visit: one node line a cycle
-//               on the memory port, whose in-order answers name their slot in a FIFO.
+//               on the memory port. Every line asked for holds an entry of a table of
+//               2^LineTagBits lines in flight, named by the request's tag, so answers may come
+//               in any order (rpu_top puts rpu_inorder_port in front unless tu_by_tag).
 //   node step   an inner node enters a pipeline of single-rounding ops, one a cycle:
 //               from_fp32 of the split | O < s, O == s, s - O | (s - O) * inv |
 //               t_split <= t_far, <= 0, < t_near | decide: visit, push or fault.
@@ -17,8 +19,9 @@
 //               t_best < t_near of the entry a pop would take) in a cycle no inner
 //               node enters, and pops in the decide stage.
 //   leaf        a leaf's prim refs, then their intersection records, are fetched back
-//               to back (LeafDepth tests between the ref request and the IU at most);
-//               each record goes to the IU tagged with an entry of a table of Tests
+//               to back (LeafDepth tests between the ref request and the IU at most),
+//               a record's lines into one of Records buffers; each whole record (the
+//               lowest buffer first) goes to the IU tagged with an entry of a table of Tests
 //               tests in flight, so answers come in any order. An answer is folded into
 //               its slot's nearest hit: a smaller t, or an equal t of a lower list
 //               index. That equals the sequential walk's result: the IU hits only in
@@ -36,7 +39,9 @@ module rpu_tu_pipe #(
   parameter int unsigned Slots      = 16,
   parameter int unsigned Setups     = 2,
   parameter int unsigned LeafDepth  = 16,
-  parameter int unsigned Tests      = 32
+  parameter int unsigned Tests      = 32,
+  parameter int unsigned LineTagBits = 4,  // lines in flight on the memory port: 2^LineTagBits
+  parameter int unsigned Records     = 4   // intersection records being read at once
 ) (
   input  logic              clk_i,
   input  logic              rst_ni,
@@ -89,11 +94,18 @@ module rpu_tu_pipe #(
   localparam int unsigned SetupBits = $clog2(Setups + 1);
   // A set-up engine's start port, flat: {dir_le0, any_hit, t_far, t_near, inv, ray}.
   localparam int unsigned StartBits = rpu_pkg::IuReqBits + 5 * 32 + 1 + 3;
-  // Memory requests in flight: a node line per slot and a leaf's refs and records.
-  localparam int unsigned OrderDepth = Slots + LeafDepth * (1 + RecordLines);
+  localparam int unsigned LineSelBits = $clog2(RecordLines);
+  localparam int unsigned BufBits = $clog2(Records);
+  // Memory requests in flight, each an entry of the line table, its index the tag:
+  // {kind, slot, the node's or ref's word, the ref's list index, record buffer, line}.
+  localparam int unsigned Lines = 1 << LineTagBits;
   localparam logic [1:0] KindNode = 2'd0, KindRef = 2'd1, KindRecord = 2'd2;
-  localparam int unsigned OrderBits = 2 + SlotBits + WordSelBits + IndexBits;
+  localparam int unsigned AskBits = 2 + SlotBits + WordSelBits + IndexBits + BufBits + LineSelBits;
   localparam int unsigned JobBits = SlotBits + IndexBits + 32;  // {slot, list index, prim}
+  localparam int unsigned JobIndexBits = $clog2(LeafDepth);
+  // A slot's jobs in flight have list indices within LeafDepth of each other: their low
+  // OrdBits bits tell them apart.
+  localparam int unsigned OrdBits = $clog2(LeafDepth) + 1;
 
   typedef enum logic [2:0] {
     PhFree,     // no ray
@@ -451,18 +463,22 @@ module rpu_tu_pipe #(
                          && (!any_hit_all[i] || (pending_all[i*PendingBits +: PendingBits] == '0 && !hit_all[i]));
   end
 
-  // --- Memory: record lines first, then refs, then nodes; answers in order. ---
-  logic                 fetch_valid, fetch_ready, ref_valid, ref_ready, order_ready, order_valid;
-  logic                 job_valid, job_ready, flight_valid;
-  logic [JobBits-1:0]   job, flight;
+  // --- Memory: record lines first, then refs, then nodes; answers by tag, in any order. ---
+  // A line in flight holds an entry of the line table, whose index is its request's
+  // tag: what the line is for. A record's lines land in a record buffer, taken when its
+  // job's first line leaves; a whole record goes to the IU.
+  logic                 fetch_valid, fetch_ready, ref_valid, ref_ready;
+  logic                 job_valid, job_ready;
+  logic [JobBits-1:0]   job;
   logic [WorkBits-1:0]  work_d, work_q;  // refs fetched whose test has not left
   logic                 ref_credit, want_record, want_ref;
   logic [GotBits-1:0]   sent_d, sent_q;
-  logic [OrderBits-1:0] order_in, order_out;
   logic [1:0]           order_kind;
   logic [SlotBits-1:0]  order_slot;
   logic [WordSelBits-1:0] order_half;
   logic [IndexBits-1:0] order_k;
+  logic [BufBits-1:0]   order_buf;
+  logic [LineSelBits-1:0] order_line;
   logic [Slots-1:0]     fetch_grants, ref_grants;
   logic [3:0]           unused_picks;
 
@@ -480,21 +496,65 @@ module rpu_tu_pipe #(
   logic [31:0] job_prim;
   assign job_prim = job[31:0];
 
+  // The line table: the lowest free entry names the next request.
+  logic [Lines-1:0]         line_busy_d, line_busy_q;
+  logic [Lines*AskBits-1:0] asked_d, asked_q;
+  logic [LineTagBits-1:0]       line_free, req_tag, held_tag_q, rsp_tag;
+  logic                     line_room;
+  always_comb begin : pick_free_line
+    line_free = '0;
+    line_room = 1'b0;
+    for (int i = Lines - 1; i >= 0; i--) begin
+      if (!line_busy_q[i]) begin
+        line_free = LineTagBits'(i);
+        line_room = 1'b1;
+      end
+    end
+  end
+
+  // The record buffers: the lowest free one takes a job's lines, the lowest whole one
+  // that is its slot's next test goes to the IU.
+  logic [Records-1:0]                      buf_busy_d, buf_busy_q, buf_whole;
+  logic [Records*GotBits-1:0]              buf_got_d, buf_got_q;
+  logic [Records*JobBits-1:0]              buf_job_d, buf_job_q;
+  logic [Records*RecordLines*LineBits-1:0] buf_data_d, buf_data_q;
+  logic [BufBits-1:0]                      buf_free, fill_buf_d, fill_buf_q, send_buf, test_buf;
+  logic                                    buf_room, flight_valid;
+  always_comb begin : pick_buffers
+    buf_free     = '0;
+    buf_room     = 1'b0;
+    test_buf     = '0;
+    flight_valid = 1'b0;
+    for (int b = Records - 1; b >= 0; b--) begin
+      if (!buf_busy_q[b]) begin
+        buf_free = BufBits'(b);
+        buf_room = 1'b1;
+      end
+      if (buf_whole[b]) begin
+        test_buf     = BufBits'(b);
+        flight_valid = 1'b1;
+      end
+    end
+  end
+  assign send_buf = sent_q == '0 ? buf_free : fill_buf_q;
+
   // The request presented: a record line, else a ref, else a node; one not taken is
-  // presented again (every source keeps its request until it is taken).
+  // presented again with its tag (every source keeps its request until it is taken).
   logic [1:0] source, held_d, held_q;
-  logic       hold_d, hold_q, go;
+  logic       hold_d, hold_q, go, req_taken;
   assign ref_credit  = work_q != WorkBits'(LeafDepth);
-  assign want_record = job_valid;
+  assign want_record = job_valid && (sent_q != '0 || buf_room);
   assign want_ref    = ref_valid && ref_credit;
   assign source      = hold_q ? held_q : want_record ? KindRecord : want_ref ? KindRef : KindNode;
-  assign go          = mem_req_ready_i && order_ready;
+  assign go          = mem_req_ready_i && line_room;
   assign fetch_ready = go && source == KindNode;
   assign ref_ready   = go && source == KindRef;
   assign ref_issue   = ref_valid && ref_ready;
   assign fetch       = fetch_valid && fetch_ready;
   assign hold_d      = mem_req_valid_o && !mem_req_ready_i;
   assign held_d      = source;
+  assign req_tag     = hold_q ? held_tag_q : line_free;
+  assign req_taken   = mem_req_valid_o && mem_req_ready_i;
 
   logic [31:0] node_addr, ref_addr, record_addr;
   assign node_addr   = cfg_i.kd_nodes + 32'(node_all[32'(fetch_slot)*IndexBits +: IndexBits]) * rpu_pkg::KdNodeBytes;
@@ -503,77 +563,136 @@ module rpu_tu_pipe #(
                          * rpu_pkg::PrimRefBytes;
   assign record_addr = cfg_i.isect_records + job_prim * RecordBytes + 32'(sent_q) * rpu_pkg::MemLineBytes;
 
+  logic [AskBits-1:0] ask_in;
   always_comb begin : mem_request
+    mem_req_o     = '0;
+    mem_req_o.tag = rpu_pkg::CacheTagBits'(req_tag);
     unique case (source)
       KindRecord: begin
-        mem_req_valid_o = want_record && order_ready;
+        mem_req_valid_o = want_record && line_room;
         mem_req_o.addr  = record_addr;
-        order_in        = {KindRecord, SlotBits'(0), WordSelBits'(0), IndexBits'(0)};
+        ask_in          = {KindRecord, SlotBits'(0), WordSelBits'(0), IndexBits'(0), send_buf, LineSelBits'(sent_q)};
       end
       KindRef: begin
-        mem_req_valid_o = want_ref && order_ready;
+        mem_req_valid_o = want_ref && line_room;
         mem_req_o.addr  = {ref_addr[31:OffsetBits], OffsetBits'(0)};
-        order_in        = {KindRef, ref_slot, ref_addr[OffsetBits-1:2], k_all[32'(ref_slot)*IndexBits +: IndexBits]};
+        ask_in          = {KindRef, ref_slot, ref_addr[OffsetBits-1:2], k_all[32'(ref_slot)*IndexBits +: IndexBits],
+                           BufBits'(0), LineSelBits'(0)};
       end
       default: begin
-        mem_req_valid_o = fetch_valid && order_ready;
+        mem_req_valid_o = fetch_valid && line_room;
         mem_req_o.addr  = {node_addr[31:OffsetBits], OffsetBits'(0)};
-        order_in        = {KindNode, fetch_slot, node_addr[OffsetBits-1:2], IndexBits'(0)};
+        ask_in          = {KindNode, fetch_slot, node_addr[OffsetBits-1:2], IndexBits'(0), BufBits'(0),
+                           LineSelBits'(0)};
       end
     endcase
   end
 
-  rpu_fifo #(.Width(OrderBits), .Depth(OrderDepth)) u_order (
-    .clk_i, .rst_ni,
-    .in_valid_i(mem_req_valid_o && mem_req_ready_i), .in_ready_o(order_ready), .in_data_i(order_in),
-    .out_valid_o(order_valid), .out_ready_i(mem_rsp_valid_i && mem_rsp_ready_o), .out_data_o(order_out)
-  );
-  assign {order_kind, order_slot, order_half, order_k} = order_out;
-
   // The answered line: a node (kind, above or count; split or first), a ref, a record line.
   logic [31:0]            line_word, next_word;
   logic [WordSelBits-1:0] next_half;
-  logic                   line_taken, rec_full;
-  logic [GotBits-1:0]     got_d, got_q;
-  logic [RecordLines*LineBits-1:0] record_d, record_q;
+  logic                   line_taken;
+  assign mem_rsp_ready_o = 1'b1;  // every answer has its entry
+  assign line_taken = mem_rsp_valid_i;
+  assign rsp_tag    = mem_rsp_i.tag[LineTagBits-1:0];
+  assign {order_kind, order_slot, order_half, order_k, order_buf, order_line} = asked_q[32'(rsp_tag)*AskBits +: AskBits];
   assign next_half  = order_half + WordSelBits'(1);
   assign line_word  = mem_rsp_i.data[32*order_half +: 32];
   assign next_word  = mem_rsp_i.data[32*next_half +: 32];
-  assign rec_full   = got_q == GotBits'(RecordLines);
-  assign mem_rsp_ready_o = order_valid && (order_kind != KindRecord || !rec_full);
-  assign line_taken = mem_rsp_valid_i && mem_rsp_ready_o;
   assign line_slot  = order_slot;
   assign leaf_in    = line_taken && order_kind == KindNode && line_word[1:0] == 2'(rpu_pkg::KdNodeLeafKind);
   assign inner_in   = line_taken && order_kind == KindNode && line_word[1:0] != 2'(rpu_pkg::KdNodeLeafKind);
   assign leaf_count = line_word[31:2];
   assign leaf_first = next_word;
 
-  // A ref's prim becomes a record job; the job's lines go out back to back, and the job
-  // waits in the flight FIFO until its record is whole and leaves for the IU. Both
-  // FIFOs hold LeafDepth jobs, as many as refs may be fetched ahead (work_q).
-  logic [1:0] fifo_room;  // the two FIFOs' in_ready: the assertions' business
-  rpu_fifo #(.Width(JobBits), .Depth(LeafDepth)) u_jobs (
-    .clk_i, .rst_ni,
-    .in_valid_i(line_taken && order_kind == KindRef), .in_ready_o(fifo_room[0]),
-    .in_data_i({order_slot, order_k, line_word}),
-    .out_valid_o(job_valid), .out_ready_i(job_ready), .out_data_o(job)
-  );
-  logic record_go;
-  assign record_go = want_record && go && source == KindRecord;
-  assign job_ready = record_go && sent_q == GotBits'(RecordLines - 1);
-  assign sent_d    = !record_go ? sent_q : job_ready ? '0 : sent_q + GotBits'(1);
-  rpu_fifo #(.Width(JobBits), .Depth(LeafDepth)) u_flight (
-    .clk_i, .rst_ni,
-    .in_valid_i(job_ready), .in_ready_o(fifo_room[1]), .in_data_i(job),
-    .out_valid_o(flight_valid), .out_ready_i(test_issue), .out_data_o(flight)
-  );
-
-  for (genvar i = 0; i < RecordLines; i++) begin : g_record
-    assign record_d[i*LineBits +: LineBits] = line_taken && order_kind == KindRecord && got_q == GotBits'(i)
-                                              ? mem_rsp_i.data : record_q[i*LineBits +: LineBits];
+  for (genvar i = 0; i < Lines; i++) begin : g_line
+    logic ask, answered;
+    assign ask      = req_taken && req_tag == LineTagBits'(i);
+    assign answered = line_taken && rsp_tag == LineTagBits'(i);
+    assign line_busy_d[i] = ask || (line_busy_q[i] && !answered);
+    assign asked_d[i*AskBits +: AskBits] = ask ? ask_in : asked_q[i*AskBits +: AskBits];
   end
-  assign got_d = test_issue ? '0
-               : line_taken && order_kind == KindRecord ? got_q + GotBits'(1) : got_q;
+
+  // A ref's prim becomes a record job in the lowest free entry of a table of LeafDepth,
+  // as many as refs may be fetched ahead (work_q). Refs may be answered in any order, but
+  // a slot's jobs leave the table in list order (its rec_k), and its whole records go to
+  // the IU in list order (its test_k): a test never leaves with a t_best that a later
+  // triangle of its leaf set, so an equal t keeps the lower list index, as the
+  // sequential walk's strict compare does. The job whose lines go out stays picked until
+  // its last line leaves (or while its first is held).
+  logic [LeafDepth-1:0]         job_busy_d, job_busy_q;
+  logic [LeafDepth*JobBits-1:0] jobs_d, jobs_q;
+  logic [Slots*OrdBits-1:0]     rec_k_d, rec_k_q, test_k_d, test_k_q;
+  logic [JobIndexBits-1:0]      job_free, job_next, job_pick, job_pick_q;
+  logic                         job_room, job_next_valid, job_keep;
+  always_comb begin : pick_jobs
+    job_free       = '0;
+    job_room       = 1'b0;
+    job_next       = '0;
+    job_next_valid = 1'b0;
+    for (int j = LeafDepth - 1; j >= 0; j--) begin
+      if (!job_busy_q[j]) begin
+        job_free = JobIndexBits'(j);
+        job_room = 1'b1;
+      end
+      if (job_busy_q[j] && jobs_q[j*JobBits + 32 +: OrdBits]
+                           == rec_k_q[32'(jobs_q[j*JobBits + JobBits - 1 -: SlotBits])*OrdBits +: OrdBits]) begin
+        job_next       = JobIndexBits'(j);
+        job_next_valid = 1'b1;
+      end
+    end
+  end
+  assign job_keep  = sent_q != '0 || (hold_q && held_q == KindRecord);
+  assign job_pick  = job_keep ? job_pick_q : job_next;
+  assign job_valid = job_keep || job_next_valid;
+  assign job       = jobs_q[32'(job_pick)*JobBits +: JobBits];
+
+  logic record_go;
+  assign record_go  = want_record && go && source == KindRecord;
+  assign job_ready  = record_go && sent_q == GotBits'(RecordLines - 1);
+  for (genvar j = 0; j < LeafDepth; j++) begin : g_job
+    logic add;
+    assign add = line_taken && order_kind == KindRef && job_free == JobIndexBits'(j);
+    assign job_busy_d[j] = add || (job_busy_q[j] && !(job_ready && job_pick == JobIndexBits'(j)));
+    assign jobs_d[j*JobBits +: JobBits] = add ? {order_slot, order_k, line_word} : jobs_q[j*JobBits +: JobBits];
+  end
+  for (genvar i = 0; i < Slots; i++) begin : g_order
+    logic enter;
+    assign enter = leaf_in && line_slot == SlotBits'(i);
+    assign rec_k_d[i*OrdBits +: OrdBits] =
+        enter ? '0 : rec_k_q[i*OrdBits +: OrdBits] + OrdBits'(job_ready && job[JobBits-1 -: SlotBits] == SlotBits'(i));
+    assign test_k_d[i*OrdBits +: OrdBits] =
+        enter ? '0 : test_k_q[i*OrdBits +: OrdBits] + OrdBits'(test_issue && test_slot == SlotBits'(i));
+  end
+  assign sent_d     = !record_go ? sent_q : job_ready ? '0 : sent_q + GotBits'(1);
+  assign fill_buf_d = record_go ? send_buf : fill_buf_q;
+
+  for (genvar b = 0; b < Records; b++) begin : g_record
+    logic alloc, fill, free;
+    logic [GotBits-1:0] got;
+    assign got   = buf_got_q[b*GotBits +: GotBits];
+    assign alloc = record_go && sent_q == '0 && send_buf == BufBits'(b);
+    assign fill  = line_taken && order_kind == KindRecord && order_buf == BufBits'(b);
+    assign free  = test_issue && test_buf == BufBits'(b);
+    assign buf_busy_d[b] = alloc || (buf_busy_q[b] && !free);
+    assign buf_got_d[b*GotBits +: GotBits] = alloc ? '0 : fill ? got + GotBits'(1) : got;
+    assign buf_job_d[b*JobBits +: JobBits] = alloc ? job : buf_job_q[b*JobBits +: JobBits];
+    logic [SlotBits-1:0] slot;
+    logic [OrdBits-1:0]  k;
+    assign slot = buf_job_q[b*JobBits + JobBits - 1 -: SlotBits];
+    assign k    = buf_job_q[b*JobBits + 32 +: OrdBits];
+    // Whole, and its slot's next test.
+    assign buf_whole[b] = buf_busy_q[b] && got == GotBits'(RecordLines)
+                          && k == test_k_q[32'(slot)*OrdBits +: OrdBits];
+    for (genvar l = 0; l < RecordLines; l++) begin : g_line
+      localparam int unsigned At = (b * RecordLines + l) * LineBits;
+      assign buf_data_d[At +: LineBits] = fill && order_line == LineSelBits'(l) ? mem_rsp_i.data
+                                                                                : buf_data_q[At +: LineBits];
+    end
+  end
+
+  logic [JobBits-1:0] flight;
+  assign flight = buf_job_q[32'(test_buf)*JobBits +: JobBits];
 
   // --- The IU: a whole record leaves with an entry of the test table as its tag. ---
   logic [Tests-1:0]        test_busy_d, test_busy_q;
@@ -592,7 +711,7 @@ module rpu_tu_pipe #(
     end
   end
   assign test_slot      = flight[JobBits-1 -: SlotBits];
-  assign iu_req_valid_o = rec_full && flight_valid && test_any_free;
+  assign iu_req_valid_o = flight_valid && test_any_free;
   assign test_issue     = iu_req_valid_o && iu_req_ready_i;
 
   logic [1:0] test_axis_kx, test_axis_ky, test_axis_kz;
@@ -611,7 +730,7 @@ module rpu_tu_pipe #(
     iu_req_o.shear_x   = 32'(pick_w(shear_x_all, test_slot));
     iu_req_o.shear_y   = 32'(pick_w(shear_y_all, test_slot));
     iu_req_o.record    = '0;
-    iu_req_o.record[RecordLines*LineBits-1:0] = record_q;
+    iu_req_o.record[RecordLines*LineBits-1:0] = buf_data_q[32'(test_buf)*RecordLines*LineBits +: RecordLines*LineBits];
   end
 
   // Answers: always taken, folded into the slot's nearest hit.
@@ -832,9 +951,20 @@ module rpu_tu_pipe #(
       hold_q      <= 1'b0;
       held_q      <= KindNode;
       work_q      <= '0;
+      held_tag_q  <= '0;
       sent_q      <= '0;
-      got_q       <= '0;
-      record_q    <= '0;
+      line_busy_q <= '0;
+      asked_q     <= '0;
+      buf_busy_q  <= '0;
+      buf_got_q   <= '0;
+      buf_job_q   <= '0;
+      buf_data_q  <= '0;
+      fill_buf_q  <= '0;
+      job_busy_q  <= '0;
+      jobs_q      <= '0;
+      job_pick_q  <= '0;
+      rec_k_q     <= '0;
+      test_k_q    <= '0;
       test_busy_q <= '0;
       table_q     <= '0;
       fin_valid_q <= 1'b0;
@@ -843,9 +973,20 @@ module rpu_tu_pipe #(
       hold_q      <= hold_d;
       held_q      <= held_d;
       work_q      <= work_d;
+      held_tag_q  <= req_tag;
       sent_q      <= sent_d;
-      got_q       <= got_d;
-      record_q    <= record_d;
+      line_busy_q <= line_busy_d;
+      asked_q     <= asked_d;
+      buf_busy_q  <= buf_busy_d;
+      buf_got_q   <= buf_got_d;
+      buf_job_q   <= buf_job_d;
+      buf_data_q  <= buf_data_d;
+      fill_buf_q  <= fill_buf_d;
+      job_busy_q  <= job_busy_d;
+      jobs_q      <= jobs_d;
+      job_pick_q  <= job_pick;
+      rec_k_q     <= rec_k_d;
+      test_k_q    <= test_k_d;
       test_busy_q <= test_busy_d;
       table_q     <= table_d;
       fin_valid_q <= fin_valid_d;
@@ -857,7 +998,7 @@ module rpu_tu_pipe #(
   // FIFOs' readiness (room is guaranteed by work_q), the set-up engines' idle ports,
   // the start rays' records, address bits below a line, the IU tag above the table.
   logic unused;
-  assign unused = ^{fetch_grants, ref_grants, pop_grants, fin_grants, unused_picks, fifo_room,
+  assign unused = ^{fetch_grants, ref_grants, pop_grants, fin_grants, unused_picks, job_room, mem_rsp_i.tag,
                     unused_setup_ports, start_index, out_index, given_ray.record, node_addr[1:0],
                     ref_addr[1:0], s1_above, s2_above, s3_above, s1_pop, s2_pop, s1_valid, s2_valid,
                     s3_valid, s3_axis, s4_above, o_lt_bits[W-1:1], o_eq_bits[W-1:1], le_far_bits[W-1:1],
@@ -871,16 +1012,19 @@ module rpu_tu_pipe #(
   initial begin
     assert (Slots >= 2 && (1 << SlotBits) == Slots) else $error("rpu_tu_pipe: Slots %0d is not a power of two >= 2", Slots);
     assert ((1 << DepthBits) == StackDepth) else $error("rpu_tu_pipe: StackDepth %0d is not a power of two", StackDepth);
+    assert (LineTagBits >= 1 && LineTagBits <= rpu_pkg::CacheTagBits)
+      else $error("rpu_tu_pipe: LineTagBits %0d outside 1..%0d", LineTagBits, rpu_pkg::CacheTagBits);
+    assert (Records >= 2 && (1 << BufBits) == Records) else $error("rpu_tu_pipe: Records %0d is not a power of two >= 2", Records);
     assert (Tests <= (1 << rpu_pkg::RayTagBits) && (1 << TestBits) == Tests)
       else $error("rpu_tu_pipe: Tests %0d is not a power of two the IU tag holds", Tests);
   end
   always_ff @(posedge clk_i) begin : check_fifos_and_answers
     if (rst_ni) begin
-      // A job FIFO never overflows (at most LeafDepth refs between request and test).
-      assert (!(line_taken && order_kind == KindRef) || fifo_room[0])
-        else $error("rpu_tu_pipe: record job FIFO full");
-      assert (!job_ready || fifo_room[1]) else $error("rpu_tu_pipe: flight FIFO full");
-      assert (!mem_rsp_valid_i || order_valid) else $error("rpu_tu_pipe: a memory response no one asked for");
+      // The job table never overflows (at most LeafDepth refs between request and test).
+      assert (!(line_taken && order_kind == KindRef) || job_room)
+        else $error("rpu_tu_pipe: record job table full");
+      assert (!mem_rsp_valid_i || (32'(mem_rsp_i.tag) < Lines && line_busy_q[rsp_tag]))
+        else $error("rpu_tu_pipe: a memory answer with tag %0h for no line in flight", mem_rsp_i.tag);
       assert (!iu_rsp_valid_i || test_busy_q[answer_entry])
         else $error("rpu_tu_pipe: IU answer tag %0d names no test in flight", iu_rsp_i.tag);
     end

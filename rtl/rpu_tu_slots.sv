@@ -7,8 +7,8 @@
 //                 hand-over until it is given the next ray.
 //   responses     round robin among the slots that have one (rpu_rr_arbiter), so rays
 //                 leave in any order, each with its own tag.
-//   memory        requests round robin; the slot of each request taken enters a FIFO,
-//                 and the in-order responses go to the slot at its head.
+//   memory        requests round robin, tagged 0; the slot of each request taken enters
+//                 a FIFO, and the in-order responses go to the slot at its head.
 //   IU            tests round robin, the IU tag replaced by the slot's index; an answer
 //                 goes to the slot its tag names, so answers may come in any order.
 //
@@ -24,7 +24,8 @@ module rpu_tu_slots #(
   parameter int unsigned StackDepth = rpu_pkg::ConfigDefaultStackDepth,
   parameter int unsigned Slots      = 1,
   parameter int unsigned Pipe       = 0,
-  parameter int unsigned Setups     = 2
+  parameter int unsigned Setups     = 2,
+  parameter int unsigned LineTagBits = 4  // with Pipe: lines in flight on the memory port, 2^LineTagBits
 ) (
   input  logic              clk_i,
   input  logic              rst_ni,
@@ -62,7 +63,7 @@ module rpu_tu_slots #(
 
   if (Pipe != 0) begin : g_pipe
     rpu_tu_pipe #(.ExpBits(ExpBits), .FracBits(FracBits), .IsectMode(IsectMode), .StackDepth(StackDepth),
-                  .Slots(Slots), .Setups(Setups)) u_pipe (
+                  .Slots(Slots), .Setups(Setups), .LineTagBits(LineTagBits)) u_pipe (
       .clk_i, .rst_ni, .cfg_i,
       .req_valid_i, .req_ready_o, .req_i,
       .rsp_valid_o, .rsp_ready_i, .rsp_o,

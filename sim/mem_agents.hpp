@@ -47,6 +47,8 @@ class AddressPicker {
  public:
   AddressPicker(std::size_t cache, const streams::CacheGeometry& geometry, std::mt19937_64& rng);
   std::uint32_t pick(std::mt19937_64& rng) const;
+  // The distinct lines of the hot sets: at most so many misses of them at once.
+  std::uint64_t hot_lines() const { return hot_sets_.size() * (geometry_.ways + 2); }
 
  private:
   std::uint32_t base_;
@@ -60,6 +62,7 @@ struct ExpectedRead {
   std::uint32_t addr = 0;
   std::array<std::uint32_t, streams::kMemLineBytes / 4> data{};
   std::uint64_t taken = 0;
+  std::uint32_t tag = 0;  // an in-order port's: the unit's own, returned with the answer
   bool hit = false;  // the LRU reference's prediction (one request at a time only)
 };
 

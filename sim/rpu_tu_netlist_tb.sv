@@ -227,7 +227,10 @@ module rpu_tu_netlist_tb #(
       mem_rsp_valid = mem_head != mem_tail && mem_due[mem_head % MemSlots] <= cycle
                       && ({$random(seed)} % 100) >= StallPercent;
       if (mem_rsp_valid) begin
-        k = mem_addr[mem_head % MemSlots] / 4;
+        // mem_req is {tag, addr}; the answer {tag, data} (answered in order: a walker
+        // ignores the tag, a pipelined unit's line table finds its entry by it).
+        k = mem_addr[mem_head % MemSlots][31:0] / 4;
+        line[MemRspBits-1:32*LineWords] = mem_addr[mem_head % MemSlots][MemReqBits-1:32];
         // Whole-value writes of the DUT's inputs: Verilator 5.006 did not pass a
         // part-select write of mem_rsp to the port.
         for (w = 0; w < LineWords; w = w + 1) line[w*32 +: 32] = mem[k + w];
@@ -285,9 +288,10 @@ module rpu_tu_netlist_tb #(
         last = cycle;
       end
       if (mem_req_valid && mem_req_ready) begin
-        if (mem_req % (MemRspBits / 8) != 0 || mem_req / 4 + LineWords > words || mem_tail - mem_head == MemSlots) begin
+        if (mem_req[31:0] % (4 * LineWords) != 0 || mem_req[31:0] / 4 + LineWords > words
+            || mem_tail - mem_head == MemSlots) begin
           $display("netlist FAIL: cycle %0d: memory request at %h: unaligned, outside the %0d-word image, or %0d in flight",
-                   cycle, mem_req, words, MemSlots + 1);
+                   cycle, mem_req[31:0], words, MemSlots + 1);
           fail_in_flight();
         end
         mem_addr[mem_tail % MemSlots] = mem_req;

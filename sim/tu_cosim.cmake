@@ -9,7 +9,8 @@ rpu_cosim_library(tu)
 #             and its IU;
 #   tu_slots  the TU alone with those slots, its IU answered out of order by the harness;
 #   tu_pipe   the TU alone with rpu_tu_cosim_pipe_slots slots sharing one node-step
-#             pipeline and rpu_tu_cosim_pipe_setups set-up engines (rpu_tu_pipe);
+#             pipeline, rpu_tu_cosim_pipe_setups set-up engines and 2^rpu_tu_cosim_line_tag_bits
+#             lines in flight (rpu_tu_pipe), its memory answered by tag in any order;
 #   ray_pipe  the ray unit with it.
 # Every kind in fp32 with Woop's test (in the `ci` tier but tu_slots, whose walker slots
 # no named configuration has); the others every kind but tu_slots, or in the `ci` tier
@@ -18,6 +19,7 @@ rpu_cosim_library(tu)
 set(rpu_tu_cosim_slots 4)
 set(rpu_tu_cosim_pipe_slots 16)
 set(rpu_tu_cosim_pipe_setups 4)
+set(rpu_tu_cosim_line_tag_bits 4)
 set(rpu_tu_kind_tu "0 1 0")
 set(rpu_tu_kind_ray "1 ${rpu_tu_cosim_slots} 0")
 set(rpu_tu_kind_tu_slots "0 ${rpu_tu_cosim_slots} 0")
@@ -51,9 +53,10 @@ foreach(format IN LISTS rpu_ray_unit_formats)
       endif()
       rpu_cosim_model(tu ${prefix} TRACE
                       FACTS format=${format} isect=${isect} with_iu=${with_iu} slots=${slots} pipe=${pipe}
-                            setups=${rpu_tu_cosim_pipe_setups}
+                            setups=${rpu_tu_cosim_pipe_setups} line_tag_bits=${rpu_tu_cosim_line_tag_bits}
                       PARAMS ${rpu_widths_${format}} -GIsectMode=${rpu_isect_${isect}} -GWithIu=${with_iu}
-                             -GSlots=${slots} -GPipe=${pipe} -GSetups=${rpu_tu_cosim_pipe_setups})
+                             -GSlots=${slots} -GPipe=${pipe} -GSetups=${rpu_tu_cosim_pipe_setups}
+                             -GLineTagBits=${rpu_tu_cosim_line_tag_bits})
       list(APPEND rpu_tu_built "${format} ${isect} ${kind}")
     endforeach()
     if(kinds)

@@ -1,7 +1,8 @@
 // Ray-level co-simulation of the RTL traversal unit against the golden tracer
 // (rpu::functional::Tracer, SoftArith in the same format; docs/rtl.md, "Traversal
 // unit"). The scene's memory image is served to the unit's memory port by a
-// behavioural memory (fixed latency plus a random extra delay, responses in order);
+// behavioural memory (fixed latency plus a random extra delay; responses in order to a
+// walker, by tag in any order to a pipelined unit);
 // without the RTL IU the harness answers the unit's IU port with the C++ intersection
 // unit built from the request's fields. Camera, random, shadow (any-hit) rays and rays
 // from origins exactly on the tree's split planes go through the unit's valid/ready
@@ -509,22 +510,35 @@ int run(const Options& o, std::unique_ptr<Model<harness::Tu>>& model) {
   }
   model = make_model<harness::Tu>(*info, o.seed, o.trace);
   const int setups = info->number("setups");  // the built pipelined unit's set-up engines
+  const int line_tag_bits = info->number("line_tag_bits");  // ... and its line table's tag bits
   // The TU alone leaves its IU port to the harness's C++ IU; the ray unit has its own.
   const bool iu_port = !o.with_iu;
 
   Stalls stalled(o.seed, o.stall);
   std::mt19937_64& rng = stalled.rng();  // also the agents' delays and the IU's junk on a miss
   const functional::SoftArith ar{format};
-  // The agents: the memory answers lines in order, the C++ IU tests in order, each after
-  // its latency plus a random delay.
+  // The agents: the memory answers a line after its latency plus a random delay, in
+  // order to a walker, by tag in any order to a pipelined unit (one whose delay is past
+  // first); the C++ IU tests likewise.
   struct Owed {
     std::uint64_t ready;
-    std::uint32_t addr;
+    std::uint32_t addr, tag;
     streams::IuRsp iu;
   };
   std::deque<Owed> mem_q, iu_q;
-  std::size_t iu_pick = 0;    // the IU answer presented
-  bool iu_presented = false;  // ... and not taken last cycle
+  std::size_t mem_pick = 0, iu_pick = 0;    // the answers presented
+  bool mem_presented = false, iu_presented = false;  // ... and not taken last cycle
+  // A due answer, picked at random while several are due, kept until taken (a valid
+  // stream holds its payload).
+  const auto pick_due = [&rng](const std::deque<Owed>& q, bool any_order, std::uint64_t now) -> std::size_t {
+    if (!any_order) return 0;
+    std::vector<std::size_t> due;
+    for (std::size_t i = 0; i < q.size(); ++i) {
+      if (q[i].ready <= now) due.push_back(i);
+    }
+    if (due.size() < 2) return due.empty() ? 0 : due.front();
+    return due[std::uniform_int_distribution<std::size_t>(0, due.size() - 1)(rng)];
+  };
   std::uint64_t mem_last = 0, iu_last = 0;
   const std::uint32_t tag_mask = (1u << streams::kRayTagBits) - 1;
 
@@ -558,21 +572,15 @@ int run(const Options& o, std::unique_ptr<Model<harness::Tu>>& model) {
       if (in.req_valid) in.req = request_of(cases[next], static_cast<std::uint32_t>(next) & tag_mask);
       in.rsp_ready = !stalled();
       in.mem_req_ready = !stalled();
-      in.mem_rsp_valid = !mem_q.empty() && mem_q.front().ready <= cycle && !stalled();
+      if (!mem_presented) mem_pick = pick_due(mem_q, o.pipe, cycle);
+      in.mem_rsp_valid = !mem_q.empty() && (mem_presented || mem_q[mem_pick].ready <= cycle) && !stalled();
       if (in.mem_rsp_valid) {
-        std::memcpy(in.mem_rsp.data.data(), image.data() + mem_q.front().addr, streams::kMemLineBytes);
+        in.mem_rsp.tag = mem_q[mem_pick].tag;
+        std::memcpy(in.mem_rsp.data.data(), image.data() + mem_q[mem_pick].addr, streams::kMemLineBytes);
       }
       in.iu_req_ready = !stalled();
-      // With several rays in flight the IU answers in any order: a random answer that is
-      // due, kept until taken (a valid stream holds its payload).
-      if (!iu_presented && !iu_q.empty()) {
-        iu_pick = 0;
-        if (o.in_flight > 1) {
-          std::size_t due = 0;
-          while (due < iu_q.size() && iu_q[due].ready <= cycle) ++due;
-          if (due > 1) iu_pick = std::uniform_int_distribution<std::size_t>(0, due - 1)(rng);
-        }
-      }
+      // With several rays in flight the IU answers in any order.
+      if (!iu_presented) iu_pick = pick_due(iu_q, o.in_flight > 1, cycle);
       in.iu_rsp_valid = !iu_q.empty() && (iu_presented || iu_q[iu_pick].ready <= cycle) && !stalled();
       if (in.iu_rsp_valid) in.iu_rsp = iu_q[iu_pick].iu;
 
@@ -621,16 +629,18 @@ int run(const Options& o, std::unique_ptr<Model<harness::Tu>>& model) {
                         image.size());
           return fail(std::string(what) + "; ray " + describe_ray(*current));
         }
-        mem_last = std::max(mem_last, cycle + static_cast<std::uint64_t>(o.mem_latency) +
-                                          std::uniform_int_distribution<int>(0, o.mem_jitter)(rng));
-        mem_q.push_back({mem_last, addr, {}});
+        const std::uint64_t ready = cycle + static_cast<std::uint64_t>(o.mem_latency) +
+                                    static_cast<std::uint64_t>(std::uniform_int_distribution<int>(0, o.mem_jitter)(rng));
+        mem_last = o.pipe ? ready : std::max(mem_last, ready);
+        mem_q.push_back({mem_last, addr, out.mem_req.tag, {}});
       }
-      if (in.mem_rsp_valid && out.mem_rsp_ready) mem_q.pop_front();
+      mem_presented = in.mem_rsp_valid && !out.mem_rsp_ready;
+      if (in.mem_rsp_valid && out.mem_rsp_ready) mem_q.erase(mem_q.begin() + static_cast<std::ptrdiff_t>(mem_pick));
       if (iu_port) {
         if (out.iu_req_valid && in.iu_req_ready) {
           iu_last = std::max(iu_last, cycle + static_cast<std::uint64_t>(o.iu_latency) +
                                           std::uniform_int_distribution<int>(0, o.iu_jitter)(rng));
-          iu_q.push_back({iu_last, 0, iu_answer(ar, watertight, out.iu_req, rng)});
+          iu_q.push_back({iu_last, 0, 0, iu_answer(ar, watertight, out.iu_req, rng)});
         }
         iu_presented = in.iu_rsp_valid && !out.iu_rsp_ready;
         if (in.iu_rsp_valid && out.iu_rsp_ready) iu_q.erase(iu_q.begin() + static_cast<std::ptrdiff_t>(iu_pick));
@@ -692,8 +702,9 @@ int run(const Options& o, std::unique_ptr<Model<harness::Tu>>& model) {
       cycle::PipeCosts pipe = cycle::PipeCosts::of(*config, watertight ? IsectMode::kWatertight : IsectMode::kWoop);
       pipe.slots = static_cast<std::uint32_t>(o.slots);
       pipe.setups = static_cast<std::uint32_t>(setups);
-      pipe.memory_wait = 0;  // the harness answers the unit's port directly,
-      pipe.port_lines = 0;   // in order, without the chip's reorder buffer
+      pipe.memory_wait = 0;  // the harness answers the unit's port directly, by tag,
+      pipe.by_tag = true;    // with the lines in flight the built unit's table holds
+      pipe.lines = 1u << line_tag_bits;
       modelled = model_pipe_cycles(cases, pipe, o.in_flight, static_cast<cycle::Cycle>(o.mem_latency));
     } else {
       modelled = model_cycles(cases, costs, o.slots, static_cast<cycle::Cycle>(o.mem_latency));

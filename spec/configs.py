@@ -21,7 +21,7 @@ LATENCY_GROUPS = {
     "latency": ("LatencyConfig", ("fpu", "sfu", "rsq", "reissue", "result", "to_unit", "from_unit", "from_rays", "line_wait")),
     "tu": ("TraversalUnitConfig", ("setup_woop", "setup_watertight", "inner", "leaf", "pop", "memory_wait", "iu_wait", "turnaround",
                                   "pipe_handoff_woop", "pipe_handoff_watertight", "pipe_node", "pipe_iu_wait",
-                                  "pipe_memory_wait", "pipe_from_unit")),
+                                  "pipe_memory_wait", "pipe_memory_wait_by_tag", "pipe_from_unit")),
     "iu": ("IntersectionUnitConfig", ("woop", "watertight", "interval_woop", "interval_watertight")),
 }
 # The widest fraction a format may have (spec/formats.toml's limit, rpu::fp::soft's).

@@ -448,7 +448,7 @@ RTL_CACHE_PARAMETERS = (("Bytes", "bytes"), ("Ways", "ways"), ("HitLatency", "hi
 RTL_PARAMETERS = {"Cores": "shader_cores", "Threads": "threads_per_core", "ChunkSize": "chunk_size",
                   "Registers": "registers", "CallDepth": "call_depth", "StackBytes": "stack_bytes",
                   "SfuUnits": "sfu_units", "StackDepth": "stack_depth", "RayUnits": "traversal_units",
-                  "TuSlots": "tu_slots", "TuPipe": "tu_pipe", "TuSetups": "tu_setups",
+                  "TuSlots": "tu_slots", "TuPipe": "tu_pipe", "TuSetups": "tu_setups", "TuByTag": "tu_by_tag",
                   **{f"{unit}{param}": f"{cache}.{key}" for unit, cache in RTL_CACHES
                      for param, key in RTL_CACHE_PARAMETERS}}
 

@@ -108,8 +108,8 @@ def layout(spec: dict, fp_op_bits: int) -> dict:
             raise StreamError(f"{WHERE}: config '{c['name']}' has {c['traversal_units']} traversal and "
                               f"{c['intersection_units']} intersection units; the RTL's ray units pair one of each")
         if "CacheTagBits" in env:
-            # A ray unit's in-order port keeps an intersection record's lines in flight
-            # under the tag bits its cache arbiter leaves (rtl/rpu_top.sv PortTagBits).
+            # A ray unit keeps an intersection record's lines in flight under the tag
+            # bits its cache arbiter leaves (rtl/rpu_top.sv PortTagBits).
             lines = max(env["TriangleRecordWoopBytes"], env["TriangleRecordWatertightBytes"]) // env["MemLineBytes"]
             own = env["CacheTagBits"] - (c["traversal_units"] - 1).bit_length()
             if own < 1 or 1 << own < lines:

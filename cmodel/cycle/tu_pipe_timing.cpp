@@ -13,16 +13,17 @@ using functional::TraceEvent;
 PipeCosts PipeCosts::of(const spec::HardwareConfig& config, IsectMode mode) {
   const bool watertight = mode == IsectMode::kWatertight;
   const spec::TraversalUnitConfig& tu = config.tu;
-  // The cache arbiter takes log2(units) of a read's tag bits: each unit's reorder buffer
-  // holds as many lines as the rest can name.
+  // The cache arbiter takes log2(units) of a read's tag bits: each unit keeps as many
+  // lines in flight as the rest can name.
   const auto unit_bits = static_cast<std::uint32_t>(std::bit_width(static_cast<std::uint32_t>(config.traversal_units) - 1));
   return {
       .slots = static_cast<std::uint32_t>(config.tu_slots),
       .setups = static_cast<std::uint32_t>(config.tu_setups),
-      .port_lines = 1u << (streams::kCacheTagBits - std::min(unit_bits, streams::kCacheTagBits)),
+      .lines = 1u << (streams::kCacheTagBits - std::min(unit_bits, streams::kCacheTagBits)),
+      .by_tag = config.tu_by_tag != 0,
       .handoff = static_cast<Cycle>(watertight ? tu.pipe_handoff_watertight : tu.pipe_handoff_woop),
       .node = static_cast<Cycle>(tu.pipe_node),
-      .memory_wait = static_cast<Cycle>(tu.pipe_memory_wait),
+      .memory_wait = static_cast<Cycle>(config.tu_by_tag ? tu.pipe_memory_wait_by_tag : tu.pipe_memory_wait),
       .iu_latency = static_cast<Cycle>(watertight ? config.iu.watertight : config.iu.woop),
       .iu_interval = static_cast<Cycle>(watertight ? config.iu.interval_watertight : config.iu.interval_woop),
       .iu_wait = static_cast<Cycle>(tu.pipe_iu_wait),
@@ -46,9 +47,9 @@ void PipeTraversalUnit::RoundRobin::update(int grant, bool ready) {
 }
 
 PipeTraversalUnit::PipeTraversalUnit(const PipeCosts& costs, LineSource& lines, std::span<IuTimer> ius)
-    : costs_(costs), lines_(lines), ius_(ius), engines_(costs.setups), slots_(costs.slots) {
-  if (costs.slots < 1 || costs.slots > 64 || costs.setups < 1 || costs.setups > 63 || ius.empty()) {
-    throw Error("pipelined traversal unit: 1-64 slots, 1-63 set-up engines and an IU");
+    : costs_(costs), lines_(lines), ius_(ius), engines_(costs.setups), slots_(costs.slots), jobs_(kLeafDepth), buffers_(kRecords) {
+  if (costs.slots < 1 || costs.slots > 64 || costs.setups < 1 || costs.setups > 63 || costs.lines < 1 || ius.empty()) {
+    throw Error("pipelined traversal unit: 1-64 slots, 1-63 set-up engines, a line in flight and an IU");
   }
   const auto rr = [](std::uint32_t inputs) { return RoundRobin{inputs, inputs - 1, 0, false}; };
   start_rr_ = rr(costs.setups);
@@ -129,12 +130,19 @@ void PipeTraversalUnit::grant_start(std::uint64_t offering, Grants& g) {
   g.give = g.start >= 0 && g.free != 0;
 }
 
-// The memory port takes a record line, else a ref, else a node, while the lines in
-// flight leave room.
+// The memory port takes a record line (of the job being read, or the lowest job that is
+// its slot's next record, while a record buffer is free), else a ref, else a node,
+// while the line table has room.
 void PipeTraversalUnit::grant_port(Grants& g) {
-  const std::size_t order_depth = costs_.slots + kLeafDepth * (1 + costs_.record_lines);
-  const bool go = order_.size() < (costs_.port_lines ? std::min<std::size_t>(order_depth, costs_.port_lines) : order_depth);
-  const Kind source = !jobs_.empty() ? Kind::kRecord
+  const bool go = order_.size() < costs_.lines;
+  const bool buffer_free = std::any_of(buffers_.begin(), buffers_.end(), [](const RecordBuffer& b) { return !b.busy; });
+  g.job = sent_ != 0 ? static_cast<int>(send_job_) : -1;
+  for (std::size_t j = 0; j < jobs_.size() && (g.job < 0 || g.job_free < 0); ++j) {
+    const Job& job = jobs_[j];
+    if (g.job < 0 && job.busy && job.k == slots_[job.slot].rec_k) g.job = static_cast<int>(j);
+    if (g.job_free < 0 && !job.busy) g.job_free = static_cast<int>(j);
+  }
+  const Kind source = g.job >= 0 && (sent_ != 0 || buffer_free) ? Kind::kRecord
                       : g.refs != 0 && work_ < kLeafDepth ? Kind::kRef
                                                                  : Kind::kNode;
   g.ref = ref_rr_.grant(g.refs);
@@ -146,11 +154,29 @@ void PipeTraversalUnit::grant_port(Grants& g) {
   g.record_go = go && source == Kind::kRecord;
 }
 
-// The line answered, in order; a record line waits while the last record is whole.
+// The line answered, one a cycle: the oldest, once it is back (in order); or the first
+// back, the oldest of those back together (by tag).
 void PipeTraversalUnit::grant_line(Cycle now, Grants& g) const {
-  g.line_taken = !order_.empty() && order_.front().at <= now &&
-                 (order_.front().kind != Kind::kRecord || got_ < costs_.record_lines);
-  if (g.line_taken) g.line = order_.front();
+  g.line_taken = false;
+  for (std::size_t i = 0; i < order_.size(); ++i) {
+    const Line& l = order_[i];
+    if (l.at <= now && (!g.line_taken || l.at < g.line.at)) {
+      g.line_taken = true;
+      g.line_at = i;
+      g.line = l;
+    }
+    if (!costs_.by_tag) break;
+  }
+}
+
+// The record buffer whose record goes to the IU next: the lowest whole one that is its
+// slot's next test (-1: none).
+int PipeTraversalUnit::whole_buffer() const {
+  for (std::size_t b = 0; b < buffers_.size(); ++b) {
+    const RecordBuffer& r = buffers_[b];
+    if (r.busy && r.got == costs_.record_lines && r.job.k == slots_[r.job.slot].test_k) return static_cast<int>(b);
+  }
+  return -1;
 }
 
 // A finished leaf's pop pass enters the node-step pipeline in a cycle no inner node's
@@ -167,8 +193,8 @@ void PipeTraversalUnit::grant_pop(Grants& g) {
 void PipeTraversalUnit::grant_test(Cycle now, Grants& g) {
   g.iu = &*std::min_element(ius_.begin(), ius_.end(),
                             [](const IuTimer& a, const IuTimer& b) { return a.next_accept < b.next_accept; });
-  g.test_issue = got_ == costs_.record_lines && !flight_.empty() && tests_busy_ < kTests &&
-                 g.iu->next_accept <= now;
+  g.test_buffer = whole_buffer();
+  g.test_issue = g.test_buffer >= 0 && tests_busy_ < kTests && g.iu->next_accept <= now;
   g.answer = !answers_.empty() && answers_.top().at <= now;
   g.decide = !steps_.empty() && steps_.front().at == now;
 }
@@ -256,17 +282,24 @@ void PipeTraversalUnit::fetch(Cycle now, const Grants& g) {
     ++time.refs;
     const std::uint32_t address = sl.ray.log->events[i].address;
     order_.push_back({lines_.read(now, address, spec::memory::kPrimRefBytes, false) + costs_.memory_wait, Kind::kRef,
-                      false, static_cast<std::uint32_t>(g.ref), sl.ray.log->events[i + 1].address});
+                      false, static_cast<std::uint32_t>(g.ref), sl.ray.log->events[i + 1].address, sl.k - 1});
   }
   if (g.record_go) {
-    const Job job = jobs_.front();
+    const Job job = jobs_[static_cast<std::size_t>(g.job)];
+    if (sent_ == 0) {
+      send_job_ = static_cast<std::uint32_t>(g.job);
+      fill_buffer_ = static_cast<std::uint32_t>(
+          std::find_if(buffers_.begin(), buffers_.end(), [](const RecordBuffer& b) { return !b.busy; }) -
+          buffers_.begin());
+      buffers_[fill_buffer_] = {true, 0, job};
+    }
     const std::uint32_t address = job.record + sent_ * streams::kMemLineBytes;
     order_.push_back({lines_.read(now, address, streams::kMemLineBytes, false) + costs_.memory_wait, Kind::kRecord,
-                      false, job.slot, 0});
+                      false, job.slot, fill_buffer_});
     if (++sent_ == costs_.record_lines) {
       sent_ = 0;
-      flight_.push_back(job);
-      jobs_.pop_front();
+      jobs_[send_job_].busy = false;
+      ++slots_[job.slot].rec_k;
     }
   }
 }
@@ -275,7 +308,7 @@ void PipeTraversalUnit::fetch(Cycle now, const Grants& g) {
 // a ref's record queued, a record line kept.
 void PipeTraversalUnit::take_line(Cycle now, const Grants& g) {
   if (!g.line_taken) return;
-  order_.pop_front();
+  order_.erase(order_.begin() + static_cast<std::ptrdiff_t>(g.line_at));
   Slot& sl = slots_[g.line.slot];
   switch (g.line.kind) {
     case Kind::kNode:
@@ -285,6 +318,7 @@ void PipeTraversalUnit::take_line(Cycle now, const Grants& g) {
         sl.refs = sl.next;
         sl.k = 0;
         sl.count = 0;
+        sl.rec_k = sl.test_k = 0;
         while (sl.next < events.size() && events[sl.next].kind == TraceEvent::Kind::kRef) {
           sl.next += 2;
           ++sl.count;
@@ -296,8 +330,11 @@ void PipeTraversalUnit::take_line(Cycle now, const Grants& g) {
         ++time.inner;
       }
       break;
-    case Kind::kRef: jobs_.push_back({g.line.slot, g.line.record}); break;
-    case Kind::kRecord: ++got_; break;
+    case Kind::kRef:
+      if (g.job_free < 0) throw Error("pipelined traversal unit: a ref answered with the job table full");
+      jobs_[static_cast<std::size_t>(g.job_free)] = {true, g.line.slot, g.line.k, g.line.record};
+      break;
+    case Kind::kRecord: ++buffers_[g.line.record].got; break;
   }
 }
 
@@ -305,9 +342,10 @@ void PipeTraversalUnit::take_line(Cycle now, const Grants& g) {
 // answered ends.
 void PipeTraversalUnit::test(Cycle now, const Grants& g) {
   if (g.test_issue) {
-    const Job job = flight_.front();
-    flight_.pop_front();
-    got_ = 0;
+    RecordBuffer& buffer = buffers_[static_cast<std::size_t>(g.test_buffer)];
+    const Job job = buffer.job;
+    buffer.busy = false;
+    ++slots_[job.slot].test_k;
     ++tests_busy_;
     --work_;
     g.iu->next_accept = now + costs_.iu_interval;

@@ -2,8 +2,8 @@
 // "Traversal and intersection units"): its ray slots share one memory port and one
 // node-step pipeline, and its leaves stream tests to the IUs. Stepped cycle by cycle
 // like the RTL, with the rays' walks taken from the tracer's logs: set-up engines,
-// slot phases, the port's priority (record lines, then refs, then nodes), in-order
-// answers, the record and flight queues, the test table, the pop pass in cycles no
+// slot phases, the port's priority (record lines, then refs, then nodes), the lines in
+// flight answered in order or by tag, the record jobs and buffers, the test table, the pop pass in cycles no
 // inner node enters, the finish stage and the response arbiter. The chip's cycle
 // model and tu_cosim's comparison with the RTL ray unit (--cycle-model) run this code.
 #pragma once
@@ -24,14 +24,15 @@ namespace rpu::cycle {
 // [tu] pipe_*) in one intersection mode; of() is where its values come from.
 struct PipeCosts {
   std::uint32_t slots, setups;
-  std::uint32_t port_lines;  // lines in flight on the memory port, if fewer than the unit's own limit (0: none)
+  std::uint32_t lines;  // lines in flight on the memory port (the unit's line table, 2^LineTagBits)
+  bool by_tag;          // answers taken as they come; else in request order (rpu_inorder_port)
   Cycle handoff;             // a set-up engine: from taking a ray to offering it to a slot
   Cycle node;                // a node's line taken to its slot's next fetch
   Cycle memory_wait;         // beyond the line source's answer (the chip's port registers)
   Cycle iu_latency, iu_interval, iu_wait;
   std::uint32_t record_lines;  // an intersection record's memory lines
 
-  // The chip's unit: its port holds what rpu_top's reorder buffer per ray unit does.
+  // The chip's unit: as many lines as the tag bits its cache arbiter leaves it name.
   static PipeCosts of(const spec::HardwareConfig& config, IsectMode mode);
 };
 
@@ -74,16 +75,24 @@ class PipeTraversalUnit {
     std::size_t next = 0;  // the log's next event
     std::size_t refs = 0;  // the leaf's first ref event
     std::uint32_t count = 0, k = 0, pending = 0;
+    std::uint32_t rec_k = 0, test_k = 0;  // its leaf's next record to read, next test to send
     bool stepping = false;  // its node's line is in the pipeline
   };
   struct Line {
-    Cycle at;  // answered from here, in order
+    Cycle at;  // answered from here (in order: once every older line is)
     Kind kind;
     bool leaf;
-    std::uint32_t slot, record;
+    std::uint32_t slot, record;  // a ref's: its record's address; a record line's: its buffer
+    std::uint32_t k = 0;         // a ref's list index
   };
   struct Job {
-    std::uint32_t slot, record;
+    bool busy = false;
+    std::uint32_t slot = 0, k = 0, record = 0;
+  };
+  struct RecordBuffer {
+    bool busy = false;
+    std::uint32_t got = 0;  // its lines answered
+    Job job{};
   };
   struct Step {
     Cycle at;  // the decide stage
@@ -111,11 +120,15 @@ class PipeTraversalUnit {
     bool give = false;
     int ref = -1, fetch = -1;   // the slots whose ref, whose node the port reads
     bool ref_issue = false, fetched = false, record_go = false;
+    int job = -1;       // the job whose record line the port may read
+    int job_free = -1;  // the job-table entry a ref answered takes
     bool line_taken = false;
+    std::size_t line_at = 0;  // the answered line's place in order_
     Line line{};
     int pop = -1;
     bool pop_enter = false;
     IuTimer* iu = nullptr;  // the IU free first
+    int test_buffer = -1;   // the record buffer whose test goes to it
     bool test_issue = false, answer = false, decide = false;
     int rsp = -1, fin = -1;
     bool fin_rsp_taken = false, fin_take = false;
@@ -126,6 +139,7 @@ class PipeTraversalUnit {
   void grant_start(std::uint64_t offering, Grants& g);
   void grant_port(Grants& g);
   void grant_line(Cycle now, Grants& g) const;
+  int whole_buffer() const;
   void grant_pop(Grants& g);
   void grant_test(Cycle now, Grants& g);
   void grant_response(Grants& g);
@@ -138,9 +152,9 @@ class PipeTraversalUnit {
   void step(const Grants& g);
   void respond(const Grants& g, std::vector<std::uint32_t>& answered);
 
-  // rpu_tu_pipe's LeafDepth and Tests, as rpu_ray_unit builds it: refs fetched ahead of
-  // their tests, and tests in flight to the IUs.
-  static constexpr std::uint32_t kLeafDepth = 16, kTests = 32;
+  // rpu_tu_pipe's LeafDepth, Tests and Records, as rpu_ray_unit builds it: refs fetched
+  // ahead of their tests, tests in flight to the IUs, records being read.
+  static constexpr std::uint32_t kLeafDepth = 16, kTests = 32, kRecords = 4;
 
   PipeCosts costs_;
   LineSource& lines_;
@@ -149,9 +163,10 @@ class PipeTraversalUnit {
   std::vector<Slot> slots_;
   Ray incoming_;
   bool has_incoming_ = false;
-  std::deque<Line> order_;
-  std::deque<Job> jobs_, flight_;
-  std::uint32_t sent_ = 0, got_ = 0, work_ = 0, tests_busy_ = 0;
+  std::deque<Line> order_;  // the lines in flight, in request order
+  std::vector<Job> jobs_;  // rpu_tu_pipe's job table
+  std::vector<RecordBuffer> buffers_;
+  std::uint32_t sent_ = 0, send_job_ = 0, fill_buffer_ = 0, work_ = 0, tests_busy_ = 0;
   std::priority_queue<Answer, std::vector<Answer>, std::greater<>> answers_;
   std::deque<Step> steps_;
   RoundRobin start_rr_, fetch_rr_, ref_rr_, pop_rr_, fin_rr_, rsp_rr_;

@@ -197,12 +197,52 @@ TEST(PipeUnitTiming, TheDispatchSendsOneRayACycleToAllUnits) {
   EXPECT_EQ(p.ports.answers, (Answers{{1, end}, {2, end + p.costs.handoff + 1}}));
 }
 
-// rpu_top's cache arbiter keeps log2(units) of the cache's 4 tag bits for itself, and a
-// unit's in-order port holds as many lines as the rest name (docs/cycle-model.md): 16
-// with one traversal unit (rpu2005), 4 with four (drpu).
-TEST(PipeCosts, ThePortHoldsTheLinesTheUnitsTagBitsName) {
-  EXPECT_EQ(PipeCosts::of(hardware_config("rpu2005"), IsectMode::kWoop).port_lines, 16u);
-  EXPECT_EQ(PipeCosts::of(hardware_config("drpu"), IsectMode::kWoop).port_lines, 4u);
+// A line that misses holds every later line when the port answers in order, and none
+// when it answers by tag: ray 1's leaf line takes 400 cycles, ray 2's lines kLatency.
+// By tag, ray 2 leaves when it would with no slow line at all (the dispatch's second
+// ray, as above) and ray 1 its slow line's extra cycles later than its own unhindered
+// walk; in order, ray 2 leaves only after ray 1's line is back.
+class SlowLeafLine final : public LineSource {
+ public:
+  Cycle read(Cycle now, std::uint32_t address, std::uint32_t, bool) override {
+    return now + (address == 0x108 ? kSlow : kLatency);
+  }
+  static constexpr Cycle kSlow = 400;
+};
+
+TEST(PipeUnitTiming, ByTagALineBackEarlyPassesALineThatWaits) {
+  const Pipes fast(1);
+  const Cycle unhindered = fast.ray_cycles(0);
+  for (const bool by_tag : {false, true}) {
+    PipeCosts costs = fast.costs;
+    costs.by_tag = by_tag;
+    SlowLeafLine lines;
+    std::vector<IuTimer> ius{1};
+    Ports ports;
+    std::vector<std::unique_ptr<RayUnitTiming>> units;
+    units.push_back(std::make_unique<PipeUnitTiming>(costs, lines, ius, ports));
+    ports.queue(1, {{Kind::kLeaf, 0x108}, {Kind::kRef, 0x200}, {Kind::kTest, 0x300}});
+    ports.queue(2, {{Kind::kLeaf, 0x110}, {Kind::kRef, 0x204}, {Kind::kTest, 0x330}});
+    run(units);
+    ASSERT_EQ(ports.answers.size(), 2u);
+    const Cycle slow_back = 1 + costs.handoff + 1 + SlowLeafLine::kSlow + costs.memory_wait;
+    if (by_tag) {
+      EXPECT_EQ(ports.answers, (Answers{{2, unhindered + costs.handoff + 1},
+                                        {1, unhindered + SlowLeafLine::kSlow - kLatency}}));
+    } else {
+      EXPECT_EQ(ports.answers.front().first, 1u);
+      EXPECT_GT(ports.answers.back().second, slow_back);
+      EXPECT_GT(ports.answers.front().second, slow_back);
+    }
+  }
+}
+
+// rpu_top's cache arbiter keeps log2(units) of the cache's 6 tag bits for itself, and a
+// unit keeps as many lines in flight as the rest name (docs/cycle-model.md): 64 with one
+// traversal unit (rpu2005), 16 with four (drpu).
+TEST(PipeCosts, TheUnitKeepsTheLinesItsTagBitsName) {
+  EXPECT_EQ(PipeCosts::of(hardware_config("rpu2005"), IsectMode::kWoop).lines, 64u);
+  EXPECT_EQ(PipeCosts::of(hardware_config("drpu"), IsectMode::kWoop).lines, 16u);
 }
 
 }  // namespace
