@@ -197,7 +197,8 @@ TEST(CycleModel, UnitTimeAddsUpToTheFrame) {
 TEST(CycleModel, RaySlotsShareTheFrameAndSpeedUpATraversalBoundOne) {
   const Cornell c;
   spec::HardwareConfig config = hardware_config("rpu2005");
-  config.tu_pipe = 0;  // walkers
+  config.tu_pipe = 0;  // walkers, which take their lines in order
+  config.tu_by_tag = 0;
   const functional::SceneImage si =
       functional::make_scene_image(c.scene, kd_build_config_for("rpu2005"), IsectMode::kWoop);
   std::uint64_t previous = std::numeric_limits<std::uint64_t>::max(), tests = 0;
@@ -227,9 +228,11 @@ TEST(CycleModel, APipelinedUnitWalksTheSameRaysFasterThanItsWalkers) {
   const functional::SceneImage si =
       functional::make_scene_image(c.scene, kd_build_config_for("rpu2005"), IsectMode::kWoop);
   config.tu_pipe = 0;
+  config.tu_by_tag = 0;
   config.tu_slots = 8;
   const Frame walkers = render_cycle(config, c.scene, si.image, c.firmware, settings(32, 24));
   config.tu_pipe = 1;
+  config.tu_by_tag = hardware_config("rpu2005").tu_by_tag;
   std::uint64_t previous = std::numeric_limits<std::uint64_t>::max();
   for (int slots : {2, 8, 16}) {
     config.tu_slots = slots;
