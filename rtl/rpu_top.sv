@@ -89,6 +89,11 @@ module rpu_top #(
   // the cache tag (rpu_cache_arbiter's OwnTagBits); spec/streams.py checks that a record's
   // lines fit.
   localparam int unsigned PortTagBits = rpu_pkg::CacheTagBits - (RayUnits > 1 ? $clog2(RayUnits) : 0);
+  // A walker has at most an intersection record's lines in flight per slot, so its
+  // in-order port's reorder buffer holds that many; a pipelined unit's, every line its
+  // tags name.
+  localparam int unsigned WalkerLines = TuSlots * rpu_pkg::IsectRecordWords * 4 / rpu_pkg::MemLineBytes;
+  localparam int unsigned InOrderTagBits = TuPipe != 0 ? PortTagBits : $clog2(WalkerLines);
 
   logic [Caches-1:0]                      c_dram_req_valid, c_dram_req_ready, c_dram_rsp_valid, c_dram_rsp_ready;
   logic [Caches*rpu_pkg::DramReqBits-1:0] c_dram_req;
@@ -289,7 +294,7 @@ module rpu_top #(
       end
 `endif
     end else begin : g_in_order
-      rpu_inorder_port #(.TagBits(PortTagBits)) u_port (
+      rpu_inorder_port #(.TagBits(InOrderTagBits)) u_port (
         .clk_i, .rst_ni,
         .mem_req_valid_i(mem_req_valid), .mem_req_ready_o(mem_req_ready), .mem_req_i(mem_req),
         .mem_rsp_valid_o(mem_rsp_valid), .mem_rsp_ready_i(mem_rsp_ready), .mem_rsp_o(mem_rsp),
