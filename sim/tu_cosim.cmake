@@ -126,6 +126,13 @@ foreach(case IN LISTS rpu_tu_cosim_cases)
       # the pipe_* cycles of the configuration (spec/latencies.toml [tu]).
       rpu_tu_test(cosim.ray_pipe.cycle_model.${at} cosim 900 ${pipe_args} --with-iu --rays ${rpu_cycle_model_rays}
                   --stall 0 --mem-jitter 0 --cycle-model ${config} --cycle-tolerance 0)
+      # ... with the lines answered out of request order (--mem-spread: a delay of 0-12
+      # cycles by address): the unit's line table and the model's, by tag (fp32 Woop).
+      if("${format} ${isect}" STREQUAL "fp32 woop")
+        rpu_tu_test(cosim.ray_pipe.cycle_model_spread.${at} cosim 900 ${pipe_args} --with-iu
+                    --rays ${rpu_cycle_model_rays} --stall 0 --mem-jitter 0 --mem-spread 12 --cycle-model ${config}
+                    --cycle-tolerance 0)
+      endif()
       rpu_tu_test(slow.cosim.ray_pipe.${at} slow 7200 ${pipe_args} --with-iu --rays 34000)
     endif()
   endforeach()

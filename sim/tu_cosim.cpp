@@ -80,6 +80,7 @@ struct Options {
   int plane_rays = -1;  // from origins on split planes; -1: a tenth of rays
   std::uint64_t seed = 1;
   int mem_latency = 4, mem_jitter = 6;
+  int mem_spread = 0;  // a line's extra delay by its address, up to
   int iu_latency = 6, iu_jitter = 4;
   double stall = 0.08;  // probability a port is stalled in a cycle
   bool timing = false;
@@ -419,22 +420,34 @@ cycle::Cycle model_cycles(const std::vector<Case>& cases, const cycle::WalkCosts
   return end;
 }
 
+// --mem-spread: a line's extra delay, 0 to `spread` cycles, a hash of its address, so
+// that lines asked later may be answered first; the same for the RTL and the model.
+std::uint64_t address_delay(std::uint32_t addr, int spread) {
+  if (spread <= 0) return 0;
+  const std::uint32_t line = addr / streams::kMemLineBytes;
+  return ((line * 2654435761u) >> 13) % static_cast<std::uint32_t>(spread + 1);
+}
+
 // The harness's memory with no stalls or jitter: a line is answered `latency` cycles
-// after it is asked for, in order (the pipelined unit asks one a cycle at most).
-class FixedLatencyLines final : public cycle::LineSource {
+// plus its address's delay after it is asked for (the pipelined unit asks one a cycle
+// at most; the harness answers the one back first, the oldest of those back together).
+class HarnessPipeLines final : public cycle::LineSource {
  public:
-  explicit FixedLatencyLines(cycle::Cycle latency) : latency_(latency) {}
-  cycle::Cycle read(cycle::Cycle now, std::uint32_t, std::uint32_t, bool) override { return now + latency_; }
+  HarnessPipeLines(cycle::Cycle latency, int spread) : latency_(latency), spread_(spread) {}
+  cycle::Cycle read(cycle::Cycle now, std::uint32_t address, std::uint32_t, bool) override {
+    return now + latency_ + address_delay(address, spread_);
+  }
 
  private:
   cycle::Cycle latency_;
+  int spread_;
 };
 
 // The cycles the cycle model's pipelined unit (one IU) takes for the cases, offered in
 // order with at most `in_flight` in the unit, as the harness offers them.
 cycle::Cycle model_pipe_cycles(const std::vector<Case>& cases, const cycle::PipeCosts& costs, int in_flight,
-                               cycle::Cycle mem_latency) {
-  FixedLatencyLines lines(mem_latency);
+                               cycle::Cycle mem_latency, int mem_spread) {
+  HarnessPipeLines lines(mem_latency, mem_spread);
   std::vector<cycle::IuTimer> ius(1);
   cycle::PipeTraversalUnit unit(costs, lines, ius);
   std::vector<std::uint32_t> answered;
@@ -528,15 +541,22 @@ int run(const Options& o, std::unique_ptr<Model<harness::Tu>>& model) {
   std::deque<Owed> mem_q, iu_q;
   std::size_t mem_pick = 0, iu_pick = 0;    // the answers presented
   bool mem_presented = false, iu_presented = false;  // ... and not taken last cycle
-  // A due answer, picked at random while several are due, kept until taken (a valid
-  // stream holds its payload).
-  const auto pick_due = [&rng](const std::deque<Owed>& q, bool any_order, std::uint64_t now) -> std::size_t {
+  // A due answer, picked at random while several are due (or without jitter, the one
+  // due first, the oldest of those due together, as the cycle model takes them), kept
+  // until taken (a valid stream holds its payload).
+  const auto pick_due = [&rng](const std::deque<Owed>& q, bool any_order, bool at_random,
+                               std::uint64_t now) -> std::size_t {
     if (!any_order) return 0;
     std::vector<std::size_t> due;
     for (std::size_t i = 0; i < q.size(); ++i) {
       if (q[i].ready <= now) due.push_back(i);
     }
     if (due.size() < 2) return due.empty() ? 0 : due.front();
+    if (!at_random) {
+      return *std::min_element(due.begin(), due.end(), [&q](std::size_t a, std::size_t b) {
+        return q[a].ready < q[b].ready || (q[a].ready == q[b].ready && a < b);
+      });
+    }
     return due[std::uniform_int_distribution<std::size_t>(0, due.size() - 1)(rng)];
   };
   std::uint64_t mem_last = 0, iu_last = 0;
@@ -572,7 +592,7 @@ int run(const Options& o, std::unique_ptr<Model<harness::Tu>>& model) {
       if (in.req_valid) in.req = request_of(cases[next], static_cast<std::uint32_t>(next) & tag_mask);
       in.rsp_ready = !stalled();
       in.mem_req_ready = !stalled();
-      if (!mem_presented) mem_pick = pick_due(mem_q, o.pipe, cycle);
+      if (!mem_presented) mem_pick = pick_due(mem_q, o.pipe, o.mem_jitter > 0, cycle);
       in.mem_rsp_valid = !mem_q.empty() && (mem_presented || mem_q[mem_pick].ready <= cycle) && !stalled();
       if (in.mem_rsp_valid) {
         in.mem_rsp.tag = mem_q[mem_pick].tag;
@@ -580,7 +600,7 @@ int run(const Options& o, std::unique_ptr<Model<harness::Tu>>& model) {
       }
       in.iu_req_ready = !stalled();
       // With several rays in flight the IU answers in any order.
-      if (!iu_presented) iu_pick = pick_due(iu_q, o.in_flight > 1, cycle);
+      if (!iu_presented) iu_pick = pick_due(iu_q, o.in_flight > 1, true, cycle);
       in.iu_rsp_valid = !iu_q.empty() && (iu_presented || iu_q[iu_pick].ready <= cycle) && !stalled();
       if (in.iu_rsp_valid) in.iu_rsp = iu_q[iu_pick].iu;
 
@@ -630,6 +650,7 @@ int run(const Options& o, std::unique_ptr<Model<harness::Tu>>& model) {
           return fail(std::string(what) + "; ray " + describe_ray(*current));
         }
         const std::uint64_t ready = cycle + static_cast<std::uint64_t>(o.mem_latency) +
+                                    address_delay(addr, o.pipe ? o.mem_spread : 0) +
                                     static_cast<std::uint64_t>(std::uniform_int_distribution<int>(0, o.mem_jitter)(rng));
         mem_last = o.pipe ? ready : std::max(mem_last, ready);
         mem_q.push_back({mem_last, addr, out.mem_req.tag, {}});
@@ -705,7 +726,7 @@ int run(const Options& o, std::unique_ptr<Model<harness::Tu>>& model) {
       pipe.memory_wait = 0;  // the harness answers the unit's port directly, by tag,
       pipe.by_tag = true;    // with the lines in flight the built unit's table holds
       pipe.lines = 1u << line_tag_bits;
-      modelled = model_pipe_cycles(cases, pipe, o.in_flight, static_cast<cycle::Cycle>(o.mem_latency));
+      modelled = model_pipe_cycles(cases, pipe, o.in_flight, static_cast<cycle::Cycle>(o.mem_latency), o.mem_spread);
     } else {
       modelled = model_cycles(cases, costs, o.slots, static_cast<cycle::Cycle>(o.mem_latency));
     }
@@ -789,6 +810,10 @@ int main(int argc, char** argv) {
   app.add_option("--seed", o.seed, "seed of stalls, delays and the model's initial values");
   app.add_option("--mem-latency", o.mem_latency, "memory latency in cycles")->check(CLI::NonNegativeNumber);
   app.add_option("--mem-jitter", o.mem_jitter, "random extra memory delay, up to")->check(CLI::NonNegativeNumber);
+  app.add_option("--mem-spread", o.mem_spread,
+                 "with --pipe: a line's extra delay by its address, up to (answers out of request order, the same "
+                 "for the cycle model)")
+      ->check(CLI::NonNegativeNumber);
   app.add_option("--iu-latency", o.iu_latency, "C++ IU latency in cycles")->check(CLI::NonNegativeNumber);
   app.add_option("--iu-jitter", o.iu_jitter, "random extra IU delay, up to")->check(CLI::NonNegativeNumber);
   app.add_option("--stall", o.stall, "probability a port stalls in a cycle")->check(CLI::Range(0.0, 0.9));
