@@ -168,6 +168,9 @@ def lint(args) -> int:
             jobs.append((f"rpu_top {r['name']} TuByTag={other['TuByTag']}", ["rpu_top"],
                          [f"-G{k}={v}" for k, v in other.items()], []))
     jobs.append(("rpu_spu chunks of 1", ["rpu_spu"], ["-GThreads=4", "-GChunkSize=1", "-GSfuUnits=4"], []))
+    for lanes in (2, 4):
+        jobs.append((f"rpu_spu issue lanes {lanes}", ["rpu_spu"],
+                     ["-GThreads=16", "-GChunkSize=4", f"-GIssueLanes={lanes}"], []))
     jobs.append(("rpu_spu_cosim_top", ["rpu_spu_cosim_top"], [], [harness_top("spu")]))
     # The memory system: each named configuration's three caches, the co-simulation
     # top of each configuration's memory system and with its defaults (the corner
@@ -263,7 +266,7 @@ def synth(args) -> int:
     formats, units = spec()
     if args.unit == "mem":
         return synth_mem(args)
-    if args.unit == "chip":
+    if args.unit in ("chip", "core"):
         return synth_chip(args)
     if args.format is None:
         print("flow.py: --format is required for this unit", file=sys.stderr)
@@ -504,6 +507,10 @@ def synth_mem(args) -> int:
 # path, the name). Each is counted with everything inside it; a unit's remainder is
 # the logic of its own module. Everything else (FIFOs, skid buffers, pipeline
 # registers, the FP units' rounding and classification) counts in the unit around it.
+# The shader core's parameters among a configuration's (gen.rtl_parameters).
+CORE_PARAMETERS = ("Cores", "Threads", "ChunkSize", "IssueLanes", "Registers", "CallDepth", "StackBytes", "SfuUnits",
+                   "ExpBits", "FracBits")
+
 CHIP_UNITS = [
     ("rpu_chip_cosim_top", r"", "chip"),
     ("rpu_spu", r"", "shader core"),
@@ -638,28 +645,37 @@ def chip_units(modules: dict[str, dict], top: str) -> tuple[list[dict], dict]:
 
 def synth_chip(args) -> int:
     """Yosys synth of a named configuration's chip (rpu_chip_cosim_top: rpu_top with the
-    Woop test), RAMs kept as memories: cells, flops, RAM bits and transistors per unit
-    and of the chip from the hierarchical run. With --netlist, flattened (and its totals
-    counted again), the netlist replays every cycle of a chip_cosim frame and must match
-    the RTL's outputs in every bit, and its memory-port writes must rebuild the frame."""
+    Woop test), or with --unit core of its shader core alone (rpu_spu), RAMs kept as
+    memories: cells, flops, RAM bits and transistors per unit and in all from the
+    hierarchical run; --issue-lanes sets the core's issue lanes in place of the
+    configuration's. With --netlist (the chip only), flattened (and its totals counted
+    again), the netlist replays every cycle of a chip_cosim frame and must match the
+    RTL's outputs in every bit, and its memory-port writes must rebuild the frame."""
     tables = gen.load(ROOT / "spec")
     resolved = {r["name"]: r for r in tables["resolved"]}
     if args.config not in resolved:
         print(f"flow.py: unknown configuration '{args.config}'; spec/configs.toml has {list(resolved)}",
               file=sys.stderr)
         return 2
-    if args.netlist and not args.cosim:
-        print("flow.py: --netlist needs --cosim (the chip_cosim binary)", file=sys.stderr)
+    if args.netlist and (not args.cosim or args.unit == "core"):
+        print("flow.py: --netlist needs --unit chip and --cosim (the chip_cosim binary)", file=sys.stderr)
         return 2
-    top = "rpu_chip_cosim_top"
-    params = {**gen.rtl_parameters(tables, resolved[args.config]["values"]), "IsectMode": isect_mode("woop"),
-              "CodeWords": args.code_words}
+    config = gen.rtl_parameters(tables, resolved[args.config]["values"])
+    if args.issue_lanes:
+        config["IssueLanes"] = args.issue_lanes
+    if args.unit == "core":
+        top, sources = "rpu_spu", rtl_sources()
+        params = {k: v for k, v in config.items() if k in CORE_PARAMETERS}
+        params["CodeWords"] = args.code_words
+    else:
+        top, sources = "rpu_chip_cosim_top", [*rtl_sources(), harness_top("chip")]
+        params = {**config, "IsectMode": isect_mode("woop"), "CodeWords": args.code_words}
     out = pathlib.Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    stem = f"chip_{args.config}"
+    stem = f"{args.unit}_{args.config}_lanes{config['IssueLanes']}"
     netlist, hier = out / f"{stem}.v", out / f"{stem}_hier.v"
     stat, cmos = out / f"{stem}_hier.stat", out / f"{stem}_hier.cmos"
-    reads = " ".join(str(p) for p in [args.pkg, *rtl_sources(), harness_top("chip")])
+    reads = " ".join(str(p) for p in [args.pkg, *sources])
     # Synthesised without -flatten, every module once however often it is instantiated
     # (the default chip's four cores cost one core's time); stat then counts each module
     # alone. Flattened afterwards for the netlist simulation only (the default chip's
@@ -684,8 +700,9 @@ def synth_chip(args) -> int:
     units, hier_total = chip_units(modules, top)
     # How this run was asked for, paths in the tree relative to it (flow.py area keeps it).
     command = " ".join(["python3", "rtl/flow.py", *(a.replace(f"{ROOT}/", "") for a in sys.argv[1:])])
-    result = {"unit": "chip", "config": args.config, "isect": "woop", "command": command, "parameters": params,
-              "units": units, "hierarchical": hier_total, "synth_seconds": round(synth_seconds, 1)}
+    result = {"unit": args.unit, "config": args.config, "issue_lanes": config["IssueLanes"], "isect": "woop",
+              "command": command, "parameters": params, "units": units, "hierarchical": hier_total,
+              "synth_seconds": round(synth_seconds, 1)}
     print(f"ok   yosys {stem} in {synth_seconds:.1f} s: {hier_total['cells']} cells ({hier_total['flops']} flops), "
           f"{hier_total['ram_bits']} RAM bits, {hier_total['transistors']} CMOS transistors")
     if args.netlist:
@@ -705,7 +722,7 @@ def synth_chip(args) -> int:
             return 1
         result.update(sim)
     (out / f"{stem}.json").write_text(json.dumps(result, indent=1) + "\n")
-    print(f"synth ok: {args.config} chip {hier_total['cells']} cells ({hier_total['flops']} flops), "
+    print(f"synth ok: {args.config} {args.unit} {hier_total['cells']} cells ({hier_total['flops']} flops), "
           f"{hier_total['ram_bits']} RAM bits"
           + (f"; the flattened netlist matches the RTL in all {result['netlist_cycles']} cycles of a "
              f"{result['netlist_frame']} frame and rebuilds its framebuffer" if args.netlist else ""))
@@ -722,7 +739,7 @@ def simulate_chip(args, out: pathlib.Path, stem: str, netlist: pathlib.Path, tab
     widths = {m.group(2): int(m.group(1)) + 1 if m.group(1) else 1
               for m in re.finditer(r"^\s*(?:input|output)\s+(?:\[(\d+):0\]\s+)?(\w+);", netlist.read_text(), re.M)}
     bits = stream_bits()
-    tb_params = {"Cores": widths["issue_valid_o"], "RayUnits": widths["ray_counters_o"] // bits["ray_unit_counters"],
+    tb_params = {"Cores": widths["issue_valid_o"], "Ways": widths["retire_valid_o"], "RayUnits": widths["ray_counters_o"] // bits["ray_unit_counters"],
                  "CodeAddrBits": widths["code_addr_i"], "LaunchBits": bits["launch"], "TuCfgBits": bits["tu_cfg"],
                  "DramReqBits": bits["dram_req"], "DramRspBits": bits["dram_rsp"], "IssueBits": bits["issue"],
                  "RetireBits": bits["retire"], "WritebackBits": bits["writeback"], "FaultBits": bits["fault"],
@@ -847,17 +864,17 @@ def area(args) -> int:
     keep = ("unit", "design", "slots", "format", "exponent_bits", "fraction_bits", "cells", "flops", "ram_bits",
             "transistors", "synth_seconds", "netlist_vectors", "netlist_simulator", "netlist_build_seconds", "netlist_seconds")
     new = []
-    # A chip's record: its units and totals, the netlist's frame and the command that
-    # synthesised it (flow.py synth --unit chip).
-    keep_chip = ("unit", "config", "isect", "units", "hierarchical", "flat", "synth_seconds", "netlist_frame",
-                 "netlist_cycles", "netlist_simulator", "netlist_build_seconds", "netlist_seconds", "command")
+    # A chip's or a core's record: its units and totals, the netlist's frame and the
+    # command that synthesised it (flow.py synth --unit chip or core).
+    keep_chip = ("unit", "config", "issue_lanes", "isect", "units", "hierarchical", "flat", "synth_seconds",
+                 "netlist_frame", "netlist_cycles", "netlist_simulator", "netlist_build_seconds", "netlist_seconds", "command")
     # A memory system's record: its data cache alone and the whole (flow.py synth --unit mem).
     keep_mem = ("unit", "config", "data_cache", "memory_system", "netlist_cycles", "netlist_requests_per_cache",
                 "netlist_simulator", "netlist_build_seconds", "netlist_seconds")
     for p in sorted(pathlib.Path(getattr(args, "from")).glob("*.json")):
         s = json.loads(p.read_text())
         rec = {"commit": args.commit, "date": time.strftime("%Y-%m-%d")}
-        if s["unit"] == "chip":
+        if s["unit"] in ("chip", "core"):
             rec.update({k: s[k] for k in keep_chip if k in s})
         elif s["unit"] == "mem":
             rec["command"] = f"ctest --preset release -L slow -R '^slow\\.synth\\.mem\\.{s['config']}$'"
@@ -889,7 +906,8 @@ def main() -> int:
     p.add_argument("--formats", nargs="+", help="lint the format-parameterised units in these formats only")
     p.add_argument("--pkg", required=True, help="the generated rpu_pkg.sv")
     p = sub.add_parser("synth")
-    p.add_argument("--unit", required=True, help="an FP unit of spec/fp_units.toml, iu, tu, mem or chip")
+    p.add_argument("--unit", required=True, help="an FP unit of spec/fp_units.toml, iu, tu, mem, chip or core "
+                   "(a configuration's shader core)")
     p.add_argument("--isect", choices=ISECT_MODES, default="woop", help="with --unit iu or tu: the intersection mode")
     p.add_argument("--slots", type=int, default=1,
                    help="with --unit tu: the ray slots (rpu_tu_slots); the netlist keeps that many rays in flight")
@@ -897,7 +915,9 @@ def main() -> int:
                    help="with --unit tu: the slots share a node-step pipeline (rpu_tu_pipe)")
     p.add_argument("--setups", type=int, default=2, help="with --pipe: the set-up engines")
     p.add_argument("--format", help="the number format (not for --unit mem)")
-    p.add_argument("--config", default="tiny", help="with --unit mem or chip: the named configuration")
+    p.add_argument("--config", default="tiny", help="with --unit mem, chip or core: the named configuration")
+    p.add_argument("--issue-lanes", type=int, choices=(1, 2, 4, 8),
+                   help="with --unit chip or core: the shader cores' issue lanes (default: the configuration's)")
     p.add_argument("--netlist", action="store_true",
                    help="with --unit chip: simulate the netlist through a chip_cosim frame (--cosim)")
     p.add_argument("--code-words", type=int, default=4096,
@@ -926,7 +946,7 @@ def main() -> int:
     p.add_argument("--results", default=str(ROOT / "bench" / "results" / "area.json"),
                    help="the result file to append to (default bench/results/area.json)")
     args = ap.parse_args()
-    if args.cmd == "synth" and args.unit != "chip" and not args.cosim:
+    if args.cmd == "synth" and args.unit not in ("chip", "core") and not args.cosim:
         ap.error("synth needs --cosim (the harness that writes the vectors)")
     return {"lint": lint, "synth": synth, "area": area}[args.cmd](args)
 

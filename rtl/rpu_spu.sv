@@ -5,23 +5,27 @@
 // Per chunk: a state machine picks the next pc, fetches the instruction from the code
 // memory and waits until its registers are free (an in-order scoreboard: a count per
 // register of the lane writes under way). One chunk instruction is issued at a time,
-// round robin among the ready chunks, and its lanes enter the pipeline one a cycle:
+// round robin among the ready chunks, and its lanes enter the pipeline in lane order,
+// IssueLanes a cycle for the instructions of spec/isa.toml [issue] (ALU and branch),
+// one a cycle for those handed to a unit (memory, sfu, rays, special registers). The
+// pipeline has IssueLanes ways; lane l of a chunk always takes way l % IssueLanes:
 //   S0  the lane (or a value returned by the memory, the special-function unit or the
-//       ray units, which has priority) reads the register file;
+//       ray units, which has priority and the cycle) reads its way's register file bank;
 //   E   operands in hand: the checks of spec/isa.toml [[fault]] in their order, the
 //       thread's pc, stacks and counters, and hand-offs to the load/store unit, the
 //       special-function unit and the ray units; everything else enters the datapath;
 //   W   rpu_spu_datapath.Latency cycles later: the register file is written.
-// The register file is twelve rpu_ram (three read copies x four lanes), one word per
-// thread and register; a register reads as zero until its first write, which writes
-// all four lanes. The trace ports report each chunk step (issue), each executed
-// instruction (retire), each register write (writeback) and each fault, for the
-// lockstep checker (sim/spu_checker.hpp).
+// A way's register file is twelve rpu_ram (three read copies x four components), one
+// word per thread of the way and register; a register reads as zero until its first
+// write, which writes all four components. The trace ports report each chunk step
+// (issue), each executed instruction (retire, one port per way), each register write
+// (writeback, per way) and each fault, for the lockstep checker (sim/spu_checker.hpp).
 module rpu_spu #(
   parameter int unsigned CoreId     = 0,
   parameter int unsigned Cores      = 1,     // on the chip: pixel p runs on thread p mod (Cores x Threads)
   parameter int unsigned Threads    = 4,
   parameter int unsigned ChunkSize  = 2,
+  parameter int unsigned IssueLanes = 1,     // lanes a cycle of spec/isa.toml [issue]'s instructions; divides ChunkSize
   parameter int unsigned Registers  = 32,
   parameter int unsigned CallDepth  = 16,
   parameter int unsigned StackBytes = 16384,
@@ -67,10 +71,11 @@ module rpu_spu #(
   // Trace ports: taken every cycle they are valid.
   output logic                      issue_valid_o,
   output rpu_pkg::issue_t           issue_o,
-  output logic                      retire_valid_o,
-  output rpu_pkg::retire_t          retire_o,
-  output logic                      wb_valid_o,
-  output rpu_pkg::writeback_t       wb_o,
+  // retire and writeback: one record per way (lane l of a chunk in way l % IssueLanes).
+  output logic [IssueLanes-1:0]     retire_valid_o,
+  output logic [IssueLanes*rpu_pkg::RetireBits-1:0] retire_o,
+  output logic [IssueLanes-1:0]     wb_valid_o,
+  output logic [IssueLanes*rpu_pkg::WritebackBits-1:0] wb_o,
   output logic                      fault_valid_o,
   output rpu_pkg::fault_t           fault_o
 );
@@ -80,8 +85,9 @@ module rpu_spu #(
   localparam int unsigned CB           = Chunks > 1 ? $clog2(Chunks) : 1;
   localparam int unsigned LB           = ChunkSize > 1 ? $clog2(ChunkSize) : 1;
   localparam int unsigned RegBits      = rpu_pkg::IsaDstWidth;
-  localparam int unsigned RfAddrBits   = $clog2(Threads * Registers);
-  localparam int unsigned RsAddrBits   = $clog2(Threads * CallDepth);
+  localparam int unsigned BankThreads  = Threads / IssueLanes;  // the threads of one way
+  localparam int unsigned RfAddrBits   = $clog2(BankThreads * Registers);
+  localparam int unsigned RsAddrBits   = $clog2(BankThreads * CallDepth);
   localparam int unsigned RspBits      = $clog2(CallDepth + 1);
   localparam int unsigned StackSlots   = StackBytes / 16;
   localparam int unsigned SspBits      = $clog2(StackSlots + 1);
@@ -186,42 +192,15 @@ module rpu_spu #(
     logic                r_setpc;   // calli's table entry: the new pc
     logic                r_tfault;  // the traversal faulted
   } op_t;
-  op_t s0, e_d, e_q;
 
   // ---------------------------------------------------------------------------------
-  // Memories: code, register file, return stacks.
+  // The code memory (the register file and return stacks are per way, below).
   // ---------------------------------------------------------------------------------
   logic [CodeAddrBits-1:0] code_raddr;
   logic [63:0]             code_rdata;
   rpu_ram #(.Width(64), .Depth(CodeWords)) u_code (
     .clk_i, .we_i(code_we_i), .waddr_i(code_addr_i), .wdata_i(code_data_i),
     .raddr_i(code_raddr), .rdata_o(code_rdata)
-  );
-
-  function automatic logic [RfAddrBits-1:0] rf_addr(input logic [TB-1:0] t, input logic [RegBits-1:0] r);
-    rf_addr = RfAddrBits'(32'(t) * Registers + 32'(r));
-  endfunction
-
-  logic                  rf_we;
-  logic [3:0]            rf_lane_we;
-  logic [RfAddrBits-1:0] rf_waddr;
-  logic [127:0]          rf_wdata;
-  logic [3*RfAddrBits-1:0] rf_raddr;
-  logic [3*128-1:0]      rf_rdata;
-  for (genvar s = 0; s < 3; s++) begin : g_rf_copy
-    for (genvar l = 0; l < 4; l++) begin : g_rf_lane
-      rpu_ram #(.Width(32), .Depth(Threads * Registers)) u_rf (
-        .clk_i, .we_i(rf_we && rf_lane_we[l]), .waddr_i(rf_waddr), .wdata_i(rf_wdata[32*l +: 32]),
-        .raddr_i(rf_raddr[RfAddrBits*s +: RfAddrBits]), .rdata_o(rf_rdata[128*s + 32*l +: 32])
-      );
-    end
-  end
-
-  logic                  rs_we;
-  logic [RsAddrBits-1:0] rs_waddr, rs_raddr;
-  logic [31:0]           rs_wdata, rs_rdata;
-  rpu_ram #(.Width(32), .Depth(Threads * CallDepth)) u_return_stack (
-    .clk_i, .we_i(rs_we), .waddr_i(rs_waddr), .wdata_i(rs_wdata), .raddr_i(rs_raddr), .rdata_o(rs_rdata)
   );
 
   // ---------------------------------------------------------------------------------
@@ -348,35 +327,46 @@ module rpu_spu #(
   end
 
   // ---------------------------------------------------------------------------------
-  // Issue: the sequencer holds one chunk instruction and hands its lanes to S0.
+  // Issue: the sequencer holds one chunk instruction and hands its lanes to S0, a group
+  // of IssueLanes lanes a cycle (lane l in way l % IssueLanes) when the instruction is
+  // one of spec/isa.toml [issue]'s, else one lane a cycle. Groups go in lane order, so
+  // a lane never passes a lower lane of its chunk.
   // ---------------------------------------------------------------------------------
-  // A fault in E stops the lanes after it in its chunk (later pixels).
+  // A fault in E stops the lanes after it in its chunk (later pixels): those in E with
+  // it, in later ways, and those the sequencer has not handed on.
   logic                  kill;
   logic [CB-1:0]         kill_chunk;
   logic [LB-1:0]         kill_lane;
   logic [ChunkSize-1:0]  kill_after;  // the lanes after kill_lane
-  logic [ChunkSize-1:0]  seq_live, seq_kill, remaining, emit_bit, remaining_after;
-  logic                  emit, seq_free;
-  logic [LB-1:0]         emit_lane;
+  logic [ChunkSize-1:0]  seq_live, seq_kill, remaining, group, emit_bits, remaining_after;
+  logic                  emit, seq_free, at_once;
+  logic [LB-1:0]         first_lane;
+  logic [CntBits-1:0]    emit_count;
   logic                  selected;
   logic [CB-1:0]         sel;
   logic                  end_now;       // the sequencer's chunk instruction ends without a last lane
   logic [CB-1:0]         end_now_chunk;
 
-  always_comb begin : next_lane
+  always_comb begin : next_lanes
     for (int l = 0; l < ChunkSize; l++) begin
       kill_after[l] = kill && LB'(l) > kill_lane;
       seq_live[l]   = live_q[32'(seq_chunk_q) * ChunkSize + l];
       seq_kill[l]   = kill_after[l] && kill_chunk == seq_chunk_q;
     end
-    remaining = seq_valid_q ? seq_lanes_q & seq_live & ~seq_kill : '0;
-    emit      = remaining != '0 && !ret_valid;
-    emit_lane = '0;
+    remaining  = seq_valid_q ? seq_lanes_q & seq_live & ~seq_kill : '0;
+    emit       = remaining != '0 && !ret_valid;
+    first_lane = '0;
     for (int l = ChunkSize - 1; l >= 0; l--) begin
-      if (remaining[l]) emit_lane = LB'(l);
+      if (remaining[l]) first_lane = LB'(l);
     end
-    emit_bit        = emit ? ChunkSize'(1) << emit_lane : '0;
-    remaining_after = remaining & ~emit_bit;
+    at_once    = !seq_pcfault_q && rpu_pkg::isa_at_once(f_op(seq_insn_q)) != 1'b0;
+    emit_count = '0;
+    for (int l = 0; l < ChunkSize; l++) begin
+      group[l]     = at_once ? l / IssueLanes == 32'(first_lane) / IssueLanes : LB'(l) == first_lane;
+      emit_bits[l] = emit && remaining[l] && group[l];
+      emit_count   = emit_count + CntBits'(emit_bits[l]);
+    end
+    remaining_after = remaining & ~emit_bits;
     seq_free        = remaining_after == '0;
     end_now         = seq_valid_q && remaining == '0;
     end_now_chunk   = seq_chunk_q;
@@ -423,251 +413,548 @@ module rpu_spu #(
     issue_o.lanes = rpu_pkg::ChunkLanes'(at_pc[ChunkSize*sel +: ChunkSize]);
   end
 
-  // S0: the return, or the sequencer's next lane.
-  always_comb begin : pick_s0
-    s0 = '0;
-    if (ret_valid) begin
-      s0 = ret_op;
-    end else if (emit) begin
-      s0.valid   = 1'b1;
-      s0.thread  = TB'(32'(seq_chunk_q) * ChunkSize + 32'(emit_lane));
-      s0.pc      = seq_pc_q;
-      s0.insn    = seq_insn_q;
-      s0.pcfault = seq_pcfault_q;
-      s0.last    = remaining_after == '0;
-      s0.counted = !seq_pcfault_q && rpu_pkg::isa_writes_dst(f_op(seq_insn_q))
-                   && 32'(f_dst(seq_insn_q)) < Registers;
+  // An emitted lane writes the instruction's dst: the scoreboard counts it.
+  logic s0_counted;
+  assign s0_counted = !seq_pcfault_q && rpu_pkg::isa_writes_dst(f_op(seq_insn_q)) != 1'b0
+                      && 32'(f_dst(seq_insn_q)) < Registers;
+
+  // ---------------------------------------------------------------------------------
+  // The ways: S0 (register file and return stack reads), E (checks, the thread's
+  // effects) and the datapath to W, one per issue lane; thread t always takes way
+  // t % IssueLanes, whose banks hold its registers and return addresses. What a lane
+  // hands to a unit the core has one of goes from the one way that holds a lane then
+  // (the unit way, below): such instructions issue one lane a cycle.
+  // ---------------------------------------------------------------------------------
+  localparam int unsigned CtrlBits = 3 + TB + RegBits + 4;
+
+  // Per way, side by side.
+  logic [IssueLanes-1:0]         e_valid, e_ret, e_inst, e_raw_fault, e_fault, e_exec, e_last, e_calli;
+  logic [IssueLanes-1:0]         e_to_lsu, e_to_sfu, e_to_trace, e_setpc;
+  logic [TB*IssueLanes-1:0]      e_thread;
+  logic [32*IssueLanes-1:0]      e_pc;
+  logic [64*IssueLanes-1:0]      e_insn;
+  logic [128*IssueLanes-1:0]     e_src_a, e_src_b, e_c_reg, e_sfu_a;
+  logic [SspBits*IssueLanes-1:0] e_ssp_w;
+  logic [rpu_pkg::FaultKindBits*IssueLanes-1:0] e_f_kind;
+  logic [32*IssueLanes-1:0]      e_f_addr;
+  logic [IssueLanes-1:0]         w_write, w_sb_dec, w_fin;
+  logic [TB*IssueLanes-1:0]      w_thread;
+  logic [RegBits*IssueLanes-1:0] w_dst;
+  logic [4*IssueLanes-1:0]       w_wmask;
+  logic [128*IssueLanes-1:0]     w_value;   // the lanes written, the others 0
+  logic [32*IssueLanes-1:0]      e_addr;    // a memory access's address, for the retire record
+  // The effects of way w's lane on its thread.
+  logic [32*IssueLanes-1:0]      pc_next;
+  logic [IssueLanes-1:0]         pc_we, rsp_push, rsp_pop, ssp_push, ssp_pop, halt;
+  logic [Registers*IssueLanes-1:0] written_now;
+
+  // The unit way: the lowest way holding an instruction's lane.
+  logic [TB-1:0]         u_thread;
+  logic [31:0]           u_pc;
+  logic [63:0]           u_insn;
+  logic [127:0]          u_src_a, u_src_b, u_c_reg, u_sfu_a;
+  logic [SspBits-1:0]    u_ssp;
+  always_comb begin : pick_unit_way
+    u_thread = '0;
+    u_pc     = '0;
+    u_insn   = '0;
+    u_src_a  = '0;
+    u_src_b  = '0;
+    u_c_reg  = '0;
+    u_sfu_a  = '0;
+    u_ssp    = '0;
+    for (int v = IssueLanes - 1; v >= 0; v--) begin
+      if (e_valid[v] && !e_ret[v]) begin
+        u_thread = e_thread[TB*v +: TB];
+        u_pc     = e_pc[32*v +: 32];
+        u_insn   = e_insn[64*v +: 64];
+        u_src_a  = e_src_a[128*v +: 128];
+        u_src_b  = e_src_b[128*v +: 128];
+        u_c_reg  = e_c_reg[128*v +: 128];
+        u_sfu_a  = e_sfu_a[128*v +: 128];
+        u_ssp    = e_ssp_w[SspBits*v +: SspBits];
+      end
     end
   end
-  assign e_d = s0;
 
-  // Register file and return stack reads.
-  always_comb begin : read_addrs
-    rf_raddr = {rf_addr(s0.thread, f_third(s0.insn)), rf_addr(s0.thread, f_b(s0.insn)),
-                rf_addr(s0.thread, f_a(s0.insn))};
-    rs_raddr = RsAddrBits'(32'(s0.thread) * CallDepth + 32'(rsp_q[RspBits*s0.thread +: RspBits]) - 1);
-  end
-
-  // ---------------------------------------------------------------------------------
-  // E: the op with its operands.
-  // ---------------------------------------------------------------------------------
-  logic [63:0]          w;
-  logic [rpu_pkg::IsaOpcodeWidth-1:0] op;
-  logic [CB-1:0]        e_chunk;
-  logic [LB-1:0]        e_lane;
-  logic [31:0]          e_pixel, e_gid;
-  logic [RegBits-1:0]   dst;
-  logic [3:0]           wmask;
-  logic                 fmt_i, mods;
-  logic [31:0]          imm;
-  logic [127:0]         a_reg, b_reg, c_reg, src_a, src_b, src_c;  // registers as read; swizzled sources
-  logic [2:0]           neg, abs;
-  logic [RspBits-1:0]   e_rsp;
-  logic [SspBits-1:0]   e_ssp;
-  logic [31:0]          e_retired;
-
-  assign w         = e_q.insn;
-  assign op        = f_op(w);
-  assign e_chunk   = CB'(32'(e_q.thread) / ChunkSize);
-  assign e_lane    = LB'(32'(e_q.thread) % ChunkSize);
-  assign e_gid     = 32'(Thread0) + 32'(e_q.thread);
-  assign e_pixel   = base_q[32*e_chunk +: 32] + e_gid;
-  assign dst       = e_q.ret ? e_q.r_dst : f_dst(w);
-  assign wmask     = e_q.ret ? e_q.r_wmask : f_wmask(w);
-  assign fmt_i     = rpu_pkg::isa_format_i(op);
-  assign mods      = !fmt_i;  // R format: neg on a, b, c and abs on a, b (used_bits keeps the rest 0)
-  assign imm       = w[rpu_pkg::IsaImmLsb +: 32];
-  assign e_rsp     = rsp_q[RspBits*e_q.thread +: RspBits];
-  assign e_ssp     = ssp_q[SspBits*e_q.thread +: SspBits];
-  assign e_retired = retired_q[32*e_q.thread +: 32];
-
-  // A register reads as zero until its first write.
-  function automatic logic [127:0] masked(input logic [127:0] v, input logic [Registers*Threads-1:0] wr,
-                                          input logic [TB-1:0] t, input logic [RegBits-1:0] r);
-    masked = 32'(r) < Registers && wr[Registers*32'(t) + 32'(r)] ? v : '0;
-  endfunction
-  assign a_reg = masked(rf_rdata[0 +: 128], written_q, e_q.thread, f_a(w));
-  assign b_reg = masked(rf_rdata[128 +: 128], written_q, e_q.thread, f_b(w));
-  assign c_reg = masked(rf_rdata[256 +: 128], written_q, e_q.thread, f_third(w));
-  assign src_a = swizzle(a_reg, w[rpu_pkg::IsaASwizzleLsb +: 8]);
-  assign src_b = swizzle(b_reg, w[rpu_pkg::IsaBSwizzleLsb +: 8]);
-  assign src_c = swizzle(c_reg, w[rpu_pkg::IsaCSwizzleLsb +: 8]);
-  assign neg = mods ? {w[rpu_pkg::IsaCNegLsb], w[rpu_pkg::IsaBNegLsb], w[rpu_pkg::IsaANegLsb]} : 3'b000;
-  assign abs = mods ? {1'b0, w[rpu_pkg::IsaBAbsLsb], w[rpu_pkg::IsaAAbsLsb]} : 3'b000;
+  logic [rpu_pkg::IsaOpcodeWidth-1:0] u_op;
+  logic [CB-1:0]        u_chunk;
+  logic [LB-1:0]        u_lane;
+  logic [31:0]          u_pixel, u_gid, u_imm;
+  logic [RegBits-1:0]   u_dst;
+  logic [3:0]           u_wmask;
+  assign u_op    = f_op(u_insn);
+  assign u_chunk = CB'(32'(u_thread) / ChunkSize);
+  assign u_lane  = LB'(32'(u_thread) % ChunkSize);
+  assign u_gid   = 32'(Thread0) + 32'(u_thread);
+  assign u_pixel = base_q[32*u_chunk +: 32] + u_gid;
+  assign u_imm   = u_insn[rpu_pkg::IsaImmLsb +: 32];
+  assign u_dst   = f_dst(u_insn);
+  assign u_wmask = f_wmask(u_insn);
 
   // Addresses and their checks: word k of an access at addr + 4k.
   logic [31:0] shader_entry, mem_addr, stack_addr_push, stack_addr_pop, stack_top;
   logic        wide, store;
   logic [3:0]  mem_ok;
-  assign shader_entry = launch_i.shader_table + {src_a[29:0], 2'b00};
-  assign mem_addr     = op == rpu_pkg::OpCalli ? shader_entry : src_a[31:0] + imm;
-  assign wide         = op == rpu_pkg::OpLd || op == rpu_pkg::OpLdf || op == rpu_pkg::OpSt;
-  assign store        = op == rpu_pkg::OpSt || op == rpu_pkg::OpSt1;
+  assign shader_entry = launch_i.shader_table + {u_src_a[29:0], 2'b00};
+  assign mem_addr     = u_op == rpu_pkg::OpCalli ? shader_entry : u_src_a[31:0] + u_imm;
+  assign wide         = u_op == rpu_pkg::OpLd || u_op == rpu_pkg::OpLdf || u_op == rpu_pkg::OpSt;
+  assign store        = u_op == rpu_pkg::OpSt || u_op == rpu_pkg::OpSt1;
   // The thread's stack: slot k (1-based) at the top minus 16k.
-  assign stack_top       = rpu_pkg::DeviceStackBase + (e_gid + 32'd1) * StackBytes;
-  assign stack_addr_push = stack_top - ((32'(e_ssp) + 32'd1) << 4);
-  assign stack_addr_pop  = stack_top - (32'(e_ssp) << 4);
+  assign stack_top       = rpu_pkg::DeviceStackBase + (u_gid + 32'd1) * StackBytes;
+  assign stack_addr_push = stack_top - ((32'(u_ssp) + 32'd1) << 4);
+  assign stack_addr_pop  = stack_top - (32'(u_ssp) << 4);
 
   for (genvar k = 0; k < 4; k++) begin : g_memcheck
     rpu_spu_memcheck u_check (
       .addr_i(mem_addr + 32'(4 * k)), .bytes_i(k == 0 && wide && !store ? 5'd16 : 5'd4), .write_i(store),
-      .pixel_i(e_pixel), .launch_i, .ok_o(mem_ok[k])
+      .pixel_i(u_pixel), .launch_i, .ok_o(mem_ok[k])
     );
   end
-
-  // The checks of spec/isa.toml [[fault]], in their order.
-  logic                              f_any;
-  logic [rpu_pkg::FaultKindBits-1:0] f_kind;
-  logic [31:0]                       f_addr;
-  logic                              illegal, bad_reg;
-  logic [63:0]                       used;
-  assign used = rpu_pkg::isa_used_bits(op);
-  always_comb begin : find_fault
-    illegal = used == '0 || (w & ~used) != '0;
-    bad_reg = ((rpu_pkg::isa_writes_dst(op) || rpu_pkg::isa_reads_dst(op)) && 32'(f_dst(w)) >= Registers)
-              || (rpu_pkg::isa_reads_a(op) && 32'(f_a(w)) >= Registers)
-              || (rpu_pkg::isa_reads_b(op) && 32'(f_b(w)) >= Registers)
-              || (rpu_pkg::isa_reads_c(op) && 32'(f_c(w)) >= Registers);
-    f_any  = 1'b1;
-    f_addr = '0;
-    f_kind = '0;
-    if (e_q.ret) begin
-      f_any  = e_q.r_tfault;
-      f_kind = rpu_pkg::FaultKindBits'(rpu_pkg::FaultTraversal);
-    end else if (e_q.pcfault) begin
-      f_kind = rpu_pkg::FaultKindBits'(rpu_pkg::FaultPc);
-    end else if (illegal) begin
-      f_kind = rpu_pkg::FaultKindBits'(rpu_pkg::FaultIllegal);
-    end else if (e_retired >= launch_i.watchdog) begin
-      f_kind = rpu_pkg::FaultKindBits'(rpu_pkg::FaultWatchdog);
-    end else if (bad_reg) begin
-      f_kind = rpu_pkg::FaultKindBits'(rpu_pkg::FaultRegister);
-    end else begin
-      unique case (op)
-        rpu_pkg::OpLd, rpu_pkg::OpLdf, rpu_pkg::OpLd1, rpu_pkg::OpLd1f: begin
-          f_any  = !mem_ok[0];
-          f_kind = rpu_pkg::FaultKindBits'(rpu_pkg::FaultMemory);
-          f_addr = mem_addr;
-        end
-        rpu_pkg::OpSt: begin
-          // The first word of the write mask that may not be stored.
-          f_any  = 1'b0;
-          f_kind = rpu_pkg::FaultKindBits'(rpu_pkg::FaultMemory);
-          for (int k = 3; k >= 0; k--) begin
-            if (wmask[k] && !mem_ok[k]) begin
-              f_any  = 1'b1;
-              f_addr = mem_addr + 32'(4 * k);
-            end
-          end
-        end
-        rpu_pkg::OpSt1: begin
-          f_any  = wmask != 4'b0001 || !mem_ok[0];
-          f_kind = rpu_pkg::FaultKindBits'(wmask != 4'b0001 ? rpu_pkg::FaultIllegal : rpu_pkg::FaultMemory);
-          f_addr = wmask != 4'b0001 ? '0 : mem_addr;
-        end
-        rpu_pkg::OpPush: begin
-          f_any  = 32'(e_ssp) == StackSlots;
-          f_kind = rpu_pkg::FaultKindBits'(rpu_pkg::FaultStackOverflow);
-        end
-        rpu_pkg::OpPop: begin
-          f_any  = e_ssp == '0;
-          f_kind = rpu_pkg::FaultKindBits'(rpu_pkg::FaultStackUnderflow);
-        end
-        rpu_pkg::OpCall, rpu_pkg::OpMtra: begin
-          f_any  = 32'(e_rsp) == CallDepth;
-          f_kind = rpu_pkg::FaultKindBits'(rpu_pkg::FaultCallOverflow);
-        end
-        rpu_pkg::OpCalli: begin
-          if (src_a[31:0] >= launch_i.shader_count) begin
-            f_kind = rpu_pkg::FaultKindBits'(rpu_pkg::FaultShaderId);
-            f_addr = src_a[31:0];
-          end else if (!mem_ok[0]) begin
-            f_kind = rpu_pkg::FaultKindBits'(rpu_pkg::FaultMemory);
-            f_addr = mem_addr;
-          end else begin
-            f_any  = 32'(e_rsp) == CallDepth;
-            f_kind = rpu_pkg::FaultKindBits'(rpu_pkg::FaultCallOverflow);
-          end
-        end
-        rpu_pkg::OpRet, rpu_pkg::OpMfra: begin
-          f_any  = e_rsp == '0;
-          f_kind = rpu_pkg::FaultKindBits'(rpu_pkg::FaultCallUnderflow);
-        end
-        rpu_pkg::OpRdsr: begin
-          f_any  = !(imm == rpu_pkg::SpecialPixel || imm == rpu_pkg::SpecialLaunch
-                     || imm == rpu_pkg::SpecialThread || imm == rpu_pkg::SpecialParams);
-          f_kind = rpu_pkg::FaultKindBits'(rpu_pkg::FaultIllegal);
-        end
-        default: f_any = 1'b0;
-      endcase
-    end
-  end
-
-  logic e_inst, e_fault, e_exec;  // an instruction; it faults; it executes
-  assign e_inst  = e_q.valid && !e_q.ret;
-  assign e_fault = e_q.valid && f_any;
-  assign e_exec  = e_inst && !f_any;
-
-  assign kill       = e_fault;
-  assign kill_chunk = e_chunk;
-  assign kill_lane  = e_lane;
 
   // rdsr pixel: (x, y) of the pixel index by multiplication (launch_t div_magic).
   logic [63:0] div_product;
   logic [31:0] div_t1, div_q, pix_x;
-  assign div_product = {32'd0, launch_i.div_magic} * {32'd0, e_pixel};
+  assign div_product = {32'd0, launch_i.div_magic} * {32'd0, u_pixel};
   assign div_t1      = div_product[63:32];
   logic unused_div;
   assign unused_div = ^div_product[31:0];
-  assign div_q       = (div_t1 + ((e_pixel - div_t1) >> launch_i.div_shift1)) >> launch_i.div_shift2;
-  assign pix_x       = e_pixel - div_q * launch_i.width;
+  assign div_q       = (div_t1 + ((u_pixel - div_t1) >> launch_i.div_shift1)) >> launch_i.div_shift2;
+  assign pix_x       = u_pixel - div_q * launch_i.width;
 
   logic [127:0] special;
   always_comb begin : special_value
-    unique case (imm[1:0])
-      2'(rpu_pkg::SpecialPixel):  special = {32'd0, e_pixel, div_q, pix_x};
+    unique case (u_imm[1:0])
+      2'(rpu_pkg::SpecialPixel):  special = {32'd0, u_pixel, div_q, pix_x};
       2'(rpu_pkg::SpecialLaunch): special = {launch_i.max_depth, launch_i.spp, launch_i.height, launch_i.width};
-      2'(rpu_pkg::SpecialThread): special = {32'(e_lane), 32'(e_chunk), 32'(CoreId), e_gid};
+      2'(rpu_pkg::SpecialThread): special = {32'(u_lane), 32'(u_chunk), 32'(CoreId), u_gid};
       default:                    special = {64'd0, launch_i.launch_bytes, rpu_pkg::DeviceLaunchBase};
     endcase
-    if (op == rpu_pkg::OpMfra) special = {4{rs_rdata}};
   end
 
-  // Where the op goes.
-  logic to_lsu, to_sfu, to_trace, to_dp, async;
+  // The hand-offs: at most one way's lane a cycle.
+  logic       to_lsu, to_sfu, to_trace, u_async;
   logic [3:0] store_words;
-  assign store_words = op == rpu_pkg::OpSt ? wmask : op == rpu_pkg::OpPush ? 4'b1111 : 4'b0001;
-  always_comb begin : route_op
-    to_lsu   = 1'b0;
-    to_sfu   = 1'b0;
-    to_trace = 1'b0;
-    if (e_exec) begin
-      unique case (op)
-        rpu_pkg::OpLd, rpu_pkg::OpLdf, rpu_pkg::OpLd1, rpu_pkg::OpLd1f, rpu_pkg::OpPop, rpu_pkg::OpCalli,
-        rpu_pkg::OpSt1, rpu_pkg::OpPush: to_lsu = 1'b1;
-        rpu_pkg::OpSt:                   to_lsu = wmask != '0;
-        rpu_pkg::OpRcp, rpu_pkg::OpRsq, rpu_pkg::OpSqrt: to_sfu = 1'b1;
-        rpu_pkg::OpTrace, rpu_pkg::OpTracea: to_trace = 1'b1;
-        default: ;
-      endcase
+  assign to_lsu      = e_to_lsu != '0;
+  assign to_sfu      = e_to_sfu != '0;
+  assign to_trace    = e_to_trace != '0;
+  assign u_async     = to_sfu || to_trace || (to_lsu && !store && u_op != rpu_pkg::OpPush);
+  assign store_words = u_op == rpu_pkg::OpSt ? u_wmask : u_op == rpu_pkg::OpPush ? 4'b1111 : 4'b0001;
+
+  // S0 and E of every way, side by side (Yosys 0.23 reads no struct inside a generate
+  // block): S0 takes the return this way's thread gets, or the sequencer's lane of this
+  // way; E holds what S0 had.
+  localparam int unsigned OpBits = $bits(ret_op);
+  logic [OpBits*IssueLanes-1:0] s0_all, e_all;
+  logic [TB*IssueLanes-1:0]     s0_thread;
+  logic [64*IssueLanes-1:0]     s0_insn;
+  op_t                          s0_lane, e_lane_op;
+  always_comb begin : pick_s0
+    s0_all    = '0;
+    s0_thread = '0;
+    s0_insn   = '0;
+    for (int v = 0; v < IssueLanes; v++) begin
+      s0_lane = '0;
+      if (ret_valid) begin
+        if (32'(ret_op.thread) % IssueLanes == v) s0_lane = ret_op;
+      end else begin
+        for (int l = 0; l < ChunkSize; l++) begin
+          if (l % IssueLanes == v && emit_bits[l]) begin
+            s0_lane.valid   = 1'b1;
+            s0_lane.thread  = TB'(32'(seq_chunk_q) * ChunkSize + 32'(l));
+            s0_lane.pc      = seq_pc_q;
+            s0_lane.insn    = seq_insn_q;
+            s0_lane.pcfault = seq_pcfault_q;
+            s0_lane.last    = remaining_after == '0;
+            s0_lane.counted = s0_counted;
+          end
+        end
+      end
+      s0_all[OpBits*v +: OpBits] = s0_lane;
+      s0_thread[TB*v +: TB]      = s0_lane.thread;
+      s0_insn[64*v +: 64]        = s0_lane.insn;
     end
   end
-  // A load, sfu op or ray finishes when its value comes back; a store when it is sent.
-  assign async = to_sfu || to_trace || (to_lsu && !store && op != rpu_pkg::OpPush);
-  assign to_dp = e_q.valid;
+  always_ff @(posedge clk_i or negedge rst_ni) begin : e_regs
+    if (!rst_ni) e_all <= '0;
+    else         e_all <= s0_all;
+  end
+  logic [IssueLanes-1:0]         e_pcfault, e_counted, e_r_round, e_r_widen, e_r_setpc, e_r_tfault;
+  logic [RegBits*IssueLanes-1:0] e_r_dst;
+  logic [4*IssueLanes-1:0]       e_r_wmask;
+  logic [128*IssueLanes-1:0]     e_r_value;
+  always_comb begin : unpack_e
+    for (int v = 0; v < IssueLanes; v++) begin
+      e_lane_op                      = e_all[OpBits*v +: OpBits];
+      e_valid[v]                     = e_lane_op.valid;
+      e_ret[v]                       = e_lane_op.ret;
+      e_thread[TB*v +: TB]           = e_lane_op.thread;
+      e_pc[32*v +: 32]               = e_lane_op.pc;
+      e_insn[64*v +: 64]             = e_lane_op.insn;
+      e_pcfault[v]                   = e_lane_op.pcfault;
+      e_last[v]                      = e_lane_op.last;
+      e_counted[v]                   = e_lane_op.counted;
+      e_r_dst[RegBits*v +: RegBits]  = e_lane_op.r_dst;
+      e_r_wmask[4*v +: 4]            = e_lane_op.r_wmask;
+      e_r_value[128*v +: 128]        = e_lane_op.r_value;
+      e_r_round[v]                   = e_lane_op.r_round;
+      e_r_widen[v]                   = e_lane_op.r_widen;
+      e_r_setpc[v]                   = e_lane_op.r_setpc;
+      e_r_tfault[v]                  = e_lane_op.r_tfault;
+    end
+  end
+
+  // A register reads as zero until its first write, which writes all four components.
+  function automatic logic [127:0] masked(input logic [127:0] v, input logic [Registers*Threads-1:0] wr,
+                                          input logic [TB-1:0] t, input logic [RegBits-1:0] r);
+    masked = 32'(r) < Registers && wr[Registers*32'(t) + 32'(r)] ? v : '0;
+  endfunction
+  // Thread t's register r in its way's bank.
+  function automatic logic [RfAddrBits-1:0] rf_addr(input logic [TB-1:0] t, input logic [RegBits-1:0] r);
+    rf_addr = RfAddrBits'(32'(t) / IssueLanes * Registers + 32'(r));
+  endfunction
+
+  for (genvar v = 0; v < IssueLanes; v++) begin : g_way
+    // The register file bank: three read copies x four components, one word per thread
+    // of the way and register.
+    logic                    rf_we;
+    logic [3:0]              rf_lane_we;
+    logic [RfAddrBits-1:0]   rf_waddr;
+    logic [127:0]            rf_wdata;
+    logic [3*RfAddrBits-1:0] rf_raddr;
+    logic [3*128-1:0]        rf_rdata;
+    assign rf_raddr = {rf_addr(s0_thread[TB*v +: TB], f_third(s0_insn[64*v +: 64])), rf_addr(s0_thread[TB*v +: TB], f_b(s0_insn[64*v +: 64])),
+                       rf_addr(s0_thread[TB*v +: TB], f_a(s0_insn[64*v +: 64]))};
+    for (genvar s = 0; s < 3; s++) begin : g_rf_copy
+      for (genvar l = 0; l < 4; l++) begin : g_rf_lane
+        rpu_ram #(.Width(32), .Depth(BankThreads * Registers)) u_rf (
+          .clk_i, .we_i(rf_we && rf_lane_we[l]), .waddr_i(rf_waddr), .wdata_i(rf_wdata[32*l +: 32]),
+          .raddr_i(rf_raddr[RfAddrBits*s +: RfAddrBits]), .rdata_o(rf_rdata[128*s + 32*l +: 32])
+        );
+      end
+    end
+
+    // The return stack bank.
+    logic                  rs_we;
+    logic [RsAddrBits-1:0] rs_waddr, rs_raddr;
+    logic [31:0]           rs_wdata, rs_rdata;
+    assign rs_raddr = RsAddrBits'(32'(s0_thread[TB*v +: TB]) / IssueLanes * CallDepth + 32'(rsp_q[RspBits*s0_thread[TB*v +: TB] +: RspBits]) - 1);
+    rpu_ram #(.Width(32), .Depth(BankThreads * CallDepth)) u_return_stack (
+      .clk_i, .we_i(rs_we), .waddr_i(rs_waddr), .wdata_i(rs_wdata), .raddr_i(rs_raddr), .rdata_o(rs_rdata)
+    );
+
+    // E: the op with its operands.
+    logic [63:0]          w;
+    logic [rpu_pkg::IsaOpcodeWidth-1:0] op;
+    logic [RegBits-1:0]   dst;
+    logic [3:0]           wmask;
+    logic                 mods;
+    logic [31:0]          imm;
+    logic [127:0]         a_reg, b_reg, c_reg, src_a, src_b, src_c;  // registers as read; swizzled sources
+    logic [2:0]           neg, abs;
+    logic [RspBits-1:0]   e_rsp;
+    logic [SspBits-1:0]   e_ssp;
+    logic [31:0]          e_retired;
+
+    assign w         = e_insn[64*v +: 64];
+    assign op        = f_op(w);
+    assign dst       = e_ret[v] ? e_r_dst[RegBits*v +: RegBits] : f_dst(w);
+    assign wmask     = e_ret[v] ? e_r_wmask[4*v +: 4] : f_wmask(w);
+    assign mods      = rpu_pkg::isa_format_i(op) == 1'b0;  // R format: neg on a, b, c and abs on a, b
+    assign imm       = w[rpu_pkg::IsaImmLsb +: 32];
+    assign e_rsp     = rsp_q[RspBits*e_thread[TB*v +: TB] +: RspBits];
+    assign e_ssp     = ssp_q[SspBits*e_thread[TB*v +: TB] +: SspBits];
+    assign e_retired = retired_q[32*e_thread[TB*v +: TB] +: 32];
+
+    assign a_reg = masked(rf_rdata[0 +: 128], written_q, e_thread[TB*v +: TB], f_a(w));
+    assign b_reg = masked(rf_rdata[128 +: 128], written_q, e_thread[TB*v +: TB], f_b(w));
+    assign c_reg = masked(rf_rdata[256 +: 128], written_q, e_thread[TB*v +: TB], f_third(w));
+    assign src_a = swizzle(a_reg, w[rpu_pkg::IsaASwizzleLsb +: 8]);
+    assign src_b = swizzle(b_reg, w[rpu_pkg::IsaBSwizzleLsb +: 8]);
+    assign src_c = swizzle(c_reg, w[rpu_pkg::IsaCSwizzleLsb +: 8]);
+    assign neg = mods ? {w[rpu_pkg::IsaCNegLsb], w[rpu_pkg::IsaBNegLsb], w[rpu_pkg::IsaANegLsb]} : 3'b000;
+    assign abs = mods ? {1'b0, w[rpu_pkg::IsaBAbsLsb], w[rpu_pkg::IsaAAbsLsb]} : 3'b000;
+
+    assign e_src_a[128*v +: 128]       = src_a;
+    assign e_src_b[128*v +: 128]       = src_b;
+    assign e_c_reg[128*v +: 128]       = c_reg;
+    assign e_ssp_w[SspBits*v +: SspBits] = e_ssp;
+    assign e_setpc[v] = e_valid[v] && e_ret[v] && e_r_setpc[v];
+
+    // The checks of spec/isa.toml [[fault]], in their order; those of an access read
+    // the unit way's, which is this way whenever the instruction has one.
+    logic                              f_any;
+    logic [rpu_pkg::FaultKindBits-1:0] f_kind;
+    logic [31:0]                       f_addr;
+    logic                              illegal, bad_reg;
+    logic [63:0]                       used;
+    assign used = rpu_pkg::isa_used_bits(op);
+    always_comb begin : find_fault
+      illegal = used == '0 || (w & ~used) != '0;
+      bad_reg = ((rpu_pkg::isa_writes_dst(op) || rpu_pkg::isa_reads_dst(op)) && 32'(f_dst(w)) >= Registers)
+                || (rpu_pkg::isa_reads_a(op) && 32'(f_a(w)) >= Registers)
+                || (rpu_pkg::isa_reads_b(op) && 32'(f_b(w)) >= Registers)
+                || (rpu_pkg::isa_reads_c(op) && 32'(f_c(w)) >= Registers);
+      f_any  = 1'b1;
+      f_addr = '0;
+      f_kind = '0;
+      if (e_ret[v]) begin
+        f_any  = e_r_tfault[v];
+        f_kind = rpu_pkg::FaultKindBits'(rpu_pkg::FaultTraversal);
+      end else if (e_pcfault[v]) begin
+        f_kind = rpu_pkg::FaultKindBits'(rpu_pkg::FaultPc);
+      end else if (illegal) begin
+        f_kind = rpu_pkg::FaultKindBits'(rpu_pkg::FaultIllegal);
+      end else if (e_retired >= launch_i.watchdog) begin
+        f_kind = rpu_pkg::FaultKindBits'(rpu_pkg::FaultWatchdog);
+      end else if (bad_reg) begin
+        f_kind = rpu_pkg::FaultKindBits'(rpu_pkg::FaultRegister);
+      end else begin
+        unique case (op)
+          rpu_pkg::OpLd, rpu_pkg::OpLdf, rpu_pkg::OpLd1, rpu_pkg::OpLd1f: begin
+            f_any  = !mem_ok[0];
+            f_kind = rpu_pkg::FaultKindBits'(rpu_pkg::FaultMemory);
+            f_addr = mem_addr;
+          end
+          rpu_pkg::OpSt: begin
+            // The first word of the write mask that may not be stored.
+            f_any  = 1'b0;
+            f_kind = rpu_pkg::FaultKindBits'(rpu_pkg::FaultMemory);
+            for (int k = 3; k >= 0; k--) begin
+              if (wmask[k] && !mem_ok[k]) begin
+                f_any  = 1'b1;
+                f_addr = mem_addr + 32'(4 * k);
+              end
+            end
+          end
+          rpu_pkg::OpSt1: begin
+            f_any  = wmask != 4'b0001 || !mem_ok[0];
+            f_kind = rpu_pkg::FaultKindBits'(wmask != 4'b0001 ? rpu_pkg::FaultIllegal : rpu_pkg::FaultMemory);
+            f_addr = wmask != 4'b0001 ? '0 : mem_addr;
+          end
+          rpu_pkg::OpPush: begin
+            f_any  = 32'(e_ssp) == StackSlots;
+            f_kind = rpu_pkg::FaultKindBits'(rpu_pkg::FaultStackOverflow);
+          end
+          rpu_pkg::OpPop: begin
+            f_any  = e_ssp == '0;
+            f_kind = rpu_pkg::FaultKindBits'(rpu_pkg::FaultStackUnderflow);
+          end
+          rpu_pkg::OpCall, rpu_pkg::OpMtra: begin
+            f_any  = 32'(e_rsp) == CallDepth;
+            f_kind = rpu_pkg::FaultKindBits'(rpu_pkg::FaultCallOverflow);
+          end
+          rpu_pkg::OpCalli: begin
+            if (src_a[31:0] >= launch_i.shader_count) begin
+              f_kind = rpu_pkg::FaultKindBits'(rpu_pkg::FaultShaderId);
+              f_addr = src_a[31:0];
+            end else if (!mem_ok[0]) begin
+              f_kind = rpu_pkg::FaultKindBits'(rpu_pkg::FaultMemory);
+              f_addr = mem_addr;
+            end else begin
+              f_any  = 32'(e_rsp) == CallDepth;
+              f_kind = rpu_pkg::FaultKindBits'(rpu_pkg::FaultCallOverflow);
+            end
+          end
+          rpu_pkg::OpRet, rpu_pkg::OpMfra: begin
+            f_any  = e_rsp == '0;
+            f_kind = rpu_pkg::FaultKindBits'(rpu_pkg::FaultCallUnderflow);
+          end
+          rpu_pkg::OpRdsr: begin
+            f_any  = !(imm == rpu_pkg::SpecialPixel || imm == rpu_pkg::SpecialLaunch
+                       || imm == rpu_pkg::SpecialThread || imm == rpu_pkg::SpecialParams);
+            f_kind = rpu_pkg::FaultKindBits'(rpu_pkg::FaultIllegal);
+          end
+          default: f_any = 1'b0;
+        endcase
+      end
+    end
+
+    // A fault in a lower way of the same cycle stops this lane: it is a later lane of
+    // the same chunk instruction.
+    logic blocked;
+    if (v == 0) begin : g_first
+      assign blocked = 1'b0;
+    end else begin : g_later
+      assign blocked = e_raw_fault[v-1:0] != '0;
+    end
+    assign e_inst[v]      = e_valid[v] && !e_ret[v];
+    assign e_raw_fault[v] = e_valid[v] && f_any;
+    assign e_fault[v]     = e_raw_fault[v] && !blocked;
+    assign e_exec[v]      = e_inst[v] && !f_any && !blocked;
+    assign e_calli[v]     = e_exec[v] && op == rpu_pkg::OpCalli;
+    assign e_f_kind[rpu_pkg::FaultKindBits*v +: rpu_pkg::FaultKindBits] = f_kind;
+    assign e_f_addr[32*v +: 32] = f_addr;
+
+    // Where the op goes.
+    logic async;
+    always_comb begin : route_op
+      e_to_lsu[v]   = 1'b0;
+      e_to_sfu[v]   = 1'b0;
+      e_to_trace[v] = 1'b0;
+      if (e_exec[v]) begin
+        unique case (op)
+          rpu_pkg::OpLd, rpu_pkg::OpLdf, rpu_pkg::OpLd1, rpu_pkg::OpLd1f, rpu_pkg::OpPop, rpu_pkg::OpCalli,
+          rpu_pkg::OpSt1, rpu_pkg::OpPush: e_to_lsu[v] = 1'b1;
+          rpu_pkg::OpSt:                   e_to_lsu[v] = wmask != '0;
+          rpu_pkg::OpRcp, rpu_pkg::OpRsq, rpu_pkg::OpSqrt: e_to_sfu[v] = 1'b1;
+          rpu_pkg::OpTrace, rpu_pkg::OpTracea: e_to_trace[v] = 1'b1;
+          default: ;
+        endcase
+      end
+    end
+    // A load, sfu op or ray finishes when its value comes back; a store when it is sent.
+    assign async = e_to_sfu[v] || e_to_trace[v]
+                   || (e_to_lsu[v] && op != rpu_pkg::OpSt && op != rpu_pkg::OpSt1 && op != rpu_pkg::OpPush);
+
+    // The datapath: every op, so that results and the bookkeeping of finished ops come
+    // out in order at W.
+    logic                wb_valid;
+    logic [127:0]        wb_result;
+    logic [CtrlBits-1:0] wb_ctrl;
+    logic [TB-1:0]       wt;
+    logic [RegBits-1:0]  wd;
+    logic [3:0]          wm;
+    logic                e_write;
+    assign e_write = e_ret[v] ? !e_r_tfault[v] && !e_r_setpc[v]
+                             : e_exec[v] && !async && rpu_pkg::isa_writes_dst(op) != 1'b0;
+
+    rpu_spu_datapath #(.ExpBits(ExpBits), .FracBits(FracBits), .CtrlBits(CtrlBits)) u_datapath (
+      .clk_i, .rst_ni,
+      .valid_i(e_valid[v]), .op_i(op), .hand_i(e_ret[v]), .hand_round_i(e_r_round[v]), .hand_widen_i(e_r_widen[v]),
+      .a_i(e_ret[v] ? e_r_value[128*v +: 128] : src_a), .b_i(src_b), .c_i(src_c), .neg_i(e_ret[v] ? 3'b000 : neg),
+      .abs_i(e_ret[v] ? 3'b000 : abs), .imm_i(imm), .raw_i(op == rpu_pkg::OpMfra ? {4{rs_rdata}} : special),
+      .ctrl_i({e_write, e_counted[v] && !(e_exec[v] && async), e_ret[v] || !(e_exec[v] && async), e_thread[TB*v +: TB], dst, wmask}),
+      .valid_o(wb_valid), .result_o(wb_result), .ctrl_o(wb_ctrl), .src_a_fmt_o(e_sfu_a[128*v +: 128])
+    );
+    assign {w_write[v], w_sb_dec[v], w_fin[v], wt, wd, wm} = wb_valid ? wb_ctrl : '0;
+    assign w_thread[TB*v +: TB]       = wt;
+    assign w_dst[RegBits*v +: RegBits] = wd;
+
+    // W: the register file bank.
+    logic w_first;  // the register's first write: the other components become 0
+    assign w_first    = !written_q[Registers*32'(wt) + 32'(wd)];
+    assign rf_we      = w_write[v];
+    assign rf_waddr   = rf_addr(wt, wd);
+    assign rf_lane_we = w_first ? 4'b1111 : wm;
+    always_comb begin : mask_write_data
+      for (int l = 0; l < 4; l++) rf_wdata[32*l +: 32] = wm[l] ? wb_result[32*l +: 32] : '0;
+    end
+    assign written_now[Registers*v +: Registers] =
+        w_write[v] && 32'(wd) < Registers ? Registers'(1) << wd : '0;
+
+    assign wb_valid_o[v] = w_write[v];
+    assign w_wmask[4*v +: 4]       = wm;
+    assign w_value[128*v +: 128]   = rf_wdata;
+
+    // E's effects on the thread.
+    always_comb begin : thread_effects
+      pc_next[32*v +: 32] = e_pc[32*v +: 32] + 32'd1;
+      pc_we[v]    = e_exec[v] && op != rpu_pkg::OpCalli;
+      rsp_push[v] = 1'b0;
+      rsp_pop[v]  = 1'b0;
+      ssp_push[v] = e_exec[v] && op == rpu_pkg::OpPush;
+      ssp_pop[v]  = e_exec[v] && op == rpu_pkg::OpPop;
+      halt[v]     = e_exec[v] && op == rpu_pkg::OpHalt;
+      rs_we       = 1'b0;
+      rs_wdata    = e_pc[32*v +: 32] + 32'd1;
+      if (e_exec[v]) begin
+        unique case (op)
+          rpu_pkg::OpBra: pc_next[32*v +: 32] = imm;
+          rpu_pkg::OpBz:  if (src_a[31:0] == '0) pc_next[32*v +: 32] = imm;
+          rpu_pkg::OpBnz: if (src_a[31:0] != '0) pc_next[32*v +: 32] = imm;
+          rpu_pkg::OpCall: begin
+            pc_next[32*v +: 32] = imm;
+            rsp_push[v] = 1'b1;
+            rs_we       = 1'b1;
+          end
+          rpu_pkg::OpCalli: begin
+            rsp_push[v] = 1'b1;
+            rs_we       = 1'b1;
+          end
+          rpu_pkg::OpMtra: begin
+            rsp_push[v] = 1'b1;
+            rs_we       = 1'b1;
+            rs_wdata    = src_a[31:0];
+          end
+          rpu_pkg::OpRet: begin
+            pc_next[32*v +: 32] = rs_rdata;
+            rsp_pop[v] = 1'b1;
+          end
+          rpu_pkg::OpMfra: rsp_pop[v] = 1'b1;
+          default: ;
+        endcase
+      end
+      // calli's entry arrives: the call's target.
+      if (e_setpc[v]) begin
+        pc_we[v]            = 1'b1;
+        pc_next[32*v +: 32] = e_r_value[128*v +: 32];
+      end
+    end
+    assign rs_waddr = RsAddrBits'(32'(e_thread[TB*v +: TB]) / IssueLanes * CallDepth + 32'(e_rsp));
+
+    assign retire_valid_o[v] = e_exec[v];
+    assign e_addr[32*v +: 32] =
+        !(e_to_lsu[v] || (e_exec[v] && op == rpu_pkg::OpSt)) ? '0
+        : op == rpu_pkg::OpPush ? stack_addr_push : op == rpu_pkg::OpPop ? stack_addr_pop : mem_addr;
+  end
+
+  // The retire and writeback records, one per way.
+  rpu_pkg::retire_t    retire_record;
+  rpu_pkg::writeback_t wb_record;
+  always_comb begin : trace_records
+    for (int v = 0; v < IssueLanes; v++) begin
+      retire_record        = '0;
+      retire_record.core   = rpu_pkg::CoreBits'(CoreId);
+      retire_record.thread = rpu_pkg::ThreadBits'(e_thread[TB*v +: TB]);
+      retire_record.pc     = e_pc[32*v +: 32];
+      retire_record.insn   = e_insn[64*v +: 64];
+      retire_record.addr   = e_addr[32*v +: 32];
+      retire_o[rpu_pkg::RetireBits*v +: rpu_pkg::RetireBits] = retire_record;
+      wb_record            = '0;
+      wb_record.core       = rpu_pkg::CoreBits'(CoreId);
+      wb_record.thread     = rpu_pkg::ThreadBits'(w_thread[TB*v +: TB]);
+      wb_record.dst        = w_dst[RegBits*v +: RegBits];
+      wb_record.wmask      = w_wmask[4*v +: 4];
+      wb_record.value      = w_value[128*v +: 128];
+      wb_o[rpu_pkg::WritebackBits*v +: rpu_pkg::WritebackBits] = wb_record;
+    end
+  end
+
+  // The fault: the lowest way's (at most one is not blocked).
+  always_comb begin : kill_lanes
+    kill       = e_raw_fault != '0;
+    kill_chunk = '0;
+    kill_lane  = '0;
+    fault_o    = '0;
+    for (int v = IssueLanes - 1; v >= 0; v--) begin
+      if (e_raw_fault[v]) begin
+        kill_chunk     = CB'(32'(e_thread[TB*v +: TB]) / ChunkSize);
+        kill_lane      = LB'(32'(e_thread[TB*v +: TB]) % ChunkSize);
+        fault_o        = '0;
+        fault_o.kind   = e_f_kind[rpu_pkg::FaultKindBits*v +: rpu_pkg::FaultKindBits];
+        fault_o.core   = rpu_pkg::CoreBits'(CoreId);
+        fault_o.thread = rpu_pkg::ThreadBits'(e_thread[TB*v +: TB]);
+        fault_o.pixel  = base_q[32*(32'(e_thread[TB*v +: TB]) / ChunkSize) +: 32] + 32'(Thread0) + 32'(e_thread[TB*v +: TB]);
+        fault_o.pc     = e_pc[32*v +: 32];
+        fault_o.addr   = e_f_addr[32*v +: 32];
+      end
+    end
+  end
+  assign fault_valid_o = kill;
 
   // Load/store unit.
   logic lsu_in_ready, lsu_idle;
   rpu_spu_lsu #(.TagBits(LsuTagBits), .Depth(QueueDepth)) u_lsu (
     .clk_i, .rst_ni,
     .in_valid_i(to_lsu), .in_ready_o(lsu_in_ready),
-    .in_store_i(store || op == rpu_pkg::OpPush),
-    .in_tag_i({e_q.thread, dst, wmask, op == rpu_pkg::OpLd1 || op == rpu_pkg::OpLd1f,
-               op == rpu_pkg::OpLdf || op == rpu_pkg::OpLd1f, op == rpu_pkg::OpCalli}),
-    .in_addr_i(op == rpu_pkg::OpPush ? stack_addr_push : op == rpu_pkg::OpPop ? stack_addr_pop : mem_addr),
-    .in_wide_i(wide || op == rpu_pkg::OpPush || op == rpu_pkg::OpPop),
+    .in_store_i(store || u_op == rpu_pkg::OpPush),
+    .in_tag_i({u_thread, u_dst, u_wmask, u_op == rpu_pkg::OpLd1 || u_op == rpu_pkg::OpLd1f,
+               u_op == rpu_pkg::OpLdf || u_op == rpu_pkg::OpLd1f, u_op == rpu_pkg::OpCalli}),
+    .in_addr_i(u_op == rpu_pkg::OpPush ? stack_addr_push : u_op == rpu_pkg::OpPop ? stack_addr_pop : mem_addr),
+    .in_wide_i(wide || u_op == rpu_pkg::OpPush || u_op == rpu_pkg::OpPop),
     .in_words_i(store_words),
-    .in_data_i(op == rpu_pkg::OpPush ? src_a : c_reg),
+    .in_data_i(u_op == rpu_pkg::OpPush ? u_src_a : u_c_reg),
     .free_o(lsu_free),
     .cache_req_valid_o, .cache_req_ready_i, .cache_req_o,
     .cache_rsp_valid_i, .cache_rsp_ready_o, .cache_rsp_i,
@@ -676,15 +963,14 @@ module rpu_spu #(
   );
 
   // Special-function unit: rcp, rsq, sqrt on the sources in the format.
-  logic         sfu_in_ready;
-  logic [127:0] sfu_a;
+  logic sfu_in_ready;
   rpu_spu_sfu #(
     .ExpBits(ExpBits), .FracBits(FracBits), .Units(SfuUnits), .Depth(QueueDepth), .TagBits(SfuTagBits)
   ) u_sfu (
     .clk_i, .rst_ni,
-    .in_valid_i(to_sfu), .in_ready_o(sfu_in_ready), .in_tag_i({e_q.thread, dst, wmask}),
-    .in_op_i(op == rpu_pkg::OpRcp ? rpu_pkg::FpOpRcp : op == rpu_pkg::OpRsq ? rpu_pkg::FpOpRsqrt : rpu_pkg::FpOpSqrt),
-    .in_wmask_i(wmask), .in_a_i(sfu_a),
+    .in_valid_i(to_sfu), .in_ready_o(sfu_in_ready), .in_tag_i({u_thread, u_dst, u_wmask}),
+    .in_op_i(u_op == rpu_pkg::OpRcp ? rpu_pkg::FpOpRcp : u_op == rpu_pkg::OpRsq ? rpu_pkg::FpOpRsqrt : rpu_pkg::FpOpSqrt),
+    .in_wmask_i(u_wmask), .in_a_i(u_sfu_a),
     .out_valid_o(sfu_out_valid), .out_ready_i(sfu_out_ready), .out_tag_o(sfu_out_tag), .out_value_o(sfu_out_value),
     .free_o(sfu_free)
   );
@@ -694,13 +980,13 @@ module rpu_spu #(
   rpu_pkg::trace_req_t             trace_in;
   always_comb begin : trace_request
     trace_in           = '0;
-    trace_in.tag       = rpu_pkg::TraceTagBits'({rpu_pkg::CoreBits'(CoreId), rpu_pkg::ThreadBits'(e_q.thread), dst, wmask});
-    trace_in.pc        = e_q.pc;
-    trace_in.origin    = src_a[95:0];
-    trace_in.t_min     = src_a[127:96];
-    trace_in.direction = src_b[95:0];
-    trace_in.t_max     = src_b[127:96];
-    trace_in.any_hit   = op == rpu_pkg::OpTracea;
+    trace_in.tag       = rpu_pkg::TraceTagBits'({rpu_pkg::CoreBits'(CoreId), rpu_pkg::ThreadBits'(u_thread), u_dst, u_wmask});
+    trace_in.pc        = u_pc;
+    trace_in.origin    = u_src_a[95:0];
+    trace_in.t_min     = u_src_a[127:96];
+    trace_in.direction = u_src_b[95:0];
+    trace_in.t_max     = u_src_b[127:96];
+    trace_in.any_hit   = u_op == rpu_pkg::OpTracea;
   end
   rpu_fifo #(.Width(rpu_pkg::TraceReqBits), .Depth(QueueDepth)) u_trace_queue (
     .clk_i, .rst_ni,
@@ -713,125 +999,6 @@ module rpu_spu #(
     else if (!to_trace && trace_req_valid_o && trace_req_ready_i) trace_count_d = trace_count_q - QCountBits'(1);
   end
 
-  // The datapath: every op, so that results and the bookkeeping of finished ops come
-  // out in order at W.
-  localparam int unsigned CtrlBits = 3 + TB + RegBits + 4;
-  logic                wb_valid;
-  logic [127:0]        wb_result;
-  logic [CtrlBits-1:0] wb_ctrl;
-  logic                w_write, w_sb_dec, w_fin;
-  logic [TB-1:0]       w_thread;
-  logic [RegBits-1:0]  w_dst;
-  logic [3:0]          w_wmask;
-  logic                e_write;
-  assign e_write = e_q.ret ? !e_q.r_tfault && !e_q.r_setpc
-                           : e_exec && !async && rpu_pkg::isa_writes_dst(op);
-
-  rpu_spu_datapath #(.ExpBits(ExpBits), .FracBits(FracBits), .CtrlBits(CtrlBits)) u_datapath (
-    .clk_i, .rst_ni,
-    .valid_i(to_dp), .op_i(op), .hand_i(e_q.ret), .hand_round_i(e_q.r_round), .hand_widen_i(e_q.r_widen),
-    .a_i(e_q.ret ? e_q.r_value : src_a), .b_i(src_b), .c_i(src_c), .neg_i(e_q.ret ? 3'b000 : neg),
-    .abs_i(e_q.ret ? 3'b000 : abs), .imm_i(imm), .raw_i(special),
-    .ctrl_i({e_write, e_q.counted && !(e_exec && async), e_q.ret || !(e_exec && async), e_q.thread, dst, wmask}),
-    .valid_o(wb_valid), .result_o(wb_result), .ctrl_o(wb_ctrl), .src_a_fmt_o(sfu_a)
-  );
-  assign {w_write, w_sb_dec, w_fin, w_thread, w_dst, w_wmask} = wb_valid ? wb_ctrl : '0;
-
-  // ---------------------------------------------------------------------------------
-  // W: the register file.
-  // ---------------------------------------------------------------------------------
-  logic w_first;  // the register's first write: the other lanes become 0
-  assign w_first    = !written_q[Registers*32'(w_thread) + 32'(w_dst)];
-  assign rf_we      = w_write;
-  assign rf_waddr   = rf_addr(w_thread, w_dst);
-  assign rf_lane_we = w_first ? 4'b1111 : w_wmask;
-  always_comb begin : mask_write_data
-    for (int l = 0; l < 4; l++) rf_wdata[32*l +: 32] = w_wmask[l] ? wb_result[32*l +: 32] : '0;
-  end
-
-  assign wb_valid_o = w_write;
-  always_comb begin : writeback_record
-    wb_o        = '0;
-    wb_o.core   = rpu_pkg::CoreBits'(CoreId);
-    wb_o.thread = rpu_pkg::ThreadBits'(w_thread);
-    wb_o.dst    = w_dst;
-    wb_o.wmask  = w_wmask;
-    wb_o.value  = rf_wdata;
-  end
-
-  // ---------------------------------------------------------------------------------
-  // E's effects on the thread; the retire and fault records.
-  // ---------------------------------------------------------------------------------
-  logic [31:0] pc_next;
-  logic        pc_we, rsp_push, rsp_pop, ssp_push, ssp_pop, halt;
-  always_comb begin : thread_effects
-    pc_next  = e_q.pc + 32'd1;
-    pc_we    = e_exec && op != rpu_pkg::OpCalli;
-    rsp_push = 1'b0;
-    rsp_pop  = 1'b0;
-    ssp_push = e_exec && op == rpu_pkg::OpPush;
-    ssp_pop  = e_exec && op == rpu_pkg::OpPop;
-    halt     = e_exec && op == rpu_pkg::OpHalt;
-    rs_we    = 1'b0;
-    rs_wdata = e_q.pc + 32'd1;
-    if (e_exec) begin
-      unique case (op)
-        rpu_pkg::OpBra: pc_next = imm;
-        rpu_pkg::OpBz:  if (src_a[31:0] == '0) pc_next = imm;
-        rpu_pkg::OpBnz: if (src_a[31:0] != '0) pc_next = imm;
-        rpu_pkg::OpCall: begin
-          pc_next  = imm;
-          rsp_push = 1'b1;
-          rs_we    = 1'b1;
-        end
-        rpu_pkg::OpCalli: begin
-          rsp_push = 1'b1;
-          rs_we    = 1'b1;
-        end
-        rpu_pkg::OpMtra: begin
-          rsp_push = 1'b1;
-          rs_we    = 1'b1;
-          rs_wdata = src_a[31:0];
-        end
-        rpu_pkg::OpRet: begin
-          pc_next = rs_rdata;
-          rsp_pop = 1'b1;
-        end
-        rpu_pkg::OpMfra: rsp_pop = 1'b1;
-        default: ;
-      endcase
-    end
-    // calli's entry arrives: the call's target.
-    if (e_q.valid && e_q.ret && e_q.r_setpc) begin
-      pc_we   = 1'b1;
-      pc_next = e_q.r_value[31:0];
-    end
-  end
-  assign rs_waddr = RsAddrBits'(32'(e_q.thread) * CallDepth + 32'(e_rsp));
-
-  assign retire_valid_o = e_exec;
-  always_comb begin : retire_record
-    retire_o        = '0;
-    retire_o.core   = rpu_pkg::CoreBits'(CoreId);
-    retire_o.thread = rpu_pkg::ThreadBits'(e_q.thread);
-    retire_o.pc     = e_q.pc;
-    retire_o.insn   = w;
-    if (to_lsu || op == rpu_pkg::OpSt) begin
-      retire_o.addr = op == rpu_pkg::OpPush ? stack_addr_push : op == rpu_pkg::OpPop ? stack_addr_pop : mem_addr;
-    end
-  end
-
-  assign fault_valid_o = e_fault;
-  always_comb begin : fault_record
-    fault_o        = '0;
-    fault_o.kind   = f_kind;
-    fault_o.core   = rpu_pkg::CoreBits'(CoreId);
-    fault_o.thread = rpu_pkg::ThreadBits'(e_q.thread);
-    fault_o.pixel  = e_pixel;
-    fault_o.pc     = e_q.pc;
-    fault_o.addr   = f_addr;
-  end
-
   // ---------------------------------------------------------------------------------
   // Per-thread state.
   // ---------------------------------------------------------------------------------
@@ -840,10 +1007,9 @@ module rpu_spu #(
   for (genvar t = 0; t < Threads; t++) begin : g_thread
     localparam int unsigned C = t / ChunkSize;
     localparam int unsigned L = t % ChunkSize;
-    logic                 here;
-    logic [Registers-1:0] written_now;  // the register W writes this cycle
-    assign here        = e_q.valid && 32'(e_q.thread) == t;
-    assign written_now = w_write && 32'(w_thread) == t && 32'(w_dst) < Registers ? Registers'(1) << w_dst : '0;
+    localparam int unsigned V = t % IssueLanes;  // its way
+    logic here;
+    assign here = e_valid[V] && 32'(e_thread[TB*V +: TB]) == t;
     always_comb begin : next_thread
       pc_d[32*t +: 32]                  = pc_q[32*t +: 32];
       live_d[t]                         = live_q[t];
@@ -859,15 +1025,17 @@ module rpu_spu #(
         retired_d[32*t +: 32] = '0;
         written_d[Registers*t +: Registers] = '0;
       end else begin
-        if (here && pc_we) pc_d[32*t +: 32] = pc_next;
-        if (here && e_inst) retired_d[32*t +: 32] = retired_q[32*t +: 32] + 32'd1;
-        if (here && rsp_push) rsp_d[RspBits*t +: RspBits] = rsp_q[RspBits*t +: RspBits] + RspBits'(1);
-        if (here && rsp_pop) rsp_d[RspBits*t +: RspBits] = rsp_q[RspBits*t +: RspBits] - RspBits'(1);
-        if (here && ssp_push) ssp_d[SspBits*t +: SspBits] = ssp_q[SspBits*t +: SspBits] + SspBits'(1);
-        if (here && ssp_pop) ssp_d[SspBits*t +: SspBits] = ssp_q[SspBits*t +: SspBits] - SspBits'(1);
-        if (here && (halt || e_fault)) live_d[t] = 1'b0;
+        if (here && pc_we[V]) pc_d[32*t +: 32] = pc_next[32*V +: 32];
+        if (here && e_inst[V]) retired_d[32*t +: 32] = retired_q[32*t +: 32] + 32'd1;
+        if (here && rsp_push[V]) rsp_d[RspBits*t +: RspBits] = rsp_q[RspBits*t +: RspBits] + RspBits'(1);
+        if (here && rsp_pop[V]) rsp_d[RspBits*t +: RspBits] = rsp_q[RspBits*t +: RspBits] - RspBits'(1);
+        if (here && ssp_push[V]) ssp_d[SspBits*t +: SspBits] = ssp_q[SspBits*t +: SspBits] + SspBits'(1);
+        if (here && ssp_pop[V]) ssp_d[SspBits*t +: SspBits] = ssp_q[SspBits*t +: SspBits] - SspBits'(1);
+        if (here && (halt[V] || e_fault[V])) live_d[t] = 1'b0;
         if (kill_after[L] && 32'(kill_chunk) == C) live_d[t] = 1'b0;
-        written_d[Registers*t +: Registers] = written_q[Registers*t +: Registers] | written_now;
+        if (32'(w_thread[TB*V +: TB]) == t) begin
+          written_d[Registers*t +: Registers] = written_q[Registers*t +: Registers] | written_now[Registers*V +: Registers];
+        end
       end
     end
   end
@@ -878,21 +1046,36 @@ module rpu_spu #(
   logic [Chunks-1:0] chunk_end;
   always_comb begin : find_chunk_ends
     chunk_end = '0;
-    if (e_inst && (e_q.last || e_fault)) chunk_end[e_chunk] = 1'b1;
+    for (int v = 0; v < IssueLanes; v++) begin
+      if (e_inst[v] && (e_last[v] || e_fault[v])) chunk_end[32'(e_thread[TB*v +: TB]) / ChunkSize] = 1'b1;
+    end
     if (end_now) chunk_end[end_now_chunk] = 1'b1;
   end
 
   for (genvar c = 0; c < Chunks; c++) begin : g_chunk
     logic [31:0] first_pixel, next_base;
     logic        refuse;
-    logic        s0_here, w_here, e_here;
+    logic [CntBits-1:0] s0_lanes;  // this chunk's lanes entering S0
+    logic [CntBits-1:0] w_fins;    // its lanes finishing at W
+    logic               calli_out, calli_back;
     assign first_pixel = base_q[32*c +: 32] + 32'(Thread0 + c * ChunkSize);
     assign refuse      = first_pixel >= launch_i.pixels || (stop_i && first_pixel > stop_pixel_i);
     assign next_base   = base_q[32*c +: 32] + 32'(TotalThreads);
-    assign s0_here     = s0.valid && !s0.ret && 32'(s0.thread) / ChunkSize == c;
-    assign e_here      = e_q.valid && 32'(e_chunk) == c;
-    assign w_here      = 32'(w_thread) / ChunkSize == c;
+    assign s0_lanes    = seq_chunk_q == CB'(c) ? emit_count : '0;
     assign init_chunk[c] = state_q[3*c +: 3] == CStart && !refuse;
+
+    always_comb begin : chunk_ways
+      w_fins     = '0;
+      calli_out  = 1'b0;
+      calli_back = 1'b0;
+      for (int v = 0; v < IssueLanes; v++) begin
+        if (w_fin[v] && 32'(w_thread[TB*v +: TB]) / ChunkSize == c) w_fins = w_fins + CntBits'(1);
+        if (32'(e_thread[TB*v +: TB]) / ChunkSize == c) begin
+          calli_out  = calli_out || e_calli[v];
+          calli_back = calli_back || e_setpc[v];
+        end
+      end
+    end
 
     always_comb begin : next_chunk
       state_d[3*c +: 3]           = state_q[3*c +: 3];
@@ -901,11 +1084,9 @@ module rpu_spu #(
       ib_insn_d[64*c +: 64]       = ib_insn_q[64*c +: 64];
       ib_pcfault_d[c]             = ib_pcfault_q[c];
       ended_d[c]                  = ended_q[c] || chunk_end[c];
-      calli_d[CntBits*c +: CntBits] = calli_q[CntBits*c +: CntBits];
+      calli_d[CntBits*c +: CntBits] = calli_q[CntBits*c +: CntBits] + CntBits'(calli_out) - CntBits'(calli_back);
       flight_d[FlightBits*c +: FlightBits] = flight_q[FlightBits*c +: FlightBits]
-          + FlightBits'(s0_here) - FlightBits'(w_fin && w_here);
-      if (e_here && e_exec && op == rpu_pkg::OpCalli) calli_d[CntBits*c +: CntBits] = calli_q[CntBits*c +: CntBits] + CntBits'(1);
-      if (e_here && e_q.ret && e_q.r_setpc) calli_d[CntBits*c +: CntBits] = calli_q[CntBits*c +: CntBits] - CntBits'(1);
+          + FlightBits'(s0_lanes) - FlightBits'(w_fins);
 
       unique case (state_q[3*c +: 3])
         CIdle: if (start_i) begin
@@ -948,11 +1129,17 @@ module rpu_spu #(
 
     // Scoreboard: a lane write counts from S0 to W.
     for (genvar r = 0; r < Registers; r++) begin : g_sb
-      logic inc, dec;
-      assign inc = s0_here && s0.counted && 32'(f_dst(s0.insn)) == r;
-      assign dec = w_sb_dec && w_here && 32'(w_dst) == r;
-      assign sb_d[CntBits*(Registers*c + r) +: CntBits] = sb_q[CntBits*(Registers*c + r) +: CntBits]
-          + CntBits'(inc) - CntBits'(dec);
+      logic [CntBits-1:0] inc, dec;
+      assign inc = s0_counted && 32'(f_dst(seq_insn_q)) == r ? s0_lanes : '0;
+      always_comb begin : count_writes_back
+        dec = '0;
+        for (int v = 0; v < IssueLanes; v++) begin
+          if (w_sb_dec[v] && 32'(w_thread[TB*v +: TB]) / ChunkSize == c && 32'(w_dst[RegBits*v +: RegBits]) == r) begin
+            dec = dec + CntBits'(1);
+          end
+        end
+      end
+      assign sb_d[CntBits*(Registers*c + r) +: CntBits] = sb_q[CntBits*(Registers*c + r) +: CntBits] + inc - dec;
     end
   end
 
@@ -973,10 +1160,10 @@ module rpu_spu #(
   assign load_back_thread = lsu_out_tag[LsuTagBits - 1 -: TB];
   assign load_back        = lsu_out_valid && lsu_out_ready;
   for (genvar c = 0; c < Chunks; c++) begin : g_wait
-    logic e_here, ray_out, ray_back, load_out, load_back_here, live;
-    assign e_here         = e_q.valid && 32'(e_chunk) == c;
-    assign ray_out        = e_here && to_trace;
-    assign load_out       = e_here && to_lsu && async;
+    logic u_here, ray_out, ray_back, load_out, load_back_here, live;
+    assign u_here         = 32'(u_chunk) == c;
+    assign ray_out        = u_here && to_trace;
+    assign load_out       = u_here && to_lsu && u_async;
     assign ray_back       = trace_rsp_valid_i && 32'(ray_back_thread) / ChunkSize == c;
     assign load_back_here = load_back && 32'(load_back_thread) / ChunkSize == c;
     assign rays_d[FlightBits*c +: FlightBits] = rays_q[FlightBits*c +: FlightBits]
@@ -1043,7 +1230,6 @@ module rpu_spu #(
       seq_pcfault_q <= 1'b0;
       seq_lanes_q   <= '0;
       trace_count_q <= '0;
-      e_q           <= '0;
     end else begin
       pc_q          <= pc_d;
       live_q        <= live_d;
@@ -1068,17 +1254,19 @@ module rpu_spu #(
       seq_pcfault_q <= seq_pcfault_d;
       seq_lanes_q   <= seq_lanes_d;
       trace_count_q <= trace_count_d;
-      e_q           <= e_d;
     end
   end
 
 `ifndef SYNTHESIS
-  // The issue reserves room in the queues, so a hand-off is never refused.
+  // The issue reserves room in the queues, so a hand-off is never refused; lanes handed
+  // to a unit issue one a cycle.
   always_ff @(posedge clk_i or negedge rst_ni) begin : check_queues
     if (rst_ni) begin
       assert (!to_lsu || lsu_in_ready) else $error("rpu_spu: the load/store queue was full");
       assert (!to_sfu || sfu_in_ready) else $error("rpu_spu: the sfu queue was full");
       assert (!to_trace || trace_in_ready) else $error("rpu_spu: the ray queue was full");
+      assert ($countones({e_to_lsu, e_to_sfu, e_to_trace}) <= 1)
+        else $error("rpu_spu: two lanes handed to units in one cycle");
       assert (!trace_rsp_valid_i || 32'(trace_rsp_i.tag[rpu_pkg::TraceTagBits-1 -: rpu_pkg::CoreBits]) == CoreId)
         else $error("rpu_spu: a ray answer for core %0d", trace_rsp_i.tag[rpu_pkg::TraceTagBits-1 -: rpu_pkg::CoreBits]);
     end

@@ -16,6 +16,7 @@ module rpu_top #(
   parameter int unsigned Cores               = rpu_pkg::ConfigTinyShaderCores,
   parameter int unsigned Threads             = rpu_pkg::ConfigTinyThreadsPerCore,
   parameter int unsigned ChunkSize           = rpu_pkg::ConfigTinyChunkSize,
+  parameter int unsigned IssueLanes          = rpu_pkg::ConfigTinyIssueLanes,
   parameter int unsigned Registers           = rpu_pkg::ConfigTinyRegisters,
   parameter int unsigned CallDepth           = rpu_pkg::ConfigTinyCallDepth,
   parameter int unsigned StackBytes          = rpu_pkg::ConfigTinyStackBytes,
@@ -65,10 +66,11 @@ module rpu_top #(
 
   output logic [Cores-1:0]                        issue_valid_o,
   output logic [Cores*rpu_pkg::IssueBits-1:0]     issue_o,
-  output logic [Cores-1:0]                        retire_valid_o,
-  output logic [Cores*rpu_pkg::RetireBits-1:0]    retire_o,
-  output logic [Cores-1:0]                        wb_valid_o,
-  output logic [Cores*rpu_pkg::WritebackBits-1:0] wb_o,
+  // retire and writeback: IssueLanes records per core (its ways), core c's at c x IssueLanes.
+  output logic [Cores*IssueLanes-1:0]             retire_valid_o,
+  output logic [Cores*IssueLanes*rpu_pkg::RetireBits-1:0] retire_o,
+  output logic [Cores*IssueLanes-1:0]             wb_valid_o,
+  output logic [Cores*IssueLanes*rpu_pkg::WritebackBits-1:0] wb_o,
   output logic [Cores-1:0]                        fault_valid_o,
   output logic [Cores*rpu_pkg::FaultBits-1:0]     fault_o,
 
@@ -156,7 +158,8 @@ module rpu_top #(
     logic [RspBits-1:0]   rsp;
 
     rpu_spu #(
-      .CoreId(c), .Cores(Cores), .Threads(Threads), .ChunkSize(ChunkSize), .Registers(Registers),
+      .CoreId(c), .Cores(Cores), .Threads(Threads), .ChunkSize(ChunkSize), .IssueLanes(IssueLanes),
+      .Registers(Registers),
       .CallDepth(CallDepth), .StackBytes(StackBytes), .SfuUnits(SfuUnits), .CodeWords(CodeWords),
       .ExpBits(ExpBits), .FracBits(FracBits)
     ) u_spu (
@@ -171,8 +174,10 @@ module rpu_top #(
       .trace_rsp_valid_i(t_rsp_valid[c]), .trace_rsp_ready_o(t_rsp_ready[c]),
       .trace_rsp_i(t_rsp[rpu_pkg::TraceRspBits*c +: rpu_pkg::TraceRspBits]),
       .issue_valid_o(issue_valid_o[c]), .issue_o(issue_o[rpu_pkg::IssueBits*c +: rpu_pkg::IssueBits]),
-      .retire_valid_o(retire_valid_o[c]), .retire_o(retire_o[rpu_pkg::RetireBits*c +: rpu_pkg::RetireBits]),
-      .wb_valid_o(wb_valid_o[c]), .wb_o(wb_o[rpu_pkg::WritebackBits*c +: rpu_pkg::WritebackBits]),
+      .retire_valid_o(retire_valid_o[IssueLanes*c +: IssueLanes]),
+      .retire_o(retire_o[IssueLanes*rpu_pkg::RetireBits*c +: IssueLanes*rpu_pkg::RetireBits]),
+      .wb_valid_o(wb_valid_o[IssueLanes*c +: IssueLanes]),
+      .wb_o(wb_o[IssueLanes*rpu_pkg::WritebackBits*c +: IssueLanes*rpu_pkg::WritebackBits]),
       .fault_valid_o(fault_valid_o[c]), .fault_o(fault_o[rpu_pkg::FaultBits*c +: rpu_pkg::FaultBits])
     );
 

@@ -20,6 +20,8 @@ foreach(line IN LISTS rpu_rtl_config_lines)
   set(cores ${CMAKE_MATCH_1})
   string(REGEX MATCH "-GRayUnits=([0-9]+)" ray_units_flag "${line}")
   set(ray_units ${CMAKE_MATCH_1})
+  string(REGEX MATCH "-GIssueLanes=([0-9]+)" issue_lanes_flag "${line}")
+  set(issue_lanes ${CMAKE_MATCH_1})
   set(isects woop)
   if(config STREQUAL "tiny")
     list(APPEND isects watertight)
@@ -30,7 +32,7 @@ foreach(line IN LISTS rpu_rtl_config_lines)
     endif()
     rpu_cosim_model(chip Vchip_${config}_${isect} TRACE ASSERT THREADS ${RPU_CHIP_THREADS}
                     FACTS config=${config} isect=${isect} cores=${cores} ray_units=${ray_units}
-                          code_words=${rpu_spu_code_words}
+                          issue_lanes=${issue_lanes} code_words=${rpu_spu_code_words}
                     PARAMS ${params} -GIsectMode=${rpu_isect_${isect}})
     list(APPEND rpu_chip_cases "${config} ${isect}")
   endforeach()
@@ -177,4 +179,13 @@ if(RPU_YOSYS)
             --unit chip --config default --code-words ${rpu_spu_code_words} --pkg ${RPU_SPEC_SV}
             --out ${CMAKE_CURRENT_BINARY_DIR}/synth_chip --yosys ${RPU_YOSYS})
   set_tests_properties(slow.synth.chip.default PROPERTIES LABELS slow TIMEOUT 14400)
+  # rpu2005's shader core alone at one and four issue lanes: what issuing a chunk at once
+  # costs (docs/area.md).
+  foreach(lanes 1 4)
+    add_test(NAME slow.synth.core.rpu2005.lanes${lanes}
+      COMMAND Python3::Interpreter ${PROJECT_SOURCE_DIR}/rtl/flow.py synth
+              --unit core --config rpu2005 --issue-lanes ${lanes} --code-words ${rpu_spu_code_words}
+              --pkg ${RPU_SPEC_SV} --out ${CMAKE_CURRENT_BINARY_DIR}/synth_chip --yosys ${RPU_YOSYS})
+    set_tests_properties(slow.synth.core.rpu2005.lanes${lanes} PROPERTIES LABELS slow TIMEOUT 14400)
+  endforeach()
 endif()

@@ -61,6 +61,8 @@ ChipRunResult run_chip_frame(Model<harness::Chip>& model, const ModelInfo& info,
   const spec::HardwareConfig& config = *frame.config;
   const isa::Firmware& firmware = *frame.firmware;
   const int cores = info.number("cores");
+  // Each core's retire and writeback records, one per way (rpu_spu), in lane order.
+  const auto ways = static_cast<std::size_t>(info.number("issue_lanes"));
   if (firmware.code.size() > static_cast<std::size_t>(info.number("code_words"))) {
     throw Error(fmt::format("the firmware has {} instructions; the chip's code memories hold {}",
                             firmware.code.size(), info.number("code_words")));
@@ -139,7 +141,10 @@ ChipRunResult run_chip_frame(Model<harness::Chip>& model, const ModelInfo& info,
     for (std::size_t c = 0; c < static_cast<std::size_t>(cores); ++c) {
       SpuChecker* check = options.lockstep ? checkers[c].get() : nullptr;
       // A writeback before the issue of the same cycle (docs/chip.md "Lockstep co-simulation").
-      if (out.wb_valid[c] && check) check->on_writeback(out.wb[c], now);
+      for (std::size_t v = c * ways; v < (c + 1) * ways; ++v) {
+        if (out.wb_valid[v] && check) check->on_writeback(out.wb[v], now);
+        progress |= out.wb_valid[v] || out.retire_valid[v];
+      }
       if (out.fault_valid[c]) {
         const streams::Fault& f = out.fault[c];
         if (check) check->on_fault(f, now);
@@ -147,9 +152,10 @@ ChipRunResult run_chip_frame(Model<harness::Chip>& model, const ModelInfo& info,
           result.fault = ChipFault{f.kind, f.core, f.thread, f.pixel, f.pc, f.addr};
         }
       }
-      if (out.retire_valid[c]) {
-        if (check) check->on_retire(out.retire[c], now);
-        const auto opcode = static_cast<si::Opcode>(out.retire[c].insn[0] & ((1u << si::kOpcodeField.width) - 1));
+      for (std::size_t v = c * ways; v < (c + 1) * ways; ++v) {
+        if (!out.retire_valid[v]) continue;
+        if (check) check->on_retire(out.retire[v], now);
+        const auto opcode = static_cast<si::Opcode>(out.retire[v].insn[0] & ((1u << si::kOpcodeField.width) - 1));
         if (const si::InsnSpec* s = isa::find_insn(opcode)) {
           ++result.retired[static_cast<std::size_t>(s->cls)];
           if (opcode == si::Opcode::kTrace) ++result.closest_rays;
@@ -161,7 +167,7 @@ ChipRunResult run_chip_frame(Model<harness::Chip>& model, const ModelInfo& info,
         ++result.chunk_issues;
         if (check) check->on_issue(out.issue[c], now);
       }
-      progress |= out.issue_valid[c] || out.retire_valid[c] || out.wb_valid[c];
+      progress |= out.issue_valid[c];
     }
     if (out.dram_req_valid) dram.take(out.dram_req, now);
     if (in.dram_rsp_valid && out.dram_rsp_ready) {

@@ -2,7 +2,8 @@
 """The cycle model's shader-core timing against the RTL chip's (docs/chip.md "Calibration").
 
 Runs small loops, each one kind of instruction sequence, as firmware on the rtl and the
-cycle backends, at two iteration counts and one and two lanes of a chunk, and requires
+cycle backends, at two iteration counts and one, two and a whole chunk's lanes (each
+instruction's lanes one a cycle or issue_lanes a cycle), and requires
 that an iteration costs the same cycles on both: the per-iteration difference of two
 runs cancels the launch and the frame's end, so what is compared is the pipeline
 (spec/latencies.toml [latency.<format>] reissue, result, to_unit, from_unit, from_rays,
@@ -89,13 +90,14 @@ def main():
     few, many = args.iterations
     shown = subprocess.run([args.rpu, "config", "show", args.config], capture_output=True, text=True, check=True)
     ray_units = int(re.search(r"^traversal_units = (\d+)", shown.stdout, re.M).group(1))
+    chunk = int(re.search(r"^chunk_size = (\d+)", shown.stdout, re.M).group(1))
     failed = 0
     with tempfile.TemporaryDirectory() as tmp:
         work = pathlib.Path(tmp)
         for name, body in LOOPS.items():
             # Two rays at once on two traversal units contend for the caches' ports, which
             # the model does not time (docs/cycle-model.md "Approximations").
-            for lanes in (1,) if body[0].startswith("trace") and ray_units > 1 else (1, 2):
+            for lanes in (1,) if body[0].startswith("trace") and ray_units > 1 else sorted({1, 2, chunk}):
                 per = {}
                 for backend in ("rtl", "cycle"):
                     runs = []

@@ -16,6 +16,7 @@
 `timescale 1ns / 1ps
 module rpu_chip_netlist_tb #(
   parameter integer Cores               = 1,
+  parameter integer Ways                = 1,  // retire and writeback records: Cores x IssueLanes
   parameter integer RayUnits            = 1,
   parameter integer CodeAddrBits        = 1,
   parameter integer LaunchBits          = 1,
@@ -33,13 +34,14 @@ module rpu_chip_netlist_tb #(
 
   // Each port's words and its first word in the cycle's line.
   localparam integer WCores    = (Cores + 31) / 32;
+  localparam integer WWays     = (Ways + 31) / 32;
   localparam integer WLaunch   = (LaunchBits + 31) / 32;
   localparam integer WTuCfg    = (TuCfgBits + 31) / 32;
   localparam integer WDReq     = (DramReqBits + 31) / 32;
   localparam integer WDRsp     = (DramRspBits + 31) / 32;
   localparam integer WIssue    = (Cores * IssueBits + 31) / 32;
-  localparam integer WRetire   = (Cores * RetireBits + 31) / 32;
-  localparam integer WWb       = (Cores * WritebackBits + 31) / 32;
+  localparam integer WRetire   = (Ways * RetireBits + 31) / 32;
+  localparam integer WWb       = (Ways * WritebackBits + 31) / 32;
   localparam integer WFault    = (Cores * FaultBits + 31) / 32;
   localparam integer WCoreCnt  = (Cores * CoreCountersBits + 31) / 32;
   localparam integer WRayCnt   = (RayUnits * RayUnitCountersBits + 31) / 32;
@@ -64,9 +66,9 @@ module rpu_chip_netlist_tb #(
   localparam integer OIssueValid  = ODRspReady + 1;
   localparam integer OIssue       = OIssueValid + WCores;
   localparam integer ORetireValid = OIssue + WIssue;
-  localparam integer ORetire      = ORetireValid + WCores;
+  localparam integer ORetire      = ORetireValid + WWays;
   localparam integer OWbValid     = ORetire + WRetire;
-  localparam integer OWb          = OWbValid + WCores;
+  localparam integer OWb          = OWbValid + WWays;
   localparam integer OFaultValid  = OWb + WWb;
   localparam integer OFault       = OFaultValid + WCores;
   localparam integer OCoreCnt     = OFault + WFault;
@@ -86,10 +88,11 @@ module rpu_chip_netlist_tb #(
   wire [OutWords*32-1:0] got;  // every output, each port zero-extended to whole words
   wire                               done, dram_req_valid, dram_rsp_ready;
   wire [DramReqBits-1:0]             dram_req;
-  wire [Cores-1:0]                   issue_valid, retire_valid, wb_valid, fault_valid;
+  wire [Cores-1:0]                   issue_valid, fault_valid;
+  wire [Ways-1:0]                    retire_valid, wb_valid;
   wire [Cores*IssueBits-1:0]         issue;
-  wire [Cores*RetireBits-1:0]        retire;
-  wire [Cores*WritebackBits-1:0]     wb;
+  wire [Ways*RetireBits-1:0]         retire;
+  wire [Ways*WritebackBits-1:0]      wb;
   wire [Cores*FaultBits-1:0]         fault;
   wire [Cores*CoreCountersBits-1:0]  core_counters;
   wire [RayUnits*RayUnitCountersBits-1:0] ray_counters;
@@ -100,9 +103,9 @@ module rpu_chip_netlist_tb #(
   assign got[ODRspReady*32 +: 32]            = dram_rsp_ready;
   assign got[OIssueValid*32 +: WCores*32]    = issue_valid;
   assign got[OIssue*32 +: WIssue*32]         = issue;
-  assign got[ORetireValid*32 +: WCores*32]   = retire_valid;
+  assign got[ORetireValid*32 +: WWays*32]    = retire_valid;
   assign got[ORetire*32 +: WRetire*32]       = retire;
-  assign got[OWbValid*32 +: WCores*32]       = wb_valid;
+  assign got[OWbValid*32 +: WWays*32]        = wb_valid;
   assign got[OWb*32 +: WWb*32]               = wb;
   assign got[OFaultValid*32 +: WCores*32]    = fault_valid;
   assign got[OFault*32 +: WFault*32]         = fault;

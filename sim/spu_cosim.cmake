@@ -15,9 +15,18 @@ foreach(line IN LISTS rpu_rtl_config_lines)
     continue()
   endif()
   rpu_rtl_config("${line}" spu config config_params)
-  rpu_cosim_model(spu Vspu_${config} TRACE ASSERT FACTS config=${config} code_words=${rpu_spu_code_words}
+  string(REGEX MATCH "-GIssueLanes=([0-9]+)" issue_lanes_flag "${line}")
+  rpu_cosim_model(spu Vspu_${config} TRACE ASSERT
+                  FACTS config=${config} issue_lanes=${CMAKE_MATCH_1} code_words=${rpu_spu_code_words}
                   PARAMS -GCodeWords=${rpu_spu_code_words} ${config_params})
   list(APPEND rpu_spu_configs ${config})
+  # tiny's chunks of 2 also as a core that issues both lanes at once (--issue-lanes 2).
+  if(config STREQUAL "tiny")
+    set(lanes2_params ${config_params})
+    list(FILTER lanes2_params EXCLUDE REGEX "^-GIssueLanes=")
+    rpu_cosim_model(spu Vspu_tiny_lanes2 TRACE ASSERT FACTS config=tiny issue_lanes=2 code_words=${rpu_spu_code_words}
+                    PARAMS -GCodeWords=${rpu_spu_code_words} ${lanes2_params} -GIssueLanes=2)
+  endif()
 endforeach()
 rpu_cosim_registry(spu)
 
@@ -41,6 +50,9 @@ foreach(config IN LISTS rpu_spu_configs)
     set_tests_properties(cosim.spu.${config}.${scene_name} PROPERTIES LABELS cosim TIMEOUT 900)
   endforeach()
 endforeach()
+add_test(NAME cosim.spu.tiny_lanes2.cornell
+         COMMAND spu_cosim --config tiny --issue-lanes 2 --scene cornell --width 8 --height 6 --max-depth 2)
+set_tests_properties(cosim.spu.tiny_lanes2.cornell PROPERTIES LABELS cosim TIMEOUT 900)
 
 # Every instruction and fault program of tests/isa on the core its .exp names (the
 # programs in a format other than their configuration's are the functional tests' alone).
@@ -90,6 +102,12 @@ foreach(config IN LISTS rpu_spu_configs)
                      --statements 5 --require-coverage)
     set_tests_properties(cosim.spu.random.${config}.${k} PROPERTIES LABELS cosim TIMEOUT 900)
   endforeach()
+  if(config STREQUAL "tiny")
+    add_test(NAME cosim.spu.random.tiny_lanes2
+             COMMAND spu_cosim --config tiny --issue-lanes 2 --scene tetra:1 --width 3 --height 2 --random 1000
+                     --seed 7001 --statements 5 --require-coverage)
+    set_tests_properties(cosim.spu.random.tiny_lanes2 PROPERTIES LABELS cosim TIMEOUT 900)
+  endif()
   foreach(k RANGE 9)
     math(EXPR seed "1000000 + ${k} * 33334")
     add_test(NAME slow.cosim.spu.random.${config}.${k}

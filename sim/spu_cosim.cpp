@@ -55,6 +55,7 @@ struct Options {
   std::uint64_t max_cycles = 200'000'000;
   std::string trace;
   bool empty_shader_table = false;
+  int issue_lanes = 0;  // the core model's issue lanes; 0: the configuration's
   // Random programs (sim/progen): how many, and every how many a fault program.
   std::uint64_t random = 0;
   std::uint64_t fault_every = 5;
@@ -102,12 +103,16 @@ FrameResult run_frame(const Options& o, const Bench& bench, const Frame& frame, 
                       progen::StepObserver* observer = nullptr) {
   const spec::HardwareConfig& config = bench.config;
   const isa::Firmware& firmware = *frame.firmware;
-  const ModelInfo* info = find_model<harness::Spu>({{"config", config.name}});
+  // The issue lanes change only the cycles (docs/shader-core.md "Issue"): the checker
+  // expects the same records of a core built with other lanes than the configuration's.
+  const std::string lanes = std::to_string(o.issue_lanes ? o.issue_lanes : config.issue_lanes);
+  const ModelInfo* info = find_model<harness::Spu>({{"config", config.name}, {"issue_lanes", lanes}});
   if (!info) {
-    throw Error(fmt::format("no shader-core model for configuration '{}' in this build (built: {})", config.name,
-                            built_models<harness::Spu>()));
+    throw Error(fmt::format("no shader-core model for configuration '{}' with {} issue lanes in this build (built: {})",
+                            config.name, lanes, built_models<harness::Spu>()));
   }
   model = make_model<harness::Spu>(*info, seed, fst);
+  const auto ways = static_cast<std::size_t>(info->number("issue_lanes"));
   if (firmware.code.size() > static_cast<std::size_t>(info->number("code_words"))) {
     throw Error(fmt::format("the firmware has {} instructions; the core's code memory holds {}", firmware.code.size(),
                             info->number("code_words")));
@@ -185,14 +190,20 @@ FrameResult run_frame(const Options& o, const Bench& bench, const Frame& frame, 
     }
 
     // Trace ports first: a writeback before the issue of the same cycle (docs/rtl.md).
-    if (out.wb_valid) checker.on_writeback(out.wb, now);
+    // The ways' records in lane order.
+    bool progress = out.issue_valid;
+    for (std::size_t v = 0; v < ways; ++v) {
+      if (out.wb_valid[v]) checker.on_writeback(out.wb[v], now);
+      progress |= out.wb_valid[v] || out.retire_valid[v];
+    }
     if (out.fault_valid) {
       checker.on_fault(out.fault, now);
       if (!stop_pixel || out.fault.pixel < *stop_pixel) stop_pixel = out.fault.pixel;
     }
-    if (out.retire_valid) checker.on_retire(out.retire, now);
+    for (std::size_t v = 0; v < ways; ++v) {
+      if (out.retire_valid[v]) checker.on_retire(out.retire[v], now);
+    }
     if (out.issue_valid) checker.on_issue(out.issue, now);
-    bool progress = out.issue_valid || out.retire_valid || out.wb_valid;
 
     if (out.cache_req_valid && in.cache_req_ready) mem_server.take(out.cache_req, now);
     if (in.cache_rsp_valid && out.cache_rsp_ready) mem_server.taken();
@@ -347,6 +358,8 @@ int main(int argc, char** argv) {
   app.add_option("--max-depth", o.max_depth, "bounces")->check(CLI::Range(0, 64));
   app.add_option("--watchdog", o.watchdog, "instructions a thread may retire for one pixel")
       ->check(CLI::Range(std::uint64_t{1}, std::uint64_t{0xffffffff}));
+  app.add_option("--issue-lanes", o.issue_lanes, "run the core built with this many issue lanes (default: the "
+                 "configuration's)")->check(CLI::IsMember({1, 2, 4, 8}));
   app.add_option("--seed", o.seed, "seed of the RTL's initial values and of the agents' stalls and delays");
   app.add_option("--stall", o.stall, "probability that a ready or an answer stalls in a cycle")->check(CLI::Range(0.0, 0.9));
   app.add_option("--max-cycles", o.max_cycles, "give up after this many cycles");

@@ -475,6 +475,7 @@ def doc_tables(schema: Schema, resolved: list[dict]) -> dict[str, str]:
     def row(label: str, cell) -> None:
         named.append(f"| {label} | " + " | ".join(cell(r["values"]) for r in resolved) + " |")
     row("shader cores x threads (chunk)", lambda v: f"{v['shader_cores']} x {v['threads_per_core']} ({v['chunk_size']})")
+    row("lanes issued a cycle (issue_lanes)", lambda v: str(v["issue_lanes"]))
     row("registers", lambda v: str(v["registers"]))
     row("traversal units (ray slots each) / intersection units",
         lambda v: f"{v['traversal_units']} ({v['tu_slots']}) / {v['intersection_units']}")

@@ -185,6 +185,15 @@ def validate_isa(isa: dict) -> None:
                 if field not in FORMAT_FIELDS[insn["format"]] and not field.endswith(("_neg", "_abs")):
                     raise SpecError(f"{here}: operand '{op}' needs field {field}, which format "
                                     f"{insn['format']} does not have")
+    issue = isa.get("issue", {})
+    if set(issue) != {"at_once_classes", "one_lane"}:
+        raise SpecError(f"{where}: [issue] has at_once_classes and one_lane")
+    for c in issue["at_once_classes"]:
+        if c not in isa["classes"]:
+            raise SpecError(f"{where}: [issue] at_once_classes: '{c}' is not in [classes]")
+    for m in issue["one_lane"]:
+        if m not in mnemonics:
+            raise SpecError(f"{where}: [issue] one_lane: '{m}' is not an instruction")
     names = set()
     for fault in isa.get("fault", []):
         if not IDENT.match(fault.get("name", "")) or fault["name"] in names or set(fault) != {"name", "doc"}:
@@ -230,6 +239,12 @@ def dst_is_data(insn: dict) -> bool:
     """A `d` operand after the first names a register the instruction reads (st, st1 store
     it), not one it writes."""
     return "d" in insn["operands"] and insn["operands"].index("d") > 0
+
+
+def at_once(isa: dict, insn: dict) -> bool:
+    """A core with issue_lanes > 1 issues that many lanes of it in one cycle (spec/isa.toml
+    [issue])."""
+    return insn["class"] in isa["issue"]["at_once_classes"] and insn["mnemonic"] not in isa["issue"]["one_lane"]
 
 
 def lanewise(insn: dict, ignore_sources: bool = False) -> bool:
@@ -358,6 +373,7 @@ def gen_cpp_isa(spec: dict) -> list[str]:
             "  Format format;", "  Class cls;", "  bool float_modifiers;  // neg/abs allowed on sources",
             "  bool dst_is_data;  // the dst field names a register read (a store's data), not written",
             "  bool lanewise;  // lane i of d is computed from lane i of each source (else each has a role)",
+            "  bool at_once;  // issue_lanes lanes of it issue in one cycle (spec/isa.toml [issue])",
             "  int operand_count;", "  std::array<Operand, 4> operands;",
             "  // The bits an encoding of it may set; any other set bit is an illegal instruction.",
             "  std::uint64_t used_bits;", "  std::string_view doc;", "};", "", f"inline constexpr std::array<InsnSpec, {len(isa['insn'])}> kInsns{{{{"]
@@ -366,7 +382,7 @@ def gen_cpp_isa(spec: dict) -> list[str]:
         out.append(f"    {{{cpp_string(i['mnemonic'])}, Opcode::k{camel(i['mnemonic'])}, "
                    f"Format::k{i['format']}, Class::k{camel(i['class'])}, "
                    f"{'true' if i['mods'] == 'float' else 'false'}, {'true' if dst_is_data(i) else 'false'}, "
-                   f"{'true' if lanewise(i) else 'false'}, "
+                   f"{'true' if lanewise(i) else 'false'}, {'true' if at_once(isa, i) else 'false'}, "
                    f"{len(i['operands'])}, "
                    f"{{{ops}}}, {used_bits(isa, i):#018x}u, {cpp_string(i['doc'])}}},")
     out += ["}};", "", "struct SpecialSpec {", "  std::string_view name;", "  int index;",
@@ -445,7 +461,7 @@ def gen_sv(spec: dict) -> str:
 # (rtl/rpu_cache.sv; line_bytes is the memory port's DramLineBytes).
 RTL_CACHES = (("Node", "node_cache"), ("Triangle", "triangle_cache"), ("Data", "data_cache"))
 RTL_CACHE_PARAMETERS = (("Bytes", "bytes"), ("Ways", "ways"), ("HitLatency", "hit_latency"), ("Mshrs", "mshrs"))
-RTL_PARAMETERS = {"Cores": "shader_cores", "Threads": "threads_per_core", "ChunkSize": "chunk_size",
+RTL_PARAMETERS = {"Cores": "shader_cores", "Threads": "threads_per_core", "ChunkSize": "chunk_size", "IssueLanes": "issue_lanes",
                   "Registers": "registers", "CallDepth": "call_depth", "StackBytes": "stack_bytes",
                   "SfuUnits": "sfu_units", "StackDepth": "stack_depth", "RayUnits": "traversal_units",
                   "TuSlots": "tu_slots", "TuPipe": "tu_pipe", "TuSetups": "tu_setups", "TuByTag": "tu_by_tag",
@@ -500,6 +516,8 @@ def gen_sv_decode(isa: dict) -> list[str]:
                  lambda i: int(i["mods"] == "float"))
     out += table("isa_format_i", 1, "Format I: an immediate in place of sources b and c and the modifiers.",
                  lambda i: int(i["format"] == "I"))
+    out += table("isa_at_once", 1, "issue_lanes lanes of it enter the pipeline in one cycle (spec/isa.toml [issue]).",
+                 lambda i: int(at_once(isa, i)))
     return out
 
 
@@ -526,6 +544,10 @@ def gen_isa_doc(spec: dict) -> str:
             "(identity `0xe4` = x y z w). Unused fields are zero; anything else is an "
             "illegal instruction.", "", "## Classes", "", "| class | what |", "|---|---|"]
     out += [f"| {c} | {d} |" for c, d in isa["classes"].items()]
+    issue = isa["issue"]
+    out += ["", f"A core with `issue_lanes` > 1 issues that many lanes a cycle of the classes "
+            f"{', '.join(issue['at_once_classes'])} (except {', '.join(f'`{m}`' for m in issue['one_lane'])}), "
+            "one lane a cycle of the others ([shader-core.md](shader-core.md) \"Issue\")."]
     out += ["", "## Instructions", "", "| opcode | mnemonic | operands | format | class | "
             "neg/abs | meaning |", "|--:|---|---|---|---|---|---|"]
     for i in isa["insn"]:

@@ -162,20 +162,32 @@ void CoreTiming::set_result(ChunkSlot& s, int reg, Cycle ready) {
   s.reg_ready[r] = ready;
 }
 
-// The S0 cycles of the lanes standing at `pc`: one a cycle from the cycle after `now`,
-// in cycles no value handed back has taken.
+// The S0 cycles of the lanes standing at `pc`, from the cycle after `now`, in cycles no
+// value handed back has taken: a group of issue_lanes lanes (lanes l with the same
+// l / issue_lanes) a cycle for an instruction of spec/isa.toml [issue] (its opcode bits
+// decide, as the RTL's sequencer reads them), else one lane a cycle.
 void CoreTiming::enter_lanes(const ChunkSlot& s, std::uint32_t pc, Cycle now) {
-  std::size_t lanes = 0;
-  for (const functional::ShaderCore::Thread& t : s.chunk.threads()) lanes += !t.done && t.pc == pc;
+  const auto opcode = static_cast<spec::isa::Opcode>(shader_.word(pc) & ((1u << spec::isa::kOpcodeField.width) - 1));
+  const spec::isa::InsnSpec* insn = isa::find_insn(opcode);  // null past the code's end (word 0)
+  const std::size_t group = insn && insn->at_once ? static_cast<std::size_t>(config_.issue_lanes) : 1;
   return_slots_.erase(return_slots_.begin(), return_slots_.upper_bound(now));
   lane_slots_.clear();
   auto taken = return_slots_.begin();
-  for (Cycle at = now + 1; lane_slots_.size() < std::max<std::size_t>(lanes, 1); ++at) {
-    if (taken != return_slots_.end() && *taken == at) {
-      ++taken;
-    } else {
-      lane_slots_.push_back(at);
-    }
+  Cycle at = now;
+  std::optional<std::size_t> last_group;
+  const auto next_free = [&] {
+    for (++at; taken != return_slots_.end() && *taken == at; ++at) ++taken;
+  };
+  const std::vector<functional::ShaderCore::Thread>& threads = s.chunk.threads();
+  for (std::size_t l = 0; l < threads.size(); ++l) {
+    if (threads[l].done || threads[l].pc != pc) continue;
+    if (l / group != last_group) next_free();
+    last_group = l / group;
+    lane_slots_.push_back(at);
+  }
+  if (lane_slots_.empty()) {
+    next_free();
+    lane_slots_.push_back(at);
   }
 }
 

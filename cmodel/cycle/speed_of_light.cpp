@@ -31,8 +31,9 @@ std::vector<Bound> speed_of_light(const CycleStats& stats, const spec::HardwareC
                                  (tri_hit + static_cast<double>(walk.iu_latency + walk.iu_wait)) +
                              static_cast<double>(tu_work.pops) * tc.pop;
   std::vector<Bound> bounds = {
-      // One lane a cycle enters a core's pipeline.
-      {"shader cores (issue)", static_cast<double>(stats.thread_instructions) / config.shader_cores},
+      // At most issue_lanes lanes a cycle enter a core's pipeline.
+      {"shader cores (issue)",
+       static_cast<double>(stats.thread_instructions) / (config.shader_cores * config.issue_lanes)},
       {"traversal units", config.tu_pipe ? pipe_cycles / config.traversal_units
                                          : walk_cycles / (config.traversal_units * config.tu_slots)},
       {"intersection units", static_cast<double>(tests) * static_cast<double>(walk.iu_interval) / config.intersection_units},

@@ -149,6 +149,8 @@ class ShaderCore {
     return pc < code_.size() && code_[pc].spec ? &code_[pc] : nullptr;
   }
   const isa::RegisterUse& register_use(std::uint32_t pc) const { return uses_[pc]; }
+  // The firmware's word at `pc` as the core fetches it, legal or not; 0 past the end.
+  std::uint64_t word(std::uint32_t pc) const { return pc < firmware_.code.size() ? firmware_.code[pc] : 0; }
 
   // Runs the chunk's lanes from raygen until every one halts or faults; then throws the
   // chunk's fault (ShaderFault), if any.

@@ -1,6 +1,7 @@
 // A shader core's timing alone (cycle/core_timing.hpp): one core of the named `tiny`
 // configuration driven through its links to the chip, its issue schedule against one
-// counted by hand from the pipeline's rules (docs/cycle-model.md "Shader cores").
+// counted by hand from the pipeline's rules (docs/cycle-model.md "Shader cores"), with
+// one lane a cycle and with two.
 #include <gtest/gtest.h>
 
 #include <map>
@@ -47,27 +48,16 @@ class OneCoreChip final : public CoreTiming::Chip {
   std::uint32_t chunk_size_;
 };
 
-// tiny: one core of 4 threads in 2 chunks of 2 lanes. Each chunk runs
-//   lif r1, 1.0; add r2, r1, r1; halt
-// Rules: a chunk instruction's lanes enter S0 one a cycle from the cycle after its issue;
-// the next chunk instruction may issue in the cycle its last lane enters; the chunk
-// issues again `reissue` (E) cycles after its last lane's S0, and a register it wrote is
-// ready `result` (R) cycles after that S0; chunks issue round robin from chunk 0. With
-// M = max(E, R):
-//   chunk 0 lif at 0 (S0 1, 2); chunk 1 lif at 2, the cycle chunk 0's last lane enters
-//   (S0 3, 4); chunk 0 add at 2 + M (r1 ready at 2 + R, its reissue at 2 + E) (S0 3 + M,
-//   4 + M); chunk 1 add at 4 + M; chunk 0 halt at 4 + M + E (its reissue; add wrote no
-//   register halt reads); chunk 1 halt at 6 + M + E, its last lane's S0 at 8 + M + E.
-// A halted lane's pixel took halt's issue + 1 cycles. The core is busy from each issue to
-// its last lane's S0 (2 + 3 cycles a pair of chunk instructions: the second overlaps the
-// first's last S0), and waits for its results in between: busy 15, waiting M + E - 6,
-// frame 9 + M + E cycles.
-TEST(CoreTiming, IssuesAsCountedByHand) {
-  spec::HardwareConfig config = hardware_config("tiny");
-  const Cycle E = static_cast<Cycle>(config.latency.reissue), R = static_cast<Cycle>(config.latency.result);
-  const Cycle M = std::max(E, R);
-  ASSERT_GE(E, 2u);  // the count assumes a chunk's next issue is not held by the other's lanes
+// One core of `config` running, in every chunk, `lif r1, 1.0; add r2, r1, r1; halt`.
+struct CoreRun {
+  std::map<Cycle, std::string> issues;  // the core's timeline: cycle -> "chunk i: mnemonic"
+  std::map<std::uint32_t, Cycle> halts;
+  int rounds = 0;
+  Cycle end = 0;
+  ShaderCoreTime time;
+};
 
+CoreRun run_core(const spec::HardwareConfig& config) {
   const Scene scene = resolve_scene("tetra:1");
   const functional::SceneImage si = functional::make_scene_image(scene, kd_build_config_for(config), IsectMode::kWoop);
   const isa::Firmware firmware =
@@ -82,34 +72,86 @@ TEST(CoreTiming, IssuesAsCountedByHand) {
   core_config.chunk_size = config.chunk_size;
   functional::ShaderCore shader(firmware, memory, tracer, format, core_config);
 
+  CoreRun run;
   functional::ShaderStats stats;
   Dram dram(config.dram);
   EventQueue events(1);
-  std::map<Cycle, std::string> issues;  // the core's timeline: cycle -> "chunk i: mnemonic"
-  Timeline timeline(0, 1000, 1000, [&issues](const TimelineSlice& s) { issues[s.begin] = s.name; });
+  Timeline timeline(0, 1000, 1000, [&run](const TimelineSlice& s) { run.issues[s.begin] = s.name; });
   timeline.start(0, 0);
   OneCoreChip chip(config.chunk_size);
   CoreTiming core(0, config, shader, stats, dram, events, timeline, chip);
   core.start();
   while (const std::optional<EventQueue::Wakeup> w = events.next()) core.run(w->at);
   timeline.flush();
-
-  EXPECT_EQ(issues, (std::map<Cycle, std::string>{{0, "chunk 0: lif"},
-                                                  {2, "chunk 1: lif"},
-                                                  {2 + M, "chunk 0: add"},
-                                                  {4 + M, "chunk 1: add"},
-                                                  {4 + M + E, "chunk 0: halt"},
-                                                  {6 + M + E, "chunk 1: halt"}}));
-  EXPECT_EQ(chip.halts, (std::map<std::uint32_t, Cycle>{{0, 5 + M + E}, {1, 5 + M + E}, {2, 7 + M + E}, {3, 7 + M + E}}));
-  EXPECT_EQ(chip.rounds, 2);
   EXPECT_FALSE(core.live_chunk());
-  const Cycle end = std::max(events.now() + 1, core.accounted());
-  EXPECT_EQ(end, 9 + M + E);
-  const ShaderCoreTime t = core.finish(end);
-  EXPECT_EQ(t.busy, 15u);
-  EXPECT_EQ(t.wait_dependency, M + E - 6);
-  EXPECT_EQ(t.wait_trace + t.wait_memory + t.idle, 0u);
-  EXPECT_EQ(t.chunk_issues, 6u);
+  run.halts = chip.halts;
+  run.rounds = chip.rounds;
+  run.end = std::max(events.now() + 1, core.accounted());
+  run.time = core.finish(run.end);
+  return run;
+}
+
+// tiny: one core of 4 threads in 2 chunks of 2 lanes.
+// Rules: a chunk instruction's lanes enter S0 one a cycle from the cycle after its issue;
+// the next chunk instruction may issue in the cycle its last lane enters; the chunk
+// issues again `reissue` (E) cycles after its last lane's S0, and a register it wrote is
+// ready `result` (R) cycles after that S0; chunks issue round robin from chunk 0. With
+// M = max(E, R):
+//   chunk 0 lif at 0 (S0 1, 2); chunk 1 lif at 2, the cycle chunk 0's last lane enters
+//   (S0 3, 4); chunk 0 add at 2 + M (r1 ready at 2 + R, its reissue at 2 + E) (S0 3 + M,
+//   4 + M); chunk 1 add at 4 + M; chunk 0 halt at 4 + M + E (its reissue; add wrote no
+//   register halt reads); chunk 1 halt at 6 + M + E, its last lane's S0 at 8 + M + E.
+// A halted lane's pixel took halt's issue + 1 cycles. The core is busy from each issue to
+// its last lane's S0 (2 + 3 cycles a pair of chunk instructions: the second overlaps the
+// first's last S0), and waits for its results in between: busy 15, waiting M + E - 6,
+// frame 9 + M + E cycles.
+TEST(CoreTiming, IssuesAsCountedByHand) {
+  const spec::HardwareConfig config = hardware_config("tiny");
+  ASSERT_EQ(config.issue_lanes, 1);
+  const Cycle E = static_cast<Cycle>(config.latency.reissue), R = static_cast<Cycle>(config.latency.result);
+  const Cycle M = std::max(E, R);
+  ASSERT_GE(E, 2u);  // the count assumes a chunk's next issue is not held by the other's lanes
+
+  const CoreRun run = run_core(config);
+  EXPECT_EQ(run.issues, (std::map<Cycle, std::string>{{0, "chunk 0: lif"},
+                                                      {2, "chunk 1: lif"},
+                                                      {2 + M, "chunk 0: add"},
+                                                      {4 + M, "chunk 1: add"},
+                                                      {4 + M + E, "chunk 0: halt"},
+                                                      {6 + M + E, "chunk 1: halt"}}));
+  EXPECT_EQ(run.halts, (std::map<std::uint32_t, Cycle>{{0, 5 + M + E}, {1, 5 + M + E}, {2, 7 + M + E}, {3, 7 + M + E}}));
+  EXPECT_EQ(run.rounds, 2);
+  EXPECT_EQ(run.end, 9 + M + E);
+  EXPECT_EQ(run.time.busy, 15u);
+  EXPECT_EQ(run.time.wait_dependency, M + E - 6);
+  EXPECT_EQ(run.time.wait_trace + run.time.wait_memory + run.time.idle, 0u);
+  EXPECT_EQ(run.time.chunk_issues, 6u);
+}
+
+// The same with issue_lanes = 2: lif, add and halt are instructions of spec/isa.toml
+// [issue], so a chunk's two lanes enter S0 together, the cycle after its issue:
+//   chunk 0 lif at 0 (S0 1); chunk 1 lif at 1 (S0 2); chunk 0 add at 1 + M (S0 2 + M);
+//   chunk 1 add at 2 + M; chunk 0 halt at 2 + M + E; chunk 1 halt at 3 + M + E (S0
+//   4 + M + E). Busy 3 cycles a pair, 9 in all; frame 5 + M + E cycles.
+TEST(CoreTiming, IssuesLanesTogether) {
+  spec::HardwareConfig config = hardware_config("tiny");
+  config.issue_lanes = 2;
+  const Cycle E = static_cast<Cycle>(config.latency.reissue), R = static_cast<Cycle>(config.latency.result);
+  const Cycle M = std::max(E, R);
+  ASSERT_GE(E, 2u);
+
+  const CoreRun run = run_core(config);
+  EXPECT_EQ(run.issues, (std::map<Cycle, std::string>{{0, "chunk 0: lif"},
+                                                      {1, "chunk 1: lif"},
+                                                      {1 + M, "chunk 0: add"},
+                                                      {2 + M, "chunk 1: add"},
+                                                      {2 + M + E, "chunk 0: halt"},
+                                                      {3 + M + E, "chunk 1: halt"}}));
+  EXPECT_EQ(run.halts, (std::map<std::uint32_t, Cycle>{{0, 3 + M + E}, {1, 3 + M + E}, {2, 4 + M + E}, {3, 4 + M + E}}));
+  EXPECT_EQ(run.end, 5 + M + E);
+  EXPECT_EQ(run.time.busy, 9u);
+  EXPECT_EQ(run.time.wait_dependency, M + E - 4);
+  EXPECT_EQ(run.time.chunk_issues, 6u);
 }
 
 }  // namespace
