@@ -617,11 +617,13 @@ def chip_units(modules: dict[str, dict], top: str) -> tuple[list[dict], dict]:
 
     walk(top, "", 0, "")
     # What no unit holds: rpu_top's own logic (the launch and start registers, the stop
-    # and done logic, the counters) and its skid buffers.
+    # and done logic, the counters) and its skid buffers; or, of a shader core alone,
+    # its own logic (the chunks, the sequencer, the scoreboard, the ways' checks).
+    top_label = next(label for mod, _, label in CHIP_UNITS if mod == module_name(top))
     total = inclusive(top)
     rest = dict(total)
     for u in units.values():
-        if u["within"] == "chip":
+        if u["within"] == top_label:
             for k in rest:
                 rest[k] -= u["instances"] * u[k]
     # Modules that differ only in an id parameter (a core's CoreId, a cache's CacheId) are
@@ -638,8 +640,8 @@ def chip_units(modules: dict[str, dict], top: str) -> tuple[list[dict], dict]:
     result = []
     for row in rows.values():
         result.append({**row, **{k: round(row[k] / row["instances"]) for k in rest}})
-    result.insert(1, {"unit": "top-level logic", "module": "rpu_top", "within": "chip", "depth": 1, "instances": 1,
-                      **rest})
+    own = ("top-level logic", "rpu_top") if top_label == "chip" else ("the core's own logic", module_name(top))
+    result.insert(1, {"unit": own[0], "module": own[1], "within": top_label, "depth": 1, "instances": 1, **rest})
     return result, total
 
 
