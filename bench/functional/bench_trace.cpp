@@ -1,10 +1,13 @@
-// Traced rays per second of the golden trace units (fp32 fast path, soft path) and of
-// Embree's rtcIntersect1, on the same scenes and rays in one run (docs/perf.md).
+// Traced rays per second of the golden trace units (fp32 fast path, soft path, packets of
+// four rays) and of Embree's rtcIntersect1, on the same scenes and rays in one run
+// (docs/perf.md); with packets, the kd nodes they fetch per ray.
 //
 //   build/release/bench/functional/bench_trace --benchmark_filter=bunny
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <map>
+#include <span>
 #include <memory>
 #include <string>
 #include <vector>
@@ -40,7 +43,11 @@ const Workload& workload(const std::string& name) {
   return *w;
 }
 
-enum class Engine { kFast32Woop, kFast32Watertight, kSoftWoop, kEmbree };
+enum class Engine { kFast32Woop, kFast32Watertight, kSoftWoop, kFast32WoopPackets, kEmbree };
+
+// The rays a chunk of four lanes traces together: four neighbouring pixels of a row
+// (primary), four rays in a row of the random set.
+constexpr std::size_t kPacketRays = 4;
 
 void trace_rays(benchmark::State& state, const std::string& scene, bool primary, Engine engine) {
   const Workload& w = workload(scene);
@@ -49,9 +56,18 @@ void trace_rays(benchmark::State& state, const std::string& scene, bool primary,
   const SceneImage& si = engine == Engine::kFast32Watertight ? w.watertight : w.woop;
   const Tracer tracer(si.image.bytes, si.layout, fp::kFp32, 32, engine != Engine::kSoftWoop);
   std::size_t hits = 0;
+  PacketCounters shared;
   for (auto _ : state) {
     if (engine == Engine::kEmbree) {
       for (const TraceRay& r : rays) hits += std::get<0>(w.embree->intersect(r));
+    } else if (engine == Engine::kFast32WoopPackets) {
+      shared = PacketCounters{};
+      for (std::size_t start = 0; start < rays.size(); start += kPacketRays) {
+        const std::size_t n = std::min(kPacketRays, rays.size() - start);
+        tracer.trace_packets(std::span(rays).subspan(start, n), TraceMode::kClosest, std::span(out).subspan(start, n),
+                             kPacketRays, shared);
+      }
+      hits += out[0].hit;
     } else {
       tracer.trace(rays, TraceMode::kClosest, out);
       hits += out[0].hit;
@@ -73,6 +89,9 @@ void trace_rays(benchmark::State& state, const std::string& scene, bool primary,
     state.counters["nodes/ray"] = nodes / static_cast<double>(rays.size());
     state.counters["tests/ray"] = tests / static_cast<double>(rays.size());
   }
+  if (engine == Engine::kFast32WoopPackets) {
+    state.counters["node fetches/ray"] = static_cast<double>(shared.node_fetches) / static_cast<double>(rays.size());
+  }
 }
 
 void register_all() {
@@ -82,6 +101,7 @@ void register_all() {
       const std::pair<Engine, const char*> engines[] = {{Engine::kFast32Woop, "rpu_fast32_woop"},
                                                         {Engine::kFast32Watertight, "rpu_fast32_watertight"},
                                                         {Engine::kSoftWoop, "rpu_soft_fp32_woop"},
+                                                        {Engine::kFast32WoopPackets, "rpu_fast32_woop_packets4"},
                                                         {Engine::kEmbree, "embree_rtcIntersect1"}};
       for (const auto& [engine, name] : engines) {
         benchmark::RegisterBenchmark((scene + "/" + rays + "/" + name).c_str(),

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -45,6 +46,19 @@ struct TraceLog {
   TraceMode mode = TraceMode::kClosest;
 };
 
+// What packets of rays share (docs/traversal.md "Packets"): a packet's walk fetches a
+// node, a leaf's references and its records once for every ray of it active there.
+struct PacketCounters {
+  std::uint64_t packets = 0;         // walks of rays together (one ray alone is one too)
+  std::uint64_t node_fetches = 0;    // kd nodes fetched (inner and leaf)
+  std::uint64_t ref_fetches = 0;     // primitive references read
+  std::uint64_t record_fetches = 0;  // intersection records read
+  std::uint64_t restarts = 0;        // packets whose stack filled: their rays walked again alone
+};
+
+// The most rays a packet holds.
+inline constexpr std::size_t kMaxPacketRays = 8;
+
 class Tracer {
  public:
   // `image` must outlive the tracer and have passed validate_memory_image, which gave
@@ -64,12 +78,22 @@ class Tracer {
   // Many rays at once; out.size() must equal rays.size().
   void trace(std::span<const TraceRay> rays, TraceMode mode, std::span<TraceHit> out) const;
 
+  // Rays that walk the tree together (docs/traversal.md "Packets"): those whose
+  // directions have the same signs, up to `packet_rays` at a time, in their order. Each
+  // ray's hit and counters are exactly what trace() gives it alone; `shared` counts what
+  // the packets fetched. out.size() must equal rays.size().
+  void trace_packets(std::span<const TraceRay> rays, TraceMode mode, std::span<TraceHit> out,
+                     std::size_t packet_rays, PacketCounters& shared) const;
+
   fp::Format format() const { return format_; }
   bool uses_fast_path() const { return fast_; }
 
  private:
   template <class Arith, class Recorder>
   TraceHit trace_with(const Arith& ar, const TraceRay& ray, TraceMode mode, Recorder& recorder) const;
+  template <class Arith>
+  void packets_with(const Arith& ar, std::span<const TraceRay> rays, TraceMode mode, std::span<TraceHit> out,
+                    std::size_t packet_rays, PacketCounters& shared) const;
 
   std::span<const std::uint8_t> image_;
   ImageLayout layout_;

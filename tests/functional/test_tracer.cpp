@@ -8,7 +8,10 @@
 #include <cstdio>
 #include <cmath>
 #include <limits>
+#include <span>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -254,6 +257,81 @@ TEST_P(TracerRules, CountersAddUp) {
   EXPECT_GE(hit.counters.tests, 1u);
   const TraceHit any = tracer.trace(test::make_ray({0, 0, -3}, {0.01, 0.02, 1}), TraceMode::kAny);
   EXPECT_LE(any.counters.tests, hit.counters.tests);
+}
+
+// Packets (docs/traversal.md "Packets"): every ray's hit record and counters are the
+// ones its own walk gives, whatever rays share its packet; a packet fetches each node
+// once for the rays active there, so coherent rays fetch fewer nodes than their walks.
+TEST_P(TracerRules, PacketsGiveEveryRayItsOwnWalksResultAndCounters) {
+  const Scene scene = make_sphereflake(1, 8);
+  const SceneImage si = image_of(scene);
+  const Tracer tracer = tracer_of(si);
+  const std::vector<TraceRay> camera = test::camera_rays(scene, 32, 32);
+  const std::vector<TraceRay> random = test::random_rays(scene, 1000, 7);
+  for (const auto& [what, rays] : {std::pair{"camera", camera}, std::pair{"random", random}}) {
+    for (TraceMode mode : {TraceMode::kClosest, TraceMode::kAny}) {
+      std::uint64_t fewer_ray_fetches = std::numeric_limits<std::uint64_t>::max();  // the smaller packets'
+      for (std::size_t packet : {std::size_t{1}, std::size_t{2}, std::size_t{4}, kMaxPacketRays}) {
+        PacketCounters shared;
+        std::uint64_t own_nodes = 0;
+        int differ = 0;
+        // The rays a chunk of eight lanes would trace together.
+        for (std::size_t start = 0; start < rays.size(); start += 8) {
+          const std::span<const TraceRay> chunk(rays.data() + start, std::min<std::size_t>(8, rays.size() - start));
+          std::vector<TraceHit> got(chunk.size());
+          tracer.trace_packets(chunk, mode, got, packet, shared);
+          for (std::size_t i = 0; i < chunk.size(); ++i) {
+            const TraceHit want = tracer.trace(chunk[i], mode);
+            own_nodes += want.counters.nodes;
+            const bool same = got[i].hit == want.hit && got[i].prim == want.prim &&
+                              std::bit_cast<std::uint32_t>(got[i].t) == std::bit_cast<std::uint32_t>(want.t) &&
+                              std::bit_cast<std::uint32_t>(got[i].u) == std::bit_cast<std::uint32_t>(want.u) &&
+                              std::bit_cast<std::uint32_t>(got[i].v) == std::bit_cast<std::uint32_t>(want.v) &&
+                              got[i].counters.nodes == want.counters.nodes &&
+                              got[i].counters.leaves == want.counters.leaves &&
+                              got[i].counters.tests == want.counters.tests;
+            if (!same && ++differ <= 3) {
+              ADD_FAILURE() << what << " ray " << start + i << ", packets of " << packet << ": hit " << got[i].hit
+                            << " prim " << got[i].prim << " t " << got[i].t << " nodes " << got[i].counters.nodes
+                            << " leaves " << got[i].counters.leaves << " tests " << got[i].counters.tests
+                            << "; alone: hit " << want.hit << " prim " << want.prim << " t " << want.t << " nodes "
+                            << want.counters.nodes << " leaves " << want.counters.leaves << " tests "
+                            << want.counters.tests;
+            }
+          }
+        }
+        EXPECT_EQ(differ, 0) << what << ", packets of " << packet;
+        EXPECT_EQ(shared.restarts, 0u) << what << ", packets of " << packet;
+        if (packet == 1) {
+          EXPECT_EQ(shared.node_fetches, own_nodes) << what << ": a packet of one fetches what its walk does";
+        } else if (std::string(what) == "camera") {
+          // Neighbouring camera rays share most nodes, more of them in larger packets.
+          EXPECT_LT(shared.node_fetches * 4, own_nodes * 3) << what << ", packets of " << packet;
+          EXPECT_LT(shared.node_fetches, fewer_ray_fetches) << what << ", packets of " << packet;
+          fewer_ray_fetches = shared.node_fetches;
+          std::printf("%s %s, packets of %zu: %llu node fetches for %llu nodes of the rays' own walks\n",
+                      what, mode == TraceMode::kAny ? "any" : "closest", packet,
+                      static_cast<unsigned long long>(shared.node_fetches), static_cast<unsigned long long>(own_nodes));
+        }
+      }
+    }
+  }
+}
+
+TEST_P(TracerRules, APacketWhoseRayOverflowsTheStackFaultsAsTheRayAlone) {
+  const Scene scene = make_sphereflake(1, 8);
+  const SceneImage si = image_of(scene, 8);
+  const std::vector<TraceRay> rays = test::random_rays(scene, 500, 2);
+  const Tracer too_shallow = tracer_of(si, 2);
+  std::vector<TraceHit> out(rays.size());
+  PacketCounters shared;
+  try {
+    too_shallow.trace_packets(rays, TraceMode::kClosest, out, 4, shared);
+    FAIL() << "expected a stack overflow fault";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("traversal stack overflow"), std::string::npos) << e.what();
+  }
+  EXPECT_GT(shared.restarts, 0u);
 }
 
 INSTANTIATE_TEST_SUITE_P(Formats, TracerRules,
