@@ -16,8 +16,16 @@ foreach(line IN LISTS rpu_rtl_config_lines)
   endif()
   rpu_rtl_config("${line}" spu config config_params)
   string(REGEX MATCH "-GIssueLanes=([0-9]+)" issue_lanes_flag "${line}")
-  rpu_cosim_model(spu Vspu_${config} TRACE ASSERT
-                  FACTS config=${config} issue_lanes=${CMAKE_MATCH_1} code_words=${rpu_spu_code_words}
+  set(facts config=${config} issue_lanes=${CMAKE_MATCH_1} code_words=${rpu_spu_code_words})
+  # A core another configuration already has (drpu's is rpu2005's) is built once, and
+  # its tests are that configuration's.
+  string(MD5 core_key "${config_params}")
+  if(DEFINED rpu_spu_core_${core_key})
+    rpu_cosim_alias(spu ${rpu_spu_core_${core_key}} FACTS ${facts})
+    continue()
+  endif()
+  set(rpu_spu_core_${core_key} Vspu_${config})
+  rpu_cosim_model(spu Vspu_${config} TRACE ASSERT FACTS ${facts}
                   PARAMS -GCodeWords=${rpu_spu_code_words} ${config_params})
   list(APPEND rpu_spu_configs ${config})
   # tiny's chunks of 2 also as a core that issues both lanes at once (--issue-lanes 2).
