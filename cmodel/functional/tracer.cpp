@@ -40,7 +40,7 @@ constexpr int kMaxStackDepth = 64;
 // plane, direction parallel to it) never narrows the interval. False: the ray misses
 // the box.
 template <class Arith>
-bool clip_to_scene(const Arith& ar, const RayRegisters<Arith>& ray, const ImageLayout& layout,
+[[gnu::always_inline]] inline bool clip_to_scene(const Arith& ar, const RayRegisters<Arith>& ray, const ImageLayout& layout,
                    typename Arith::Value& t_near, typename Arith::Value& t_far) {
   using V = typename Arith::Value;
   t_near = ray.t_min;
@@ -69,7 +69,7 @@ struct InnerStep {
 };
 
 template <class Arith>
-InnerStep<typename Arith::Value> inner_step(const Arith& ar, const RayRegisters<Arith>& ray, const KdNode& node,
+[[gnu::always_inline]] inline InnerStep<typename Arith::Value> inner_step(const Arith& ar, const RayRegisters<Arith>& ray, const KdNode& node,
                                             std::uint32_t node_index, typename Arith::Value t_near,
                                             typename Arith::Value t_far) {
   using V = typename Arith::Value;
