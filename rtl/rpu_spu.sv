@@ -534,11 +534,12 @@ module rpu_spu #(
 
   // The hand-offs: at most one way's lane a cycle.
   logic       to_lsu, to_sfu, to_trace, u_async;
+  logic [IssueLanes-1:0] e_async;  // per way: its lane finishes when a value comes back
   logic [3:0] store_words;
   assign to_lsu      = e_to_lsu != '0;
   assign to_sfu      = e_to_sfu != '0;
   assign to_trace    = e_to_trace != '0;
-  assign u_async     = to_sfu || to_trace || (to_lsu && !store && u_op != rpu_pkg::OpPush);
+  assign u_async     = e_async != '0;
   assign store_words = u_op == rpu_pkg::OpSt ? u_wmask : u_op == rpu_pkg::OpPush ? 4'b1111 : 4'b0001;
 
   // S0 and E of every way, side by side (Yosys 0.23 reads no struct inside a generate
@@ -787,7 +788,6 @@ module rpu_spu #(
     assign e_f_addr[32*v +: 32] = f_addr;
 
     // Where the op goes.
-    logic async;
     always_comb begin : route_op
       e_to_lsu[v]   = 1'b0;
       e_to_sfu[v]   = 1'b0;
@@ -804,8 +804,8 @@ module rpu_spu #(
       end
     end
     // A load, sfu op or ray finishes when its value comes back; a store when it is sent.
-    assign async = e_to_sfu[v] || e_to_trace[v]
-                   || (e_to_lsu[v] && op != rpu_pkg::OpSt && op != rpu_pkg::OpSt1 && op != rpu_pkg::OpPush);
+    assign e_async[v] = e_to_sfu[v] || e_to_trace[v]
+                        || (e_to_lsu[v] && op != rpu_pkg::OpSt && op != rpu_pkg::OpSt1 && op != rpu_pkg::OpPush);
 
     // The datapath: every op, so that results and the bookkeeping of finished ops come
     // out in order at W.
@@ -817,14 +817,14 @@ module rpu_spu #(
     logic [3:0]          wm;
     logic                e_write;
     assign e_write = e_ret[v] ? !e_r_tfault[v] && !e_r_setpc[v]
-                             : e_exec[v] && !async && rpu_pkg::isa_writes_dst(op) != 1'b0;
+                             : e_exec[v] && !e_async[v] && rpu_pkg::isa_writes_dst(op) != 1'b0;
 
     rpu_spu_datapath #(.ExpBits(ExpBits), .FracBits(FracBits), .CtrlBits(CtrlBits)) u_datapath (
       .clk_i, .rst_ni,
       .valid_i(e_valid[v]), .op_i(op), .hand_i(e_ret[v]), .hand_round_i(e_r_round[v]), .hand_widen_i(e_r_widen[v]),
       .a_i(e_ret[v] ? e_r_value[128*v +: 128] : src_a), .b_i(src_b), .c_i(src_c), .neg_i(e_ret[v] ? 3'b000 : neg),
       .abs_i(e_ret[v] ? 3'b000 : abs), .imm_i(imm), .raw_i(op == rpu_pkg::OpMfra ? {4{rs_rdata}} : special),
-      .ctrl_i({e_write, e_counted[v] && !(e_exec[v] && async), e_ret[v] || !(e_exec[v] && async), e_thread[TB*v +: TB], dst, wmask}),
+      .ctrl_i({e_write, e_counted[v] && !(e_exec[v] && e_async[v]), e_ret[v] || !(e_exec[v] && e_async[v]), e_thread[TB*v +: TB], dst, wmask}),
       .valid_o(wb_valid), .result_o(wb_result), .ctrl_o(wb_ctrl), .src_a_fmt_o(e_sfu_a[128*v +: 128])
     );
     assign {w_write[v], w_sb_dec[v], w_fin[v], wt, wd, wm} = wb_valid ? wb_ctrl : '0;
