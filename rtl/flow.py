@@ -133,9 +133,11 @@ def lint(args) -> int:
     # with HandOff), every format and mode.
     for name, f in formats.items():
         for isect in ISECT_MODES:
-            jobs.append((f"rpu_tu_pipe {name} {isect}", ["rpu_tu_pipe"],
-                         [f"-GExpBits={f['exponent_bits']}", f"-GFracBits={f['fraction_bits']}",
-                          f"-GIsectMode={isect_mode(isect)}", "-GSlots=4", "-GSetups=3"], []))
+            for packet in (1, 2, 4):
+                jobs.append((f"rpu_tu_pipe {name} {isect} Packet={packet}", ["rpu_tu_pipe"],
+                             [f"-GExpBits={f['exponent_bits']}", f"-GFracBits={f['fraction_bits']}",
+                              f"-GIsectMode={isect_mode(isect)}", "-GSlots=4", "-GSetups=3",
+                              f"-GPacket={packet}"], []))
     # The ray unit (TU + IU) in every format and mode; the sim top with and without the IU.
     for name, f in formats.items():
         for isect in ISECT_MODES:
@@ -366,15 +368,18 @@ def synth_ray_unit(args, formats: dict) -> int:
     if args.pipe and (args.unit != "tu" or args.slots < 2):
         print("flow.py: --pipe is a traversal unit's with 2 or more --slots", file=sys.stderr)
         return 2
+    if args.packet != 1 and not args.pipe:
+        print("flow.py: --packet is a pipelined traversal unit's (--pipe)", file=sys.stderr)
+        return 2
     unit = f"{args.unit}_{args.isect}"
     stem = f"{unit}_{args.format}" + (f"_s{args.slots}" if args.slots > 1 else "") + \
-        (f"_pipe_e{args.setups}" if args.pipe else "")
+        (f"_pipe_e{args.setups}" if args.pipe else "") + (f"_p{args.packet}" if args.packet != 1 else "")
     netlist = out / f"{stem}.v"
     params = {"ExpBits": f["exponent_bits"], "FracBits": f["fraction_bits"], "IsectMode": isect_mode(args.isect)}
     if args.unit == "tu":
         params["Slots"] = args.slots
     if args.pipe:
-        params.update(Pipe=1, Setups=args.setups)
+        params.update(Pipe=1, Setups=args.setups, Packet=args.packet)
     # The pipeline's stacks are one RAM: kept as a memory, its bits counted apart.
     stats = yosys(args, kind["top"], params, [harness_top(kind["harness"])], out, stem, keep_rams=args.pipe)
     if stats is None:
@@ -407,7 +412,8 @@ def synth_ray_unit(args, formats: dict) -> int:
     want = args.vectors
     for _ in range(4):
         r = run([args.cosim, "--format", args.format, "--isect", args.isect, "--scene", "cornell",
-                 *kind["vector_args"](want), "--write-vectors", vectors])
+                 *kind["vector_args"](want), *(["--pipe", "--packet", args.packet] if args.packet != 1 else []),
+                 "--write-vectors", vectors])
         if r.returncode != 0:
             print(f"synth FAIL: {args.cosim} --write-vectors:\n{r.stdout}{r.stderr}")
             return 1
@@ -433,6 +439,10 @@ def synth_ray_unit(args, formats: dict) -> int:
         stats["design"] = f"{args.slots} ray slots, a walker each"
     if args.pipe:
         stats["design"] = f"{args.slots} ray slots sharing a node-step pipeline, {args.setups} set-up engines"
+    if args.packet != 1:
+        stats["design"] = (f"{args.slots} slots of packets of {args.packet} rays sharing a node-step pipeline, "
+                           f"{args.setups} set-up engines")
+        stats["packet"] = args.packet
     (out / f"{stem}.json").write_text(json.dumps(stats, indent=1) + "\n")
     print(f"synth ok: {unit} {args.format}: {stats['cells']} cells ({stats['flops']} flops), "
           f"{stats.get('transistors', '?')} CMOS transistors; {m.group(0).removeprefix('netlist ok: ')} "
@@ -916,6 +926,8 @@ def main() -> int:
     p.add_argument("--pipe", action="store_true",
                    help="with --unit tu: the slots share a node-step pipeline (rpu_tu_pipe)")
     p.add_argument("--setups", type=int, default=2, help="with --pipe: the set-up engines")
+    p.add_argument("--packet", type=int, default=1, choices=[1, 2, 4, 8],
+                   help="with --pipe: the rays a slot walks together (rpu_tu_pipe's Packet)")
     p.add_argument("--format", help="the number format (not for --unit mem)")
     p.add_argument("--config", default="tiny", help="with --unit mem, chip or core: the named configuration")
     p.add_argument("--issue-lanes", type=int, choices=(1, 2, 4, 8),

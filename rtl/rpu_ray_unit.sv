@@ -12,6 +12,7 @@ module rpu_ray_unit #(
   parameter int unsigned StackDepth = rpu_pkg::ConfigDefaultStackDepth,
   parameter int unsigned TuSlots    = 1,
   parameter int unsigned TuPipe     = 0,
+  parameter int unsigned TuPacket   = 1,  // with TuPipe: rays a slot walks together
   parameter int unsigned TuSetups   = 2,
   parameter int unsigned LineTagBits = 4  // with TuPipe: lines in flight on the memory port, 2^LineTagBits
 ) (
@@ -47,7 +48,7 @@ module rpu_ray_unit #(
   rpu_pkg::iu_rsp_t iu_rsp;
 
   rpu_tu_slots #(.ExpBits(ExpBits), .FracBits(FracBits), .IsectMode(IsectMode), .StackDepth(StackDepth),
-                 .Slots(TuSlots), .Pipe(TuPipe), .Setups(TuSetups), .LineTagBits(LineTagBits)) u_tu (
+                 .Slots(TuSlots), .Pipe(TuPipe), .Packet(TuPacket), .Setups(TuSetups), .LineTagBits(LineTagBits)) u_tu (
     .clk_i, .rst_ni, .cfg_i,
     .req_valid_i, .req_ready_o, .req_i,
     .rsp_valid_o, .rsp_ready_i, .rsp_o,

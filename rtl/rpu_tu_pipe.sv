@@ -1,42 +1,60 @@
-// A traversal unit whose Slots rays share one node-step pipeline (docs/rtl.md, "The
-// node-step pipeline"): bit for bit rpu_tu's results, counters and faults for every ray,
-// with rpu_tu_slots' ports, so tu_cosim, the ray unit and the netlist testbench take
-// either.
+// A traversal unit whose Slots packets of rays share one node-step pipeline (docs/rtl.md,
+// "The node-step pipeline"): bit for bit rpu_tu's results, counters and faults for every
+// ray, with rpu_tu_slots' ports, so tu_cosim, the ray unit and the netlist testbench take
+// either. A slot holds a packet of up to Packet rays that walk the tree together
+// (docs/traversal.md "Packets"); Packet = 1 is one ray a slot.
 //
 //   set-up      Setups rpu_tu engines in HandOff mode round the ray into the format and
 //               clip it to the scene box (§1-§2), one ray each at a time; a ray that
-//               misses answers from its engine, any other moves to a free slot.
-//   slot        a ray's walk state: the ray, t_near, t_far, the nearest hit, the node
-//               to visit, the counters, its stack (one RAM banked by slot).
+//               misses answers from its engine, any other moves to a slot.
+//   forming     a set-up ray joins the packet being formed if it came in the same input
+//               packet (the requests up to one with packet_end), has the same direction
+//               signs and any-hit mode, and the packet has room; otherwise it opens a
+//               packet in the lowest free slot, closing the one being formed. A packet
+//               also closes when full, or when no ray of its input packet is left in
+//               set-up. With Packet > 1 an arrivals table of the rays in set-up names
+//               each one's input packet and tag, the engines seeing its entry as the tag.
+//   slot        a packet's walk state: the node to visit, its stack (one RAM banked by
+//               slot, an entry a node and per ray an interval and whether the ray pushed
+//               it or deferred to it), which rays are active, waiting or done; and per
+//               ray the ray, t_near, t_far, the nearest hit and the counters.
 //   fetch       round robin among the slots with a node to visit: one node line a cycle
-//               on the memory port. Every line asked for holds an entry of a table of
-//               2^LineTagBits lines in flight, named by the request's tag, so answers may come
-//               in any order (rpu_top puts rpu_inorder_port in front unless tu_by_tag).
-//   node step   an inner node enters a pipeline of single-rounding ops, one a cycle:
-//               from_fp32 of the split | O < s, O == s, s - O | (s - O) * inv |
-//               t_split <= t_far, <= 0, < t_near | decide: visit, push or fault.
-//               A leaf's end takes the same compares on t_best (t_best <= t_far, and
-//               t_best < t_near of the entry a pop would take) in a cycle no inner
-//               node enters, and pops in the decide stage.
+//               on the memory port, for every active ray of the packet. Every line asked
+//               for holds an entry of a table of 2^LineTagBits lines in flight, named by
+//               the request's tag, so answers may come in any order (rpu_top puts
+//               rpu_inorder_port in front unless tu_by_tag).
+//   node step   an inner node enters a pipeline of single-rounding ops, one a cycle, a
+//               lane per ray of the packet: from_fp32 of the split | O < s, O == s,
+//               s - O | (s - O) * inv | t_split <= t_far, <= 0, < t_near | decide: the
+//               packet's next node, push, restart or fault. A leaf's end takes the same
+//               compares on t_best (t_best <= t_far, and t_best < t_near of the entry a
+//               pop would take) in a cycle no inner node enters, and pops in the decide
+//               stage, again while the popped entry holds no ray that walks on.
 //   leaf        a leaf's prim refs, then their intersection records, are fetched back
-//               to back (LeafDepth tests between the ref request and the IU at most),
+//               to back (LeafDepth records between the ref request and the IU at most),
 //               a record's lines into one of Records buffers; each whole record (the
-//               lowest buffer first) goes to the IU tagged with an entry of a table of Tests
-//               tests in flight, so answers come in any order. An answer is folded into
-//               its slot's nearest hit: a smaller t, or an equal t of a lower list
-//               index. That equals the sequential walk's result: the IU hits only in
-//               (t_min, t_best) and a test leaves with its slot's t_best of the time, at
-//               least the sequential walk's, so the hits it reports include the
-//               sequential walk's and its nearest, lowest-index hit is the same. An
-//               any-hit ray keeps one test in flight, so it stops at the same test.
-//   finish      round robin among the finished slots: t, u, v widened to fp32, t back
-//               to world space, the response; the slot is free when it is taken.
+//               lowest buffer first) goes to the IU once per testing ray of its packet,
+//               each test tagged with an entry of a table of Tests tests in flight, so
+//               answers come in any order. An answer is folded into its ray's nearest
+//               hit: a smaller t, or an equal t of a lower list index. That equals the
+//               sequential walk's result: the IU hits only in (t_min, t_best) and a
+//               test leaves with its ray's t_best of the time, at least the sequential
+//               walk's, so the hits it reports include the sequential walk's and its
+//               nearest, lowest-index hit is the same. An any-hit packet keeps one
+//               record's tests in flight, so each ray stops at the same test.
+//   restart     a packet whose stack would overflow walks its rays again one by one,
+//               each from the root with its set-up interval (solo): a ray alone faults
+//               where its own walk does. A packet of one ray is solo from the start.
+//   finish      round robin among the finished slots, then the packet's rays one a
+//               cycle: t, u, v widened to fp32, t back to world space, the response;
+//               the slot is free when its last ray's is taken.
 module rpu_tu_pipe #(
   parameter int unsigned ExpBits    = rpu_pkg::FormatFp32ExponentBits,
   parameter int unsigned FracBits   = rpu_pkg::FormatFp32FractionBits,
   parameter int unsigned IsectMode  = rpu_pkg::IsectModeWoop,
   parameter int unsigned StackDepth = rpu_pkg::ConfigDefaultStackDepth,
   parameter int unsigned Slots      = 16,
+  parameter int unsigned Packet     = 1,  // rays a slot walks together
   parameter int unsigned Setups     = 2,
   parameter int unsigned LeafDepth  = 16,
   parameter int unsigned Tests      = 32,
@@ -76,12 +94,16 @@ module rpu_tu_pipe #(
   localparam int unsigned W = 1 + ExpBits + FracBits;
   localparam logic [W-1:0] Zero = '0;
   localparam int unsigned SlotBits = $clog2(Slots);
+  localparam int unsigned P = Packet;
+  localparam int unsigned LaneBits = Packet > 1 ? $clog2(Packet) : 1;  // a ray's place in its packet
+  localparam int unsigned Lanes = Slots * Packet;
   localparam int unsigned IndexBits = rpu_pkg::KdNodeIndexBits;
-  localparam int unsigned EntryBits = IndexBits + 2 * W;
+  // A stack entry: {node, pushed by, deferred to, per ray {t_near, t_far}}.
+  localparam int unsigned EntryBits = IndexBits + 2 * Packet + 2 * W * Packet;
   localparam int unsigned SpBits = $clog2(StackDepth + 1);
   localparam int unsigned DepthBits = $clog2(StackDepth);
   localparam int unsigned TestBits = $clog2(Tests);
-  localparam int unsigned PendingBits = $clog2(LeafDepth + Tests + 1);
+  localparam int unsigned PendingBits = $clog2(LeafDepth * Packet + Tests + 1);
   localparam int unsigned WorkBits = $clog2(LeafDepth + 1);
   localparam int unsigned RecordBytes = IsectMode == rpu_pkg::IsectModeWatertight
                                         ? rpu_pkg::TriangleRecordWatertightBytes
@@ -102,17 +124,24 @@ module rpu_tu_pipe #(
   localparam logic [1:0] KindNode = 2'd0, KindRef = 2'd1, KindRecord = 2'd2;
   localparam int unsigned AskBits = 2 + SlotBits + WordSelBits + IndexBits + BufBits + LineSelBits;
   localparam int unsigned JobBits = SlotBits + IndexBits + 32;  // {slot, list index, prim}
+  localparam int unsigned TestJobBits = LaneBits + JobBits;    // {ray, slot, list index, prim}
   localparam int unsigned JobIndexBits = $clog2(LeafDepth);
   // A slot's jobs in flight have list indices within LeafDepth of each other: their low
   // OrdBits bits tell them apart.
   localparam int unsigned OrdBits = $clog2(LeafDepth) + 1;
+  // With Packet > 1, the rays in set-up (an engine holds up to three: its own, its
+  // output register and its skid buffer) and the input packets they may belong to.
+  localparam int unsigned Arrivals = 4 * Setups;
+  localparam int unsigned ArrBits = $clog2(Arrivals);
+  localparam int unsigned SeqBits = ArrBits + 1;
 
-  typedef enum logic [2:0] {
-    PhFree,     // no ray
+  typedef enum logic [3:0] {
+    PhFree,     // no packet
+    PhForm,     // rays joining
     PhReady,    // a node to fetch
     PhNode,     // its line on the way, or the node step in the pipeline
     PhLeaf,     // a leaf's tests on the way
-    PhLeafEnd,  // the leaf's tests answered: waiting for the pipeline
+    PhLeafEnd,  // the leaf's tests answered (or a pop found no ray): waiting for the pipeline
     PhPop,      // the leaf's end in the pipeline
     PhDone,     // waiting for the finish stage
     PhFinish    // in the finish stage
@@ -127,34 +156,47 @@ module rpu_tu_pipe #(
   function automatic logic fp_eq(input logic [W-1:0] a, input logic [W-1:0] b);
     fp_eq = a == b || (a[W-2:0] == '0 && b[W-2:0] == '0);
   endfunction
+  // The flat index of ray r of slot s.
+  function automatic int unsigned ray_at(input logic [SlotBits-1:0] s, input logic [LaneBits-1:0] r);
+    ray_at = 32'(s) * P + (P > 1 ? 32'(r) : 0);
+  endfunction
 
-  // --- The slots' state, one flat vector per field (Yosys 0.23). ---
-  logic [Slots*3-1:0]         phase_all;
-  logic [Slots*rpu_pkg::RayTagBits-1:0] tag_all;
-  logic [Slots-1:0]           any_hit_all, hit_all, fault_all;
-  logic [Slots*3*W-1:0]       origin_all, dir_all, inv_all;
-  logic [Slots*3-1:0]         dir_le0_all;
-  logic [Slots*6-1:0]         axes_all;  // {kz, ky, kx}
-  logic [Slots*W-1:0]         t_min_all, near_all, far_all, best_all, u_all, v_all, shear_x_all, shear_y_all;
-  logic [Slots*32-1:0]        hit_prim_all, first_all, nodes_all, leaves_all, tests_all;
-  logic [Slots*IndexBits-1:0] node_all, count_all, k_all, best_k_all;
+  // --- The packets' state (per slot) and the rays' (per slot and lane), one flat
+  // vector per field (Yosys 0.23). ---
+  logic [Slots*4-1:0]         phase_all;
+  logic [Slots-1:0]           any_hit_all, solo_all;
+  logic [Slots*P-1:0]         valid_all, active_all, waiting_all, testing_all;
+  logic [Slots*3-1:0]         signs_all;
+  logic [Slots*LaneBits-1:0]  solo_lane_all;
+  logic [Slots*32-1:0]        first_all;
+  logic [Slots*IndexBits-1:0] node_all, count_all, k_all;
   logic [Slots*SpBits-1:0]    sp_all;
   logic [Slots*PendingBits-1:0] pending_all;
 
-  function automatic logic [W-1:0] pick_w(input logic [Slots*W-1:0] all, input logic [SlotBits-1:0] s);
-    pick_w = all[32'(s)*W +: W];
+  logic [Lanes*rpu_pkg::RayTagBits-1:0] tag_all;
+  logic [Lanes-1:0]           hit_all, fault_all;
+  logic [Lanes*3*W-1:0]       origin_all, dir_all, inv_all;
+  logic [Lanes*3-1:0]         dir_le0_all;
+  logic [Lanes*6-1:0]         axes_all;  // {kz, ky, kx}
+  logic [Lanes*W-1:0]         t_min_all, near_all, far_all, best_all, u_all, v_all, shear_x_all, shear_y_all;
+  logic [Lanes*32-1:0]        hit_prim_all, nodes_all, leaves_all, tests_all;
+  logic [Lanes*IndexBits-1:0] best_k_all;
+
+  function automatic logic [W-1:0] pick_w(input logic [Lanes*W-1:0] all, input int unsigned ray);
+    pick_w = all[ray*W +: W];
   endfunction
-  function automatic logic [W-1:0] pick_axis(input logic [Slots*3*W-1:0] all, input logic [SlotBits-1:0] s,
+  function automatic logic [W-1:0] pick_axis(input logic [Lanes*3*W-1:0] all, input int unsigned ray,
                                              input logic [1:0] a);
-    pick_axis = all[(32'(s)*3 + 32'(a))*W +: W];
+    pick_axis = all[(ray*3 + 32'(a))*W +: W];
   endfunction
 
   // --- Set-up: Setups rpu_tu engines in HandOff mode. ---
   logic [Setups-1:0]                   setup_req_valid, setup_req_ready, setup_rsp_valid, setup_rsp_ready;
   logic [Setups-1:0]                   start_valid, start_ready;
-  logic [Setups*rpu_pkg::TuRspBits-1:0] setup_rsp;
+  logic [Setups*rpu_pkg::TuRspBits-1:0] setup_rsp, setup_out;
   logic [Setups*StartBits-1:0]         start;
   logic [Setups-1:0]                   unused_setup_ports;
+  rpu_pkg::tu_req_t                    engine_req;
 
   for (genvar i = 0; i < Setups; i++) begin : g_setup
     rpu_pkg::tu_rsp_t  engine_rsp;
@@ -168,7 +210,7 @@ module rpu_tu_pipe #(
     rpu_tu #(.ExpBits(ExpBits), .FracBits(FracBits), .IsectMode(IsectMode), .StackDepth(StackDepth),
              .HandOff(1'b1)) u_engine (
       .clk_i, .rst_ni, .cfg_i,
-      .req_valid_i(setup_req_valid[i]), .req_ready_o(setup_req_ready[i]), .req_i,
+      .req_valid_i(setup_req_valid[i]), .req_ready_o(setup_req_ready[i]), .req_i(engine_req),
       .rsp_valid_o(setup_rsp_valid[i]), .rsp_ready_i(setup_rsp_ready[i]), .rsp_o(engine_rsp),
       .mem_req_valid_o(engine_mem_valid), .mem_req_ready_i(1'b0), .mem_req_o(engine_mem_req),
       .mem_rsp_valid_i(1'b0), .mem_rsp_ready_o(engine_mem_ready), .mem_rsp_i('0),
@@ -188,6 +230,7 @@ module rpu_tu_pipe #(
 
   // Rays in: the lowest engine whose buffer has room.
   logic [SetupBits-1:0] setup_free;
+  logic                 arrival_room;
   always_comb begin : pick_free_setup
     setup_free = SetupBits'(Setups);
     for (int i = Setups - 1; i >= 0; i--) begin
@@ -195,21 +238,25 @@ module rpu_tu_pipe #(
     end
   end
   for (genvar i = 0; i < Setups; i++) begin : g_setup_req
-    assign setup_req_valid[i] = req_valid_i && setup_free == SetupBits'(i);
+    assign setup_req_valid[i] = req_valid_i && arrival_room && setup_free == SetupBits'(i);
   end
-  assign req_ready_o = |setup_req_ready;
+  assign req_ready_o = |setup_req_ready && arrival_room;
 
-  // Set-up rays to the lowest free slot.
-  logic                 give, give_any_free, start_arb_valid;
-  logic [SlotBits-1:0]  give_slot;
+  // Set-up rays to their packets' slots.
+  logic                 give, give_any_free, start_arb_valid, joins, open, form_full, form_ends;
+  logic [SlotBits-1:0]  give_slot, free_slot;
+  logic [LaneBits-1:0]  give_lane;
   logic [StartBits-1:0] given;
   logic [$clog2(Setups > 1 ? Setups : 2)-1:0] start_index;
+  logic [rpu_pkg::RayTagBits-1:0] given_tag;  // the ray's own tag
+  logic [SeqBits-1:0]   given_seq;            // its input packet
+  logic [2:0]           given_signs;
   always_comb begin : pick_free_slot
-    give_slot     = '0;
+    free_slot     = '0;
     give_any_free = 1'b0;
     for (int i = Slots - 1; i >= 0; i--) begin
-      if (phase_all[i*3 +: 3] == PhFree) begin
-        give_slot     = SlotBits'(i);
+      if (phase_all[i*4 +: 4] == PhFree) begin
+        free_slot     = SlotBits'(i);
         give_any_free = 1'b1;
       end
     end
@@ -217,9 +264,9 @@ module rpu_tu_pipe #(
   rpu_rr_arbiter #(.Inputs(Setups), .Width(StartBits)) u_start_arb (
     .clk_i, .rst_ni,
     .valid_i(start_valid), .ready_o(start_ready), .data_i(start),
-    .valid_o(start_arb_valid), .ready_i(give_any_free), .data_o(given), .index_o(start_index)
+    .valid_o(start_arb_valid), .ready_i(joins || give_any_free), .data_o(given), .index_o(start_index)
   );
-  assign give = start_arb_valid && give_any_free;
+  assign give = start_arb_valid && (joins || give_any_free);
 
   rpu_pkg::iu_req_t given_ray;
   logic [3*32-1:0]  given_inv;
@@ -227,44 +274,312 @@ module rpu_tu_pipe #(
   logic             given_any_hit;
   logic [2:0]       given_dir_le0;
   assign {given_dir_le0, given_any_hit, given_far, given_near, given_inv, given_ray} = given;
+  for (genvar a = 0; a < 3; a++) begin : g_sign
+    assign given_signs[a] = given_inv[a*32 + W - 1];
+  end
 
-  // --- Events: each names its slot; at most one of a kind per cycle. ---
-  logic                 fetch, leaf_in, inner_in, pop_enter, ref_issue, test_issue, answer;
+  // The packet being formed.
+  logic                form_open_d, form_open_q, form_any_hit_d, form_any_hit_q;
+  logic [SlotBits-1:0] form_slot_d, form_slot_q;
+  logic [LaneBits:0]   form_rays_d, form_rays_q;
+  logic [SeqBits-1:0]  form_seq_d, form_seq_q;
+  logic [2:0]          form_signs_d, form_signs_q;
+  assign joins = P > 1 && start_arb_valid && form_open_q && given_seq == form_seq_q && given_signs == form_signs_q
+                && given_any_hit == form_any_hit_q && form_rays_q != (LaneBits + 1)'(P);
+  assign open         = give && !joins;
+  assign give_slot    = joins ? form_slot_q : free_slot;
+  assign give_lane    = joins ? LaneBits'(form_rays_q) : '0;
+  assign form_full    = (joins ? form_rays_q + (LaneBits + 1)'(1) : (LaneBits + 1)'(1)) == (LaneBits + 1)'(P);
+  assign form_open_d  = give ? !form_full : form_open_q && !form_ends;
+  assign form_slot_d  = give ? give_slot : form_slot_q;
+  assign form_rays_d  = give ? (joins ? form_rays_q : '0) + (LaneBits + 1)'(1) : form_rays_q;
+  assign form_seq_d   = give ? given_seq : form_seq_q;
+  assign form_signs_d = give ? given_signs : form_signs_q;
+  assign form_any_hit_d = give ? given_any_hit : form_any_hit_q;
+
+  // The packets closed in this cycle: the one being formed when another opens or its
+  // input packet has no ray left in set-up, and the one a ray fills.
+  logic close_formed, close_given;
+  assign close_formed = form_open_q && (open || form_ends);
+  assign close_given  = give && form_full;
+
+  // The struct fields the arrivals table reads, at module scope (Yosys 0.23 takes no
+  // member access inside a generate block).
+  logic [rpu_pkg::RayTagBits-1:0] in_tag, given_entry_tag;
+  logic                           in_end;
+  logic [ArrBits-1:0]             entry_free;
+  logic [Setups*ArrBits-1:0]      setup_rsp_entry;  // the entry each engine answers for
+  assign in_tag         = req_i.tag;
+  assign in_end         = req_i.packet_end;
+  assign given_entry_tag = given_ray.tag;
+  always_comb begin : engine_request
+    engine_req = req_i;
+    if (P > 1) engine_req.tag = rpu_pkg::RayTagBits'(entry_free);
+  end
+  for (genvar i = 0; i < Setups; i++) begin : g_setup_entry
+    assign setup_rsp_entry[i*ArrBits +: ArrBits] =
+        setup_rsp[i*rpu_pkg::TuRspBits + rpu_pkg::TuRspBits - rpu_pkg::RayTagBits +: ArrBits];
+  end
+
+  if (P > 1) begin : g_arrivals
+    // The rays in set-up: an entry per ray, its index the engines' tag.
+    logic [Arrivals-1:0]                     busy_d, busy_q, freed;
+    logic [Arrivals*rpu_pkg::RayTagBits-1:0] tags_d, tags_q;
+    logic [Arrivals*SeqBits-1:0]             seqs_d, seqs_q;
+    logic [SeqBits-1:0]                      in_seq_d, in_seq_q;  // the input packet taking rays
+    logic [ArrBits-1:0]                      given_entry;
+    logic                                    accept, formed_left;
+    always_comb begin : pick_free_arrival
+      entry_free   = '0;
+      arrival_room = 1'b0;
+      for (int e = Arrivals - 1; e >= 0; e--) begin
+        if (!busy_q[e]) begin
+          entry_free   = ArrBits'(e);
+          arrival_room = 1'b1;
+        end
+      end
+    end
+    assign accept      = req_valid_i && req_ready_o;
+    assign in_seq_d    = in_seq_q + SeqBits'(accept && in_end);
+    assign given_entry = given_entry_tag[ArrBits-1:0];
+    logic unused_entry_high;  // the engines' tags name an entry
+    assign unused_entry_high = ^given_entry_tag[rpu_pkg::RayTagBits-1:ArrBits];
+    assign given_tag   = tags_q[32'(given_entry)*rpu_pkg::RayTagBits +: rpu_pkg::RayTagBits];
+    assign given_seq   = seqs_q[32'(given_entry)*SeqBits +: SeqBits];
+
+    // A ray leaves set-up when its slot takes it or its miss is answered (the answer
+    // leaves with the ray's own tag).
+    always_comb begin : leave_setup
+      freed     = '0;
+      setup_out = setup_rsp;
+      if (give) freed[given_entry] = 1'b1;
+      for (int i = 0; i < Setups; i++) begin
+        setup_out[i*rpu_pkg::TuRspBits + rpu_pkg::TuRspBits - rpu_pkg::RayTagBits +: rpu_pkg::RayTagBits] =
+            tags_q[32'(setup_rsp_entry[i*ArrBits +: ArrBits])*rpu_pkg::RayTagBits +: rpu_pkg::RayTagBits];
+        if (setup_rsp_valid[i] && setup_rsp_ready[i]) freed[setup_rsp_entry[i*ArrBits +: ArrBits]] = 1'b1;
+      end
+    end
+    always_comb begin : formed_rays_left
+      formed_left = 1'b0;
+      for (int e = 0; e < Arrivals; e++) begin
+        if (busy_q[e] && seqs_q[e*SeqBits +: SeqBits] == form_seq_q) formed_left = 1'b1;
+      end
+    end
+    assign form_ends = !formed_left && in_seq_q != form_seq_q;
+    for (genvar e = 0; e < Arrivals; e++) begin : g_arrival
+      logic alloc;
+      assign alloc = accept && entry_free == ArrBits'(e);
+      assign busy_d[e] = alloc || (busy_q[e] && !freed[e]);
+      assign tags_d[e*rpu_pkg::RayTagBits +: rpu_pkg::RayTagBits] =
+          alloc ? in_tag : tags_q[e*rpu_pkg::RayTagBits +: rpu_pkg::RayTagBits];
+      assign seqs_d[e*SeqBits +: SeqBits] = alloc ? in_seq_q : seqs_q[e*SeqBits +: SeqBits];
+    end
+    always_ff @(posedge clk_i or negedge rst_ni) begin : arrival_regs
+      if (!rst_ni) begin
+        busy_q   <= '0;
+        tags_q   <= '0;
+        seqs_q   <= '0;
+        in_seq_q <= '0;
+      end else begin
+        busy_q   <= busy_d;
+        tags_q   <= tags_d;
+        seqs_q   <= seqs_d;
+        in_seq_q <= in_seq_d;
+      end
+    end
+  end else begin : g_alone
+    // A packet of one ray closes as it opens: the engines see the ray's own tag.
+    assign arrival_room = 1'b1;
+    assign entry_free   = '0;
+    assign given_tag    = given_entry_tag;
+    assign given_seq    = '0;
+    assign setup_out    = setup_rsp;
+    assign form_ends    = 1'b0;
+    logic unused_alone;
+    assign unused_alone = ^{in_tag, in_end, given_signs, setup_rsp_entry};
+  end
+
+  // --- Events: each names its slot (and ray); at most one of a kind per cycle. ---
+  logic                 fetch, leaf_in, inner_in, pop_enter, ref_issue, test_issue, test_last, answer;
   logic                 fin_take, fin_done, decide;
   logic [SlotBits-1:0]  fetch_slot, line_slot, pop_slot, ref_slot, test_slot, answer_slot;
   logic [SlotBits-1:0]  fin_take_slot, fin_slot_q, decide_slot;
+  logic [LaneBits-1:0]  test_lane, answer_lane;
   logic [IndexBits-1:0] leaf_count, answer_k, decide_node;
   logic [31:0]          leaf_first, answer_prim;
   logic                 answer_wins;
-  logic                 decide_near_we, decide_far_we, decide_fault, decide_push, decide_pop;
-  logic [W-1:0]         decide_near, decide_far;
+  logic                 decide_push, decide_pop, decide_solo;
+  logic [LaneBits-1:0]  decide_solo_lane;
+  logic [P-1:0]         decide_active, decide_waiting;
+  logic [P-1:0]         decide_near_we, decide_far_we, decide_fault, decide_reset;
+  logic [P*W-1:0]       decide_near, decide_far;
   phase_e               decide_phase;
+  logic [$clog2(P + 1)-1:0] ref_tests;  // the tests a ref's record owes: its packet's testing rays
 
-  // --- Slots. ---
+  // --- Packets. ---
   for (genvar i = 0; i < Slots; i++) begin : g_slot
     localparam logic [SlotBits-1:0] Me = SlotBits'(i);
     phase_e                phase_d, phase_q;
+    logic                  any_hit_d, any_hit_q, solo_d, solo_q;
+    logic [P-1:0]          valid_d, valid_q, active_d, active_q, waiting_d, waiting_q, lane_hit;
+    logic [2:0]            signs_d, signs_q;
+    logic [LaneBits-1:0]   solo_lane_d, solo_lane_q, lowest;
+    logic [31:0]           first_d, first_q;
+    logic [IndexBits-1:0]  node_d, node_q, count_d, count_q, k_d, k_q;
+    logic [SpBits-1:0]     sp_d, sp_q;
+    logic [PendingBits-1:0] pending_d, pending_q;
+    logic                  testing_any, leaf_over, close;
+
+    assign lane_hit    = hit_all[i*P +: P];
+    assign testing_any = |testing_all[i*P +: P];
+    // A leaf is over when its tests are answered: all of them, or every any-hit ray's
+    // first hit.
+    assign leaf_over = phase_q == PhLeaf && pending_q == '0 && (k_q == count_q || !testing_any);
+    assign close     = (close_formed && form_slot_q == Me) || (close_given && give_slot == Me);
+    always_comb begin : lowest_ray
+      lowest = '0;
+      for (int r = P - 1; r >= 0; r--) begin
+        if (valid_d[r]) lowest = LaneBits'(r);
+      end
+    end
+
+    always_comb begin : next_packet
+      phase_d     = phase_q;
+      any_hit_d   = any_hit_q;
+      solo_d      = solo_q;
+      valid_d     = valid_q;
+      active_d    = active_q;
+      waiting_d   = waiting_q;
+      signs_d     = signs_q;
+      solo_lane_d = solo_lane_q;
+      first_d     = first_q;
+      node_d      = node_q;
+      count_d     = count_q;
+      k_d         = k_q;
+      sp_d        = sp_q;
+      pending_d   = pending_q + (ref_issue && ref_slot == Me ? PendingBits'(ref_tests) : '0)
+                              - PendingBits'(answer && answer_slot == Me);
+
+      if (give && give_slot == Me) begin
+        if (open) begin
+          phase_d   = PhForm;
+          any_hit_d = given_any_hit;
+          signs_d   = given_signs;
+          valid_d   = '0;
+          node_d    = '0;
+          sp_d      = '0;
+        end
+        valid_d[give_lane] = 1'b1;
+      end
+      if (close) begin
+        phase_d     = PhReady;
+        active_d    = valid_d;
+        waiting_d   = '0;
+        solo_d      = (valid_d & (valid_d - P'(1))) == '0;  // one ray
+        solo_lane_d = lowest;
+      end
+      if (fetch && fetch_slot == Me) phase_d = PhNode;
+      if (leaf_in && line_slot == Me) begin
+        phase_d = PhLeaf;
+        first_d = leaf_first;
+        count_d = leaf_count;
+        k_d     = '0;
+      end
+      if (decide && decide_slot == Me) begin
+        phase_d     = decide_phase;
+        node_d      = decide_node;
+        active_d    = decide_active;
+        waiting_d   = decide_waiting;
+        solo_d      = decide_solo;
+        solo_lane_d = decide_solo_lane;
+        if (decide_push) sp_d = sp_q + SpBits'(1);
+        if (decide_pop) sp_d = sp_q - SpBits'(1);
+        if (decide_reset != '0) sp_d = '0;
+      end
+      if (ref_issue && ref_slot == Me) k_d = k_q + IndexBits'(1);
+      if (leaf_over) phase_d = PhLeafEnd;
+      if (pop_enter && pop_slot == Me) phase_d = PhPop;
+      if (fin_take && fin_take_slot == Me) phase_d = PhFinish;
+      if (fin_done && fin_slot_q == Me) phase_d = PhFree;
+    end
+
+    always_ff @(posedge clk_i or negedge rst_ni) begin : packet_regs
+      if (!rst_ni) begin
+        phase_q     <= PhFree;
+        any_hit_q   <= 1'b0;
+        solo_q      <= 1'b0;
+        valid_q     <= '0;
+        active_q    <= '0;
+        waiting_q   <= '0;
+        signs_q     <= '0;
+        solo_lane_q <= '0;
+        first_q     <= '0;
+        node_q      <= '0;
+        count_q     <= '0;
+        k_q         <= '0;
+        sp_q        <= '0;
+        pending_q   <= '0;
+      end else begin
+        phase_q     <= phase_d;
+        any_hit_q   <= any_hit_d;
+        solo_q      <= solo_d;
+        valid_q     <= valid_d;
+        active_q    <= active_d;
+        waiting_q   <= waiting_d;
+        signs_q     <= signs_d;
+        solo_lane_q <= solo_lane_d;
+        first_q     <= first_d;
+        node_q      <= node_d;
+        count_q     <= count_d;
+        k_q         <= k_d;
+        sp_q        <= sp_d;
+        pending_q   <= pending_d;
+      end
+    end
+
+    assign phase_all[i*4 +: 4]                       = phase_q;
+    assign any_hit_all[i]                            = any_hit_q;
+    assign solo_all[i]                               = solo_q;
+    assign valid_all[i*P +: P]                       = valid_q;
+    assign active_all[i*P +: P]                      = active_q;
+    assign waiting_all[i*P +: P]                     = waiting_q;
+    // The rays that test a leaf's records: the active ones, but any-hit rays that hit.
+    assign testing_all[i*P +: P]                     = active_q & ~(any_hit_q ? lane_hit : '0);
+    assign signs_all[i*3 +: 3]                       = signs_q;
+    assign solo_lane_all[i*LaneBits +: LaneBits]     = solo_lane_q;
+    assign first_all[i*32 +: 32]                     = first_q;
+    assign node_all[i*IndexBits +: IndexBits]        = node_q;
+    assign count_all[i*IndexBits +: IndexBits]       = count_q;
+    assign k_all[i*IndexBits +: IndexBits]           = k_q;
+    assign sp_all[i*SpBits +: SpBits]                = sp_q;
+    assign pending_all[i*PendingBits +: PendingBits] = pending_q;
+  end
+
+  // --- Rays. ---
+  logic [P-1:0] fetch_active, leaf_active;
+  assign fetch_active = active_all[32'(fetch_slot)*P +: P];
+  assign leaf_active  = active_all[32'(line_slot)*P +: P];
+  for (genvar j = 0; j < Lanes; j++) begin : g_ray
+    localparam logic [SlotBits-1:0] MySlot = SlotBits'(j / P);
+    localparam int unsigned         MyLane = j % P;
     logic [rpu_pkg::RayTagBits-1:0] tag_d, tag_q;
-    logic                  any_hit_d, any_hit_q, hit_d, hit_q, fault_d, fault_q;
+    logic                  hit_d, hit_q, fault_d, fault_q;
     logic [3*W-1:0]        origin_d, origin_q, dir_d, dir_q, inv_d, inv_q;
     logic [2:0]            dir_le0_d, dir_le0_q;
     logic [5:0]            axes_d, axes_q;
     logic [W-1:0]          t_min_d, t_min_q, near_d, near_q, far_d, far_q, best_d, best_q;
+    logic [W-1:0]          near0_d, near0_q, far0_d, far0_q, t_max_d, t_max_q;  // for a restart
     logic [W-1:0]          u_d, u_q, v_d, v_q, shear_x_d, shear_x_q, shear_y_d, shear_y_q;
-    logic [31:0]           hit_prim_d, hit_prim_q, first_d, first_q;
+    logic [31:0]           hit_prim_d, hit_prim_q;
     logic [31:0]           nodes_d, nodes_q, leaves_d, leaves_q, tests_d, tests_q;
-    logic [IndexBits-1:0]  node_d, node_q, count_d, count_q, k_d, k_q, best_k_d, best_k_q;
-    logic [SpBits-1:0]     sp_d, sp_q;
-    logic [PendingBits-1:0] pending_d, pending_q;
-    logic                  leaf_over;
+    logic [IndexBits-1:0]  best_k_d, best_k_q;
+    logic                  given_here, decided_here;
 
-    // A leaf is over when its tests are answered: all of them, or an any-hit ray's hit.
-    assign leaf_over = phase_q == PhLeaf && pending_q == '0 && (k_q == count_q || (any_hit_q && hit_q));
+    assign given_here   = give && give_slot == MySlot && 32'(give_lane) == MyLane;
+    assign decided_here = decide && decide_slot == MySlot;
 
-    always_comb begin : next_slot
-      phase_d    = phase_q;
+    always_comb begin : next_ray
       tag_d      = tag_q;
-      any_hit_d  = any_hit_q;
       hit_d      = hit_q;
       fault_d    = fault_q;
       origin_d   = origin_q;
@@ -276,27 +591,21 @@ module rpu_tu_pipe #(
       near_d     = near_q;
       far_d      = far_q;
       best_d     = best_q;
+      near0_d    = near0_q;
+      far0_d     = far0_q;
+      t_max_d    = t_max_q;
       u_d        = u_q;
       v_d        = v_q;
       shear_x_d  = shear_x_q;
       shear_y_d  = shear_y_q;
       hit_prim_d = hit_prim_q;
-      first_d    = first_q;
       nodes_d    = nodes_q;
       leaves_d   = leaves_q;
       tests_d    = tests_q;
-      node_d     = node_q;
-      count_d    = count_q;
-      k_d        = k_q;
       best_k_d   = best_k_q;
-      sp_d       = sp_q;
-      pending_d  = pending_q + PendingBits'(ref_issue && ref_slot == Me)
-                             - PendingBits'(answer && answer_slot == Me);
 
-      if (give && give_slot == Me) begin
-        phase_d   = PhReady;
-        tag_d     = given_ray.tag;
-        any_hit_d = given_any_hit;
+      if (given_here) begin
+        tag_d     = given_tag;
         hit_d     = 1'b0;
         fault_d   = 1'b0;
         for (int a = 0; a < 3; a++) begin
@@ -310,37 +619,35 @@ module rpu_tu_pipe #(
         near_d    = given_near[W-1:0];
         far_d     = given_far[W-1:0];
         best_d    = given_ray.t_best[W-1:0];
+        near0_d   = given_near[W-1:0];
+        far0_d    = given_far[W-1:0];
+        t_max_d   = given_ray.t_best[W-1:0];
         shear_x_d = given_ray.shear_x[W-1:0];
         shear_y_d = given_ray.shear_y[W-1:0];
         nodes_d   = '0;
         leaves_d  = '0;
         tests_d   = '0;
-        node_d    = '0;
-        sp_d      = '0;
       end
-      if (fetch && fetch_slot == Me) begin
-        phase_d = PhNode;
-        nodes_d = nodes_q + 32'd1;
+      if (fetch && fetch_slot == MySlot && fetch_active[MyLane]) nodes_d = nodes_q + 32'd1;
+      if (leaf_in && line_slot == MySlot && leaf_active[MyLane]) leaves_d = leaves_q + 32'd1;
+      if (decided_here) begin
+        fault_d = fault_q || decide_fault[MyLane];
+        if (decide_near_we[MyLane]) near_d = decide_near[MyLane*W +: W];
+        if (decide_far_we[MyLane]) far_d = decide_far[MyLane*W +: W];
+        if (decide_reset[MyLane]) begin
+          // Walked again alone, from its set-up.
+          hit_d    = 1'b0;
+          fault_d  = 1'b0;
+          near_d   = near0_q;
+          far_d    = far0_q;
+          best_d   = t_max_q;
+          nodes_d  = '0;
+          leaves_d = '0;
+          tests_d  = '0;
+        end
       end
-      if (leaf_in && line_slot == Me) begin
-        phase_d  = PhLeaf;
-        leaves_d = leaves_q + 32'd1;
-        first_d  = leaf_first;
-        count_d  = leaf_count;
-        k_d      = '0;
-      end
-      if (decide && decide_slot == Me) begin
-        phase_d = decide_phase;
-        node_d  = decide_node;
-        fault_d = fault_q || decide_fault;
-        if (decide_near_we) near_d = decide_near;
-        if (decide_far_we) far_d = decide_far;
-        if (decide_push) sp_d = sp_q + SpBits'(1);
-        if (decide_pop) sp_d = sp_q - SpBits'(1);
-      end
-      if (ref_issue && ref_slot == Me) k_d = k_q + IndexBits'(1);
-      if (test_issue && test_slot == Me) tests_d = tests_q + 32'd1;
-      if (answer && answer_slot == Me && answer_wins) begin
+      if (test_issue && test_slot == MySlot && 32'(test_lane) == MyLane) tests_d = tests_q + 32'd1;
+      if (answer && answer_slot == MySlot && 32'(answer_lane) == MyLane && answer_wins) begin
         hit_d      = 1'b1;
         best_d     = iu_rsp_i.t[W-1:0];
         u_d        = iu_rsp_i.u[W-1:0];
@@ -348,17 +655,11 @@ module rpu_tu_pipe #(
         hit_prim_d = answer_prim;
         best_k_d   = answer_k;
       end
-      if (leaf_over) phase_d = PhLeafEnd;
-      if (pop_enter && pop_slot == Me) phase_d = PhPop;
-      if (fin_take && fin_take_slot == Me) phase_d = PhFinish;
-      if (fin_done && fin_slot_q == Me) phase_d = PhFree;
     end
 
-    always_ff @(posedge clk_i or negedge rst_ni) begin : slot_regs
+    always_ff @(posedge clk_i or negedge rst_ni) begin : ray_regs
       if (!rst_ni) begin
-        phase_q    <= PhFree;
         tag_q      <= '0;
-        any_hit_q  <= 1'b0;
         hit_q      <= 1'b0;
         fault_q    <= 1'b0;
         origin_q   <= '0;
@@ -370,25 +671,20 @@ module rpu_tu_pipe #(
         near_q     <= '0;
         far_q      <= '0;
         best_q     <= '0;
+        near0_q    <= '0;
+        far0_q     <= '0;
+        t_max_q    <= '0;
         u_q        <= '0;
         v_q        <= '0;
         shear_x_q  <= '0;
         shear_y_q  <= '0;
         hit_prim_q <= '0;
-        first_q    <= '0;
         nodes_q    <= '0;
         leaves_q   <= '0;
         tests_q    <= '0;
-        node_q     <= '0;
-        count_q    <= '0;
-        k_q        <= '0;
         best_k_q   <= '0;
-        sp_q       <= '0;
-        pending_q  <= '0;
       end else begin
-        phase_q    <= phase_d;
         tag_q      <= tag_d;
-        any_hit_q  <= any_hit_d;
         hit_q      <= hit_d;
         fault_q    <= fault_d;
         origin_q   <= origin_d;
@@ -400,67 +696,58 @@ module rpu_tu_pipe #(
         near_q     <= near_d;
         far_q      <= far_d;
         best_q     <= best_d;
+        near0_q    <= near0_d;
+        far0_q     <= far0_d;
+        t_max_q    <= t_max_d;
         u_q        <= u_d;
         v_q        <= v_d;
         shear_x_q  <= shear_x_d;
         shear_y_q  <= shear_y_d;
         hit_prim_q <= hit_prim_d;
-        first_q    <= first_d;
         nodes_q    <= nodes_d;
         leaves_q   <= leaves_d;
         tests_q    <= tests_d;
-        node_q     <= node_d;
-        count_q    <= count_d;
-        k_q        <= k_d;
         best_k_q   <= best_k_d;
-        sp_q       <= sp_d;
-        pending_q  <= pending_d;
       end
     end
 
-    assign phase_all[i*3 +: 3]                                   = phase_q;
-    assign tag_all[i*rpu_pkg::RayTagBits +: rpu_pkg::RayTagBits] = tag_q;
-    assign any_hit_all[i]                                        = any_hit_q;
-    assign hit_all[i]                                            = hit_q;
-    assign fault_all[i]                                          = fault_q;
-    assign origin_all[i*3*W +: 3*W]                              = origin_q;
-    assign dir_all[i*3*W +: 3*W]                                 = dir_q;
-    assign inv_all[i*3*W +: 3*W]                                 = inv_q;
-    assign dir_le0_all[i*3 +: 3]                                 = dir_le0_q;
-    assign axes_all[i*6 +: 6]                                    = axes_q;
-    assign t_min_all[i*W +: W]                                   = t_min_q;
-    assign near_all[i*W +: W]                                    = near_q;
-    assign far_all[i*W +: W]                                     = far_q;
-    assign best_all[i*W +: W]                                    = best_q;
-    assign u_all[i*W +: W]                                       = u_q;
-    assign v_all[i*W +: W]                                       = v_q;
-    assign shear_x_all[i*W +: W]                                 = shear_x_q;
-    assign shear_y_all[i*W +: W]                                 = shear_y_q;
-    assign hit_prim_all[i*32 +: 32]                              = hit_prim_q;
-    assign first_all[i*32 +: 32]                                 = first_q;
-    assign nodes_all[i*32 +: 32]                                 = nodes_q;
-    assign leaves_all[i*32 +: 32]                                = leaves_q;
-    assign tests_all[i*32 +: 32]                                 = tests_q;
-    assign node_all[i*IndexBits +: IndexBits]                    = node_q;
-    assign count_all[i*IndexBits +: IndexBits]                   = count_q;
-    assign k_all[i*IndexBits +: IndexBits]                       = k_q;
-    assign best_k_all[i*IndexBits +: IndexBits]                  = best_k_q;
-    assign sp_all[i*SpBits +: SpBits]                            = sp_q;
-    assign pending_all[i*PendingBits +: PendingBits]             = pending_q;
+    assign tag_all[j*rpu_pkg::RayTagBits +: rpu_pkg::RayTagBits] = tag_q;
+    assign hit_all[j]                                            = hit_q;
+    assign fault_all[j]                                          = fault_q;
+    assign origin_all[j*3*W +: 3*W]                              = origin_q;
+    assign dir_all[j*3*W +: 3*W]                                 = dir_q;
+    assign inv_all[j*3*W +: 3*W]                                 = inv_q;
+    assign dir_le0_all[j*3 +: 3]                                 = dir_le0_q;
+    assign axes_all[j*6 +: 6]                                    = axes_q;
+    assign t_min_all[j*W +: W]                                   = t_min_q;
+    assign near_all[j*W +: W]                                    = near_q;
+    assign far_all[j*W +: W]                                     = far_q;
+    assign best_all[j*W +: W]                                    = best_q;
+    assign u_all[j*W +: W]                                       = u_q;
+    assign v_all[j*W +: W]                                       = v_q;
+    assign shear_x_all[j*W +: W]                                 = shear_x_q;
+    assign shear_y_all[j*W +: W]                                 = shear_y_q;
+    assign hit_prim_all[j*32 +: 32]                              = hit_prim_q;
+    assign nodes_all[j*32 +: 32]                                 = nodes_q;
+    assign leaves_all[j*32 +: 32]                                = leaves_q;
+    assign tests_all[j*32 +: 32]                                 = tests_q;
+    assign best_k_all[j*IndexBits +: IndexBits]                  = best_k_q;
   end
 
   // Slot masks for the round-robin picks.
   logic [Slots-1:0] ready_mask, leaf_end_mask, done_mask, ref_mask;
   for (genvar i = 0; i < Slots; i++) begin : g_mask
-    logic [2:0] phase;
-    assign phase = phase_all[i*3 +: 3];
+    logic [3:0] phase;
+    assign phase = phase_all[i*4 +: 4];
     assign ready_mask[i]    = phase == PhReady;
     assign leaf_end_mask[i] = phase == PhLeafEnd;
     assign done_mask[i]     = phase == PhDone;
-    // A ref to fetch: any left in the list; an any-hit ray one at a time, until a hit.
+    // A ref to fetch: any left in the list; an any-hit packet one at a time, while a
+    // ray of it tests.
     assign ref_mask[i] = phase == PhLeaf
                          && k_all[i*IndexBits +: IndexBits] != count_all[i*IndexBits +: IndexBits]
-                         && (!any_hit_all[i] || (pending_all[i*PendingBits +: PendingBits] == '0 && !hit_all[i]));
+                         && (!any_hit_all[i] || (pending_all[i*PendingBits +: PendingBits] == '0
+                                                 && testing_all[i*P +: P] != '0));
   end
 
   // --- Memory: record lines first, then refs, then nodes; answers by tag, in any order. ---
@@ -518,24 +805,31 @@ module rpu_tu_pipe #(
   logic [Records*GotBits-1:0]              buf_got_d, buf_got_q;
   logic [Records*JobBits-1:0]              buf_job_d, buf_job_q;
   logic [Records*RecordLines*LineBits-1:0] buf_data_d, buf_data_q;
-  logic [BufBits-1:0]                      buf_free, fill_buf_d, fill_buf_q, send_buf, test_buf;
-  logic                                    buf_room, flight_valid;
+  logic [BufBits-1:0]                      buf_free, fill_buf_d, fill_buf_q, send_buf, test_buf, whole_buf;
+  logic [BufBits-1:0]                      test_held_d, test_held_q;
+  logic                                    buf_room, flight_valid, whole_any, test_hold_d, test_hold_q;
   always_comb begin : pick_buffers
-    buf_free     = '0;
-    buf_room     = 1'b0;
-    test_buf     = '0;
-    flight_valid = 1'b0;
+    buf_free  = '0;
+    buf_room  = 1'b0;
+    whole_buf = '0;
+    whole_any = 1'b0;
     for (int b = Records - 1; b >= 0; b--) begin
       if (!buf_busy_q[b]) begin
         buf_free = BufBits'(b);
         buf_room = 1'b1;
       end
       if (buf_whole[b]) begin
-        test_buf     = BufBits'(b);
-        flight_valid = 1'b1;
+        whole_buf = BufBits'(b);
+        whole_any = 1'b1;
       end
     end
   end
+  // A record goes to the IU once per testing ray of its packet, in ray order; the
+  // buffer whose tests have begun keeps the IU port until its last.
+  assign test_buf     = test_hold_q ? test_held_q : whole_buf;
+  assign flight_valid = test_hold_q || whole_any;
+  assign test_hold_d  = test_issue ? !test_last : test_hold_q;
+  assign test_held_d  = test_buf;
   assign send_buf = sent_q == '0 ? buf_free : fill_buf_q;
 
   // The request presented: a record line, else a ref, else a node; one not taken is
@@ -662,7 +956,7 @@ module rpu_tu_pipe #(
     assign rec_k_d[i*OrdBits +: OrdBits] =
         enter ? '0 : rec_k_q[i*OrdBits +: OrdBits] + OrdBits'(job_ready && job[JobBits-1 -: SlotBits] == SlotBits'(i));
     assign test_k_d[i*OrdBits +: OrdBits] =
-        enter ? '0 : test_k_q[i*OrdBits +: OrdBits] + OrdBits'(test_issue && test_slot == SlotBits'(i));
+        enter ? '0 : test_k_q[i*OrdBits +: OrdBits] + OrdBits'(test_issue && test_last && test_slot == SlotBits'(i));
   end
   assign sent_d     = !record_go ? sent_q : job_ready ? '0 : sent_q + GotBits'(1);
   assign fill_buf_d = record_go ? send_buf : fill_buf_q;
@@ -673,7 +967,7 @@ module rpu_tu_pipe #(
     assign got   = buf_got_q[b*GotBits +: GotBits];
     assign alloc = record_go && sent_q == '0 && send_buf == BufBits'(b);
     assign fill  = line_taken && order_kind == KindRecord && order_buf == BufBits'(b);
-    assign free  = test_issue && test_buf == BufBits'(b);
+    assign free  = test_issue && test_last && test_buf == BufBits'(b);
     assign buf_busy_d[b] = alloc || (buf_busy_q[b] && !free);
     assign buf_got_d[b*GotBits +: GotBits] = alloc ? '0 : fill ? got + GotBits'(1) : got;
     assign buf_job_d[b*JobBits +: JobBits] = alloc ? job : buf_job_q[b*JobBits +: JobBits];
@@ -692,14 +986,37 @@ module rpu_tu_pipe #(
   end
 
   logic [JobBits-1:0] flight;
-  assign flight = buf_job_q[32'(test_buf)*JobBits +: JobBits];
+  assign flight    = buf_job_q[32'(test_buf)*JobBits +: JobBits];
+  assign test_slot = flight[JobBits-1 -: SlotBits];
+
+  // The ray the record goes to next: the packet's first testing ray from test_from_q on.
+  logic [LaneBits-1:0] test_from_d, test_from_q;
+  logic [P-1:0]        test_rays;
+  assign test_rays = testing_all[32'(test_slot)*P +: P];
+  always_comb begin : pick_test_ray
+    test_lane = '0;
+    for (int r = P - 1; r >= 0; r--) begin
+      if (test_rays[r] && 32'(r) >= 32'(test_from_q)) test_lane = LaneBits'(r);
+    end
+    test_last = 1'b1;
+    for (int r = 0; r < P; r++) begin
+      if (test_rays[r] && 32'(r) > 32'(test_lane)) test_last = 1'b0;
+    end
+  end
+  assign test_from_d = !test_issue ? test_from_q : test_last ? '0 : test_lane + LaneBits'(1);
+
+  // ref_tests: the tests a ref's record owes, one per testing ray of its packet.
+  always_comb begin : count_ref_tests
+    ref_tests = '0;
+    for (int r = 0; r < P; r++) ref_tests = ref_tests + ($clog2(P + 1))'(testing_all[32'(ref_slot)*P + 32'(r)]);
+  end
 
   // --- The IU: a whole record leaves with an entry of the test table as its tag. ---
-  logic [Tests-1:0]        test_busy_d, test_busy_q;
-  logic [Tests*JobBits-1:0] table_d, table_q;
-  logic [TestBits-1:0]     test_free;
-  logic                    test_any_free;
-  logic [TestBits-1:0]     answer_entry;
+  logic [Tests-1:0]             test_busy_d, test_busy_q;
+  logic [Tests*TestJobBits-1:0] table_d, table_q;
+  logic [TestBits-1:0]          test_free;
+  logic                         test_any_free;
+  logic [TestBits-1:0]          answer_entry;
   always_comb begin : pick_free_test
     test_free     = '0;
     test_any_free = 1'b0;
@@ -710,51 +1027,54 @@ module rpu_tu_pipe #(
       end
     end
   end
-  assign test_slot      = flight[JobBits-1 -: SlotBits];
   assign iu_req_valid_o = flight_valid && test_any_free;
   assign test_issue     = iu_req_valid_o && iu_req_ready_i;
 
+  logic [31:0] test_ray;
   logic [1:0] test_axis_kx, test_axis_ky, test_axis_kz;
-  assign {test_axis_kz, test_axis_ky, test_axis_kx} = axes_all[32'(test_slot)*6 +: 6];
+  assign test_ray = ray_at(test_slot, test_lane);
+  assign {test_axis_kz, test_axis_ky, test_axis_kx} = axes_all[test_ray*6 +: 6];
   always_comb begin : iu_request
     iu_req_o.tag       = rpu_pkg::RayTagBits'(test_free);
     for (int a = 0; a < 3; a++) begin
-      iu_req_o.origin[a*32 +: 32]    = 32'(pick_axis(origin_all, test_slot, 2'(a)));
-      iu_req_o.direction[a*32 +: 32] = 32'(pick_axis(dir_all, test_slot, 2'(a)));
+      iu_req_o.origin[a*32 +: 32]    = 32'(pick_axis(origin_all, test_ray, 2'(a)));
+      iu_req_o.direction[a*32 +: 32] = 32'(pick_axis(dir_all, test_ray, 2'(a)));
     end
-    iu_req_o.t_min     = 32'(pick_w(t_min_all, test_slot));
-    iu_req_o.t_best    = 32'(pick_w(best_all, test_slot));
+    iu_req_o.t_min     = 32'(pick_w(t_min_all, test_ray));
+    iu_req_o.t_best    = 32'(pick_w(best_all, test_ray));
     iu_req_o.kx        = test_axis_kx;
     iu_req_o.ky        = test_axis_ky;
     iu_req_o.kz        = test_axis_kz;
-    iu_req_o.shear_x   = 32'(pick_w(shear_x_all, test_slot));
-    iu_req_o.shear_y   = 32'(pick_w(shear_y_all, test_slot));
+    iu_req_o.shear_x   = 32'(pick_w(shear_x_all, test_ray));
+    iu_req_o.shear_y   = 32'(pick_w(shear_y_all, test_ray));
     iu_req_o.record    = '0;
     iu_req_o.record[RecordLines*LineBits-1:0] = buf_data_q[32'(test_buf)*RecordLines*LineBits +: RecordLines*LineBits];
   end
 
-  // Answers: always taken, folded into the slot's nearest hit.
+  // Answers: always taken, folded into the ray's nearest hit.
+  logic [31:0] answer_ray;
   assign iu_rsp_ready_o = 1'b1;
   assign answer         = iu_rsp_valid_i;
   assign answer_entry   = iu_rsp_i.tag[TestBits-1:0];
-  assign {answer_slot, answer_k, answer_prim} = table_q[32'(answer_entry)*JobBits +: JobBits];
+  assign {answer_lane, answer_slot, answer_k, answer_prim} = table_q[32'(answer_entry)*TestJobBits +: TestJobBits];
+  assign answer_ray     = ray_at(answer_slot, answer_lane);
   logic [W-1:0] answer_t, answer_best;
   assign answer_t    = iu_rsp_i.t[W-1:0];
-  assign answer_best = pick_w(best_all, answer_slot);
+  assign answer_best = pick_w(best_all, answer_ray);
   assign answer_wins = iu_rsp_i.hit
-                       && (!hit_all[answer_slot] || fp_lt(answer_t, answer_best)
+                       && (!hit_all[answer_ray] || fp_lt(answer_t, answer_best)
                            || (fp_eq(answer_t, answer_best)
-                               && answer_k < best_k_all[32'(answer_slot)*IndexBits +: IndexBits]));
+                               && answer_k < best_k_all[answer_ray*IndexBits +: IndexBits]));
 
   for (genvar i = 0; i < Tests; i++) begin : g_test
     logic alloc;
     assign alloc = test_issue && test_free == TestBits'(i);
     assign test_busy_d[i] = alloc || (test_busy_q[i] && !(answer && answer_entry == TestBits'(i)));
-    assign table_d[i*JobBits +: JobBits] = alloc ? flight : table_q[i*JobBits +: JobBits];
+    assign table_d[i*TestJobBits +: TestJobBits] = alloc ? {test_lane, flight} : table_q[i*TestJobBits +: TestJobBits];
   end
-  assign work_d = work_q + WorkBits'(ref_issue) - WorkBits'(test_issue);
+  assign work_d = work_q + WorkBits'(ref_issue) - WorkBits'(test_issue && test_last);
 
-  // --- The node-step pipeline. ---
+  // --- The node-step pipeline, a lane per ray of the packet. ---
   // Stage 0: an inner node's line, or else a leaf's end.
   logic [Slots-1:0] pop_grants;
   logic             pop_valid;
@@ -783,162 +1103,311 @@ module rpu_tu_pipe #(
   assign {s3_valid, s3_pop, s3_slot, s3_axis, s3_above} = s3;
   assign {s4_valid, s4_pop, s4_slot, s4_axis, s4_above} = s4;
 
-  // Stage 1: the split into the format.
-  logic [W-1:0] split, o_axis, split_minus_o, t_split, best3, far3;
-  logic         o_lt, o_eq, o_lt3, o_eq3, o_lt4, o_eq4, le_far, le_zero, lt_near;
+  // Stage 1: the split into the format, once for the packet.
+  logic [W-1:0] split;
   rpu_fp_pipe_op #(.ExpBits(ExpBits), .FracBits(FracBits), .Op(rpu_pkg::FpOpFromFp32)) u_split (
     .clk_i, .rst_ni, .en_i(1'b1), .a_i(next_word), .b_i('0), .result_o(split)
   );
-  // Stage 2: O < s, O == s, s - O.
-  logic [W-1:0] o_lt_bits, o_eq_bits, le_far_bits, le_zero_bits, lt_near_bits;
-  assign o_axis = pick_axis(origin_all, s1_slot, s1_axis);
-  rpu_fp_pipe_op #(.ExpBits(ExpBits), .FracBits(FracBits), .Op(rpu_pkg::FpOpLt)) u_o_lt (
-    .clk_i, .rst_ni, .en_i(1'b1), .a_i(32'(o_axis)), .b_i(32'(split)), .result_o(o_lt_bits)
-  );
-  rpu_fp_pipe_op #(.ExpBits(ExpBits), .FracBits(FracBits), .Op(rpu_pkg::FpOpEq)) u_o_eq (
-    .clk_i, .rst_ni, .en_i(1'b1), .a_i(32'(o_axis)), .b_i(32'(split)), .result_o(o_eq_bits)
-  );
-  rpu_fp_pipe_op #(.ExpBits(ExpBits), .FracBits(FracBits), .Op(rpu_pkg::FpOpSub)) u_sub (
-    .clk_i, .rst_ni, .en_i(1'b1), .a_i(32'(split)), .b_i(32'(o_axis)), .result_o(split_minus_o)
-  );
-  assign o_lt = o_lt_bits[0];
-  assign o_eq = o_eq_bits[0];
-  // Stage 3: t_split = (s - O) * inv; the stack's top is read for a leaf's end.
+  // Stage 3 reads the stack's top for a leaf's end.
   logic [SlotBits+DepthBits-1:0] stack_raddr, stack_waddr;
   logic [EntryBits-1:0]          top3, top4, stack_wdata;
   logic [SpBits-1:0]             sp2, sp4;
-  rpu_fp_pipe_op #(.ExpBits(ExpBits), .FracBits(FracBits), .Op(rpu_pkg::FpOpMul)) u_mul (
-    .clk_i, .rst_ni, .en_i(1'b1), .a_i(32'(split_minus_o)), .b_i(32'(pick_axis(inv_all, s2_slot, s2_axis))),
-    .result_o(t_split)
-  );
-  rpu_en_reg #(.Width(2)) u_o_flags3 (.clk_i, .rst_ni, .en_i(1'b1), .data_i({o_lt, o_eq}), .data_o({o_lt3, o_eq3}));
   assign sp2         = sp_all[32'(s2_slot)*SpBits +: SpBits];
   assign stack_raddr = {s2_slot, DepthBits'(sp2 - SpBits'(1))};
   rpu_ram #(.Width(EntryBits), .Depth(Slots * StackDepth)) u_stack (
     .clk_i, .we_i(decide_push), .waddr_i(stack_waddr), .wdata_i(stack_wdata), .raddr_i(stack_raddr), .rdata_o(top3)
   );
-  // Stage 4: t_split <= t_far, t_split <= 0, t_split < t_near; for a leaf's end
-  // t_best <= t_far and t_best < the top entry's t_near.
-  logic [W-1:0] cmp_a, near_b;
-  assign best3  = pick_w(best_all, s3_slot);
-  assign far3   = pick_w(far_all, s3_slot);
-  assign cmp_a  = s3_pop ? best3 : t_split;
-  assign near_b = s3_pop ? top3[2*W-1:W] : pick_w(near_all, s3_slot);
-  rpu_fp_pipe_op #(.ExpBits(ExpBits), .FracBits(FracBits), .Op(rpu_pkg::FpOpLe)) u_le_far (
-    .clk_i, .rst_ni, .en_i(1'b1), .a_i(32'(cmp_a)), .b_i(32'(far3)), .result_o(le_far_bits)
-  );
-  rpu_fp_pipe_op #(.ExpBits(ExpBits), .FracBits(FracBits), .Op(rpu_pkg::FpOpLe)) u_le_zero (
-    .clk_i, .rst_ni, .en_i(1'b1), .a_i(32'(t_split)), .b_i(32'(Zero)), .result_o(le_zero_bits)
-  );
-  rpu_fp_pipe_op #(.ExpBits(ExpBits), .FracBits(FracBits), .Op(rpu_pkg::FpOpLt)) u_lt_near (
-    .clk_i, .rst_ni, .en_i(1'b1), .a_i(32'(cmp_a)), .b_i(32'(near_b)), .result_o(lt_near_bits)
-  );
-  logic [W-1:0] t_split4;
-  rpu_en_reg #(.Width(2 + W + EntryBits)) u_carry4 (
-    .clk_i, .rst_ni, .en_i(1'b1), .data_i({o_lt3, o_eq3, t_split, top3}), .data_o({o_lt4, o_eq4, t_split4, top4})
-  );
-  assign le_far  = le_far_bits[0];
-  assign le_zero = le_zero_bits[0];
-  assign lt_near = lt_near_bits[0];
+  rpu_en_reg #(.Width(EntryBits)) u_top4 (.clk_i, .rst_ni, .en_i(1'b1), .data_i(top3), .data_o(top4));
 
-  // Decide (rpu_tu's StInnerEnd, StLeafDecide and StPopDecide).
-  logic                 below_first, hit4;
-  logic [IndexBits-1:0] node4, first_child, second_child;
-  assign decide       = s4_valid;
-  assign decide_slot  = s4_slot;
-  assign sp4          = sp_all[32'(s4_slot)*SpBits +: SpBits];
-  assign hit4         = hit_all[s4_slot];
-  assign node4        = node_all[32'(s4_slot)*IndexBits +: IndexBits];
-  assign below_first  = o_lt4 || (o_eq4 && dir_le0_all[32'(s4_slot)*3 + 32'(s4_axis)]);
-  assign first_child  = below_first ? node4 + IndexBits'(1) : s4_above;
-  assign second_child = below_first ? s4_above : node4 + IndexBits'(1);
-  assign stack_waddr  = {s4_slot, DepthBits'(sp4)};
-  assign stack_wdata  = {second_child, t_split4, pick_w(far_all, s4_slot)};
+  // Per ray: stage 2 O < s, O == s, s - O; stage 3 t_split = (s - O) * inv; stage 4
+  // t_split <= t_far, t_split <= 0, t_split < t_near, or for a leaf's end t_best <= t_far
+  // and t_best < the top entry's t_near.
+  logic [P-1:0]   o_lt2, o_eq2, o_lt3, o_eq3, o_lt4, o_eq4, le_far, le_zero, lt_near;
+  logic [P*W-1:0] t_split3, t_split4;
+  for (genvar r = 0; r < P; r++) begin : g_step
+    logic [W-1:0] o_axis, split_minus_o, t_split, cmp_a, near_b;
+    logic [W-1:0] o_lt_bits, o_eq_bits, le_far_bits, le_zero_bits, lt_near_bits;
+    assign o_axis = pick_axis(origin_all, ray_at(s1_slot, LaneBits'(r)), s1_axis);
+    rpu_fp_pipe_op #(.ExpBits(ExpBits), .FracBits(FracBits), .Op(rpu_pkg::FpOpLt)) u_o_lt (
+      .clk_i, .rst_ni, .en_i(1'b1), .a_i(32'(o_axis)), .b_i(32'(split)), .result_o(o_lt_bits)
+    );
+    rpu_fp_pipe_op #(.ExpBits(ExpBits), .FracBits(FracBits), .Op(rpu_pkg::FpOpEq)) u_o_eq (
+      .clk_i, .rst_ni, .en_i(1'b1), .a_i(32'(o_axis)), .b_i(32'(split)), .result_o(o_eq_bits)
+    );
+    rpu_fp_pipe_op #(.ExpBits(ExpBits), .FracBits(FracBits), .Op(rpu_pkg::FpOpSub)) u_sub (
+      .clk_i, .rst_ni, .en_i(1'b1), .a_i(32'(split)), .b_i(32'(o_axis)), .result_o(split_minus_o)
+    );
+    rpu_fp_pipe_op #(.ExpBits(ExpBits), .FracBits(FracBits), .Op(rpu_pkg::FpOpMul)) u_mul (
+      .clk_i, .rst_ni, .en_i(1'b1), .a_i(32'(split_minus_o)),
+      .b_i(32'(pick_axis(inv_all, ray_at(s2_slot, LaneBits'(r)), s2_axis))), .result_o(t_split)
+    );
+    assign o_lt2[r] = o_lt_bits[0];
+    assign o_eq2[r] = o_eq_bits[0];
+    assign t_split3[r*W +: W] = t_split;
+    assign cmp_a  = s3_pop ? pick_w(best_all, ray_at(s3_slot, LaneBits'(r))) : t_split;
+    assign near_b = s3_pop ? top3[r*2*W + W +: W] : pick_w(near_all, ray_at(s3_slot, LaneBits'(r)));
+    rpu_fp_pipe_op #(.ExpBits(ExpBits), .FracBits(FracBits), .Op(rpu_pkg::FpOpLe)) u_le_far (
+      .clk_i, .rst_ni, .en_i(1'b1), .a_i(32'(cmp_a)), .b_i(32'(pick_w(far_all, ray_at(s3_slot, LaneBits'(r))))),
+      .result_o(le_far_bits)
+    );
+    rpu_fp_pipe_op #(.ExpBits(ExpBits), .FracBits(FracBits), .Op(rpu_pkg::FpOpLe)) u_le_zero (
+      .clk_i, .rst_ni, .en_i(1'b1), .a_i(32'(t_split)), .b_i(32'(Zero)), .result_o(le_zero_bits)
+    );
+    rpu_fp_pipe_op #(.ExpBits(ExpBits), .FracBits(FracBits), .Op(rpu_pkg::FpOpLt)) u_lt_near (
+      .clk_i, .rst_ni, .en_i(1'b1), .a_i(32'(cmp_a)), .b_i(32'(near_b)), .result_o(lt_near_bits)
+    );
+    assign le_far[r]  = le_far_bits[0];
+    assign le_zero[r] = le_zero_bits[0];
+    assign lt_near[r] = lt_near_bits[0];
+    logic unused_bits;
+    assign unused_bits = ^{o_lt_bits[W-1:1], o_eq_bits[W-1:1], le_far_bits[W-1:1], le_zero_bits[W-1:1],
+                           lt_near_bits[W-1:1]};
+  end
 
-  always_comb begin : decide_step
-    decide_node    = node4;
-    decide_near_we = 1'b0;
-    decide_near    = top4[2*W-1:W];
-    decide_far_we  = 1'b0;
-    decide_far     = t_split4;
-    decide_fault   = 1'b0;
-    decide_push    = 1'b0;
-    decide_pop     = 1'b0;
-    decide_phase   = PhReady;
-    if (!s4_pop) begin
-      if (!le_far || le_zero) begin
-        decide_node = first_child;   // the plane is behind, beyond, or (NaN) holds the ray
-      end else if (lt_near) begin
-        decide_node = second_child;
-      end else if (sp4 == SpBits'(StackDepth)) begin
-        decide_fault = 1'b1;
-        decide_phase = PhDone;
-      end else begin
-        decide_push   = s4_valid;
-        decide_node   = first_child;
-        decide_far_we = 1'b1;
+  // The origin's side carried to the decide stage with t_split, for every ray at once.
+  rpu_en_reg #(.Width(2 * P)) u_o_flags3 (.clk_i, .rst_ni, .en_i(1'b1), .data_i({o_lt2, o_eq2}),
+                                          .data_o({o_lt3, o_eq3}));
+  rpu_en_reg #(.Width(2 * P + P * W)) u_carry4 (
+    .clk_i, .rst_ni, .en_i(1'b1), .data_i({o_lt3, o_eq3, t_split3}), .data_o({o_lt4, o_eq4, t_split4})
+  );
+
+  // Decide: the packet's next node from its rays' steps (rpu_tu's StInnerEnd,
+  // StLeafDecide and StPopDecide for each ray; docs/traversal.md "Packets").
+  logic                 below_near, solo4, any_hit4, restart, finish, next_solo;
+  logic [IndexBits-1:0] node4, near_child, far_child;
+  logic [P-1:0]         active4, waiting4, valid4, hit4, below_first, to_near, to_far, both;
+  logic [P-1:0]         lane_end, walking, popped, own4, deferred4;
+  logic [LaneBits-1:0]  solo_lane4, first_valid, next_valid;
+  logic [2:0]           signs4;
+  assign decide      = s4_valid;
+  assign decide_slot = s4_slot;
+  assign sp4         = sp_all[32'(s4_slot)*SpBits +: SpBits];
+  assign node4       = node_all[32'(s4_slot)*IndexBits +: IndexBits];
+  assign active4     = active_all[32'(s4_slot)*P +: P];
+  assign waiting4    = waiting_all[32'(s4_slot)*P +: P];
+  assign valid4      = valid_all[32'(s4_slot)*P +: P];
+  assign solo4       = solo_all[s4_slot];
+  assign solo_lane4  = solo_lane_all[32'(s4_slot)*LaneBits +: LaneBits];
+  assign any_hit4    = any_hit_all[s4_slot];
+  assign signs4      = signs_all[32'(s4_slot)*3 +: 3];
+  assign own4        = top4[2*W*P + P +: P];
+  assign deferred4   = top4[2*W*P +: P];
+  for (genvar r = 0; r < P; r++) begin : g_decide_ray
+    assign hit4[r] = hit_all[ray_at(s4_slot, LaneBits'(r))];
+    // The ray's own first child is the one below the split.
+    assign below_first[r] = o_lt4[r] || (o_eq4[r] && dir_le0_all[ray_at(s4_slot, LaneBits'(r))*3 + 32'(s4_axis)]);
+  end
+  // The near child: below when the packet's inv on the axis is positive; alone, the
+  // ray's own first child.
+  assign below_near = solo4 ? below_first[solo_lane4] : !signs4[s4_axis];
+  assign near_child  = below_near ? node4 + IndexBits'(1) : s4_above;
+  assign far_child   = below_near ? s4_above : node4 + IndexBits'(1);
+  assign stack_waddr = {s4_slot, DepthBits'(sp4)};
+  always_comb begin : valid_rays
+    first_valid = '0;
+    next_valid  = '0;
+    next_solo   = 1'b0;
+    for (int r = P - 1; r >= 0; r--) begin
+      if (valid4[r]) first_valid = LaneBits'(r);
+      if (valid4[r] && 32'(r) > 32'(solo_lane4)) begin
+        next_valid = LaneBits'(r);
+        next_solo  = 1'b1;
       end
-    end else if ((hit4 && (any_hit_all[s4_slot] || le_far)) || sp4 == '0) begin
-      decide_phase = PhDone;
-    end else begin
-      // Pop: the entry's node and interval, unless the hit is nearer than its t_near.
-      decide_pop     = 1'b1;
-      decide_node    = top4[EntryBits-1 -: IndexBits];
-      decide_near_we = 1'b1;
-      decide_far_we  = 1'b1;
-      decide_far     = top4[W-1:0];
-      decide_phase   = hit4 && lt_near ? PhDone : PhReady;
     end
   end
 
-  // --- Finish: round robin among the finished slots. ---
-  logic fin_valid_d, fin_valid_q, fin_pick_valid, fin_ready, fin_rsp_taken;
+  always_comb begin : decide_step
+    decide_node      = node4;
+    decide_phase     = PhReady;
+    decide_push      = 1'b0;
+    decide_pop       = 1'b0;
+    decide_active    = active4;
+    decide_waiting   = waiting4;
+    decide_solo      = solo4;
+    decide_solo_lane = solo_lane4;
+    decide_near_we   = '0;
+    decide_far_we    = '0;
+    decide_fault     = '0;
+    decide_reset     = '0;
+    decide_near      = '0;
+    decide_far       = '0;
+    stack_wdata      = '0;
+    stack_wdata[EntryBits-1 -: IndexBits] = far_child;
+    restart  = 1'b0;
+    finish   = 1'b0;
+    to_near  = '0;
+    to_far   = '0;
+    both     = '0;
+    lane_end = '0;
+    walking  = '0;
+    popped   = '0;
+    if (!s4_pop) begin
+      for (int r = 0; r < P; r++) begin
+        if (active4[r]) begin
+          if (!le_far[r] || le_zero[r]) begin
+            // Only the first child: the plane is behind, beyond, or (NaN) holds the ray.
+            if (below_first[r] == below_near) to_near[r] = 1'b1;
+            else to_far[r] = 1'b1;
+          end else if (lt_near[r]) begin
+            if (below_first[r] == below_near) to_far[r] = 1'b1;
+            else to_near[r] = 1'b1;
+          end else begin
+            both[r] = 1'b1;
+            if (below_first[r] != below_near) restart = 1'b1;
+          end
+        end
+      end
+      if (!restart) begin
+        if ((to_near | both) == '0) begin
+          decide_node = far_child;  // every active ray goes on to the far child alone
+        end else begin
+          decide_node = near_child;
+          if ((to_far | both) != '0) begin
+            if (sp4 == SpBits'(StackDepth)) begin
+              if (solo4) begin
+                decide_fault[solo_lane4] = 1'b1;  // a ray alone faults where its own walk does
+                finish = 1'b1;
+              end else begin
+                restart = 1'b1;
+              end
+            end else begin
+              decide_push    = s4_valid;
+              decide_active  = active4 & ~to_far;
+              decide_waiting = waiting4 | to_far;
+              stack_wdata[2*W*P + P +: P] = both;
+              stack_wdata[2*W*P +: P]     = to_far;
+              for (int r = 0; r < P; r++) begin
+                if (both[r]) begin
+                  stack_wdata[r*2*W + W +: W] = t_split4[r*W +: W];
+                  stack_wdata[r*2*W +: W]     = pick_w(far_all, ray_at(s4_slot, LaneBits'(r)));
+                  decide_far_we[r]            = 1'b1;
+                  decide_far[r*W +: W]        = t_split4[r*W +: W];
+                end else if (to_far[r]) begin
+                  stack_wdata[r*2*W + W +: W] = pick_w(near_all, ray_at(s4_slot, LaneBits'(r)));
+                  stack_wdata[r*2*W +: W]     = pick_w(far_all, ray_at(s4_slot, LaneBits'(r)));
+                end
+              end
+            end
+          end
+        end
+      end
+    end else begin
+      // A leaf's end: a ray whose hit lies within its interval (any hit, for any-hit
+      // rays) is done; the others wait for an entry of theirs.
+      lane_end       = active4 & hit4 & (any_hit4 ? '1 : le_far);
+      walking        = waiting4 | (active4 & ~lane_end);
+      decide_active  = '0;
+      decide_waiting = walking;
+      if (walking == '0 || sp4 == '0) begin
+        finish = 1'b1;
+      end else begin
+        // Pop: the entry's rays take its interval, but a ray that pushed it and whose
+        // hit is nearer than its t_near is done.
+        decide_pop     = 1'b1;
+        popped         = (own4 | deferred4) & walking;
+        decide_waiting = walking & ~popped;
+        for (int r = 0; r < P; r++) begin
+          if (popped[r] && !(own4[r] && hit4[r] && lt_near[r])) begin
+            decide_active[r]     = 1'b1;
+            decide_near_we[r]    = 1'b1;
+            decide_far_we[r]     = 1'b1;
+            decide_near[r*W +: W] = top4[r*2*W + W +: W];
+            decide_far[r*W +: W]  = top4[r*2*W +: W];
+          end
+        end
+        if (decide_active != '0) begin
+          decide_node = top4[EntryBits-1 -: IndexBits];
+        end else if (decide_waiting != '0) begin
+          decide_phase = PhLeafEnd;  // pop again
+        end else begin
+          finish = 1'b1;
+        end
+      end
+    end
+    if (restart || (finish && solo4 && next_solo)) begin
+      // Walk a ray alone from the root: the packet's first after an overflow, the next
+      // after a ray alone ends.
+      decide_push      = 1'b0;
+      decide_solo      = 1'b1;
+      decide_solo_lane = restart ? first_valid : next_valid;
+      decide_reset     = '0;
+      decide_reset[decide_solo_lane] = 1'b1;
+      decide_active    = decide_reset;
+      decide_waiting   = '0;
+      decide_node      = '0;
+      decide_phase     = PhReady;
+    end else if (finish) begin
+      decide_phase = PhDone;
+    end
+  end
+
+  // --- Finish: round robin among the finished packets, then their rays one a cycle. ---
+  logic fin_valid_d, fin_valid_q, fin_pick_valid, fin_ready, fin_rsp_taken, fin_last;
   logic [SlotBits-1:0] fin_slot_d;
+  logic [LaneBits-1:0] fin_lane_d, fin_lane_q, fin_first, fin_next;
   logic [Slots-1:0]    fin_grants;
+  logic [P-1:0]        fin_take_rays, fin_rays;
   rpu_rr_arbiter #(.Inputs(Slots), .Width(1)) u_fin_arb (
     .clk_i, .rst_ni,
     .valid_i(done_mask), .ready_o(fin_grants), .data_i('0),
     .valid_o(fin_pick_valid), .ready_i(fin_ready), .data_o(unused_picks[3]), .index_o(fin_take_slot)
   );
-  assign fin_ready   = !fin_valid_q || fin_rsp_taken;
+  assign fin_take_rays = valid_all[32'(fin_take_slot)*P +: P];
+  assign fin_rays      = valid_all[32'(fin_slot_q)*P +: P];
+  always_comb begin : pick_fin_rays
+    fin_first = '0;
+    fin_next  = '0;
+    fin_last  = 1'b1;
+    for (int r = P - 1; r >= 0; r--) begin
+      if (fin_take_rays[r]) fin_first = LaneBits'(r);
+      if (fin_rays[r] && 32'(r) > 32'(fin_lane_q)) begin
+        fin_next = LaneBits'(r);
+        fin_last = 1'b0;
+      end
+    end
+  end
+  assign fin_done    = fin_rsp_taken && fin_last;
+  assign fin_ready   = !fin_valid_q || fin_done;
   assign fin_take    = fin_pick_valid && fin_ready;
-  assign fin_done    = fin_rsp_taken;
-  assign fin_valid_d = fin_take || (fin_valid_q && !fin_rsp_taken);
+  assign fin_valid_d = fin_take || (fin_valid_q && !fin_done);
   assign fin_slot_d  = fin_take ? fin_take_slot : fin_slot_q;
+  assign fin_lane_d  = fin_take ? fin_first : fin_rsp_taken ? fin_next : fin_lane_q;
 
   // §6: t, u, v widened to fp32 (exact), t back to world space.
+  logic [31:0] fin_ray;
+  assign fin_ray = ray_at(fin_slot_q, fin_lane_q);
   logic [31:0] wide_t, wide_u, wide_v, world_t;
   rpu_fp_misc_core #(.ExpBits(ExpBits), .FracBits(FracBits)) u_wide_t (
-    .op_i(rpu_pkg::FpOpToFp32), .a_i(32'(pick_w(best_all, fin_slot_q))), .b_i('0), .result_o(wide_t)
+    .op_i(rpu_pkg::FpOpToFp32), .a_i(32'(pick_w(best_all, fin_ray))), .b_i('0), .result_o(wide_t)
   );
   rpu_fp_misc_core #(.ExpBits(ExpBits), .FracBits(FracBits)) u_wide_u (
-    .op_i(rpu_pkg::FpOpToFp32), .a_i(32'(pick_w(u_all, fin_slot_q))), .b_i('0), .result_o(wide_u)
+    .op_i(rpu_pkg::FpOpToFp32), .a_i(32'(pick_w(u_all, fin_ray))), .b_i('0), .result_o(wide_u)
   );
   rpu_fp_misc_core #(.ExpBits(ExpBits), .FracBits(FracBits)) u_wide_v (
-    .op_i(rpu_pkg::FpOpToFp32), .a_i(32'(pick_w(v_all, fin_slot_q))), .b_i('0), .result_o(wide_v)
+    .op_i(rpu_pkg::FpOpToFp32), .a_i(32'(pick_w(v_all, fin_ray))), .b_i('0), .result_o(wide_v)
   );
   logic signed [9:0] to_world_exp;
   assign to_world_exp = {{2{cfg_i.kd_scale_exponent[7]}}, cfg_i.kd_scale_exponent};
   rpu_fp32_scale u_t_out (.value_i(wide_t), .exp_i(to_world_exp), .value_o(world_t));
 
   rpu_pkg::tu_rsp_t fin_rsp;
-  assign fin_rsp.tag    = tag_all[32'(fin_slot_q)*rpu_pkg::RayTagBits +: rpu_pkg::RayTagBits];
-  assign fin_rsp.hit    = hit_all[fin_slot_q];
+  assign fin_rsp.tag    = tag_all[fin_ray*rpu_pkg::RayTagBits +: rpu_pkg::RayTagBits];
+  assign fin_rsp.hit    = hit_all[fin_ray];
   assign fin_rsp.t      = world_t;
   assign fin_rsp.u      = wide_u;
   assign fin_rsp.v      = wide_v;
-  assign fin_rsp.prim   = hit_prim_all[32'(fin_slot_q)*32 +: 32];
-  assign fin_rsp.nodes  = nodes_all[32'(fin_slot_q)*32 +: 32];
-  assign fin_rsp.leaves = leaves_all[32'(fin_slot_q)*32 +: 32];
-  assign fin_rsp.tests  = tests_all[32'(fin_slot_q)*32 +: 32];
-  assign fin_rsp.fault  = fault_all[fin_slot_q];
+  assign fin_rsp.prim   = hit_prim_all[fin_ray*32 +: 32];
+  assign fin_rsp.nodes  = nodes_all[fin_ray*32 +: 32];
+  assign fin_rsp.leaves = leaves_all[fin_ray*32 +: 32];
+  assign fin_rsp.tests  = tests_all[fin_ray*32 +: 32];
+  assign fin_rsp.fault  = fault_all[fin_ray];
 
   // Responses: the finish stage's and the set-up engines' (rays that miss the box).
   logic [Setups:0]                       out_valid, out_ready;
   logic [(Setups+1)*rpu_pkg::TuRspBits-1:0] out_data;
   logic [$clog2(Setups + 1)-1:0]         out_index;
   assign out_valid = {setup_rsp_valid, fin_valid_q};
-  assign out_data  = {setup_rsp, fin_rsp};
+  assign out_data  = {setup_out, fin_rsp};
   assign {setup_rsp_ready, fin_rsp_taken} = out_ready;
   rpu_rr_arbiter #(.Inputs(Setups + 1), .Width(rpu_pkg::TuRspBits)) u_rsp_arb (
     .clk_i, .rst_ni,
@@ -948,49 +1417,69 @@ module rpu_tu_pipe #(
 
   always_ff @(posedge clk_i or negedge rst_ni) begin : regs
     if (!rst_ni) begin
-      hold_q      <= 1'b0;
-      held_q      <= KindNode;
-      work_q      <= '0;
-      held_tag_q  <= '0;
-      sent_q      <= '0;
-      line_busy_q <= '0;
-      asked_q     <= '0;
-      buf_busy_q  <= '0;
-      buf_got_q   <= '0;
-      buf_job_q   <= '0;
-      buf_data_q  <= '0;
-      fill_buf_q  <= '0;
-      job_busy_q  <= '0;
-      jobs_q      <= '0;
-      job_pick_q  <= '0;
-      rec_k_q     <= '0;
-      test_k_q    <= '0;
-      test_busy_q <= '0;
-      table_q     <= '0;
-      fin_valid_q <= 1'b0;
-      fin_slot_q  <= '0;
+      hold_q         <= 1'b0;
+      held_q         <= KindNode;
+      work_q         <= '0;
+      held_tag_q     <= '0;
+      sent_q         <= '0;
+      line_busy_q    <= '0;
+      asked_q        <= '0;
+      buf_busy_q     <= '0;
+      buf_got_q      <= '0;
+      buf_job_q      <= '0;
+      buf_data_q     <= '0;
+      fill_buf_q     <= '0;
+      job_busy_q     <= '0;
+      jobs_q         <= '0;
+      job_pick_q     <= '0;
+      rec_k_q        <= '0;
+      test_k_q       <= '0;
+      test_hold_q    <= 1'b0;
+      test_held_q    <= '0;
+      test_from_q    <= '0;
+      test_busy_q    <= '0;
+      table_q        <= '0;
+      form_open_q    <= 1'b0;
+      form_any_hit_q <= 1'b0;
+      form_slot_q    <= '0;
+      form_rays_q    <= '0;
+      form_seq_q     <= '0;
+      form_signs_q   <= '0;
+      fin_valid_q    <= 1'b0;
+      fin_slot_q     <= '0;
+      fin_lane_q     <= '0;
     end else begin
-      hold_q      <= hold_d;
-      held_q      <= held_d;
-      work_q      <= work_d;
-      held_tag_q  <= req_tag;
-      sent_q      <= sent_d;
-      line_busy_q <= line_busy_d;
-      asked_q     <= asked_d;
-      buf_busy_q  <= buf_busy_d;
-      buf_got_q   <= buf_got_d;
-      buf_job_q   <= buf_job_d;
-      buf_data_q  <= buf_data_d;
-      fill_buf_q  <= fill_buf_d;
-      job_busy_q  <= job_busy_d;
-      jobs_q      <= jobs_d;
-      job_pick_q  <= job_pick;
-      rec_k_q     <= rec_k_d;
-      test_k_q    <= test_k_d;
-      test_busy_q <= test_busy_d;
-      table_q     <= table_d;
-      fin_valid_q <= fin_valid_d;
-      fin_slot_q  <= fin_slot_d;
+      hold_q         <= hold_d;
+      held_q         <= held_d;
+      work_q         <= work_d;
+      held_tag_q     <= req_tag;
+      sent_q         <= sent_d;
+      line_busy_q    <= line_busy_d;
+      asked_q        <= asked_d;
+      buf_busy_q     <= buf_busy_d;
+      buf_got_q      <= buf_got_d;
+      buf_job_q      <= buf_job_d;
+      buf_data_q     <= buf_data_d;
+      fill_buf_q     <= fill_buf_d;
+      job_busy_q     <= job_busy_d;
+      jobs_q         <= jobs_d;
+      job_pick_q     <= job_pick;
+      rec_k_q        <= rec_k_d;
+      test_k_q       <= test_k_d;
+      test_hold_q    <= test_hold_d;
+      test_held_q    <= test_held_d;
+      test_from_q    <= test_from_d;
+      test_busy_q    <= test_busy_d;
+      table_q        <= table_d;
+      form_open_q    <= form_open_d;
+      form_any_hit_q <= form_any_hit_d;
+      form_slot_q    <= form_slot_d;
+      form_rays_q    <= form_rays_d;
+      form_seq_q     <= form_seq_d;
+      form_signs_q   <= form_signs_d;
+      fin_valid_q    <= fin_valid_d;
+      fin_slot_q     <= fin_slot_d;
+      fin_lane_q     <= fin_lane_d;
     end
   end
 
@@ -1001,8 +1490,7 @@ module rpu_tu_pipe #(
   assign unused = ^{fetch_grants, ref_grants, pop_grants, fin_grants, unused_picks, job_room, mem_rsp_i.tag,
                     unused_setup_ports, start_index, out_index, given_ray.record, node_addr[1:0],
                     ref_addr[1:0], s1_above, s2_above, s3_above, s1_pop, s2_pop, s1_valid, s2_valid,
-                    s3_valid, s3_axis, s4_above, o_lt_bits[W-1:1], o_eq_bits[W-1:1], le_far_bits[W-1:1],
-                    le_zero_bits[W-1:1], lt_near_bits[W-1:1]};
+                    s3_valid, s3_axis, s4_above, dir_all, lane_end, waiting_all};
   if (W < 32) begin : g_unused_high
     logic unused_high;
     assign unused_high = ^{given_near[31:W], given_far[31:W]};
@@ -1011,6 +1499,10 @@ module rpu_tu_pipe #(
 `ifndef SYNTHESIS
   initial begin
     assert (Slots >= 2 && (1 << SlotBits) == Slots) else $error("rpu_tu_pipe: Slots %0d is not a power of two >= 2", Slots);
+    assert (Packet >= 1 && Packet <= 8 && (Packet == 1 || (1 << LaneBits) == Packet))
+      else $error("rpu_tu_pipe: Packet %0d is not a power of two in 1..8", Packet);
+    assert (SlotBits + LaneBits <= rpu_pkg::RayTagBits && ArrBits <= rpu_pkg::RayTagBits)
+      else $error("rpu_tu_pipe: %0d slots of %0d rays outgrow the ray tag", Slots, Packet);
     assert ((1 << DepthBits) == StackDepth) else $error("rpu_tu_pipe: StackDepth %0d is not a power of two", StackDepth);
     assert (LineTagBits >= 1 && LineTagBits <= rpu_pkg::CacheTagBits)
       else $error("rpu_tu_pipe: LineTagBits %0d outside 1..%0d", LineTagBits, rpu_pkg::CacheTagBits);
@@ -1027,6 +1519,9 @@ module rpu_tu_pipe #(
         else $error("rpu_tu_pipe: a memory answer with tag %0h for no line in flight", mem_rsp_i.tag);
       assert (!iu_rsp_valid_i || test_busy_q[answer_entry])
         else $error("rpu_tu_pipe: IU answer tag %0d names no test in flight", iu_rsp_i.tag);
+      // A record in the IU port's buffer is tested by at least one ray of its packet.
+      assert (!flight_valid || test_rays != '0)
+        else $error("rpu_tu_pipe: a whole record of slot %0d with no ray to test it", test_slot);
     end
   end
 `endif

@@ -24,6 +24,7 @@ module rpu_tu_slots #(
   parameter int unsigned StackDepth = rpu_pkg::ConfigDefaultStackDepth,
   parameter int unsigned Slots      = 1,
   parameter int unsigned Pipe       = 0,
+  parameter int unsigned Packet     = 1,  // with Pipe: rays a slot walks together
   parameter int unsigned Setups     = 2,
   parameter int unsigned LineTagBits = 4  // with Pipe: lines in flight on the memory port, 2^LineTagBits
 ) (
@@ -63,7 +64,7 @@ module rpu_tu_slots #(
 
   if (Pipe != 0) begin : g_pipe
     rpu_tu_pipe #(.ExpBits(ExpBits), .FracBits(FracBits), .IsectMode(IsectMode), .StackDepth(StackDepth),
-                  .Slots(Slots), .Setups(Setups), .LineTagBits(LineTagBits)) u_pipe (
+                  .Slots(Slots), .Packet(Packet), .Setups(Setups), .LineTagBits(LineTagBits)) u_pipe (
       .clk_i, .rst_ni, .cfg_i,
       .req_valid_i, .req_ready_o, .req_i,
       .rsp_valid_o, .rsp_ready_i, .rsp_o,

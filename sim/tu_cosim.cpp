@@ -74,6 +74,7 @@ struct Options {
   bool with_iu = false;
   int slots = 1;      // the model's ray slots
   bool pipe = false;  // ... sharing a node-step pipeline (rpu_tu_pipe)
+  int packet = 1;     // ... each slot a packet of this many rays (rpu_tu_pipe's Packet)
   int in_flight = 1;  // rays the harness keeps in the unit at once
   int scale = 0;  // the scene times 2^scale (kd space, docs/traversal.md §1)
   int rays = 10000;  // per kind: camera, random, shadow
@@ -271,6 +272,20 @@ std::optional<std::array<std::int64_t, 3>> fit_timing(const std::vector<TimingSa
 // iu_req expected, the bits of it compared (tag, the ray, t_best, record) and the iu_rsp to
 // answer with (the Tracer's; random t, u, v on a miss). Rays the Tracer ends with a
 // stack overflow are left out (the counters are all that is defined).
+// Which of n rays end their packets: packets of --packet in order, as a chunk's trace
+// sends them; one in eight ends early, so packets of every size up to it arrive.
+std::vector<bool> packet_ends_of(std::size_t n, const Options& o) {
+  std::vector<bool> ends(n);
+  std::mt19937_64 rng(o.seed ^ 0x7061636b6574ULL);
+  int size = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    ++size;
+    ends[i] = size == o.packet || i + 1 == n || rng() % 8 == 0;
+    if (ends[i]) size = 0;
+  }
+  return ends;
+}
+
 int write_vectors(const Options& o, const functional::SceneImage& si, const functional::Tracer& tracer,
                   const std::vector<Case>& cases) {
   const std::vector<std::uint8_t>& image = si.image.bytes;
@@ -285,12 +300,16 @@ int write_vectors(const Options& o, const functional::SceneImage& si, const func
   std::mt19937_64 rng(o.seed);
   std::vector<functional::IuTest> walk;
   std::size_t count = 0, test_count = 0;
+  const std::vector<bool> packet_ends = packet_ends_of(
+      static_cast<std::size_t>(std::count_if(cases.begin(), cases.end(), [](const Case& c) { return !c.fault; })), o);
   for (const Case& c : cases) {
     if (c.fault) continue;
     walk.clear();
     tracer.trace(c.ray, c.mode, walk);
     const std::uint32_t tag = static_cast<std::uint32_t>(count) & tag_mask;
-    append(rays, request_of(c, tag).pack());
+    streams::TuReq req = request_of(c, tag);
+    req.packet_end = packet_ends[count];
+    append(rays, req.pack());
     rays.push_back(static_cast<std::uint32_t>(walk.size()));
     const Expected want = expected_of(c, tag);
     append(rays, want.rsp.pack());
@@ -514,11 +533,12 @@ int run(const Options& o, std::unique_ptr<Model<harness::Tu>>& model) {
   const std::string slots = std::to_string(o.slots);
   const ModelInfo* info = find_model<harness::Tu>({{"format", o.format}, {"isect", o.isect},
                                                    {"with_iu", o.with_iu ? "1" : "0"}, {"slots", slots},
-                                                   {"pipe", o.pipe ? "1" : "0"}});
+                                                   {"pipe", o.pipe ? "1" : "0"},
+                                                   {"packet", std::to_string(o.packet)}});
   if (!info) {
-    std::fprintf(stderr, "tu_cosim: no model with format=%s isect=%s with_iu=%d slots=%d pipe=%d in this build; "
-                 "built: %s\n", o.format.c_str(), o.isect.c_str(), o.with_iu ? 1 : 0, o.slots, o.pipe ? 1 : 0,
-                 built_models<harness::Tu>().c_str());
+    std::fprintf(stderr, "tu_cosim: no model with format=%s isect=%s with_iu=%d slots=%d pipe=%d packet=%d in this "
+                 "build; built: %s\n", o.format.c_str(), o.isect.c_str(), o.with_iu ? 1 : 0, o.slots, o.pipe ? 1 : 0,
+                 o.packet, built_models<harness::Tu>().c_str());
     return 2;
   }
   model = make_model<harness::Tu>(*info, o.seed, o.trace);
@@ -528,6 +548,7 @@ int run(const Options& o, std::unique_ptr<Model<harness::Tu>>& model) {
   const bool iu_port = !o.with_iu;
 
   Stalls stalled(o.seed, o.stall);
+  const std::vector<bool> packet_ends = packet_ends_of(cases.size(), o);
   std::mt19937_64& rng = stalled.rng();  // also the agents' delays and the IU's junk on a miss
   const functional::SoftArith ar{format};
   // The agents: the memory answers a line after its latency plus a random delay, in
@@ -573,7 +594,7 @@ int run(const Options& o, std::unique_ptr<Model<harness::Tu>>& model) {
   Watchdog watchdog(1000000);
   std::size_t next = 0, done = 0;
   bool responded = false;
-  std::uint64_t busy = 0, cycles = 0, lines = 0;
+  std::uint64_t busy = 0, cycles = 0, lines = 0, node_lines = 0;
   const auto begin = std::chrono::steady_clock::now();
   auto fail = [&](const std::string& what) {
     std::printf("tu_cosim FAIL: %s, format %s, %s test, cycle %" PRIu64 "\n  %s\n", o.scene.c_str(),
@@ -589,7 +610,10 @@ int run(const Options& o, std::unique_ptr<Model<harness::Tu>>& model) {
       const bool full = pending.size() >= static_cast<std::size_t>(o.in_flight);
       const Case* current = in_flight ? &cases[pending.oldest()] : next < cases.size() ? &cases[next] : nullptr;
       in.req_valid = !full && next < cases.size() && !stalled();
-      if (in.req_valid) in.req = request_of(cases[next], static_cast<std::uint32_t>(next) & tag_mask);
+      if (in.req_valid) {
+        in.req = request_of(cases[next], static_cast<std::uint32_t>(next) & tag_mask);
+        in.req.packet_end = packet_ends[next];
+      }
       in.rsp_ready = !stalled();
       in.mem_req_ready = !stalled();
       if (!mem_presented) mem_pick = pick_due(mem_q, o.pipe, o.mem_jitter > 0, cycle);
@@ -643,6 +667,7 @@ int run(const Options& o, std::unique_ptr<Model<harness::Tu>>& model) {
       if (out.mem_req_valid && in.mem_req_ready) {
         ++lines;
         const std::uint32_t addr = out.mem_req.addr;
+        node_lines += addr - si.layout.kd_nodes.offset < si.layout.kd_nodes.bytes;
         if (addr % streams::kMemLineBytes != 0 || std::uint64_t{addr} + streams::kMemLineBytes > image.size()) {
           char what[96];
           std::snprintf(what, sizeof what, "memory request at 0x%08x: unaligned or outside the %zu-byte image", addr,
@@ -710,6 +735,14 @@ int run(const Options& o, std::unique_ptr<Model<harness::Tu>>& model) {
               "cycle, %.4f memory lines per cycle, %.1f cycles per ray\n",
               o.slots, o.pipe ? " (shared pipeline)" : "", o.in_flight, double(nodes) / double(cycle),
               double(tests) / double(cycle), double(lines) / double(cycle), double(cycle) / double(cases.size()));
+  // A node line serves every ray of a packet that visits the node: fewer lines than the
+  // rays' own walks visit nodes.
+  std::printf("tu_cosim nodes: %" PRIu64 " node lines for %" PRIu64 " node visits (%.3f a visit, packets of %d)\n",
+              node_lines, nodes, double(node_lines) / double(std::max<std::uint64_t>(nodes, 1)), o.packet);
+  if (o.packet > 1 && nodes > 0 && node_lines >= nodes) {
+    return fail("packets of " + std::to_string(o.packet) + " shared no node line: " + std::to_string(node_lines) +
+                " lines for " + std::to_string(nodes) + " node visits");
+  }
 
   if (!o.cycle_model.empty()) {
     const spec::HardwareConfig* config = nullptr;
@@ -800,6 +833,8 @@ int main(int argc, char** argv) {
   app.add_flag("--with-iu", o.with_iu, "the RTL IU inside (rpu_ray_unit), else the C++ IU answers");
   app.add_option("--slots", o.slots, "the TU's ray slots (a model built with them)")->check(CLI::Range(1, 256));
   app.add_flag("--pipe", o.pipe, "the slots share a node-step pipeline (rpu_tu_pipe; a model built so)");
+  app.add_option("--packet", o.packet, "with --pipe: rays a slot walks together (a model built so)")
+      ->check(CLI::IsMember({1, 2, 4, 8}));
   app.add_option("--in-flight", o.in_flight, "rays in the unit at once (1: step cycles are measured per ray)")
       ->check(CLI::Range(1, 256));
   app.add_option("--scale", o.scale, "scale the scene by 2^K (its kd scale exponent moves by K)")
@@ -841,6 +876,11 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "tu_cosim: --cycle-model times the ray unit: --with-iu --stall 0 --mem-jitter 0\n");
       return 2;
     }
+  }
+  if (o.packet > 1 && (!o.pipe || !o.cycle_model.empty())) {
+    std::fprintf(stderr, "tu_cosim: --packet walks packets in a pipelined unit (--pipe); the cycle model takes "
+                 "packets of 1\n");
+    return 2;
   }
   if (o.in_flight > 1 && (o.timing || !o.expect_timing.empty())) {
     std::fprintf(stderr, "tu_cosim: --timing and --expect-timing measure one ray at a time (--in-flight 1)\n");
