@@ -154,6 +154,13 @@ foreach(case IN LISTS rpu_tu_cosim_cases)
     endforeach()
     if("${format} ${isect} ray_packet4" IN_LIST rpu_tu_built)
       rpu_tu_test(cosim.ray_packet4.${at} cosim 900 ${pipe_args} --with-iu --packet 4 --rays 500)
+      # The cycle model's unit with packets against the RTL's, cycle for cycle and node line
+      # for node line, with lines answered in order of address hash too (--mem-spread).
+      rpu_tu_test(cosim.ray_packet4.cycle_model.${at} cosim 900 ${pipe_args} --with-iu --packet 4
+                  --rays ${rpu_cycle_model_rays} --stall 0 --mem-jitter 0 --cycle-model ${config} --cycle-tolerance 0)
+      rpu_tu_test(cosim.ray_packet4.cycle_model_spread.${at} cosim 900 ${pipe_args} --with-iu --packet 4
+                  --rays ${rpu_cycle_model_rays} --stall 0 --mem-jitter 0 --mem-spread 12 --cycle-model ${config}
+                  --cycle-tolerance 0)
       rpu_tu_test(slow.cosim.ray_packet4.${at} slow 7200 ${pipe_args} --with-iu --packet 4 --rays 34000)
     endif()
   endforeach()

@@ -462,19 +462,42 @@ class HarnessPipeLines final : public cycle::LineSource {
   int spread_;
 };
 
+// A packet's walk as the golden model makes it, for the cycle model's unit.
+class CaseWalks final : public cycle::PacketWalks {
+ public:
+  CaseWalks(const std::vector<Case>& cases, const functional::Tracer& tracer) : cases_(cases), tracer_(tracer) {}
+  void walk(std::span<const std::uint32_t> rays, functional::TraceLog& log) override {
+    packet_.clear();
+    for (const std::uint32_t i : rays) packet_.push_back(cases_[i].ray);
+    out_.resize(packet_.size());
+    tracer_.trace_packet(packet_, cases_[rays[0]].mode, out_, log);
+  }
+
+ private:
+  const std::vector<Case>& cases_;
+  const functional::Tracer& tracer_;
+  std::vector<TraceRay> packet_;
+  std::vector<TraceHit> out_;
+};
+
 // The cycles the cycle model's pipelined unit (one IU) takes for the cases, offered in
-// order with at most `in_flight` in the unit, as the harness offers them.
+// order with at most `in_flight` in the unit, as the harness offers them; with packets,
+// ended where `packet_ends` says.
 cycle::Cycle model_pipe_cycles(const std::vector<Case>& cases, const cycle::PipeCosts& costs, int in_flight,
-                               cycle::Cycle mem_latency, int mem_spread) {
+                               cycle::Cycle mem_latency, int mem_spread, const functional::Tracer& tracer,
+                               const std::vector<bool>& packet_ends, std::uint64_t& node_fetches) {
   HarnessPipeLines lines(mem_latency, mem_spread);
   std::vector<cycle::IuTimer> ius(1);
-  cycle::PipeTraversalUnit unit(costs, lines, ius);
+  CaseWalks walks(cases, tracer);
+  cycle::PipeTraversalUnit unit(costs, lines, ius, &walks);
   std::vector<std::uint32_t> answered;
   std::size_t next = 0, done = 0, inside = 0;
   cycle::Cycle now = 0, progress = 0;
   for (; done < cases.size(); ++now) {
     if (next < cases.size() && inside < static_cast<std::size_t>(in_flight) && unit.ready()) {
-      unit.take(static_cast<std::uint32_t>(next), cases[next].log);
+      const Case& c = cases[next];
+      unit.take(static_cast<std::uint32_t>(next), c.log,
+                {packet_ends[next], tracer.direction_signs(c.ray), c.mode == TraceMode::kAny});
       ++next;
       ++inside;
     }
@@ -485,6 +508,7 @@ cycle::Cycle model_pipe_cycles(const std::vector<Case>& cases, const cycle::Pipe
     if (!answered.empty()) progress = now;
     if (now - progress > 1000000) throw Error("tu_cosim: the cycle model's pipelined unit answered nothing for 10^6 cycles");
   }
+  node_fetches = unit.time.inner + unit.time.leaves;
   return now;
 }
 
@@ -752,6 +776,7 @@ int run(const Options& o, std::unique_ptr<Model<harness::Tu>>& model) {
     const cycle::WalkCosts costs =
         cycle::WalkCosts::of(*config, watertight ? IsectMode::kWatertight : IsectMode::kWoop);
     cycle::Cycle modelled = 0;
+    std::uint64_t model_node_lines = node_lines;
     if (o.pipe) {
       cycle::PipeCosts pipe = cycle::PipeCosts::of(*config, watertight ? IsectMode::kWatertight : IsectMode::kWoop);
       pipe.slots = static_cast<std::uint32_t>(o.slots);
@@ -759,7 +784,9 @@ int run(const Options& o, std::unique_ptr<Model<harness::Tu>>& model) {
       pipe.memory_wait = 0;  // the harness answers the unit's port directly, by tag,
       pipe.by_tag = true;    // with the lines in flight the built unit's table holds
       pipe.lines = 1u << line_tag_bits;
-      modelled = model_pipe_cycles(cases, pipe, o.in_flight, static_cast<cycle::Cycle>(o.mem_latency), o.mem_spread);
+      pipe.packet = static_cast<std::uint32_t>(o.packet);
+      modelled = model_pipe_cycles(cases, pipe, o.in_flight, static_cast<cycle::Cycle>(o.mem_latency), o.mem_spread,
+                                   tracer, packet_ends, model_node_lines);
     } else {
       modelled = model_cycles(cases, costs, o.slots, static_cast<cycle::Cycle>(o.mem_latency));
     }
@@ -767,6 +794,12 @@ int run(const Options& o, std::unique_ptr<Model<harness::Tu>>& model) {
     std::printf("tu_cosim cycle model: '%s' step cycles, %d slots: %" PRIu64 " cycles against the RTL's %" PRIu64
                 " (%+.2f%%)\n",
                 o.cycle_model.c_str(), o.slots, modelled, cycle, error);
+    // The same packets walk the same nodes: the RTL's node lines are the golden walks'.
+    if (model_node_lines != node_lines) {
+      std::printf("tu_cosim FAIL: the cycle model's packets fetch %" PRIu64 " node lines, the RTL's %" PRIu64 "\n",
+                  model_node_lines, node_lines);
+      return 1;
+    }
     if (std::abs(error) > o.cycle_tolerance) {
       std::printf("tu_cosim FAIL: the cycle model is %.2f%% off the RTL, more than --cycle-tolerance %.2f%%\n", error,
                   o.cycle_tolerance);
@@ -877,9 +910,8 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
-  if (o.packet > 1 && (!o.pipe || !o.cycle_model.empty())) {
-    std::fprintf(stderr, "tu_cosim: --packet walks packets in a pipelined unit (--pipe); the cycle model takes "
-                 "packets of 1\n");
+  if (o.packet > 1 && !o.pipe) {
+    std::fprintf(stderr, "tu_cosim: --packet walks packets in a pipelined unit (--pipe)\n");
     return 2;
   }
   if (o.in_flight > 1 && (o.timing || !o.expect_timing.empty())) {

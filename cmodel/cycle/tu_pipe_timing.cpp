@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <bit>
 
+#include <fmt/format.h>
+
 #include "common/error.hpp"
 #include "rpu/streams.hpp"
 
@@ -46,10 +48,16 @@ void PipeTraversalUnit::RoundRobin::update(int grant, bool ready) {
   if (grant >= 0) held = static_cast<std::uint32_t>(grant);
 }
 
-PipeTraversalUnit::PipeTraversalUnit(const PipeCosts& costs, LineSource& lines, std::span<IuTimer> ius)
-    : costs_(costs), lines_(lines), ius_(ius), engines_(costs.setups), slots_(costs.slots), jobs_(kLeafDepth), buffers_(kRecords) {
+PipeTraversalUnit::PipeTraversalUnit(const PipeCosts& costs, LineSource& lines, std::span<IuTimer> ius,
+                                     PacketWalks* walks)
+    : costs_(costs), lines_(lines), ius_(ius), walks_(walks), engines_(costs.setups), slots_(costs.slots),
+      jobs_(kLeafDepth), buffers_(kRecords) {
   if (costs.slots < 1 || costs.slots > 64 || costs.setups < 1 || costs.setups > 63 || costs.lines < 1 || ius.empty()) {
     throw Error("pipelined traversal unit: 1-64 slots, 1-63 set-up engines, a line in flight and an IU");
+  }
+  if (costs.packet < 1 || costs.packet > functional::kMaxPacketRays || (costs.packet > 1 && !walks)) {
+    throw Error(fmt::format("pipelined traversal unit: packets of 1 to {} rays, and with more than one their walks",
+                            functional::kMaxPacketRays));
   }
   const auto rr = [](std::uint32_t inputs) { return RoundRobin{inputs, inputs - 1, 0, false}; };
   start_rr_ = rr(costs.setups);
@@ -61,9 +69,10 @@ bool PipeTraversalUnit::ready() const {
   return std::any_of(engines_.begin(), engines_.end(), [](const Engine& e) { return !e.skid_valid; });
 }
 
-void PipeTraversalUnit::take(std::uint32_t ray, const functional::TraceLog& log) {
-  incoming_ = {ray, &log};
+void PipeTraversalUnit::take(std::uint32_t ray, const functional::TraceLog& log, const PacketRay& packet) {
+  incoming_ = {ray, &log, packet, in_seq_};
   has_incoming_ = true;
+  end_taken_ = packet.packet_end;
   ++rays_;
 }
 
@@ -88,6 +97,8 @@ void PipeTraversalUnit::tick(Cycle now, std::vector<std::uint32_t>& answered) {
   pop(now, g);
   step(g);
   respond(g, answered);
+  if (end_taken_) ++in_seq_;
+  end_taken_ = false;
 }
 
 // Set-up engines: those offering a set-up ray to the slots, or answering a ray that
@@ -113,7 +124,7 @@ void PipeTraversalUnit::grant_slots(Grants& g) {
       case Phase::kLeaf:
         ++time.wait_iu;
         // Any refs left; an any-hit ray fetches one at a time.
-        if (sl.k != sl.count && (sl.ray.log->mode != functional::TraceMode::kAny || sl.pending == 0)) g.refs |= bit;
+        if (sl.k != sl.count && (sl.log->mode != functional::TraceMode::kAny || sl.pending == 0)) g.refs |= bit;
         if (sl.pending == 0 && sl.k == sl.count) g.leaf_over |= bit;
         break;
       case Phase::kLeafEnd: g.leaf_end |= bit; ++time.busy; break;
@@ -123,11 +134,42 @@ void PipeTraversalUnit::grant_slots(Grants& g) {
   }
 }
 
-// A free slot takes an offered ray.
+// A slot takes an offered ray: the packet being formed, if the ray came in the same
+// input packet with the same signs and mode and the packet has room, else a free slot.
+// The packet being formed closes when another opens, or no ray of its input packet is
+// left in set-up and the input has moved past it.
 void PipeTraversalUnit::grant_start(std::uint64_t offering, Grants& g) {
   g.start = start_rr_.grant(offering);
-  start_rr_.update(g.start, g.free != 0);
-  g.give = g.start >= 0 && g.free != 0;
+  if (g.start >= 0 && costs_.packet > 1 && form_open_) {
+    const Ray& r = engines_[static_cast<std::size_t>(g.start)].ray;
+    g.join = r.seq == form_seq_ && r.packet.signs == form_signs_ && r.packet.any_hit == form_any_hit_ &&
+             slots_[form_slot_].rays.size() != costs_.packet;
+  }
+  const bool ready = g.join || g.free != 0;
+  start_rr_.update(g.start, ready);
+  g.give = g.start >= 0 && ready;
+  g.form_ends = form_open_ && forming_ends();
+  g.close_formed = form_open_ && ((g.give && !g.join) || g.form_ends);
+}
+
+// No ray of the packet being formed's input packet is in set-up, and the input has
+// moved past it.
+bool PipeTraversalUnit::forming_ends() const {
+  if (in_seq_ == form_seq_) return false;
+  return std::none_of(engines_.begin(), engines_.end(), [&](const Engine& en) {
+    return (en.working && en.ray.seq == form_seq_) || (en.out_valid && en.out.seq == form_seq_) ||
+           (en.skid_valid && en.skid.seq == form_seq_);
+  });
+}
+
+// A packet closes: its walk (the ray's own alone), and it walks from the next cycle.
+void PipeTraversalUnit::close(Slot& sl) {
+  sl.phase = Phase::kReady;
+  if (costs_.packet > 1) {
+    sl.walk.events.clear();
+    walks_->walk(sl.rays, sl.walk);
+    sl.log = &sl.walk;
+  }
 }
 
 // The memory port takes a record line (of the job being read, or the lowest job that is
@@ -169,9 +211,10 @@ void PipeTraversalUnit::grant_line(Cycle now, Grants& g) const {
   }
 }
 
-// The record buffer whose record goes to the IU next: the lowest whole one that is its
-// slot's next test (-1: none).
+// The record buffer whose record goes to the IU next: the one whose tests have begun,
+// else the lowest whole one that is its slot's next test (-1: none).
 int PipeTraversalUnit::whole_buffer() const {
+  if (test_hold_) return static_cast<int>(test_held_);
   for (std::size_t b = 0; b < buffers_.size(); ++b) {
     const RecordBuffer& r = buffers_[b];
     if (r.busy && r.got == costs_.record_lines && r.job.k == slots_[r.job.slot].test_k) return static_cast<int>(b);
@@ -206,7 +249,9 @@ void PipeTraversalUnit::grant_response(Grants& g) {
   g.rsp = rsp_rr_.grant(out_valid);
   rsp_rr_.update(g.rsp, true);
   g.fin_rsp_taken = g.rsp == 0;
-  const bool fin_ready = !fin_valid_ || g.fin_rsp_taken;
+  // A packet's rays leave one a cycle; the stage is free when its last has.
+  const bool fin_last = fin_valid_ && slots_[fin_slot_].answered + 1 == slots_[fin_slot_].rays.size();
+  const bool fin_ready = !fin_valid_ || (g.fin_rsp_taken && fin_last);
   g.fin = fin_rr_.grant(g.done);
   fin_rr_.update(g.fin, fin_ready);
   g.fin_take = g.fin >= 0 && fin_ready;
@@ -256,19 +301,40 @@ void PipeTraversalUnit::set_up(Cycle now, const Grants& g, std::vector<std::uint
       en.skid = incoming_;
     }
   }
+  const std::uint32_t formed = form_slot_;
   if (g.give) {
-    Slot& sl = slots_[static_cast<std::size_t>(std::countr_zero(g.free))];
-    sl = Slot{};
-    sl.phase = Phase::kReady;
-    sl.ray = engines_[static_cast<std::size_t>(g.start)].ray;
+    const Ray& ray = engines_[static_cast<std::size_t>(g.start)].ray;
+    const std::uint32_t s = g.join ? form_slot_ : static_cast<std::uint32_t>(std::countr_zero(g.free));
+    Slot& sl = slots_[s];
+    if (!g.join) {
+      sl.phase = Phase::kForm;
+      sl.ray = ray;
+      sl.rays.clear();
+      sl.log = ray.log;
+      sl.answered = 0;
+      sl.next = sl.refs = 0;
+      sl.count = sl.k = sl.pending = sl.rec_k = sl.test_k = 0;
+      sl.stepping = false;
+    }
+    sl.rays.push_back(ray.id);
+    const bool full = sl.rays.size() == costs_.packet;
+    if (full) close(sl);
+    form_open_ = !full;
+    form_slot_ = s;
+    form_seq_ = ray.seq;
+    form_signs_ = ray.packet.signs;
+    form_any_hit_ = ray.packet.any_hit;
+  } else if (g.form_ends) {
+    form_open_ = false;
   }
+  if (g.close_formed) close(slots_[formed]);
 }
 
 // The memory port: a slot's node line, a leaf's prim ref, or a record's next line.
 void PipeTraversalUnit::fetch(Cycle now, const Grants& g) {
   if (g.fetched) {
     Slot& sl = slots_[static_cast<std::size_t>(g.fetch)];
-    const TraceEvent e = sl.ray.log->events[sl.next++];
+    const TraceEvent e = sl.log->events[sl.next++];
     sl.phase = Phase::kNode;
     order_.push_back({lines_.read(now, e.address, spec::memory::kKdNodeBytes, true) + costs_.memory_wait,
                       Kind::kNode, e.kind == TraceEvent::Kind::kLeaf, static_cast<std::uint32_t>(g.fetch), 0});
@@ -276,13 +342,14 @@ void PipeTraversalUnit::fetch(Cycle now, const Grants& g) {
   if (g.ref_issue) {
     Slot& sl = slots_[static_cast<std::size_t>(g.ref)];
     const std::size_t i = sl.refs + 2 * sl.k;
+    const TraceEvent& test = sl.log->events[i + 1];
     ++sl.k;
-    ++sl.pending;
+    sl.pending += test.rays;
     ++work_;
     ++time.refs;
-    const std::uint32_t address = sl.ray.log->events[i].address;
+    const std::uint32_t address = sl.log->events[i].address;
     order_.push_back({lines_.read(now, address, spec::memory::kPrimRefBytes, false) + costs_.memory_wait, Kind::kRef,
-                      false, static_cast<std::uint32_t>(g.ref), sl.ray.log->events[i + 1].address, sl.k - 1});
+                      false, static_cast<std::uint32_t>(g.ref), test.address, sl.k - 1, test.rays});
   }
   if (g.record_go) {
     const Job job = jobs_[static_cast<std::size_t>(g.job)];
@@ -291,7 +358,7 @@ void PipeTraversalUnit::fetch(Cycle now, const Grants& g) {
       fill_buffer_ = static_cast<std::uint32_t>(
           std::find_if(buffers_.begin(), buffers_.end(), [](const RecordBuffer& b) { return !b.busy; }) -
           buffers_.begin());
-      buffers_[fill_buffer_] = {true, 0, job};
+      buffers_[fill_buffer_] = {true, 0, job, 0};
     }
     const std::uint32_t address = job.record + sent_ * streams::kMemLineBytes;
     order_.push_back({lines_.read(now, address, streams::kMemLineBytes, false) + costs_.memory_wait, Kind::kRecord,
@@ -313,7 +380,7 @@ void PipeTraversalUnit::take_line(Cycle now, const Grants& g) {
   switch (g.line.kind) {
     case Kind::kNode:
       if (g.line.leaf) {
-        const auto& events = sl.ray.log->events;
+        const auto& events = sl.log->events;
         sl.phase = Phase::kLeaf;
         sl.refs = sl.next;
         sl.k = 0;
@@ -332,7 +399,7 @@ void PipeTraversalUnit::take_line(Cycle now, const Grants& g) {
       break;
     case Kind::kRef:
       if (g.job_free < 0) throw Error("pipelined traversal unit: a ref answered with the job table full");
-      jobs_[static_cast<std::size_t>(g.job_free)] = {true, g.line.slot, g.line.k, g.line.record};
+      jobs_[static_cast<std::size_t>(g.job_free)] = {true, g.line.slot, g.line.k, g.line.record, g.line.tests};
       break;
     case Kind::kRecord: ++buffers_[g.line.record].got; break;
   }
@@ -342,12 +409,18 @@ void PipeTraversalUnit::take_line(Cycle now, const Grants& g) {
 // answered ends.
 void PipeTraversalUnit::test(Cycle now, const Grants& g) {
   if (g.test_issue) {
+    // A record goes to the IU once per ray of its packet that tests it, one a cycle.
     RecordBuffer& buffer = buffers_[static_cast<std::size_t>(g.test_buffer)];
     const Job job = buffer.job;
-    buffer.busy = false;
-    ++slots_[job.slot].test_k;
+    const bool last = ++buffer.sent == job.tests;
+    test_hold_ = !last;
+    test_held_ = static_cast<std::uint32_t>(g.test_buffer);
+    if (last) {
+      buffer.busy = false;
+      ++slots_[job.slot].test_k;
+      --work_;
+    }
     ++tests_busy_;
-    --work_;
     g.iu->next_accept = now + costs_.iu_interval;
     ++g.iu->time.tests;
     g.iu->time.busy += costs_.iu_interval;
@@ -378,9 +451,17 @@ void PipeTraversalUnit::step(const Grants& g) {
   const Step s = steps_.front();
   steps_.pop_front();
   Slot& sl = slots_[s.slot];
-  const auto& events = sl.ray.log->events;
+  const auto& events = sl.log->events;
   sl.stepping = false;
-  if (s.pop) {
+  if (s.pop && costs_.packet > 1) {
+    // A packet's pass pops one entry; it passes again while the entry woke no ray.
+    ++sl.next;
+    ++time.pops;
+    if (sl.next < events.size() && events[sl.next].kind == TraceEvent::Kind::kPop) {
+      sl.phase = Phase::kLeafEnd;
+      return;
+    }
+  } else if (s.pop) {
     for (; sl.next < events.size() && events[sl.next].kind == TraceEvent::Kind::kPop; ++sl.next) ++time.pops;
   }
   sl.phase = sl.next < events.size() ? Phase::kReady : Phase::kDone;
@@ -389,17 +470,19 @@ void PipeTraversalUnit::step(const Grants& g) {
 // The finish stage's ray leaves through the response arbiter, its slot frees, and the
 // stage takes the next done slot.
 void PipeTraversalUnit::respond(const Grants& g, std::vector<std::uint32_t>& answered) {
+  bool fin_done = false;
   if (g.fin_rsp_taken) {
     Slot& sl = slots_[fin_slot_];
-    sl.phase = Phase::kFree;
-    answered.push_back(sl.ray.id);
+    answered.push_back(sl.rays[sl.answered++]);
     --rays_;
+    fin_done = sl.answered == sl.rays.size();
+    if (fin_done) sl.phase = Phase::kFree;
   }
   if (g.fin_take) {
     slots_[static_cast<std::size_t>(g.fin)].phase = Phase::kFinish;
     fin_slot_ = static_cast<std::uint32_t>(g.fin);
   }
-  fin_valid_ = g.fin_take || (fin_valid_ && !g.fin_rsp_taken);
+  fin_valid_ = g.fin_take || (fin_valid_ && !fin_done);
 }
 
 Cycle PipeUnitTiming::advance(Cycle now) {

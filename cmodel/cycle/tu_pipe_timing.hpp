@@ -31,21 +31,41 @@ struct PipeCosts {
   Cycle memory_wait;         // beyond the line source's answer (the chip's port registers)
   Cycle iu_latency, iu_interval, iu_wait;
   std::uint32_t record_lines;  // an intersection record's memory lines
+  std::uint32_t packet = 1;    // rays a slot walks together (rpu_tu_pipe's Packet)
 
   // The chip's unit: as many lines as the tag bits its cache arbiter leaves it name.
   static PipeCosts of(const spec::HardwareConfig& config, IsectMode mode);
 };
 
+// What a unit with packets knows of a ray as it comes in (tu_req): whether it ends its
+// input packet, and, for forming packets after set-up, its direction signs (inv's sign
+// bits in the format, bit a: axis a) and mode.
+struct PacketRay {
+  bool packet_end = true;
+  std::uint32_t signs = 0;
+  bool any_hit = false;
+};
+
+// The walk of a packet a unit with packets closes: the rays' ids in the packet's order,
+// its log to fill (functional::Tracer::trace_packet's).
+class PacketWalks {
+ public:
+  virtual ~PacketWalks() = default;
+  virtual void walk(std::span<const std::uint32_t> rays, functional::TraceLog& log) = 0;
+};
+
 // The unit stepped a cycle at a time; its caller offers it rays and takes its answers
-// (the chip's PipeUnitTiming, tu_cosim's harness).
+// (the chip's PipeUnitTiming, tu_cosim's harness). With costs.packet > 1 a slot walks a
+// packet of rays, whose walk `walks` gives when the packet closes.
 class PipeTraversalUnit {
  public:
-  PipeTraversalUnit(const PipeCosts& costs, LineSource& lines, std::span<IuTimer> ius);
+  PipeTraversalUnit(const PipeCosts& costs, LineSource& lines, std::span<IuTimer> ius, PacketWalks* walks = nullptr);
 
   // Whether a ray offered in the next cycle is taken (a set-up engine's buffer has room).
   bool ready() const;
-  // A ray taken in the cycle the next tick() runs; `log` outlives its walk.
-  void take(std::uint32_t ray, const functional::TraceLog& log);
+  // A ray taken in the cycle the next tick() runs; `log` outlives its walk (a ray that
+  // misses the scene box has an empty one).
+  void take(std::uint32_t ray, const functional::TraceLog& log, const PacketRay& packet = {});
   // Runs cycle `now` (each cycle once, in order); appends the rays answered in it.
   void tick(Cycle now, std::vector<std::uint32_t>& answered);
   bool idle() const { return rays_ == 0; }
@@ -56,11 +76,13 @@ class PipeTraversalUnit {
   TraversalUnitTime time;
 
  private:
-  enum class Phase : std::uint8_t { kFree, kReady, kNode, kLeaf, kLeafEnd, kPop, kDone, kFinish };
+  enum class Phase : std::uint8_t { kFree, kForm, kReady, kNode, kLeaf, kLeafEnd, kPop, kDone, kFinish };
   enum class Kind : std::uint8_t { kNode, kRef, kRecord };
   struct Ray {
     std::uint32_t id = 0;
     const functional::TraceLog* log = nullptr;
+    PacketRay packet{};
+    std::uint32_t seq = 0;  // its input packet
   };
   struct Engine {
     Ray out, skid;  // rpu_skid_buf's two registers
@@ -71,7 +93,11 @@ class PipeTraversalUnit {
   };
   struct Slot {
     Phase phase = Phase::kFree;
-    Ray ray;
+    Ray ray;                                    // its (first) ray
+    std::vector<std::uint32_t> rays;            // its rays, in the packet's order
+    functional::TraceLog walk;                  // with packets: the packet's walk
+    const functional::TraceLog* log = nullptr;  // the walk it replays: its ray's, or `walk`
+    std::uint32_t answered = 0;                 // its rays answered
     std::size_t next = 0;  // the log's next event
     std::size_t refs = 0;  // the leaf's first ref event
     std::uint32_t count = 0, k = 0, pending = 0;
@@ -84,15 +110,18 @@ class PipeTraversalUnit {
     bool leaf;
     std::uint32_t slot, record;  // a ref's: its record's address; a record line's: its buffer
     std::uint32_t k = 0;         // a ref's list index
+    std::uint32_t tests = 1;     // a ref's: the rays that test its record
   };
   struct Job {
     bool busy = false;
     std::uint32_t slot = 0, k = 0, record = 0;
+    std::uint32_t tests = 1;  // the rays that test the record
   };
   struct RecordBuffer {
     bool busy = false;
     std::uint32_t got = 0;  // its lines answered
     Job job{};
+    std::uint32_t sent = 0;  // its tests gone to the IU
   };
   struct Step {
     Cycle at;  // the decide stage
@@ -116,8 +145,11 @@ class PipeTraversalUnit {
   struct Grants {
     std::uint64_t free = 0, ready = 0, leaf_end = 0, done = 0, refs = 0, leaf_over = 0;
     std::uint64_t missing = 0;  // engines answering a ray that misses the scene box
-    int start = -1;             // the engine whose ray a free slot takes
+    int start = -1;             // the engine whose ray a slot takes
     bool give = false;
+    bool join = false;          // ... into the packet being formed
+    bool close_formed = false;  // the packet being formed closes
+    bool form_ends = false;     // ... as no ray of its input packet is left in set-up
     int ref = -1, fetch = -1;   // the slots whose ref, whose node the port reads
     bool ref_issue = false, fetched = false, record_go = false;
     int job = -1;       // the job whose record line the port may read
@@ -151,6 +183,8 @@ class PipeTraversalUnit {
   void pop(Cycle now, const Grants& g);
   void step(const Grants& g);
   void respond(const Grants& g, std::vector<std::uint32_t>& answered);
+  void close(Slot& sl);
+  bool forming_ends() const;
 
   // rpu_tu_pipe's LeafDepth, Tests and Records, as rpu_ray_unit builds it: refs fetched
   // ahead of their tests, tests in flight to the IUs, records being read.
@@ -159,6 +193,7 @@ class PipeTraversalUnit {
   PipeCosts costs_;
   LineSource& lines_;
   std::span<IuTimer> ius_;
+  PacketWalks* walks_;
   std::vector<Engine> engines_;
   std::vector<Slot> slots_;
   Ray incoming_;
@@ -173,6 +208,15 @@ class PipeTraversalUnit {
   bool fin_valid_ = false;
   std::uint32_t fin_slot_ = 0;
   std::uint32_t rays_ = 0;  // taken and not answered
+  // With packets: the input packet taking rays (and whether the ray taken in this cycle
+  // ends it), the record buffer whose tests have begun, and the packet being formed.
+  std::uint32_t in_seq_ = 0;
+  bool end_taken_ = false;
+  bool test_hold_ = false;
+  std::uint32_t test_held_ = 0;
+  bool form_open_ = false;
+  std::uint32_t form_slot_ = 0, form_seq_ = 0, form_signs_ = 0;
+  bool form_any_hit_ = false;
 };
 
 // A pipelined unit of the chip: a PipeTraversalUnit that takes a ray from the dispatch

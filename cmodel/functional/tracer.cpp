@@ -263,6 +263,55 @@ void Tracer::trace_packets(std::span<const TraceRay> rays, TraceMode mode, std::
   packets_with(SoftArith{format_}, rays, mode, out, packet_rays, shared);
 }
 
+std::uint32_t Tracer::trace_packet(std::span<const TraceRay> rays, TraceMode mode, std::span<TraceHit> out,
+                                   TraceLog& log) const {
+  if (rays.empty() || rays.size() > kMaxPacketRays) {
+    throw Error(fmt::format("a packet holds 1 to {} rays, not {}", kMaxPacketRays, rays.size()));
+  }
+  log.mode = mode;
+  if (fast_) {
+    const fp::fast32::FlushScope flush;
+    return packet_with(Fast32Arith{}, rays, mode, out, log);
+  }
+  return packet_with(SoftArith{format_}, rays, mode, out, log);
+}
+
+std::uint32_t Tracer::direction_signs(const TraceRay& ray) const {
+  const SoftArith ar{format_};
+  RayRegisters<SoftArith> regs;
+  if (!setup_ray(ar, ray, layout_.isect_mode == IsectMode::kWatertight, layout_.kd_scale_exponent, regs)) return 0;
+  std::uint32_t signs = 0;
+  for (int a = 0; a < 3; ++a) signs |= std::uint32_t{ar.sign(regs.inv_direction[a])} << a;
+  return signs;
+}
+
+// A ray of a packet walk: its registers, interval and nearest hit, and whether it walks,
+// waits for an entry of the packet's stack, or is done.
+template <class Arith>
+struct Tracer::PacketLane {
+  using V = typename Arith::Value;
+  enum class State : std::uint8_t { kActive, kWaiting, kDone };
+  RayRegisters<Arith> ray;
+  V t_near, t_far, t_best;
+  std::size_t index;  // in the caller's rays and out
+  State state;
+};
+
+namespace {
+// What a packet walk reports: nothing, or the events of a traversal unit with packets
+// (the cycle model's log: fetches, refs, each record with the rays that test it, and
+// the node-step pipeline's passes after a leaf).
+struct NoPacketRecorder {
+  void operator()(TraceEvent::Kind, std::uint32_t, std::uint32_t = 1) const {}
+};
+struct PacketLogRecorder {
+  TraceLog& log;
+  void operator()(TraceEvent::Kind kind, std::uint32_t address, std::uint32_t rays = 1) const {
+    log.events.push_back({kind, address, static_cast<std::uint8_t>(rays)});
+  }
+};
+}  // namespace
+
 // A packet walks as one ray would, with a mask: at an inner node each active ray takes its
 // own step (inner_step); the packet visits the near child (by the packet's direction sign
 // on the axis) if any ray goes there, and pushes the far child for the rays that go there
@@ -272,187 +321,244 @@ void Tracer::trace_packets(std::span<const TraceRay> rays, TraceMode mode, std::
 // without the pop's test, since its own walk went there directly. After a leaf a ray
 // waits for the next entry that holds it; an entry's own rays take its interval and the
 // pop's test. So every ray visits its own walk's nodes in its own walk's order and ends
-// where it ends. A packet whose stack fills starts its rays again alone, each as trace().
-template <class Arith>
-void Tracer::packets_with(const Arith& ar, std::span<const TraceRay> rays, TraceMode mode, std::span<TraceHit> out,
-                          std::size_t packet_rays, PacketCounters& shared) const {
+// where it ends. After a leaf the packet passes the node-step pipeline once per entry it
+// pops, as rpu_tu_pipe does: a pass ends the rays whose hit lies within their interval,
+// then ends the walk if no ray waits or the stack is empty, else pops an entry, and
+// passes again while the entry woke no ray and others wait. A ray alone (`alone`) takes
+// its own first child as the near one. True: the stack would overflow (a ray alone then
+// faults there; a packet starts its rays again alone).
+template <class Arith, class Recorder>
+bool Tracer::walk_packet(const Arith& ar, std::span<PacketLane<Arith>> lanes, std::uint32_t signs, TraceMode mode,
+                         std::span<TraceHit> out, PacketCounters& shared, const Recorder& record, bool alone) const {
   using V = typename Arith::Value;
   using Needs = typename InnerStep<V>::Needs;
-  const bool watertight = layout_.isect_mode == IsectMode::kWatertight;
-  const int kd_scale = layout_.kd_scale_exponent;
-  NoRecorder none;
-
-  enum class State : std::uint8_t { kActive, kWaiting, kDone };
-  struct Lane {
-    RayRegisters<Arith> ray;
-    V t_near, t_far, t_best;
-    std::size_t index;  // in rays and out
-    State state;
-  };
+  using State = typename PacketLane<Arith>::State;
   struct Entry {
     std::uint32_t node;
     std::array<V, kMaxPacketRays> t_near, t_far;
     std::uint32_t own = 0;       // rays whose own walk pushed it
     std::uint32_t deferred = 0;  // rays that rejoin here without a pop
   };
-
-  // The rays that enter the tree, grouped by the signs of their directions.
-  std::array<std::vector<Lane>, 8> by_signs;
-  for (std::size_t i = 0; i < rays.size(); ++i) {
-    out[i] = TraceHit{};
-    Lane lane;
-    if (!setup_ray(ar, rays[i], watertight, kd_scale, lane.ray) ||
-        !clip_to_scene(ar, lane.ray, layout_, lane.t_near, lane.t_far)) {
+  const bool watertight = layout_.isect_mode == IsectMode::kWatertight;
+  const int kd_scale = layout_.kd_scale_exponent;
+  const std::size_t n = lanes.size();
+  const std::uint32_t nodes_base = layout_.kd_nodes.offset;
+  std::array<Entry, kMaxStackDepth> stack;
+  int stack_size = 0;
+  std::uint32_t node_index = 0;
+  ++shared.packets;
+  while (true) {
+    const std::uint32_t node_address = nodes_base + spec::memory::kKdNodeBytes * node_index;
+    const KdNode node{read_u32(image_, node_address + spec::memory::kKdNodeWord0At),
+                      read_u32(image_, node_address + spec::memory::kKdNodeWord1At)};
+    ++shared.node_fetches;
+    record(node.is_leaf() ? TraceEvent::Kind::kLeaf : TraceEvent::Kind::kInner, node_address);
+    for (std::size_t r = 0; r < n; ++r) {
+      if (lanes[r].state == State::kActive) ++out[lanes[r].index].counters.nodes;
+    }
+    if (!node.is_leaf()) {
+      const bool below_near = !(signs >> node.split_axis() & 1);
+      std::uint32_t near = below_near ? node_index + 1 : node.above_child();
+      std::uint32_t far = below_near ? node.above_child() : node_index + 1;
+      std::array<InnerStep<V>, kMaxPacketRays> steps;
+      std::uint32_t to_near = 0, to_far = 0, both = 0;
+      for (std::size_t r = 0; r < n; ++r) {
+        PacketLane<Arith>& l = lanes[r];
+        if (l.state != State::kActive) continue;
+        steps[r] = inner_step(ar, l.ray, node, node_index, l.t_near, l.t_far);
+        if (alone) {
+          near = steps[r].first;
+          far = steps[r].second;
+        }
+        const std::uint32_t bit = 1u << r;
+        if (steps[r].needs == Needs::kBoth) {
+          if (steps[r].first != near) return true;  // never, by the sign argument above; safe if it did
+          both |= bit;
+        } else if ((steps[r].needs == Needs::kFirst ? steps[r].first : steps[r].second) == near) {
+          to_near |= bit;
+        } else {
+          to_far |= bit;
+        }
+      }
+      if ((to_near | both) == 0) {
+        node_index = far;  // every active ray goes on to the far child alone
+        continue;
+      }
+      if ((to_far | both) != 0) {
+        if (stack_size == stack_depth_) return true;
+        Entry& e = stack[static_cast<std::size_t>(stack_size++)];
+        e.node = far;
+        e.own = both;
+        e.deferred = to_far;
+        for (std::size_t r = 0; r < n; ++r) {
+          PacketLane<Arith>& l = lanes[r];
+          if (both >> r & 1) {
+            e.t_near[r] = steps[r].t_split;
+            e.t_far[r] = l.t_far;
+            l.t_far = steps[r].t_split;
+          } else if (to_far >> r & 1) {
+            e.t_near[r] = l.t_near;
+            e.t_far[r] = l.t_far;
+            l.state = State::kWaiting;
+          }
+        }
+      }
+      node_index = near;
       continue;
     }
-    lane.t_best = lane.ray.t_max;
-    lane.index = i;
-    lane.state = State::kActive;
-    std::size_t signs = 0;
-    for (int a = 0; a < 3; ++a) signs |= std::size_t{ar.sign(lane.ray.inv_direction[a])} << a;
-    by_signs[signs].push_back(lane);
-  }
 
-  std::array<Entry, kMaxStackDepth> stack;
-  const std::uint32_t nodes_base = layout_.kd_nodes.offset;
-  for (std::size_t signs = 0; signs < by_signs.size(); ++signs) {
-    const std::vector<Lane>& group = by_signs[signs];
-    for (std::size_t start = 0; start < group.size(); start += packet_rays) {
-      std::array<Lane, kMaxPacketRays> lanes;
-      const std::size_t n = std::min(packet_rays, group.size() - start);
-      std::copy_n(group.begin() + static_cast<std::ptrdiff_t>(start), n, lanes.begin());
-      ++shared.packets;
-      const auto restart = [&] {
-        ++shared.restarts;
-        for (std::size_t r = 0; r < n; ++r) out[lanes[r].index] = trace_with(ar, rays[lanes[r].index], mode, none);
-      };
-      int stack_size = 0;
-      std::uint32_t node_index = 0;
-      bool restarted = false;
-      while (!restarted) {
-        const std::uint32_t node_address = nodes_base + spec::memory::kKdNodeBytes * node_index;
-        const KdNode node{read_u32(image_, node_address + spec::memory::kKdNodeWord0At),
-                          read_u32(image_, node_address + spec::memory::kKdNodeWord1At)};
-        ++shared.node_fetches;
-        for (std::size_t r = 0; r < n; ++r) {
-          if (lanes[r].state == State::kActive) ++out[lanes[r].index].counters.nodes;
-        }
-        if (!node.is_leaf()) {
-          const bool below_near = !(signs >> node.split_axis() & 1);
-          const std::uint32_t near = below_near ? node_index + 1 : node.above_child();
-          const std::uint32_t far = below_near ? node.above_child() : node_index + 1;
-          std::array<InnerStep<V>, kMaxPacketRays> steps;
-          std::uint32_t to_near = 0, to_far = 0, both = 0;
-          for (std::size_t r = 0; r < n; ++r) {
-            Lane& l = lanes[r];
-            if (l.state != State::kActive) continue;
-            steps[r] = inner_step(ar, l.ray, node, node_index, l.t_near, l.t_far);
-            const std::uint32_t bit = 1u << r;
-            if (steps[r].needs == Needs::kBoth) {
-              if (steps[r].first != near) {  // never, by the sign argument above; safe if it did
-                restarted = true;
-                break;
-              }
-              both |= bit;
-            } else if ((steps[r].needs == Needs::kFirst ? steps[r].first : steps[r].second) == near) {
-              to_near |= bit;
-            } else {
-              to_far |= bit;
-            }
-          }
-          if (restarted) break;
-          if ((to_near | both) == 0) {
-            node_index = far;  // every active ray goes on to the far child alone
-            continue;
-          }
-          if ((to_far | both) != 0) {
-            if (stack_size == stack_depth_) {
-              restarted = true;
-              break;
-            }
-            Entry& e = stack[static_cast<std::size_t>(stack_size++)];
-            e.node = far;
-            e.own = both;
-            e.deferred = to_far;
-            for (std::size_t r = 0; r < n; ++r) {
-              Lane& l = lanes[r];
-              if (both >> r & 1) {
-                e.t_near[r] = steps[r].t_split;
-                e.t_far[r] = l.t_far;
-                l.t_far = steps[r].t_split;
-              } else if (to_far >> r & 1) {
-                e.t_near[r] = l.t_near;
-                e.t_far[r] = l.t_far;
-                l.state = State::kWaiting;
-              }
-            }
-          }
-          node_index = near;
+    // A leaf: its references and records read once, each tested by every active ray.
+    const std::uint32_t first_ref = node.first_prim_ref();
+    for (std::size_t r = 0; r < n; ++r) {
+      if (lanes[r].state == State::kActive) ++out[lanes[r].index].counters.leaves;
+    }
+    for (std::uint32_t k = 0; k < node.prim_count(); ++k) {
+      std::uint32_t testing = 0;
+      for (std::size_t r = 0; r < n; ++r) testing += lanes[r].state == State::kActive;
+      if (testing == 0) break;
+      const std::uint32_t ref_address = layout_.prim_refs.offset + spec::memory::kPrimRefBytes * (first_ref + k);
+      const std::uint32_t prim = read_u32(image_, ref_address);
+      const std::uint32_t record_address = layout_.isect_records.offset + record_bytes_ * prim;
+      ++shared.ref_fetches;
+      ++shared.record_fetches;
+      record(TraceEvent::Kind::kRef, ref_address);
+      record(TraceEvent::Kind::kTest, record_address, testing);
+      IsectRecord words{};
+      std::memcpy(words.data(), image_.data() + record_address, record_bytes_);
+      for (std::size_t r = 0; r < n; ++r) {
+        PacketLane<Arith>& l = lanes[r];
+        if (l.state != State::kActive) continue;
+        TraceHit& result = out[l.index];
+        ++result.counters.tests;
+        UnitHit<Arith> hit;
+        const bool found = watertight ? intersect_watertight(ar, l.ray, words, l.t_best, hit)
+                                      : intersect_woop(ar, l.ray, words, l.t_best, hit);
+        if (!found) continue;
+        l.t_best = hit.t;
+        result.hit = true;
+        result.prim = prim;
+        result.t = std::bit_cast<float>(fp::scale_fp32(ar.store(hit.t), kd_scale));
+        result.u = std::bit_cast<float>(ar.store(hit.u));
+        result.v = std::bit_cast<float>(ar.store(hit.v));
+        if (mode == TraceMode::kAny) l.state = State::kDone;
+      }
+    }
+    // The leaf's end: a ray whose hit lies within its interval is done, the others wait.
+    bool waiting = false;
+    for (std::size_t r = 0; r < n; ++r) {
+      PacketLane<Arith>& l = lanes[r];
+      if (l.state == State::kActive) {
+        l.state = out[l.index].hit && ar.le(l.t_best, l.t_far) ? State::kDone : State::kWaiting;
+      }
+      waiting = waiting || l.state == State::kWaiting;
+    }
+    // Pop passes until an entry wakes a ray; none waiting or none left: the walk ends.
+    bool woke = false;
+    while (!woke) {
+      record(TraceEvent::Kind::kPop, 0);
+      if (!waiting || stack_size == 0) return false;
+      const Entry& e = stack[static_cast<std::size_t>(--stack_size)];
+      waiting = false;
+      for (std::size_t r = 0; r < n; ++r) {
+        PacketLane<Arith>& l = lanes[r];
+        if (l.state != State::kWaiting) continue;
+        if (!((e.own | e.deferred) >> r & 1)) {
+          waiting = true;
           continue;
         }
-
-        // A leaf: its references and records read once, each tested by every active ray.
-        const std::uint32_t first_ref = node.first_prim_ref();
-        for (std::size_t r = 0; r < n; ++r) {
-          if (lanes[r].state == State::kActive) ++out[lanes[r].index].counters.leaves;
+        if ((e.own >> r & 1) && out[l.index].hit && ar.lt(l.t_best, e.t_near[r])) {
+          l.state = State::kDone;
+          continue;
         }
-        for (std::uint32_t k = 0; k < node.prim_count(); ++k) {
-          std::size_t testing = 0;
-          for (std::size_t r = 0; r < n; ++r) testing += lanes[r].state == State::kActive;
-          if (testing == 0) break;
-          const std::uint32_t ref_address = layout_.prim_refs.offset + spec::memory::kPrimRefBytes * (first_ref + k);
-          const std::uint32_t prim = read_u32(image_, ref_address);
-          const std::uint32_t record_address = layout_.isect_records.offset + record_bytes_ * prim;
-          ++shared.ref_fetches;
-          ++shared.record_fetches;
-          IsectRecord words{};
-          std::memcpy(words.data(), image_.data() + record_address, record_bytes_);
-          for (std::size_t r = 0; r < n; ++r) {
-            Lane& l = lanes[r];
-            if (l.state != State::kActive) continue;
-            TraceHit& result = out[l.index];
-            ++result.counters.tests;
-            UnitHit<Arith> hit;
-            const bool found = watertight ? intersect_watertight(ar, l.ray, words, l.t_best, hit)
-                                          : intersect_woop(ar, l.ray, words, l.t_best, hit);
-            if (!found) continue;
-            l.t_best = hit.t;
-            result.hit = true;
-            result.prim = prim;
-            result.t = std::bit_cast<float>(fp::scale_fp32(ar.store(hit.t), kd_scale));
-            result.u = std::bit_cast<float>(ar.store(hit.u));
-            result.v = std::bit_cast<float>(ar.store(hit.v));
-            if (mode == TraceMode::kAny) l.state = State::kDone;
-          }
-        }
-        for (std::size_t r = 0; r < n; ++r) {
-          Lane& l = lanes[r];
-          if (l.state != State::kActive) continue;
-          l.state = out[l.index].hit && ar.le(l.t_best, l.t_far) ? State::kDone : State::kWaiting;
-        }
-        // Pop until an entry holds a ray still walking; none left: every ray has ended.
-        bool any = false;
-        while (!any && stack_size > 0) {
-          const Entry& e = stack[static_cast<std::size_t>(--stack_size)];
-          for (std::size_t r = 0; r < n; ++r) {
-            Lane& l = lanes[r];
-            if (l.state != State::kWaiting || !((e.own | e.deferred) >> r & 1)) continue;
-            if ((e.own >> r & 1) && out[l.index].hit && ar.lt(l.t_best, e.t_near[r])) {
-              l.state = State::kDone;
-              continue;
-            }
-            l.state = State::kActive;
-            l.t_near = e.t_near[r];
-            l.t_far = e.t_far[r];
-            any = true;
-          }
-          node_index = e.node;
-        }
-        if (!any) break;
+        l.state = State::kActive;
+        l.t_near = e.t_near[r];
+        l.t_far = e.t_far[r];
+        woke = true;
       }
-      if (restarted) restart();
+      node_index = e.node;
+      if (!woke && !waiting) return false;
     }
   }
+}
+
+// The rays that enter the tree, set up for a packet walk; false for a ray that misses
+// the set-up or the scene box (its result stays the empty one, as alone).
+template <class Arith>
+bool Tracer::packet_lane(const Arith& ar, const TraceRay& ray, std::size_t index, PacketLane<Arith>& lane) const {
+  const bool watertight = layout_.isect_mode == IsectMode::kWatertight;
+  if (!setup_ray(ar, ray, watertight, layout_.kd_scale_exponent, lane.ray) ||
+      !clip_to_scene(ar, lane.ray, layout_, lane.t_near, lane.t_far)) {
+    return false;
+  }
+  lane.t_best = lane.ray.t_max;
+  lane.index = index;
+  lane.state = PacketLane<Arith>::State::kActive;
+  return true;
+}
+
+template <class Arith>
+std::uint32_t Tracer::signs_of(const Arith& ar, const PacketLane<Arith>& lane) {
+  std::uint32_t signs = 0;
+  for (int a = 0; a < 3; ++a) signs |= std::uint32_t{ar.sign(lane.ray.inv_direction[a])} << a;
+  return signs;
+}
+
+template <class Arith>
+void Tracer::packets_with(const Arith& ar, std::span<const TraceRay> rays, TraceMode mode, std::span<TraceHit> out,
+                          std::size_t packet_rays, PacketCounters& shared) const {
+  NoRecorder none;
+  const NoPacketRecorder quiet;
+  // The rays that enter the tree, grouped by the signs of their directions.
+  std::array<std::vector<PacketLane<Arith>>, 8> by_signs;
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    out[i] = TraceHit{};
+    PacketLane<Arith> lane;
+    if (packet_lane(ar, rays[i], i, lane)) by_signs[signs_of(ar, lane)].push_back(lane);
+  }
+  for (std::uint32_t signs = 0; signs < by_signs.size(); ++signs) {
+    const std::vector<PacketLane<Arith>>& group = by_signs[signs];
+    for (std::size_t start = 0; start < group.size(); start += packet_rays) {
+      std::array<PacketLane<Arith>, kMaxPacketRays> lanes;
+      const std::size_t n = std::min(packet_rays, group.size() - start);
+      std::copy_n(group.begin() + static_cast<std::ptrdiff_t>(start), n, lanes.begin());
+      if (walk_packet(ar, std::span(lanes).first(n), signs, mode, out, shared, quiet, false)) {
+        // A packet whose stack fills starts its rays again alone, each as trace().
+        ++shared.restarts;
+        for (std::size_t r = 0; r < n; ++r) out[lanes[r].index] = trace_with(ar, rays[lanes[r].index], mode, none);
+      }
+    }
+  }
+}
+
+// One packet as the traversal unit walks it (rpu_tu_pipe with Packet > 1); a packet
+// whose stack fills walks its rays again one by one, each alone from its set-up, and a
+// ray alone whose stack overflows faults (its bit in the result).
+template <class Arith>
+std::uint32_t Tracer::packet_with(const Arith& ar, std::span<const TraceRay> rays, TraceMode mode,
+                                  std::span<TraceHit> out, TraceLog& log) const {
+  const PacketLogRecorder record{log};
+  PacketCounters shared;
+  std::array<PacketLane<Arith>, kMaxPacketRays> lanes;
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    out[i] = TraceHit{};
+    if (!packet_lane(ar, rays[i], i, lanes[n])) throw Error("a packet's ray misses the scene box: it never joins one");
+    if (signs_of(ar, lanes[n]) != signs_of(ar, lanes[0])) throw Error("a packet's rays differ in direction signs");
+    ++n;
+  }
+  const std::array<PacketLane<Arith>, kMaxPacketRays> set_up = lanes;
+  const std::span<PacketLane<Arith>> all = std::span(lanes).first(n);
+  if (!walk_packet(ar, all, signs_of(ar, lanes[0]), mode, out, shared, record, n == 1)) return 0;
+  if (n == 1) return 1;
+  std::uint32_t faults = 0;
+  for (std::size_t r = 0; r < n; ++r) {
+    lanes[r] = set_up[r];
+    out[r] = TraceHit{};
+    if (walk_packet(ar, std::span(lanes).subspan(r, 1), signs_of(ar, lanes[r]), mode, out, shared, record, true)) {
+      faults |= 1u << r;
+    }
+  }
+  return faults;
 }
 
 }  // namespace rpu::functional

@@ -24,10 +24,11 @@ struct TraceEvent {
     kLeaf,   // a leaf fetched (address of the node)
     kRef,    // a leaf's primitive reference read (address of the 4-byte ref)
     kTest,   // an intersection record read and tested in the IU (address of the record)
-    kPop,    // a stack entry popped
+    kPop,    // a stack entry popped; in a packet's log, a pass of the node-step pipeline after a leaf
   };
   Kind kind;
   std::uint32_t address;
+  std::uint8_t rays = 1;  // kTest in a packet's log: the rays that test the record
 };
 
 // One intersection-unit test as the unit sees it, in the format (SoftArith bits): the
@@ -85,6 +86,19 @@ class Tracer {
   void trace_packets(std::span<const TraceRay> rays, TraceMode mode, std::span<TraceHit> out,
                      std::size_t packet_rays, PacketCounters& shared) const;
 
+  // One packet as a traversal unit with packets walks it (docs/rtl.md "The node-step
+  // pipeline", Packets): `rays` (1 to kMaxPacketRays, each entering the scene box, all of
+  // the same direction signs) in the packet's order. Appends the walk's fetches, each
+  // record with the rays that test it, and the passes after each leaf to `log`; out[i]
+  // is ray i's result, as trace() gives it. A packet whose stack would overflow walks its
+  // rays again one by one; returns the rays that fault alone (bit i: ray i).
+  std::uint32_t trace_packet(std::span<const TraceRay> rays, TraceMode mode, std::span<TraceHit> out,
+                             TraceLog& log) const;
+
+  // The sign bits of the ray's inv direction in the format (bit a: axis a), by which a
+  // traversal unit with packets groups rays.
+  std::uint32_t direction_signs(const TraceRay& ray) const;
+
   fp::Format format() const { return format_; }
   bool uses_fast_path() const { return fast_; }
 
@@ -92,8 +106,20 @@ class Tracer {
   template <class Arith, class Recorder>
   TraceHit trace_with(const Arith& ar, const TraceRay& ray, TraceMode mode, Recorder& recorder) const;
   template <class Arith>
+  struct PacketLane;
+  template <class Arith>
+  bool packet_lane(const Arith& ar, const TraceRay& ray, std::size_t index, PacketLane<Arith>& lane) const;
+  template <class Arith>
+  static std::uint32_t signs_of(const Arith& ar, const PacketLane<Arith>& lane);
+  template <class Arith, class Recorder>
+  bool walk_packet(const Arith& ar, std::span<PacketLane<Arith>> lanes, std::uint32_t signs, TraceMode mode,
+                   std::span<TraceHit> out, PacketCounters& shared, const Recorder& record, bool alone) const;
+  template <class Arith>
   void packets_with(const Arith& ar, std::span<const TraceRay> rays, TraceMode mode, std::span<TraceHit> out,
                     std::size_t packet_rays, PacketCounters& shared) const;
+  template <class Arith>
+  std::uint32_t packet_with(const Arith& ar, std::span<const TraceRay> rays, TraceMode mode, std::span<TraceHit> out,
+                            TraceLog& log) const;
 
   std::span<const std::uint8_t> image_;
   ImageLayout layout_;

@@ -334,6 +334,111 @@ TEST_P(TracerRules, APacketWhoseRayOverflowsTheStackFaultsAsTheRayAlone) {
   EXPECT_GT(shared.restarts, 0u);
 }
 
+// One packet as the traversal unit walks it (Tracer::trace_packet, the cycle model's
+// log): every ray's result is its own walk's; the log's fetches are the packet's, each
+// record names the rays that test it, and a packet of one ray logs its walk's events
+// with one pass per leaf.
+TEST_P(TracerRules, AUnitsPacketLogsItsFetchesTestsAndPasses) {
+  using Kind = TraceEvent::Kind;
+  const Scene scene = make_sphereflake(1, 8);
+  const SceneImage si = image_of(scene);
+  const Tracer tracer = tracer_of(si);
+  const std::vector<TraceRay> camera = test::camera_rays(scene, 32, 32);
+  for (TraceMode mode : {TraceMode::kClosest, TraceMode::kAny}) {
+    std::uint64_t fetches = 0, own_nodes = 0;
+    int packets = 0;
+    for (std::size_t start = 0; start < camera.size();) {
+      // The next rays that enter the box with the first one's signs, up to four.
+      std::vector<TraceRay> packet;
+      std::vector<TraceHit> alone;
+      std::uint32_t signs = 0;
+      for (; start < camera.size() && packet.size() < 4; ++start) {
+        const TraceHit want = tracer.trace(camera[start], mode);
+        if (want.counters.nodes == 0) continue;  // misses the box
+        std::uint32_t s = 0;
+        for (int a = 0; a < 3; ++a) s |= std::uint32_t{std::signbit(camera[start].direction[a])} << a;
+        if (!packet.empty() && s != signs) break;
+        signs = s;
+        packet.push_back(camera[start]);
+        alone.push_back(want);
+      }
+      if (packet.empty()) continue;
+      ++packets;
+      TraceLog log;
+      std::vector<TraceHit> got(packet.size());
+      ASSERT_EQ(tracer.trace_packet(packet, mode, got, log), 0u);
+      std::uint64_t tests = 0, passes = 0, leaves = 0;
+      for (const TraceEvent& e : log.events) {
+        fetches += e.kind == Kind::kInner || e.kind == Kind::kLeaf;
+        leaves += e.kind == Kind::kLeaf;
+        passes += e.kind == Kind::kPop;
+        if (e.kind == Kind::kTest) tests += e.rays;
+      }
+      std::uint64_t own_tests = 0;
+      for (std::size_t i = 0; i < packet.size(); ++i) {
+        EXPECT_EQ(got[i].hit, alone[i].hit) << "packet " << packets << " ray " << i;
+        EXPECT_EQ(got[i].prim, alone[i].prim) << "packet " << packets << " ray " << i;
+        EXPECT_EQ(std::bit_cast<std::uint32_t>(got[i].t), std::bit_cast<std::uint32_t>(alone[i].t));
+        EXPECT_EQ(got[i].counters.nodes, alone[i].counters.nodes) << "packet " << packets << " ray " << i;
+        EXPECT_EQ(got[i].counters.tests, alone[i].counters.tests) << "packet " << packets << " ray " << i;
+        own_nodes += alone[i].counters.nodes;
+        own_tests += alone[i].counters.tests;
+      }
+      EXPECT_EQ(tests, own_tests) << "packet " << packets << ": a record's rays are the rays that test it";
+      EXPECT_GE(passes, leaves) << "packet " << packets << ": a pass at least after every leaf";
+      if (packet.size() == 1) {
+        TraceLog own;
+        tracer.trace(packet[0], mode, own);
+        std::vector<TraceEvent> fetched;
+        for (const TraceEvent& e : own.events) {
+          if (e.kind != Kind::kPop) fetched.push_back(e);
+        }
+        std::size_t j = 0;
+        for (const TraceEvent& e : log.events) {
+          if (e.kind == Kind::kPop) continue;
+          ASSERT_LT(j, fetched.size());
+          EXPECT_EQ(e.kind, fetched[j].kind);
+          EXPECT_EQ(e.address, fetched[j].address);
+          ++j;
+        }
+        EXPECT_EQ(j, fetched.size());
+        EXPECT_EQ(passes, leaves) << "a ray alone passes once after each leaf";
+      }
+    }
+    EXPECT_LT(fetches * 4, own_nodes * 3) << "packets of neighbouring camera rays share their fetches";
+  }
+}
+
+TEST_P(TracerRules, AUnitsPacketWhoseStackFillsWalksItsRaysAgainAlone) {
+  const Scene scene = make_sphereflake(1, 8);
+  const SceneImage si = image_of(scene, 8);
+  const Tracer too_shallow = tracer_of(si, 2);
+  const std::vector<TraceRay> camera = test::camera_rays(scene, 16, 16);
+  int faulted = 0, walked = 0;
+  for (std::size_t i = 0; i + 1 < camera.size(); ++i) {
+    // Two rays of the same signs that both enter the box, one of which faults alone.
+    const TraceRay pair[2] = {camera[i], camera[i + 1]};
+    bool enter = true, same = true;
+    std::uint32_t want_faults = 0;
+    for (int r = 0; r < 2; ++r) {
+      for (int a = 0; a < 3; ++a) same = same && std::signbit(pair[r].direction[a]) == std::signbit(pair[0].direction[a]);
+      try {
+        enter = enter && too_shallow.trace(pair[r], TraceMode::kClosest).counters.nodes > 0;
+      } catch (const Error&) {
+        want_faults |= 1u << r;
+      }
+    }
+    if (!enter || !same) continue;
+    TraceLog log;
+    std::vector<TraceHit> out(2);
+    EXPECT_EQ(too_shallow.trace_packet(pair, TraceMode::kClosest, out, log), want_faults) << "rays " << i;
+    faulted += want_faults != 0;
+    ++walked;
+  }
+  EXPECT_GT(faulted, 0) << "a stack of 2 overflows on some rays";
+  EXPECT_GT(walked, faulted);
+}
+
 INSTANTIATE_TEST_SUITE_P(Formats, TracerRules,
                          ::testing::Values(Case{"fp32", IsectMode::kWoop}, Case{"fp32", IsectMode::kWatertight},
                                            Case{"e8m15", IsectMode::kWoop}, Case{"e8m15", IsectMode::kWatertight},
