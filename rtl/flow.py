@@ -159,7 +159,7 @@ def lint(args) -> int:
     for r in tables["resolved"]:
         params = gen.rtl_parameters(tables, r["values"])
         spu = {k: v for k, v in params.items()
-               if k not in ("StackDepth", "RayUnits", "TuSlots", "TuPipe", "TuSetups", "TuByTag")
+               if k not in ("StackDepth", "RayUnits", "TuSlots", "TuPipe", "TuSetups", "TuByTag", "TuPacket")
                and k not in cache_parameters()}
         jobs.append((f"rpu_spu {r['name']}", ["rpu_spu"], [f"-G{k}={v}" for k, v in spu.items()], []))
         # The chip takes every parameter of the configuration.

@@ -3,11 +3,15 @@
 // its table of UnitRays rays in flight; the ray's tag at the unit is its entry there, and
 // the unit's answer, by that tag, goes back to the core the entry's request names, as a
 // trace_rsp_t with the request's tag and pc. Cores are served round robin, and so are the
-// units' answers to one core. UnitRays = 1 gives a walker unit one ray at a time.
+// units' answers to one core. UnitRays = 1 gives a walker unit one ray at a time. With
+// Packets, the rays of a chunk's trace (up to the one with packet_end) go to one unit one
+// after another, as a packet: once a core's ray without packet_end is sent, the next
+// rays sent are that core's, to that unit.
 module rpu_ray_dispatch #(
   parameter int unsigned Cores    = 1,
   parameter int unsigned Units    = 1,
   parameter int unsigned UnitRays = 1,
+  parameter bit          Packets  = 1'b0,
   localparam int unsigned CoreIdx = Cores > 1 ? $clog2(Cores) : 1,
   localparam int unsigned UnitIdx = Units > 1 ? $clog2(Units) : 1,
   localparam int unsigned RayIdx  = UnitRays > 1 ? $clog2(UnitRays) : 1
@@ -49,6 +53,10 @@ module rpu_ray_dispatch #(
   // Requests: the next core after the last one served, to the lowest idle unit.
   // ---------------------------------------------------------------------------------
   logic [CoreIdx-1:0] last_core_d, last_core_q;
+  // A packet being sent: its core and unit.
+  logic               lock_d, lock_q;
+  logic [CoreIdx-1:0] lock_core_d, lock_core_q;
+  logic [UnitIdx-1:0] lock_unit_d, lock_unit_q;
   logic               have_core, have_unit;
   logic [CoreIdx-1:0] core;
   logic [UnitIdx-1:0] unit;
@@ -57,7 +65,8 @@ module rpu_ray_dispatch #(
     have_core = 1'b0;
     core      = '0;
     for (int k = Cores; k >= 1; k--) begin
-      if (core_req_valid_i[(32'(last_core_q) + k) % Cores]) begin
+      if (core_req_valid_i[(32'(last_core_q) + k) % Cores]
+          && (!lock_q || CoreIdx'((32'(last_core_q) + k) % Cores) == lock_core_q)) begin
         have_core = 1'b1;
         core      = CoreIdx'((32'(last_core_q) + k) % Cores);
       end
@@ -67,7 +76,7 @@ module rpu_ray_dispatch #(
     entry     = '0;
     for (int u = Units - 1; u >= 0; u--) begin
       for (int r = UnitRays - 1; r >= 0; r--) begin
-        if (!busy_q[u*UnitRays + r] && unit_req_ready_i[u]) begin
+        if (!busy_q[u*UnitRays + r] && unit_req_ready_i[u] && (!lock_q || UnitIdx'(u) == lock_unit_q)) begin
           have_unit = 1'b1;
           unit      = UnitIdx'(u);
           entry     = RayIdx'(r);
@@ -88,6 +97,7 @@ module rpu_ray_dispatch #(
     unit_req.t_min     = req.t_min;
     unit_req.t_max     = req.t_max;
     unit_req.any_hit   = req.any_hit;
+    unit_req.packet_end = req.packet_end;
     unit_req.tag       = rpu_pkg::RayTagBits'(entry);
   end
   always_comb begin : route_request
@@ -188,20 +198,33 @@ module rpu_ray_dispatch #(
     end
   end
 
+  assign lock_d      = Packets && (send ? !req.packet_end : lock_q);
+  assign lock_core_d = send ? core : lock_core_q;
+  assign lock_unit_d = send ? unit : lock_unit_q;
+
   always_ff @(posedge clk_i or negedge rst_ni) begin : regs
     if (!rst_ni) begin
+      lock_q      <= 1'b0;
+      lock_core_q <= '0;
+      lock_unit_q <= '0;
       busy_q      <= '0;
-      tag_q       <= '0;
-      pc_q        <= '0;
       last_core_q <= '0;
       last_unit_q <= '0;
     end else begin
+      lock_q      <= lock_d;
+      lock_core_q <= lock_core_d;
+      lock_unit_q <= lock_unit_d;
       busy_q      <= busy_d;
-      tag_q       <= tag_d;
-      pc_q        <= pc_d;
       last_core_q <= last_core_d;
       last_unit_q <= last_unit_d;
     end
+  end
+
+  // An entry's tag and pc are read only while it is busy: no reset (thousands of bits with
+  // packets on several units).
+  always_ff @(posedge clk_i) begin : entry_regs
+    tag_q <= tag_d;
+    pc_q  <= pc_d;
   end
 
   assign idle_o = busy_q == '0;

@@ -450,12 +450,14 @@ module rpu_spu #(
 
   // The unit way: the lowest way holding an instruction's lane.
   logic [TB-1:0]         u_thread;
+  logic                  u_last;  // the last lane of its chunk's instruction
   logic [31:0]           u_pc;
   logic [63:0]           u_insn;
   logic [127:0]          u_src_a, u_src_b, u_c_reg, u_sfu_a;
   logic [SspBits-1:0]    u_ssp;
   always_comb begin : pick_unit_way
     u_thread = '0;
+    u_last   = 1'b0;
     u_pc     = '0;
     u_insn   = '0;
     u_src_a  = '0;
@@ -466,6 +468,7 @@ module rpu_spu #(
     for (int v = IssueLanes - 1; v >= 0; v--) begin
       if (e_valid[v] && !e_ret[v]) begin
         u_thread = e_thread[TB*v +: TB];
+        u_last   = e_last[v];
         u_pc     = e_pc[32*v +: 32];
         u_insn   = e_insn[64*v +: 64];
         u_src_a  = e_src_a[128*v +: 128];
@@ -987,6 +990,7 @@ module rpu_spu #(
     trace_in.direction = u_src_b[95:0];
     trace_in.t_max     = u_src_b[127:96];
     trace_in.any_hit   = u_op == rpu_pkg::OpTracea;
+    trace_in.packet_end = u_last;
   end
   rpu_fifo #(.Width(rpu_pkg::TraceReqBits), .Depth(QueueDepth)) u_trace_queue (
     .clk_i, .rst_ni,

@@ -27,6 +27,7 @@ module rpu_top #(
   parameter int unsigned TuPipe              = rpu_pkg::ConfigTinyTuPipe,
   parameter int unsigned TuSetups            = rpu_pkg::ConfigTinyTuSetups,
   parameter int unsigned TuByTag             = rpu_pkg::ConfigTinyTuByTag,
+  parameter int unsigned TuPacket            = rpu_pkg::ConfigTinyTuPacket,
   parameter int unsigned IsectMode           = rpu_pkg::IsectModeWoop,
   parameter int unsigned NodeBytes      = rpu_pkg::ConfigTinyNodeCacheBytes,
   parameter int unsigned NodeWays       = rpu_pkg::ConfigTinyNodeCacheWays,
@@ -205,12 +206,12 @@ module rpu_top #(
   logic [RayUnits*rpu_pkg::TuRspBits-1:0]   u_rsp;
   logic                                     dispatch_idle;
 
-  // The rays a unit may hold: a walker's one per slot; a pipelined unit's slots, three
-  // per set-up engine (its input buffer's two and the one it works on) and the two of
-  // the answer's skid buffer below, to a power of two.
-  localparam int unsigned UnitRays = TuPipe != 0 ? 1 << $clog2(TuSlots + 3 * TuSetups + 2) : TuSlots;
+  // The rays a unit may hold: a walker's one per slot; a pipelined unit's slots (of
+  // TuPacket rays each), three per set-up engine (its input buffer's two and the one it
+  // works on) and the two of the answer's skid buffer below, to a power of two.
+  localparam int unsigned UnitRays = TuPipe != 0 ? 1 << $clog2(TuSlots * TuPacket + 3 * TuSetups + 2) : TuSlots;
 
-  rpu_ray_dispatch #(.Cores(Cores), .Units(RayUnits), .UnitRays(UnitRays)) u_dispatch (
+  rpu_ray_dispatch #(.Cores(Cores), .Units(RayUnits), .UnitRays(UnitRays), .Packets(TuPacket > 1)) u_dispatch (
     .clk_i, .rst_ni,
     .core_req_valid_i(t_req_valid), .core_req_ready_o(t_req_ready), .core_req_i(t_req),
     .core_rsp_valid_o(t_rsp_valid), .core_rsp_ready_i(t_rsp_ready), .core_rsp_o(t_rsp),
@@ -249,7 +250,7 @@ module rpu_top #(
     logic [rpu_pkg::MemReqBits-1:0]   q;
 
     rpu_ray_unit #(.ExpBits(ExpBits), .FracBits(FracBits), .IsectMode(IsectMode), .StackDepth(StackDepth),
-                   .TuSlots(TuSlots), .TuPipe(TuPipe), .TuSetups(TuSetups),
+                   .TuSlots(TuSlots), .TuPipe(TuPipe), .TuPacket(TuPacket), .TuSetups(TuSetups),
                    .LineTagBits(PortTagBits)) u_unit (
       .clk_i, .rst_ni, .cfg_i(tu_cfg_q),
       .req_valid_i(u_req_valid[u]), .req_ready_o(u_req_ready[u]),

@@ -110,6 +110,14 @@ const streams::CacheRsp* CachePortServer::offer(std::uint64_t cycle) const {
 void CachePortServer::taken() { pending_.erase(pending_.begin() + static_cast<std::ptrdiff_t>(offered_)); }
 
 void RayServer::take(const streams::TraceReq& req, std::uint64_t cycle) {
+  if (packet_open_ && (req.pc != packet_pc_ || req.tag <= packet_tag_)) {
+    throw CosimFailure(fmt::format("trace_req: a ray of pc {} (tag 0x{:x}) before the packet_end of the trace at pc {} "
+                            "(last tag 0x{:x}): a chunk's rays must end their packet",
+                            req.pc, req.tag, packet_pc_, packet_tag_));
+  }
+  packet_open_ = !req.packet_end;
+  packet_pc_ = req.pc;
+  packet_tag_ = req.tag;
   functional::TraceRay ray;
   for (int i = 0; i < 3; ++i) {
     ray.origin[static_cast<std::size_t>(i)] = std::bit_cast<float>(req.origin[static_cast<std::size_t>(i)]);

@@ -68,7 +68,9 @@ class CachePortServer {
 };
 
 // The ray units as the functional tracer: each ray answered after its delay, in the
-// order the delays end, with the golden result (or a fault: the tracer's error).
+// order the delays end, with the golden result (or a fault: the tracer's error). It
+// checks the packets the core marks: the rays up to one with packet_end are one trace's
+// (one pc), from its lanes in order.
 class RayServer {
  public:
   RayServer(const functional::Tracer& tracer, AgentTiming timing, std::mt19937_64& rng)
@@ -90,6 +92,8 @@ class RayServer {
   std::vector<Pending> pending_;
   mutable std::size_t offered_ = 0;
   std::uint64_t rays_ = 0;
+  bool packet_open_ = false;  // rays came since the last packet_end
+  std::uint32_t packet_pc_ = 0, packet_tag_ = 0;
 };
 
 }  // namespace rpu::sim

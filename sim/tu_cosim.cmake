@@ -264,6 +264,14 @@ if(RPU_YOSYS)
               --yosys ${RPU_YOSYS} --verilator ${VERILATOR_BIN})
     set_tests_properties(slow.synth.tu_woop.fp16.slots${slots} PROPERTIES LABELS slow TIMEOUT 7200)
   endforeach()
+  # The price of packets (docs/area.md): rpu_tu_pipe with 4 slots of packets of 4 rays,
+  # its netlist walking 10^4 rays in packets.
+  add_test(NAME slow.synth.tu_woop.fp16.pipe4.packet4
+    COMMAND Python3::Interpreter ${PROJECT_SOURCE_DIR}/rtl/flow.py synth
+            --unit tu --isect woop --format fp16 --slots 4 --pipe --setups 2 --packet 4 --pkg ${RPU_SPEC_SV}
+            --cosim $<TARGET_FILE:tu_cosim> --out ${CMAKE_CURRENT_BINARY_DIR}/synth --vectors 10000
+            --yosys ${RPU_YOSYS} --verilator ${VERILATOR_BIN})
+  set_tests_properties(slow.synth.tu_woop.fp16.pipe4.packet4 PROPERTIES LABELS slow TIMEOUT 7200)
   # rpu_tu_pipe with 4 and 16 slots and 2 set-up engines, its netlist walking 10^4 rays
   # with its slots full and several tests of a ray in flight (docs/area.md).
   foreach(slots 4 16)

@@ -56,7 +56,8 @@ def resolve_configs(spec: dict) -> None:
     """Checks the named configurations against spec/config_keys.toml and resolves them
     (spec["resolved"]); configs.ConfigError becomes SpecError."""
     try:
-        constants = {"ISA_REGISTERS": 1 << spec["isa"]["encoding"]["dst"][1]}
+        constants = {"ISA_REGISTERS": 1 << spec["isa"]["encoding"]["dst"][1],
+                     "RAY_TAGS": 1 << spec["streams"]["constants"]["ray_tag_bits"]["value"]}
         spec["schema"] = configs.Schema(spec["config_keys"], constants)
         fbits = configs.format_fraction_bits(spec["formats"]["format"])
         configs.load_latencies(spec["latencies"], fbits)
@@ -465,6 +466,7 @@ RTL_PARAMETERS = {"Cores": "shader_cores", "Threads": "threads_per_core", "Chunk
                   "Registers": "registers", "CallDepth": "call_depth", "StackBytes": "stack_bytes",
                   "SfuUnits": "sfu_units", "StackDepth": "stack_depth", "RayUnits": "traversal_units",
                   "TuSlots": "tu_slots", "TuPipe": "tu_pipe", "TuSetups": "tu_setups", "TuByTag": "tu_by_tag",
+                  "TuPacket": "tu_packet",
                   **{f"{unit}{param}": f"{cache}.{key}" for unit, cache in RTL_CACHES
                      for param, key in RTL_CACHE_PARAMETERS}}
 

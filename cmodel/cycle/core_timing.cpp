@@ -299,6 +299,7 @@ void CoreTiming::send_rays(std::uint32_t i, int dst) {
     ray.core = index_;
     ray.chunk = i;
     ray.dst = static_cast<std::uint32_t>(dst);
+    ray.packet_end = k + 1 == record_.trace_count;
     std::swap(ray.log, record_.traces[k]);
     if (!spare_logs_.empty()) {  // reuse an answered ray's storage
       std::swap(record_.traces[k], spare_logs_.back());

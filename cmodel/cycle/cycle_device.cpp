@@ -78,7 +78,7 @@ class CycleDevice final : public device::DeviceBase, CoreTiming::Chip, RayUnitTi
   }
   // The ray units' ports (RayUnitTiming::Ports).
   std::optional<Ray> next_ray(Cycle from) override;
-  std::optional<Ray> send_ray(Cycle now) override;
+  std::optional<Ray> send_ray(Cycle now, std::size_t unit) override;
   bool rays_waiting() const override { return dispatch_->any_waiting(); }
   void answer(Ray& ray, Cycle now) override { cores_[ray.core].ray_answered(ray, now); }
 
@@ -133,8 +133,8 @@ std::optional<Ray> CycleDevice::next_ray(Cycle from) {
   return ray;
 }
 
-std::optional<Ray> CycleDevice::send_ray(Cycle now) {
-  std::optional<Ray> ray = dispatch_->send(now);
+std::optional<Ray> CycleDevice::send_ray(Cycle now, std::size_t unit) {
+  std::optional<Ray> ray = dispatch_->send(now, unit);
   if (ray) cores_[ray->core].ray_dispatched(now);
   return ray;
 }
@@ -146,7 +146,8 @@ void CycleDevice::make_ray_units() {
   RayUnitTiming::Ports& ports = *this;
   for (int u = 0; u < config_.traversal_units; ++u) {
     if (config_.tu_pipe) {
-      units_.push_back(std::make_unique<PipeUnitTiming>(PipeCosts::of(config_, layout_.isect_mode), *lines_, ius_, ports));
+      units_.push_back(std::make_unique<PipeUnitTiming>(PipeCosts::of(config_, layout_.isect_mode), *lines_, ius_, ports,
+                                                        static_cast<std::size_t>(u), &*tracer_));
       continue;
     }
     for (std::uint32_t s = 0; s < walkers_; ++s) {
@@ -189,7 +190,7 @@ void CycleDevice::start_launch(const ProgressCallback& progress) {
   const auto cores = static_cast<std::uint32_t>(config_.shader_cores);
   walkers_ = config_.tu_pipe ? 1 : static_cast<std::uint32_t>(config_.tu_slots);
   events_.emplace(cores + static_cast<std::size_t>(config_.traversal_units) * walkers_);
-  dispatch_.emplace(cores);
+  dispatch_.emplace(cores, config_.tu_packet > 1);
   cores_.clear();
   cores_.reserve(cores);
   CoreTiming::Chip& chip = *this;

@@ -15,10 +15,15 @@ bool RayDispatch::any_waiting() const {
 
 std::optional<Ray> RayDispatch::next() { return take(kNever); }
 
-std::optional<Ray> RayDispatch::send(Cycle now) {
-  if (sent_at_ == now) return std::nullopt;
+std::optional<Ray> RayDispatch::send(Cycle now, std::size_t unit) {
+  if (sent_at_ == now || (locked_ && unit != lock_unit_)) return std::nullopt;
   std::optional<Ray> ray = take(now);
-  if (ray) sent_at_ = now;
+  if (ray) {
+    sent_at_ = now;
+    locked_ = packets_ && !ray->packet_end;
+    lock_core_ = ray->core;
+    lock_unit_ = unit;
+  }
   return ray;
 }
 
@@ -27,6 +32,7 @@ std::optional<Ray> RayDispatch::take(Cycle arrived_by) {
   const auto n = static_cast<std::uint32_t>(queues_.size());
   for (std::uint32_t k = 1; k <= n; ++k) {
     const std::uint32_t c = (last_core_ + k) % n;
+    if (locked_ && c != lock_core_) continue;
     std::deque<Ray>& q = queues_[c];
     if (q.empty() || q.front().arrived > arrived_by) continue;
     last_core_ = c;

@@ -17,14 +17,17 @@ namespace rpu::cycle {
 struct Ray {
   std::uint32_t core = 0, chunk = 0, dst = 0;
   functional::TraceLog log;
-  Cycle arrived = 0;  // the cycle it reached the dispatch
+  Cycle arrived = 0;        // the cycle it reached the dispatch
+  bool packet_end = true;   // the last ray of its chunk's trace
 };
 
 // Each core's rays wait in its own queue, in order; the traversal units take them core
 // by core in round robin after the core served last.
 class RayDispatch {
  public:
-  explicit RayDispatch(std::size_t cores) : queues_(cores) {}
+  // With `packets`, a chunk's rays (up to one with packet_end) go to one unit one after
+  // another (rpu_ray_dispatch's Packets).
+  explicit RayDispatch(std::size_t cores, bool packets = false) : queues_(cores), packets_(packets) {}
 
   // A ray reaches the dispatch at `at`.
   void queue(Ray ray, Cycle at);
@@ -33,9 +36,9 @@ class RayDispatch {
   // The next ray, whenever it arrives: a walker takes it as it frees and starts it when
   // it has arrived.
   std::optional<Ray> next();
-  // The ray sent to a pipelined unit in cycle `now`: the next of those arrived by then,
-  // one a cycle to all units.
-  std::optional<Ray> send(Cycle now);
+  // The ray sent to pipelined unit `unit` in cycle `now`: the next of those arrived by
+  // then, one a cycle to all units; a packet's rays to the unit that took its first.
+  std::optional<Ray> send(Cycle now, std::size_t unit = 0);
 
  private:
   std::optional<Ray> take(Cycle arrived_by);
@@ -43,6 +46,10 @@ class RayDispatch {
   std::vector<std::deque<Ray>> queues_;
   std::uint32_t last_core_ = 0;  // served last
   Cycle sent_at_ = kNever;       // send() sent a ray in this cycle
+  bool packets_ = false;
+  bool locked_ = false;          // a packet is being sent: the rest of it comes next
+  std::uint32_t lock_core_ = 0;
+  std::size_t lock_unit_ = 0;
 };
 
 }  // namespace rpu::cycle

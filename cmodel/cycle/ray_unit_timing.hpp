@@ -36,8 +36,8 @@ class RayUnitTiming {
     // The next waiting ray (RayDispatch::next) for a walker free from `from`; the
     // ray's core has room in its queue again from then.
     virtual std::optional<Ray> next_ray(Cycle from) = 0;
-    // The ray sent to a pipelined unit in cycle `now` (RayDispatch::send).
-    virtual std::optional<Ray> send_ray(Cycle now) = 0;
+    // The ray sent to pipelined unit `unit` in cycle `now` (RayDispatch::send).
+    virtual std::optional<Ray> send_ray(Cycle now, std::size_t unit) = 0;
     virtual bool rays_waiting() const = 0;
     // The ray's answer leaves the unit in cycle `now`.
     virtual void answer(Ray& ray, Cycle now) = 0;

@@ -30,6 +30,7 @@ PipeCosts PipeCosts::of(const spec::HardwareConfig& config, IsectMode mode) {
       .iu_interval = static_cast<Cycle>(watertight ? config.iu.interval_watertight : config.iu.interval_woop),
       .iu_wait = static_cast<Cycle>(tu.pipe_iu_wait),
       .record_lines = isect_record_bytes(mode) / streams::kMemLineBytes,
+      .packet = static_cast<std::uint32_t>(config.tu_packet),
   };
 }
 
@@ -487,7 +488,7 @@ void PipeTraversalUnit::respond(const Grants& g, std::vector<std::uint32_t>& ans
 
 Cycle PipeUnitTiming::advance(Cycle now) {
   if (unit_.ready()) {
-    if (std::optional<Ray> ray = ports_.send_ray(now)) {
+    if (std::optional<Ray> ray = ports_.send_ray(now, index_)) {
       if (free_ids_.empty()) {
         free_ids_.push_back(static_cast<std::uint32_t>(rays_.size()));
         rays_.emplace_back();
@@ -495,7 +496,10 @@ Cycle PipeUnitTiming::advance(Cycle now) {
       const std::uint32_t id = free_ids_.back();
       free_ids_.pop_back();
       rays_[id] = std::move(*ray);
-      unit_.take(id, rays_[id].log);
+      const functional::TraceLog& log = rays_[id].log;
+      unit_.take(id, log,
+                 {rays_[id].packet_end, packet_ > 1 ? tracer_->direction_signs(log.ray) : 0,
+                  log.mode == functional::TraceMode::kAny});
     }
   }
   answered_.clear();
@@ -505,6 +509,13 @@ Cycle PipeUnitTiming::advance(Cycle now) {
     free_ids_.push_back(id);
   }
   return !unit_.idle() || ports_.rays_waiting() ? now + 1 : kNever;
+}
+
+void PipeUnitTiming::walk(std::span<const std::uint32_t> rays, functional::TraceLog& log) {
+  packet_rays_.clear();
+  for (const std::uint32_t id : rays) packet_rays_.push_back(rays_[id].log.ray);
+  out_.resize(packet_rays_.size());
+  tracer_->trace_packet(packet_rays_, rays_[rays[0]].log.mode, out_, log);
 }
 
 TraversalUnitTime PipeUnitTiming::time(Cycle end) const {

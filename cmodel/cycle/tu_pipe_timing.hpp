@@ -221,20 +221,30 @@ class PipeTraversalUnit {
 
 // A pipelined unit of the chip: a PipeTraversalUnit that takes a ray from the dispatch
 // in a cycle a set-up engine has room (RayDispatch::send: one a cycle to all units),
-// stepped in every cycle in which it holds a ray or rays wait.
-class PipeUnitTiming final : public RayUnitTiming {
+// stepped in every cycle in which it holds a ray or rays wait; `index` among the chip's
+// units. With packets (costs.packet > 1), `tracer` walks each packet it closes.
+class PipeUnitTiming final : public RayUnitTiming, private PacketWalks {
  public:
-  PipeUnitTiming(const PipeCosts& costs, LineSource& lines, std::span<IuTimer> ius, Ports& ports)
-      : unit_(costs, lines, ius), ports_(ports), slots_(costs.slots) {}
+  PipeUnitTiming(const PipeCosts& costs, LineSource& lines, std::span<IuTimer> ius, Ports& ports,
+                 std::size_t index = 0, const functional::Tracer* tracer = nullptr)
+      : unit_(costs, lines, ius, tracer ? this : nullptr), ports_(ports), slots_(costs.slots),
+        packet_(costs.packet), tracer_(tracer), index_(index) {}
 
   Cycle ray_waiting(Cycle at) override { return at; }
   Cycle advance(Cycle now) override;
   TraversalUnitTime time(Cycle end) const override;
 
  private:
+  void walk(std::span<const std::uint32_t> rays, functional::TraceLog& log) override;
+
   PipeTraversalUnit unit_;
   Ports& ports_;
   std::uint32_t slots_;
+  std::uint32_t packet_;
+  const functional::Tracer* tracer_;
+  std::size_t index_;
+  std::vector<functional::TraceRay> packet_rays_;
+  std::vector<functional::TraceHit> out_;
   std::deque<Ray> rays_;  // by the id the unit answers with; grows at the back only: the unit holds pointers to their logs
   std::vector<std::uint32_t> free_ids_;
   std::vector<std::uint32_t> answered_;

@@ -143,6 +143,7 @@ TraceHit Tracer::trace(const TraceRay& ray, TraceMode mode) const {
 TraceHit Tracer::trace(const TraceRay& ray, TraceMode mode, TraceLog& log) const {
   log.events.clear();
   log.mode = mode;
+  log.ray = ray;
   LogRecorder recorder{log};
   if (fast_) {
     const fp::fast32::FlushScope flush;
@@ -269,6 +270,7 @@ std::uint32_t Tracer::trace_packet(std::span<const TraceRay> rays, TraceMode mod
     throw Error(fmt::format("a packet holds 1 to {} rays, not {}", kMaxPacketRays, rays.size()));
   }
   log.mode = mode;
+  log.ray = rays[0];
   if (fast_) {
     const fp::fast32::FlushScope flush;
     return packet_with(Fast32Arith{}, rays, mode, out, log);

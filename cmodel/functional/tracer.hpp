@@ -45,6 +45,7 @@ struct IuTest {
 struct TraceLog {
   std::vector<TraceEvent> events;
   TraceMode mode = TraceMode::kClosest;
+  TraceRay ray{};  // the ray walked (a packet's log: its first)
 };
 
 // What packets of rays share (docs/traversal.md "Packets"): a packet's walk fetches a

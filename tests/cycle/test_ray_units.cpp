@@ -37,7 +37,7 @@ class Ports final : public RayUnitTiming::Ports {
     dispatch_.queue(std::move(ray), at);
   }
   std::optional<Ray> next_ray(Cycle) override { return dispatch_.next(); }
-  std::optional<Ray> send_ray(Cycle now) override { return dispatch_.send(now); }
+  std::optional<Ray> send_ray(Cycle now, std::size_t unit) override { return dispatch_.send(now, unit); }
   bool rays_waiting() const override { return dispatch_.any_waiting(); }
   void answer(Ray& ray, Cycle now) override { answers.emplace_back(ray.dst, now); }
 
@@ -137,6 +137,7 @@ struct Pipes {
   std::vector<std::unique_ptr<RayUnitTiming>> units;
 
   explicit Pipes(int count) {
+    costs.packet = 1;  // the hand-written walks below are single rays'
     for (int u = 0; u < count; ++u) units.push_back(std::make_unique<PipeUnitTiming>(costs, lines, ius, ports));
   }
   // A ray's cycles through the unit, from the dispatch's cycle to its answer, for a walk
