@@ -873,7 +873,7 @@ def area(args) -> int:
     """Append synth's results (one JSON file per unit and format) to bench/results/area.json,
     from which scripts/doc-tables makes the tables of docs/area.md."""
     results = pathlib.Path(args.results)
-    keep = ("unit", "design", "slots", "format", "exponent_bits", "fraction_bits", "cells", "flops", "ram_bits",
+    keep = ("unit", "design", "slots", "packet", "format", "exponent_bits", "fraction_bits", "cells", "flops", "ram_bits",
             "transistors", "synth_seconds", "netlist_vectors", "netlist_simulator", "netlist_build_seconds", "netlist_seconds")
     new = []
     # A chip's or a core's record: its units and totals, the netlist's frame and the
