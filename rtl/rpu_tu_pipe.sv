@@ -156,6 +156,19 @@ module rpu_tu_pipe #(
   function automatic logic fp_eq(input logic [W-1:0] a, input logic [W-1:0] b);
     fp_eq = a == b || (a[W-2:0] == '0 && b[W-2:0] == '0);
   endfunction
+  // The lowest ray of `rays` from ray `from` on (0 if none), and whether there is one.
+  function automatic logic [LaneBits-1:0] ray_from(input logic [P-1:0] rays, input int unsigned from);
+    ray_from = '0;
+    for (int r = P - 1; r >= 0; r--) begin
+      if (rays[r] && 32'(r) >= from) ray_from = LaneBits'(r);
+    end
+  endfunction
+  function automatic logic any_ray_from(input logic [P-1:0] rays, input int unsigned from);
+    any_ray_from = 1'b0;
+    for (int r = 0; r < P; r++) begin
+      if (rays[r] && 32'(r) >= from) any_ray_from = 1'b1;
+    end
+  endfunction
   // The flat index of ray r of slot s.
   function automatic int unsigned ray_at(input logic [SlotBits-1:0] s, input logic [LaneBits-1:0] r);
     ray_at = 32'(s) * P + (P > 1 ? 32'(r) : 0);
@@ -436,12 +449,7 @@ module rpu_tu_pipe #(
     // first hit.
     assign leaf_over = phase_q == PhLeaf && pending_q == '0 && (k_q == count_q || !testing_any);
     assign close     = (close_formed && form_slot_q == Me) || (close_given && give_slot == Me);
-    always_comb begin : lowest_ray
-      lowest = '0;
-      for (int r = P - 1; r >= 0; r--) begin
-        if (valid_d[r]) lowest = LaneBits'(r);
-      end
-    end
+    assign lowest    = ray_from(valid_d, 0);
 
     always_comb begin : next_packet
       phase_d     = phase_q;
@@ -993,16 +1001,8 @@ module rpu_tu_pipe #(
   logic [LaneBits-1:0] test_from_d, test_from_q;
   logic [P-1:0]        test_rays;
   assign test_rays = testing_all[32'(test_slot)*P +: P];
-  always_comb begin : pick_test_ray
-    test_lane = '0;
-    for (int r = P - 1; r >= 0; r--) begin
-      if (test_rays[r] && 32'(r) >= 32'(test_from_q)) test_lane = LaneBits'(r);
-    end
-    test_last = 1'b1;
-    for (int r = 0; r < P; r++) begin
-      if (test_rays[r] && 32'(r) > 32'(test_lane)) test_last = 1'b0;
-    end
-  end
+  assign test_lane = ray_from(test_rays, 32'(test_from_q));
+  assign test_last = !any_ray_from(test_rays, 32'(test_lane) + 1);
   assign test_from_d = !test_issue ? test_from_q : test_last ? '0 : test_lane + LaneBits'(1);
 
   // ref_tests: the tests a ref's record owes, one per testing ray of its packet.
@@ -1203,18 +1203,9 @@ module rpu_tu_pipe #(
   assign near_child  = below_near ? node4 + IndexBits'(1) : s4_above;
   assign far_child   = below_near ? s4_above : node4 + IndexBits'(1);
   assign stack_waddr = {s4_slot, DepthBits'(sp4)};
-  always_comb begin : valid_rays
-    first_valid = '0;
-    next_valid  = '0;
-    next_solo   = 1'b0;
-    for (int r = P - 1; r >= 0; r--) begin
-      if (valid4[r]) first_valid = LaneBits'(r);
-      if (valid4[r] && 32'(r) > 32'(solo_lane4)) begin
-        next_valid = LaneBits'(r);
-        next_solo  = 1'b1;
-      end
-    end
-  end
+  assign first_valid = ray_from(valid4, 0);
+  assign next_valid  = ray_from(valid4, 32'(solo_lane4) + 1);
+  assign next_solo   = any_ray_from(valid4, 32'(solo_lane4) + 1);
 
   always_comb begin : decide_step
     decide_node      = node4;
@@ -1354,18 +1345,9 @@ module rpu_tu_pipe #(
   );
   assign fin_take_rays = valid_all[32'(fin_take_slot)*P +: P];
   assign fin_rays      = valid_all[32'(fin_slot_q)*P +: P];
-  always_comb begin : pick_fin_rays
-    fin_first = '0;
-    fin_next  = '0;
-    fin_last  = 1'b1;
-    for (int r = P - 1; r >= 0; r--) begin
-      if (fin_take_rays[r]) fin_first = LaneBits'(r);
-      if (fin_rays[r] && 32'(r) > 32'(fin_lane_q)) begin
-        fin_next = LaneBits'(r);
-        fin_last = 1'b0;
-      end
-    end
-  end
+  assign fin_first   = ray_from(fin_take_rays, 0);
+  assign fin_next    = ray_from(fin_rays, 32'(fin_lane_q) + 1);
+  assign fin_last    = !any_ray_from(fin_rays, 32'(fin_lane_q) + 1);
   assign fin_done    = fin_rsp_taken && fin_last;
   assign fin_ready   = !fin_valid_q || fin_done;
   assign fin_take    = fin_pick_valid && fin_ready;
