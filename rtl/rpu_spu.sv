@@ -503,8 +503,9 @@ module rpu_spu #(
   assign mem_addr     = u_op == rpu_pkg::OpCalli ? shader_entry : u_src_a[31:0] + u_imm;
   assign wide         = u_op == rpu_pkg::OpLd || u_op == rpu_pkg::OpLdf || u_op == rpu_pkg::OpSt;
   assign store        = u_op == rpu_pkg::OpSt || u_op == rpu_pkg::OpSt1;
-  // The thread's stack: slot k (1-based) at the top minus 16k.
-  assign stack_top       = rpu_pkg::DeviceStackBase + (u_gid + 32'd1) * StackBytes;
+  // The thread's stack: slot k (1-based) at the top minus 16k; the stacks a line apart
+  // (DeviceStackSkew) so that they do not share cache sets and DRAM banks at every depth.
+  assign stack_top       = rpu_pkg::DeviceStackBase + u_gid * (StackBytes + rpu_pkg::DeviceStackSkew) + StackBytes;
   assign stack_addr_push = stack_top - ((32'(u_ssp) + 32'd1) << 4);
   assign stack_addr_pop  = stack_top - (32'(u_ssp) << 4);
 

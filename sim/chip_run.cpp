@@ -83,7 +83,7 @@ ChipRunResult run_chip_frame(Model<harness::Chip>& model, const ModelInfo& info,
   facts.watchdog = frame.watchdog;
 
   SparseMemory memory(frame.image, frame.launch_block, firmware.data, pixels,
-                      threads * static_cast<std::uint32_t>(config.stack_bytes));
+                      functional::stack_region_bytes(threads, static_cast<std::uint32_t>(config.stack_bytes)));
   DeviceDram dram(memory, config.dram);
 
   // The lockstep: the functional model with its own memory, a checker per core.
@@ -100,11 +100,7 @@ ChipRunResult run_chip_frame(Model<harness::Chip>& model, const ModelInfo& info,
       cs.firmware = &firmware;
       cs.tracer = tracer.get();
       cs.format = frame.format;
-      cs.core.registers = config.registers;
-      cs.core.chunk_size = config.chunk_size;
-      cs.core.call_depth = config.call_depth;
-      cs.core.stack_bytes = static_cast<std::uint32_t>(config.stack_bytes);
-      cs.core.watchdog = frame.watchdog;
+      cs.core = functional::ShaderCoreConfig::of(config, frame.watchdog);
       cs.core_id = static_cast<std::uint32_t>(c);
       cs.threads_per_core = static_cast<std::uint32_t>(config.threads_per_core);
       cs.total_threads = threads;

@@ -139,18 +139,14 @@ FrameResult run_frame(const Options& o, const Bench& bench, const Frame& frame, 
 
   // The RTL's memory, and the functional model's own.
   SparseMemory memory(si.image.bytes, launch_block, firmware.data, pixels,
-                      threads * static_cast<std::uint32_t>(config.stack_bytes));
+                      functional::stack_region_bytes(threads, static_cast<std::uint32_t>(config.stack_bytes)));
   functional::DeviceMemory golden_memory(si.image.bytes, launch_block, firmware.data, pixels);
 
   SpuCheckerSetup cs;
   cs.firmware = &firmware;
   cs.tracer = bench.tracer.get();
   cs.format = bench.format;
-  cs.core.registers = config.registers;
-  cs.core.chunk_size = config.chunk_size;
-  cs.core.call_depth = config.call_depth;
-  cs.core.stack_bytes = static_cast<std::uint32_t>(config.stack_bytes);
-  cs.core.watchdog = frame.watchdog;
+  cs.core = functional::ShaderCoreConfig::of(config, frame.watchdog);
   cs.threads_per_core = threads;
   cs.total_threads = threads;
   cs.pixels = pixels;

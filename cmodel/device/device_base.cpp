@@ -172,13 +172,7 @@ void DeviceBase::lanes_of(std::uint64_t round, std::uint64_t chunk,
 }
 
 functional::ShaderCoreConfig DeviceBase::core_config(std::uint64_t watchdog) const {
-  functional::ShaderCoreConfig c;
-  c.registers = config_.registers;
-  c.chunk_size = config_.chunk_size;
-  c.call_depth = config_.call_depth;
-  c.stack_bytes = static_cast<std::uint32_t>(config_.stack_bytes);
-  c.watchdog = watchdog;
-  return c;
+  return functional::ShaderCoreConfig::of(config_, watchdog);
 }
 
 }  // namespace rpu::device

@@ -115,6 +115,20 @@ void ShaderCore::fault(const Thread& t, spec::isa::FaultKind kind, const std::st
                     p, kind, t.pc, address);
 }
 
+ShaderCoreConfig ShaderCoreConfig::of(const spec::HardwareConfig& config, std::uint64_t watchdog) {
+  ShaderCoreConfig c;
+  c.registers = config.registers;
+  c.chunk_size = config.chunk_size;
+  c.call_depth = config.call_depth;
+  c.stack_bytes = static_cast<std::uint32_t>(config.stack_bytes);
+  c.watchdog = watchdog;
+  return c;
+}
+
+std::uint32_t ShaderCore::stack_slot(std::uint32_t thread, std::uint32_t slot) const {
+  return mm::kDeviceStackBase + thread * (config_.stack_bytes + mm::kDeviceStackSkew) + config_.stack_bytes - (slot + 1) * 16;
+}
+
 void ShaderCore::Chunk::update_next_pc() {
   next_pc_ = kDone;
   for (const Thread& t : threads_) {
@@ -317,9 +331,9 @@ void ShaderCore::execute(const Arith& ar, Thread& t, ShaderStats& stats, StepRec
     t.pc = target;
   };
   const std::uint32_t stack_slots = config_.stack_bytes / 16;
+  // The address of the thread's top stack slot.
   const auto sp = [&]() {
-    return mm::kDeviceStackBase + (t.lane.thread + 1) * config_.stack_bytes -
-           static_cast<std::uint32_t>(t.stack.size()) * 16;
+    return stack_slot(t.lane.thread, static_cast<std::uint32_t>(t.stack.size()) - 1);
   };
 
   std::uint32_t next = t.pc + 1;
@@ -457,14 +471,18 @@ void ShaderCore::execute(const Arith& ar, Thread& t, ShaderStats& stats, StepRec
     }
     case Opcode::kPush:
       if (t.stack.size() >= stack_slots) {
-        fault(t, si::FaultKind::kStackOverflow, fmt::format("stack overflow: push below the thread's stack ({} bytes at {:#010x}; sp {:#010x})",
-                             config_.stack_bytes, mm::kDeviceStackBase + t.lane.thread * config_.stack_bytes, sp()));
+        fault(t, si::FaultKind::kStackOverflow,
+              fmt::format("stack overflow: push below the thread's stack ({} bytes at {:#010x}; sp {:#010x})",
+                          config_.stack_bytes, stack_slot(t.lane.thread, stack_slots - 1), sp() - 16));
       }
       t.stack.push_back(raw(0));
       if (record) record->accesses.push_back({sp(), 16, true, t.lane.lane});
       break;
     case Opcode::kPop:
-      if (t.stack.empty()) fault(t, si::FaultKind::kStackUnderflow, fmt::format("stack underflow: pop with nothing pushed (sp {:#010x})", sp()));
+      if (t.stack.empty()) {
+        fault(t, si::FaultKind::kStackUnderflow,
+              fmt::format("stack underflow: pop with nothing pushed (sp {:#010x})", sp()));
+      }
       if (record) record->accesses.push_back({sp(), 16, false, t.lane.lane});
       write(t.stack.back());
       t.stack.pop_back();

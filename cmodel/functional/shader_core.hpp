@@ -58,7 +58,16 @@ struct ShaderCoreConfig {
   int call_depth = 16;
   std::uint32_t stack_bytes = 16384;
   std::uint64_t watchdog = 50'000'000;  // instructions one thread may retire for one pixel
+
+  // The core of hardware configuration `config`.
+  static ShaderCoreConfig of(const spec::HardwareConfig& config, std::uint64_t watchdog);
 };
+
+// The bytes the memory stacks of `threads` threads take: each `stack_bytes` and a line
+// between (spec/memory_map.toml [device] stack_skew).
+inline std::uint32_t stack_region_bytes(std::uint32_t threads, std::uint32_t stack_bytes) {
+  return threads * (stack_bytes + spec::memory::kDeviceStackSkew);
+}
 
 // The functional shader core: threads grouped into chunks of chunk_size that step in
 // lockstep. Every step issues the instruction at the smallest pc among the chunk's
@@ -166,6 +175,9 @@ class ShaderCore {
   void execute(const Arith& ar, Thread& t, ShaderStats& stats, StepRecord* record);
   [[noreturn]] void fault(const Thread& t, spec::isa::FaultKind kind, const std::string& what,
                           std::uint32_t address = 0) const;
+  // The address of stack slot `slot` (0 the first pushed) of device thread `thread`:
+  // the stacks grow down from the top of their thread's region (docs/shader-core.md "Memory").
+  std::uint32_t stack_slot(std::uint32_t thread, std::uint32_t slot) const;
 
   const isa::Firmware& firmware_;
   DeviceMemory& memory_;

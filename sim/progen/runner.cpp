@@ -52,13 +52,7 @@ functional::DeviceMemory Runner::memory(const Program& program, const isa::Firmw
 }
 
 functional::ShaderCoreConfig Runner::core_config(const Program& program) const {
-  functional::ShaderCoreConfig c;
-  c.registers = config_.registers;
-  c.chunk_size = config_.chunk_size;
-  c.call_depth = config_.call_depth;
-  c.stack_bytes = static_cast<std::uint32_t>(config_.stack_bytes);
-  c.watchdog = program.watchdog();
-  return c;
+  return functional::ShaderCoreConfig::of(config_, program.watchdog());
 }
 
 std::uint64_t Runner::chunks() const {

@@ -67,9 +67,7 @@ CoreRun run_core(const spec::HardwareConfig& config) {
   const fp::Format format = fp::format_by_name(config.format);
   functional::DeviceMemory memory(si.image.bytes, {}, firmware.data, 4);
   const functional::Tracer tracer(si.image.bytes, si.layout, format, config.stack_depth);
-  functional::ShaderCoreConfig core_config;
-  core_config.registers = config.registers;
-  core_config.chunk_size = config.chunk_size;
+  const functional::ShaderCoreConfig core_config = functional::ShaderCoreConfig::of(config, 50'000'000);
   functional::ShaderCore shader(firmware, memory, tracer, format, core_config);
 
   CoreRun run;

@@ -149,12 +149,7 @@ TEST_P(IsaProgram, EndStateMatchesExp) {
 
   device::Launch launch{e.width, e.height, 1, 0, 1};
   const functional::Tracer tracer(si.image.bytes, si.layout, format, config->stack_depth);
-  functional::ShaderCoreConfig cc;
-  cc.registers = config->registers;
-  cc.chunk_size = config->chunk_size;
-  cc.call_depth = config->call_depth;
-  cc.stack_bytes = static_cast<std::uint32_t>(config->stack_bytes);
-  cc.watchdog = 100'000;
+  const functional::ShaderCoreConfig cc = functional::ShaderCoreConfig::of(*config, 100'000);
   const std::uint32_t pixel = static_cast<std::uint32_t>(e.width * e.height - 1);
   const functional::ShaderCore::Lane lane{0, 0, 0, 0, pixel};
   // fp32 programs run on both float paths (host floats under FTZ/DAZ, and the soft
