@@ -40,6 +40,7 @@ ISECT_MODES = ("woop", "watertight")
 
 sys.path.insert(0, str(ROOT / "spec"))
 import gen  # noqa: E402  (spec/gen.py: loads and validates the tables)
+import estimate  # noqa: E402  (rtl/estimate.py, beside this file)
 
 
 def cache_parameters() -> list[str]:
@@ -387,6 +388,24 @@ def synth_ray_unit(args, formats: dict) -> int:
     stats.update(unit=unit, format=args.format, exponent_bits=f["exponent_bits"], fraction_bits=f["fraction_bits"])
     if args.unit == "tu":
         stats["slots"] = args.slots
+    if "design" in kind:
+        stats["design"] = kind["design"]
+    if args.slots > 1:
+        stats["design"] = f"{args.slots} ray slots, a walker each"
+    if args.pipe:
+        stats["design"] = f"{args.slots} ray slots sharing a node-step pipeline, {args.setups} set-up engines"
+    if args.packet != 1:
+        stats["design"] = (f"{args.slots} slots of packets of {args.packet} rays sharing a node-step pipeline, "
+                           f"{args.setups} set-up engines")
+        stats["packet"] = args.packet
+    if args.pipe:
+        stats["setups"] = args.setups
+    if not args.cosim:
+        # Synthesis only (an area for an estimate): no netlist to compare.
+        (out / f"{stem}.json").write_text(json.dumps(stats, indent=1) + "\n")
+        print(f"synth ok: {unit} {args.format}: {stats['cells']} cells ({stats['flops']} flops), "
+              f"{stats.get('transistors', '?')} CMOS transistors; the netlist not simulated (no --cosim)")
+        return 0
     start = time.monotonic()
     layouts = stream_layouts()
     tb_params = {param: layouts[stream]["bits"] for param, stream in kind["streams"].items()}
@@ -433,16 +452,6 @@ def synth_ray_unit(args, formats: dict) -> int:
     vectors.unlink()
     stats.update(netlist_vectors=total, netlist_seconds=round(time.monotonic() - start, 1),
                  netlist_simulator=args.sim)
-    if "design" in kind:
-        stats["design"] = kind["design"]
-    if args.slots > 1:
-        stats["design"] = f"{args.slots} ray slots, a walker each"
-    if args.pipe:
-        stats["design"] = f"{args.slots} ray slots sharing a node-step pipeline, {args.setups} set-up engines"
-    if args.packet != 1:
-        stats["design"] = (f"{args.slots} slots of packets of {args.packet} rays sharing a node-step pipeline, "
-                           f"{args.setups} set-up engines")
-        stats["packet"] = args.packet
     (out / f"{stem}.json").write_text(json.dumps(stats, indent=1) + "\n")
     print(f"synth ok: {unit} {args.format}: {stats['cells']} cells ({stats['flops']} flops), "
           f"{stats.get('transistors', '?')} CMOS transistors; {m.group(0).removeprefix('netlist ok: ')} "
@@ -873,8 +882,9 @@ def area(args) -> int:
     """Append synth's results (one JSON file per unit and format) to bench/results/area.json,
     from which scripts/doc-tables makes the tables of docs/area.md."""
     results = pathlib.Path(args.results)
-    keep = ("unit", "design", "slots", "packet", "format", "exponent_bits", "fraction_bits", "cells", "flops", "ram_bits",
-            "transistors", "synth_seconds", "netlist_vectors", "netlist_simulator", "netlist_build_seconds", "netlist_seconds")
+    keep = ("unit", "design", "slots", "packet", "setups", "format", "exponent_bits", "fraction_bits", "cells", "flops",
+            "ram_bits", "transistors", "synth_seconds", "netlist_vectors", "netlist_simulator", "netlist_build_seconds",
+            "netlist_seconds")
     new = []
     # A chip's or a core's record: its units and totals, the netlist's frame and the
     # command that synthesised it (flow.py synth --unit chip or core).
@@ -901,12 +911,37 @@ def area(args) -> int:
         print(f"flow.py area: no synthesis results in {getattr(args, 'from')}; run ctest -L synth "
               "(and -L slow -R synth) first", file=sys.stderr)
         return 1
+    append_records(results, new)
+    print(f"flow.py area: {len(new)} records appended to {results}; now run scripts/doc-tables")
+    return 0
+
+
+def append_records(results: pathlib.Path, new: list[dict]) -> None:
+    """Appends records to a bench/results file, keeping its layout (one record a line)."""
     text = results.read_text()
     end = text.rindex("\n ]\n}")
     lines = "".join(",\n  " + json.dumps(r) for r in new)
     results.write_text(text[:end] + lines + text[end:])
     json.loads(results.read_text())  # still one valid file
-    print(f"flow.py area: {len(new)} records appended to {results}; now run scripts/doc-tables")
+
+
+def estimate_area(args) -> int:
+    """Appends a named configuration's area, estimated from its synthesised units (rtl/estimate.py),
+    to bench/results/area.json."""
+    results = pathlib.Path(args.results)
+    tables = gen.load(ROOT / "spec")
+    resolved = {r["name"]: r["values"] for r in tables["resolved"]}
+    try:
+        rec = estimate.estimate(args.config, resolved, json.loads(results.read_text())["records"])
+    except estimate.EstimateError as e:
+        print(f"flow.py estimate: {e}", file=sys.stderr)
+        return 1
+    commit = subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--short", "HEAD"], capture_output=True,
+                            text=True, check=True).stdout.strip()
+    append_records(results, [{"commit": commit, "date": time.strftime("%Y-%m-%d"),
+                              "command": f"python3 rtl/flow.py estimate --config {args.config}", **rec}])
+    print(f"flow.py estimate: {args.config}: {rec['mm2']} mm^2 ({rec['logic_mm2']} of logic, {rec['sram_mm2']} of "
+          f"SRAM) appended to {results}; now run scripts/doc-tables")
     return 0
 
 
@@ -959,10 +994,14 @@ def main() -> int:
     p.add_argument("--commit", required=True, help="the commit that was synthesised (git rev-parse --short HEAD)")
     p.add_argument("--results", default=str(ROOT / "bench" / "results" / "area.json"),
                    help="the result file to append to (default bench/results/area.json)")
+    p = sub.add_parser("estimate", help="a named configuration's die area from its synthesised units (rtl/estimate.py)")
+    p.add_argument("--config", required=True, help="a named configuration of spec/configs.toml")
+    p.add_argument("--results", default=str(ROOT / "bench" / "results" / "area.json"),
+                   help="the result file to read the units from and append to (default bench/results/area.json)")
     args = ap.parse_args()
-    if args.cmd == "synth" and args.unit not in ("chip", "core") and not args.cosim:
+    if args.cmd == "synth" and args.unit not in ("chip", "core", "tu") and not args.cosim:
         ap.error("synth needs --cosim (the harness that writes the vectors)")
-    return {"lint": lint, "synth": synth, "area": area}[args.cmd](args)
+    return {"lint": lint, "synth": synth, "area": area, "estimate": estimate_area}[args.cmd](args)
 
 
 if __name__ == "__main__":

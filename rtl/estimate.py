@@ -1,0 +1,123 @@
+"""A named configuration's die area, estimated from the units that were synthesised.
+
+A chip too large to synthesise whole here (drpu: eight four-lane cores) is the sum of its
+units, each taken from the latest bench/results/area.json record of a unit built with
+the same parameters: a shader core from a core record (flow.py synth --unit core) of a
+configuration whose cores match, a traversal and an intersection unit from the ray-unit
+records (slow.synth.tu_*, slow.synth.iu_*) in the configuration's format, the caches
+and the glue (dispatch, memory arbiter, top-level logic) from a chip record whose caches
+have the same geometry. Yosys's CMOS transistor count over 4 is the NAND2 equivalents;
+the RAM bits (register files, code memories, return stacks, cache data) are SRAM.
+docs/area.md "Chips that were not synthesised whole" cites the densities.
+"""
+from __future__ import annotations
+
+# A 90 nm standard-cell library's maximum density (the Cambridge SoC design course's
+# parameters of a 90 nm library), placed and routed at 70% utilisation (our assumption).
+NAND2_PER_MM2 = 400_000
+UTILISATION = 0.7
+# A 6T SRAM cell of 140 F^2 at F = 90 nm, in arrays whose cells take half their area
+# (our assumption for decoders, sense amplifiers and redundancy).
+SRAM_CELL_UM2 = 140 * 0.090 ** 2
+ARRAY_EFFICIENCY = 0.5
+TRANSISTORS_PER_NAND2 = 4
+
+CORE_KEYS = ("threads_per_core", "chunk_size", "issue_lanes", "registers", "sfu_units", "call_depth",
+             "stack_bytes", "format")
+CACHE_KEYS = ("bytes", "line_bytes", "ways", "mshrs")
+
+
+class EstimateError(Exception):
+    pass
+
+
+def latest(records: list[dict], match) -> dict | None:
+    found = [r for r in records if match(r)]
+    return found[-1] if found else None
+
+
+def chip_unit(record: dict, name: str) -> dict:
+    for u in record["units"]:
+        if u["unit"] == name and u["depth"] == 1:
+            return u
+    raise EstimateError(f"chip record {record['commit']} ({record['config']}) has no unit '{name}'")
+
+
+def estimate(config: str, resolved: dict[str, dict], records: list[dict]) -> dict:
+    """The estimate record of configuration `config` (resolved: spec's resolved configurations by name)."""
+    if config not in resolved:
+        raise EstimateError(f"unknown configuration '{config}'; spec/configs.toml has {sorted(resolved)}")
+    v = resolved[config]
+    rows = []
+
+    def add(unit: str, count: int, src: dict, source: str, note: str = "") -> None:
+        rows.append({"unit": unit, "count": count, "cells": src["cells"], "transistors": src["transistors"],
+                     "ram_bits": src.get("ram_bits", 0), "source": source, **({"note": note} if note else {})})
+
+    def same_core(r: dict) -> bool:
+        if r.get("unit") != "core" or r.get("config") not in resolved:
+            return False
+        w = resolved[r["config"]]
+        lanes = r.get("issue_lanes", w["issue_lanes"])
+        return lanes == v["issue_lanes"] and all(w[k] == v[k] for k in CORE_KEYS if k != "issue_lanes")
+
+    core = latest(records, same_core)
+    if core is None:
+        raise EstimateError(f"no core record matches {config}'s cores ({', '.join(f'{k} = {v[k]}' for k in CORE_KEYS)}): "
+                            f"run flow.py synth --unit core --config {config}")
+    add("shader core", v["shader_cores"], core["hierarchical"],
+        f"{core['config']}'s core, issue_lanes = {core.get('issue_lanes')} ({core['commit']})")
+
+    def same_tu(r: dict) -> bool:
+        if r.get("unit") != "tu_woop" or r.get("format") != v["format"]:
+            return False
+        if v["tu_pipe"]:
+            return ("node-step pipeline" in r.get("design", "") and r.get("slots") == v["tu_slots"]
+                    and r.get("packet", 1) == v["tu_packet"] and f"{v['tu_setups']} set-up" in r["design"])
+        return r.get("slots", 1) == v["tu_slots"] and "pipeline" not in r.get("design", "")
+
+    tu = latest(records, same_tu)
+    if tu is None:
+        raise EstimateError(f"no traversal-unit record in {v['format']} with {v['tu_slots']} slots, packets of "
+                            f"{v['tu_packet']}, {v['tu_setups']} set-up engines (tu_pipe = {v['tu_pipe']})")
+    add("traversal unit", v["traversal_units"], tu, f"tu_woop {tu['format']}, {tu.get('design', 'one walker')} "
+        f"({tu['commit']})")
+    iu = latest(records, lambda r: r.get("unit") == "iu_woop" and r.get("format") == v["format"]
+                and r.get("design") == "pipeline, one test a cycle")
+    if iu is None:
+        raise EstimateError(f"no pipelined iu_woop record in {v['format']}")
+    add("intersection unit", v["intersection_units"], iu, f"iu_woop {iu['format']}, pipeline ({iu['commit']})")
+
+    def same_caches(r: dict) -> bool:
+        if r.get("unit") != "chip" or r.get("config") not in resolved:
+            return False
+        w = resolved[r["config"]]
+        return all(w[f"{c}.{k}"] == v[f"{c}.{k}"] for c in ("node_cache", "triangle_cache", "data_cache")
+                   for k in CACHE_KEYS)
+
+    chip = latest(records, same_caches)
+    if chip is None:
+        raise EstimateError(f"no chip record has {config}'s cache geometry")
+    w = resolved[chip["config"]]
+    by_tag = "" if w["tu_by_tag"] == v["tu_by_tag"] else (
+        f"{chip['config']}'s, whose ray units take their lines in order: the by-tag answers' wait entries not in it")
+    counts = {"node cache": 1, "triangle cache": 1, "data cache": v["shader_cores"]}
+    for name, count in counts.items():
+        add(name, count, chip_unit(chip, name), f"{chip['config']} chip ({chip['commit']})", by_tag)
+    if not v["tu_by_tag"]:
+        add("in-order port", v["traversal_units"], chip_unit(chip, "in-order port"),
+            f"{chip['config']} chip ({chip['commit']})")
+    add("cache arbiter", 2, chip_unit(chip, "cache arbiter"), f"{chip['config']} chip ({chip['commit']})")
+    for name in ("ray dispatch", "memory arbiter", "top-level logic"):
+        note = "" if w["shader_cores"] == v["shader_cores"] else f"for {w['shader_cores']} cores"
+        add(name, 1, chip_unit(chip, name), f"{chip['config']} chip ({chip['commit']})", note)
+
+    nand2 = sum(r["count"] * r["transistors"] for r in rows) / TRANSISTORS_PER_NAND2
+    bits = sum(r["count"] * r["ram_bits"] for r in rows)
+    logic_mm2 = nand2 / (NAND2_PER_MM2 * UTILISATION)
+    sram_mm2 = bits * SRAM_CELL_UM2 / ARRAY_EFFICIENCY / 1e6
+    return {"unit": "estimate", "config": config, "rows": rows,
+            "nand2": round(nand2), "ram_bits": bits, "logic_mm2": round(logic_mm2, 1),
+            "sram_mm2": round(sram_mm2, 1), "mm2": round(logic_mm2 + sram_mm2, 1),
+            "densities": {"nand2_per_mm2": NAND2_PER_MM2, "utilisation": UTILISATION,
+                          "sram_cell_um2": round(SRAM_CELL_UM2, 3), "array_efficiency": ARRAY_EFFICIENCY}}
