@@ -68,20 +68,32 @@ def estimate(config: str, resolved: dict[str, dict], records: list[dict]) -> dic
     add("shader core", v["shader_cores"], core["hierarchical"],
         f"{core['config']}'s core, issue_lanes = {core.get('issue_lanes')} ({core['commit']})")
 
-    def same_tu(r: dict) -> bool:
+    def tu_kind(r: dict) -> bool:
+        """A traversal unit of the configuration's kind, format, packets and set-up engines, any slots."""
         if r.get("unit") != "tu_woop" or r.get("format") != v["format"]:
             return False
         if v["tu_pipe"]:
-            return ("node-step pipeline" in r.get("design", "") and r.get("slots") == v["tu_slots"]
-                    and r.get("packet", 1) == v["tu_packet"] and f"{v['tu_setups']} set-up" in r["design"])
-        return r.get("slots", 1) == v["tu_slots"] and "pipeline" not in r.get("design", "")
+            return (r.get("setups") == v["tu_setups"] and "node-step pipeline" in r.get("design", "")
+                    and r.get("packet", 1) == v["tu_packet"])
+        return "pipeline" not in r.get("design", "")
 
-    tu = latest(records, same_tu)
-    if tu is None:
-        raise EstimateError(f"no traversal-unit record in {v['format']} with {v['tu_slots']} slots, packets of "
-                            f"{v['tu_packet']}, {v['tu_setups']} set-up engines (tu_pipe = {v['tu_pipe']})")
-    add("traversal unit", v["traversal_units"], tu, f"tu_woop {tu['format']}, {tu.get('design', 'one walker')} "
-        f"({tu['commit']})")
+    by_slots = {r.get("slots", 1): r for r in records if tu_kind(r)}  # the latest of each
+    kind = (f"a traversal unit in {v['format']}, packets of {v['tu_packet']}, {v['tu_setups']} set-up engines "
+            f"(tu_pipe = {v['tu_pipe']})")
+    if v["tu_slots"] in by_slots:
+        tu = by_slots[v["tu_slots"]]
+        add("traversal unit", v["traversal_units"], tu, f"tu_woop {tu['format']}, {tu['design']} ({tu['commit']})")
+    elif len(by_slots) >= 2:
+        # Slots are copies of one slot's state around a shared pipeline: the unit grows
+        # linearly in them, measured between the two largest units synthesised.
+        a, b = (by_slots[s] for s in sorted(by_slots)[-2:])
+        sa, sb, s = a["slots"], b["slots"], v["tu_slots"]
+        unit = {k: round(b[k] + (b[k] - a[k]) * (s - sb) / (sb - sa)) for k in ("cells", "transistors", "ram_bits")}
+        add("traversal unit", v["traversal_units"], unit,
+            f"tu_woop {b['format']}, packets of {v['tu_packet']}: {s} slots extrapolated from {sa} ({a['commit']}) "
+            f"and {sb} ({b['commit']}) linearly", "Yosys ran out of 24 GB on the whole unit")
+    else:
+        raise EstimateError(f"no record of {kind} with {v['tu_slots']} slots, nor two to extrapolate from")
     iu = latest(records, lambda r: r.get("unit") == "iu_woop" and r.get("format") == v["format"]
                 and r.get("design") == "pipeline, one test a cycle")
     if iu is None:
@@ -110,6 +122,10 @@ def estimate(config: str, resolved: dict[str, dict], records: list[dict]) -> dic
     add("cache arbiter", 2, chip_unit(chip, "cache arbiter"), f"{chip['config']} chip ({chip['commit']})")
     for name in ("ray dispatch", "memory arbiter", "top-level logic"):
         note = "" if w["shader_cores"] == v["shader_cores"] else f"for {w['shader_cores']} cores"
+        held, held_here = w["tu_slots"] * w["tu_packet"], v["tu_slots"] * v["tu_packet"]
+        if name == "ray dispatch" and held != held_here:
+            note += (f"{'; ' if note else ''}its tables for {held} ray(s) a unit in slots, "
+                     f"this chip's for {held_here}")
         add(name, 1, chip_unit(chip, name), f"{chip['config']} chip ({chip['commit']})", note)
 
     nand2 = sum(r["count"] * r["transistors"] for r in rows) / TRANSISTORS_PER_NAND2
