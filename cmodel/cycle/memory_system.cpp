@@ -1,19 +1,51 @@
 #include "cycle/memory_system.hpp"
 
 #include <algorithm>
+#include <iterator>
 
 namespace rpu::cycle {
 
-Dram::Dram(const spec::DramConfig& config) : config_(config), bank_free_(static_cast<std::size_t>(config.banks), 0) {}
+Cycle Bookings::book(Cycle at, Cycle length) {
+  latest_ = std::max(latest_, at);
+  const Cycle horizon = latest_ > kHorizon ? latest_ - kHorizon : 0;
+  while (forgotten_ < busy_.size() && busy_[forgotten_].end <= horizon) ++forgotten_;
+  if (forgotten_ > busy_.size() / 2) {
+    busy_.erase(busy_.begin(), busy_.begin() + static_cast<std::ptrdiff_t>(forgotten_));
+    forgotten_ = 0;
+  }
+  Cycle start = std::max(at, horizon);
+  if (length == 0) return start;
+  // The first booking that ends after `start`; walk the gaps from there.
+  auto it = std::upper_bound(busy_.begin() + static_cast<std::ptrdiff_t>(forgotten_), busy_.end(), start,
+                             [](Cycle c, const Busy& b) { return c < b.end; });
+  while (it != busy_.end() && it->begin < start + length) {
+    start = std::max(start, it->end);
+    ++it;
+  }
+  // [start, start + length) lies between it[-1] and *it; merge with the ones it touches.
+  const bool joins_before = it != busy_.begin() + static_cast<std::ptrdiff_t>(forgotten_) && std::prev(it)->end == start;
+  const bool joins_after = it != busy_.end() && it->begin == start + length;
+  if (joins_before && joins_after) {
+    std::prev(it)->end = it->end;
+    busy_.erase(it);
+  } else if (joins_before) {
+    std::prev(it)->end = start + length;
+  } else if (joins_after) {
+    it->begin = start;
+  } else {
+    busy_.insert(it, {start, start + length});
+  }
+  return start;
+}
+
+Dram::Dram(const spec::DramConfig& config) : config_(config), banks_(static_cast<std::size_t>(config.banks)) {}
 
 Cycle Dram::access(Cycle at, std::uint32_t address, std::uint32_t bytes, bool write) {
-  Cycle& bank = bank_free_[(address / kInterleaveBytes) % bank_free_.size()];
-  const Cycle start = std::max(at, bank);
-  bank = start + static_cast<Cycle>(config_.bank_busy);
+  Bookings& bank = banks_[(address / kInterleaveBytes) % banks_.size()];
+  const Cycle start = bank.book(at, static_cast<Cycle>(config_.bank_busy));
   const auto per_cycle = static_cast<std::uint32_t>(config_.bytes_per_cycle);
   const Cycle transfer = (bytes + per_cycle - 1) / per_cycle;
-  const Cycle done = std::max(start + static_cast<Cycle>(config_.latency), bus_free_) + transfer;
-  bus_free_ = done;
+  const Cycle done = bus_.book(start + static_cast<Cycle>(config_.latency), transfer) + transfer;
   stats_.bus_cycles += transfer;
   if (write) {
     ++stats_.writes;

@@ -9,8 +9,10 @@
 
 // The cycle model's memory system (docs/cycle-model.md "Memory"): set-associative LRU
 // caches with miss tracking in front of one DRAM channel. Each access is answered at
-// once with the cycle its data arrives; the event loop calls them in time order, so
-// first come, first served holds for banks, the data bus and the MSHRs.
+// once with the cycle its data arrives. The event loop makes most calls in time order,
+// but not all (a step may book an access for a later cycle); the DRAM's banks and bus
+// keep their bookings as intervals, so an access booked late for an earlier cycle uses
+// the gaps the earlier bookings left.
 namespace rpu::cycle {
 
 using Cycle = std::uint64_t;
@@ -30,6 +32,28 @@ struct DramStats {
   }
 };
 
+// The busy intervals of one resource (a DRAM bank, the data bus), booked first come,
+// first served in the order of the calls: a booking takes the first free stretch at or
+// after the cycle asked for, so one asked for an earlier cycle than a booking made
+// before it still finds the gap in front of that booking.
+class Bookings {
+ public:
+  // The first cycle at or after `at` from which `length` cycles are free; they are booked.
+  Cycle book(Cycle at, Cycle length);
+
+ private:
+  // Bookings that end this far before the latest cycle asked for are forgotten, and a
+  // cycle asked for before that horizon is taken as the horizon, so the list stays short
+  // and no forgotten booking is ever overlapped.
+  static constexpr Cycle kHorizon = Cycle{1} << 16;
+  struct Busy {
+    Cycle begin, end;  // [begin, end)
+  };
+  std::vector<Busy> busy_;  // sorted, disjoint, touching ones merged
+  std::size_t forgotten_ = 0;  // busy_[0, forgotten_) lie before the horizon
+  Cycle latest_ = 0;
+};
+
 class Dram {
  public:
   // 64-byte blocks interleave over the banks.
@@ -44,8 +68,8 @@ class Dram {
 
  private:
   spec::DramConfig config_;
-  std::vector<Cycle> bank_free_;
-  Cycle bus_free_ = 0;
+  std::vector<Bookings> banks_;
+  Bookings bus_;
   DramStats stats_;
 };
 
