@@ -22,7 +22,7 @@
 // (writeback, per way) and each fault, for the lockstep checker (sim/spu_checker.hpp).
 module rpu_spu #(
   parameter int unsigned CoreId     = 0,
-  parameter int unsigned Cores      = 1,     // on the chip: pixel p runs on thread p mod (Cores x Threads)
+  parameter int unsigned Cores      = 1,     // on the chip: consecutive chunks of pixels go to consecutive cores (docs/chip.md)
   parameter int unsigned Threads    = 4,
   parameter int unsigned ChunkSize  = 2,
   parameter int unsigned IssueLanes = 1,     // lanes a cycle of spec/isa.toml [issue]'s instructions; divides ChunkSize
@@ -155,7 +155,7 @@ module rpu_spu #(
   logic [Registers*Threads-1:0] written_d, written_q;
   // Per chunk.
   logic [3*Chunks-1:0]          state_d, state_q;
-  logic [32*Chunks-1:0]         base_d, base_q;     // round x TotalThreads: lane l's pixel is base + Thread0 + chunk x ChunkSize + l
+  logic [32*Chunks-1:0]         base_d, base_q;     // the chunk's first pixel this round: lane l's is base + l
   logic [32*Chunks-1:0]         ib_pc_d, ib_pc_q;
   logic [64*Chunks-1:0]         ib_insn_d, ib_insn_q;
   logic [Chunks-1:0]            ib_pcfault_d, ib_pcfault_q;
@@ -490,7 +490,7 @@ module rpu_spu #(
   assign u_chunk = CB'(32'(u_thread) / ChunkSize);
   assign u_lane  = LB'(32'(u_thread) % ChunkSize);
   assign u_gid   = 32'(Thread0) + 32'(u_thread);
-  assign u_pixel = base_q[32*u_chunk +: 32] + u_gid;
+  assign u_pixel = base_q[32*u_chunk +: 32] + 32'(u_lane);
   assign u_imm   = u_insn[rpu_pkg::IsaImmLsb +: 32];
   assign u_dst   = f_dst(u_insn);
   assign u_wmask = f_wmask(u_insn);
@@ -939,7 +939,7 @@ module rpu_spu #(
         fault_o.kind   = e_f_kind[rpu_pkg::FaultKindBits*v +: rpu_pkg::FaultKindBits];
         fault_o.core   = rpu_pkg::CoreBits'(CoreId);
         fault_o.thread = rpu_pkg::ThreadBits'(e_thread[TB*v +: TB]);
-        fault_o.pixel  = base_q[32*(32'(e_thread[TB*v +: TB]) / ChunkSize) +: 32] + 32'(Thread0) + 32'(e_thread[TB*v +: TB]);
+        fault_o.pixel  = base_q[32*kill_chunk +: 32] + 32'(kill_lane);
         fault_o.pc     = e_pc[32*v +: 32];
         fault_o.addr   = e_f_addr[32*v +: 32];
       end
@@ -1024,7 +1024,7 @@ module rpu_spu #(
       written_d[Registers*t +: Registers] = written_q[Registers*t +: Registers];
       if (init_chunk[C]) begin
         pc_d[32*t +: 32]      = launch_i.raygen;
-        live_d[t]             = base_q[32*C +: 32] + 32'(Thread0 + t) < launch_i.pixels;
+        live_d[t]             = base_q[32*C +: 32] + 32'(t % ChunkSize) < launch_i.pixels;
         rsp_d[RspBits*t +: RspBits] = '0;
         ssp_d[SspBits*t +: SspBits] = '0;
         retired_d[32*t +: 32] = '0;
@@ -1058,12 +1058,16 @@ module rpu_spu #(
   end
 
   for (genvar c = 0; c < Chunks; c++) begin : g_chunk
+    // Block b of ChunkSize pixels runs in round b / (Cores x Chunks) on chunk
+    // b mod (Cores x Chunks) / Cores of core b mod Cores: neighbouring blocks on
+    // neighbouring cores, so every core sees every part of the image.
+    localparam int unsigned FirstPixel = (c * Cores + CoreId) * ChunkSize;
     logic [31:0] first_pixel, next_base;
     logic        refuse;
     logic [CntBits-1:0] s0_lanes;  // this chunk's lanes entering S0
     logic [CntBits-1:0] w_fins;    // its lanes finishing at W
     logic               calli_out, calli_back;
-    assign first_pixel = base_q[32*c +: 32] + 32'(Thread0 + c * ChunkSize);
+    assign first_pixel = base_q[32*c +: 32];
     assign refuse      = first_pixel >= launch_i.pixels || (stop_i && first_pixel > stop_pixel_i);
     assign next_base   = base_q[32*c +: 32] + 32'(TotalThreads);
     assign s0_lanes    = seq_chunk_q == CB'(c) ? emit_count : '0;
@@ -1096,7 +1100,7 @@ module rpu_spu #(
       unique case (state_q[3*c +: 3])
         CIdle: if (start_i) begin
           state_d[3*c +: 3]  = CStart;
-          base_d[32*c +: 32] = '0;
+          base_d[32*c +: 32] = 32'(FirstPixel);
         end
         CStart: state_d[3*c +: 3] = refuse ? CIdle : CPick;
         CPick: begin

@@ -103,7 +103,7 @@ ChipRunResult run_chip_frame(Model<harness::Chip>& model, const ModelInfo& info,
       cs.core = functional::ShaderCoreConfig::of(config, frame.watchdog);
       cs.core_id = static_cast<std::uint32_t>(c);
       cs.threads_per_core = static_cast<std::uint32_t>(config.threads_per_core);
-      cs.total_threads = threads;
+      cs.cores = static_cast<std::uint32_t>(cores);
       cs.pixels = pixels;
       cs.width = facts.width;
       checkers.push_back(std::make_unique<SpuChecker>(cs, *golden));

@@ -165,11 +165,9 @@ void RtlDevice::run(const ProgressCallback& progress) {
 }
 
 void RtlDevice::throw_fault(const ChipFault& f) const {
-  // The faulting pixel's chunk and round, as DeviceBase::lanes_of assigns them.
-  const std::uint64_t threads = device_threads();
-  const std::uint64_t thread = f.pixel % threads, round = f.pixel / threads;
+  // The faulting pixel's block of lanes (functional::PixelMap).
   std::vector<functional::ShaderCore::Lane> lanes;
-  lanes_of(round, thread / static_cast<std::uint64_t>(config_.chunk_size), lanes);
+  pixel_map().lanes(f.pixel / static_cast<std::uint64_t>(config_.chunk_size), lanes);
   functional::DeviceMemory memory(image_, std::vector<std::uint8_t>(memory_->launch_block().begin(),
                                                                     memory_->launch_block().end()),
                                   firmware_.data, static_cast<std::uint32_t>(pixels()));

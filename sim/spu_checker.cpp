@@ -31,7 +31,8 @@ SpuChecker::SpuChecker(const SpuCheckerSetup& setup, functional::DeviceMemory& m
       memory_(memory),
       core_(*setup.firmware, memory, *setup.tracer, setup.format, setup.core),
       chunks_(setup.threads_per_core / static_cast<std::uint32_t>(setup.core.chunk_size)),
-      threads_(setup.threads_per_core) {}
+      threads_(setup.threads_per_core),
+      map_(setup.cores, setup.threads_per_core, static_cast<std::uint32_t>(setup.core.chunk_size), setup.pixels) {}
 
 std::string SpuChecker::where(std::uint32_t thread) const {
   const auto c = thread / static_cast<std::uint32_t>(setup_.core.chunk_size);
@@ -55,13 +56,7 @@ void SpuChecker::start_round(std::uint32_t c, std::uint64_t cycle) {
   Chunk& ch = chunks_[c];
   const auto size = static_cast<std::uint32_t>(setup_.core.chunk_size);
   const std::int64_t round = ch.round + 1;
-  lanes_.clear();
-  for (std::uint32_t l = 0; l < size; ++l) {
-    const std::uint32_t g = setup_.core_id * setup_.threads_per_core + c * size + l;
-    const std::uint64_t p = static_cast<std::uint64_t>(round) * setup_.total_threads + g;
-    if (p >= setup_.pixels) break;
-    lanes_.push_back({g, setup_.core_id, c, l, static_cast<std::uint32_t>(p)});
-  }
+  map_.lanes(map_.block(static_cast<std::uint64_t>(round), setup_.core_id, c), lanes_);
   if (lanes_.empty()) {
     fail(cycle, c * size, fmt::format("the RTL issues for chunk {} past its last round ({} rounds of {} pixels)", c,
                                       round, setup_.pixels));
@@ -220,8 +215,7 @@ void SpuChecker::finish(std::optional<std::uint32_t> stop_pixel) const {
     }
     // The round after the last one run must not have been due.
     const std::int64_t next = ch.round + 1;
-    const std::uint64_t p = static_cast<std::uint64_t>(next) * setup_.total_threads + setup_.core_id * setup_.threads_per_core +
-                            c * size;
+    const std::uint64_t p = map_.first_pixel(map_.block(static_cast<std::uint64_t>(next), setup_.core_id, c));
     if (p < setup_.pixels && !(stop_pixel && p > *stop_pixel)) {
       fail(0, c * size, fmt::format("at the end, chunk {} never ran round {} (pixel {} onwards)", c, next, p));
     }

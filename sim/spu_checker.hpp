@@ -9,6 +9,7 @@
 
 #include "fp/format.hpp"
 #include "functional/device_memory.hpp"
+#include "functional/pixel_map.hpp"
 #include "functional/shader_core.hpp"
 #include "functional/tracer.hpp"
 #include "isa/firmware.hpp"
@@ -39,7 +40,7 @@ struct SpuCheckerSetup {
   functional::ShaderCoreConfig core;  // registers, chunk size, depths, watchdog
   std::uint32_t core_id = 0;
   std::uint32_t threads_per_core = 0;
-  std::uint32_t total_threads = 0;    // on the chip: pixel p runs on global thread p mod total
+  std::uint32_t cores = 1;            // on the chip (functional::PixelMap: which thread runs which pixel)
   std::uint32_t pixels = 0;
   std::uint32_t width = 1;
   progen::StepObserver* observer = nullptr;  // sees every functional step (coverage)
@@ -93,6 +94,7 @@ class SpuChecker {
   std::vector<Chunk> chunks_;
   std::vector<Thread> threads_;
   std::vector<functional::ShaderCore::Lane> lanes_;
+  functional::PixelMap map_;
   functional::StepRecord record_;
   functional::ShaderStats stats_;
   std::optional<functional::ShaderFault> first_fault_;

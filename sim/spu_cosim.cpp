@@ -148,7 +148,6 @@ FrameResult run_frame(const Options& o, const Bench& bench, const Frame& frame, 
   cs.format = bench.format;
   cs.core = functional::ShaderCoreConfig::of(config, frame.watchdog);
   cs.threads_per_core = threads;
-  cs.total_threads = threads;
   cs.pixels = pixels;
   cs.width = lf.width;
   cs.observer = observer;

@@ -158,17 +158,10 @@ std::vector<glm::vec4> DeviceBase::read_framebuffer() const {
 
 void DeviceBase::lanes_of(std::uint64_t round, std::uint64_t chunk,
                           std::vector<functional::ShaderCore::Lane>& lanes) const {
-  lanes.clear();
-  const auto size = static_cast<std::uint64_t>(config_.chunk_size);
-  const auto per_core = static_cast<std::uint64_t>(config_.threads_per_core);
-  for (std::uint64_t l = 0; l < size; ++l) {
-    const std::uint64_t g = chunk * size + l;  // device thread
-    const std::uint64_t p = round * device_threads() + g;
-    if (p >= pixels()) break;
-    lanes.push_back({static_cast<std::uint32_t>(g), static_cast<std::uint32_t>(g / per_core),
-                     static_cast<std::uint32_t>((g % per_core) / size), static_cast<std::uint32_t>(l),
-                     static_cast<std::uint32_t>(p)});
-  }
+  const auto chunks = static_cast<std::uint64_t>(config_.threads_per_core / config_.chunk_size);
+  const functional::PixelMap map = pixel_map();
+  map.lanes(map.block(round, static_cast<std::uint32_t>(chunk / chunks), static_cast<std::uint32_t>(chunk % chunks)),
+            lanes);
 }
 
 functional::ShaderCoreConfig DeviceBase::core_config(std::uint64_t watchdog) const {

@@ -6,6 +6,7 @@
 
 #include "device/device.hpp"
 #include "functional/device_memory.hpp"
+#include "functional/pixel_map.hpp"
 #include "functional/shader_core.hpp"
 #include "memory/memory_image.hpp"
 
@@ -37,8 +38,13 @@ class DeviceBase : public Device {
   std::uint64_t device_threads() const {
     return static_cast<std::uint64_t>(config_.shader_cores) * static_cast<std::uint64_t>(config_.threads_per_core);
   }
-  // Pixel p runs on device thread p mod T (T threads in all) in round p / T. The lanes
-  // of chunk `chunk` (counted over the chip) in round `round`; empty past the last pixel.
+  // Which thread runs which pixel (functional::PixelMap, as the RTL assigns them).
+  functional::PixelMap pixel_map() const {
+    return {static_cast<std::uint32_t>(config_.shader_cores), static_cast<std::uint32_t>(config_.threads_per_core),
+            static_cast<std::uint32_t>(config_.chunk_size), pixels()};
+  }
+  // The lanes of chunk `chunk` (counted over the chip, core by core) in round `round`;
+  // empty past the last pixel.
   void lanes_of(std::uint64_t round, std::uint64_t chunk, std::vector<functional::ShaderCore::Lane>& lanes) const;
   functional::ShaderCoreConfig core_config(std::uint64_t watchdog) const;
   // Pass 1 of a selected frame: run() adds its statistics to the frame's (stats_).

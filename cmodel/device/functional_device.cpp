@@ -50,10 +50,10 @@ class FunctionalDevice final : public DeviceBase {
     const functional::Tracer tracer(image_, layout_, format_, config_.stack_depth, options_.fast_path);
     const functional::ShaderCoreConfig core_config = DeviceBase::core_config(options_.watchdog);
 
-    // One work item is one chunk of one round.
-    const auto chunk = static_cast<std::uint64_t>(config_.chunk_size);
-    const std::uint64_t chunks_per_round = device_threads() / chunk;
-    const std::uint64_t items = (pixels() + chunk - 1) / chunk;
+    // One work item is one block of pixels, a chunk's work for a round: items in pixel
+    // order.
+    const functional::PixelMap map = pixel_map();
+    const std::uint64_t items = map.blocks();
 
     std::atomic<std::uint64_t> next{0}, done{0};
     // The first error in item order, of any kind, is what one host thread would meet.
@@ -81,7 +81,7 @@ class FunctionalDevice final : public DeviceBase {
           // After an error only items before it still run, so that the one reported
           // is the first in pixel order whatever the host threads' timing.
           if (item + 1 > error_key.load()) break;
-          lanes_of(item / chunks_per_round, item % chunks_per_round, lanes);
+          map.lanes(item, lanes);
           try {
             core.run_chunk(lanes, stats);
             if (progress) progress(done.fetch_add(1) + 1, items);

@@ -55,31 +55,10 @@ functional::ShaderCoreConfig Runner::core_config(const Program& program) const {
   return functional::ShaderCoreConfig::of(config_, program.watchdog());
 }
 
-std::uint64_t Runner::chunks() const {
-  const auto pixels = static_cast<std::uint64_t>(launch_.width) * static_cast<std::uint64_t>(launch_.height);
-  const auto size = static_cast<std::uint64_t>(config_.chunk_size);
-  return (pixels + size - 1) / size;
-}
-
-// As the device assigns them (DeviceBase::lanes_of): pixel p runs on device thread
-// p mod T in round p / T; chunk k of the launch is chunk k mod (T / chunk_size) of
-// round k / (T / chunk_size).
-std::vector<functional::ShaderCore::Lane> Runner::lanes(std::uint64_t chunk) const {
-  const auto size = static_cast<std::uint64_t>(config_.chunk_size);
-  const auto per_core = static_cast<std::uint64_t>(config_.threads_per_core);
-  const std::uint64_t threads = static_cast<std::uint64_t>(config_.shader_cores) * per_core;
-  const std::uint64_t round = chunk / (threads / size), in_round = chunk % (threads / size);
-  const auto pixels = static_cast<std::uint64_t>(launch_.width) * static_cast<std::uint64_t>(launch_.height);
-  std::vector<functional::ShaderCore::Lane> out;
-  for (std::uint64_t l = 0; l < size; ++l) {
-    const std::uint64_t g = in_round * size + l;
-    const std::uint64_t p = round * threads + g;
-    if (p >= pixels) break;
-    out.push_back({static_cast<std::uint32_t>(g), static_cast<std::uint32_t>(g / per_core),
-                   static_cast<std::uint32_t>((g % per_core) / size), static_cast<std::uint32_t>(l),
-                   static_cast<std::uint32_t>(p)});
-  }
-  return out;
+functional::PixelMap Runner::pixel_map() const {
+  return {static_cast<std::uint32_t>(config_.shader_cores), static_cast<std::uint32_t>(config_.threads_per_core),
+          static_cast<std::uint32_t>(config_.chunk_size),
+          static_cast<std::uint64_t>(launch_.width) * static_cast<std::uint64_t>(launch_.height)};
 }
 
 Outcome Runner::run(const Program& program, StepObserver* observer) const {
@@ -92,8 +71,10 @@ Outcome Runner::run(const Program& program, StepObserver* observer) const {
   // One flush scope for the whole run: the core's fp32 fast path needs it, and setting
   // it per step costs more than the step (ShaderCore::step).
   const fp::fast32::FlushScope flush;
-  for (std::uint64_t k = 0; k < chunks(); ++k) {
-    const std::vector<functional::ShaderCore::Lane> lanes = this->lanes(k);
+  const functional::PixelMap map = pixel_map();
+  std::vector<functional::ShaderCore::Lane> lanes;
+  for (std::uint64_t k = 0; k < map.blocks(); ++k) {
+    map.lanes(k, lanes);
     functional::ShaderCore::Chunk chunk;
     core.start(chunk, lanes, stats);
     if (observer) observer->start_chunk(chunk);

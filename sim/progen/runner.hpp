@@ -9,14 +9,16 @@
 #include "device/device.hpp"
 #include "fp/format.hpp"
 #include "functional/device_memory.hpp"
+#include "functional/pixel_map.hpp"
 #include "functional/scene_image.hpp"
 #include "functional/shader_core.hpp"
 #include "progen/program.hpp"
 #include "rpu/spec.hpp"
 
 // Random programs on the functional golden model, one lockstep step at a time, as a
-// launch on the device runs them (docs/shader-core.md): pixel p on device thread
-// p mod T, chunks in pixel order, the fault of the first faulting pixel reported.
+// launch on the device runs them (docs/shader-core.md): pixels on threads as
+// functional::PixelMap assigns them, chunks in pixel order, the fault of the first
+// faulting pixel reported.
 // The RTL co-simulation builds its memory and lanes with the same functions, so that
 // both sides run the same launch.
 namespace rpu::progen {
@@ -67,9 +69,9 @@ class Runner {
   std::vector<std::uint32_t> shader_table(const Program& program, const isa::Firmware& firmware) const;
   functional::DeviceMemory memory(const Program& program, const isa::Firmware& firmware) const;
   functional::ShaderCoreConfig core_config(const Program& program) const;
-  // Chunks of the launch in pixel order (which is the order faults are reported in).
-  std::uint64_t chunks() const;
-  std::vector<functional::ShaderCore::Lane> lanes(std::uint64_t chunk) const;
+  // Blocks of the launch, a chunk's work for a round each, in pixel order (which is
+  // the order faults are reported in).
+  functional::PixelMap pixel_map() const;
 
  private:
   spec::HardwareConfig config_;

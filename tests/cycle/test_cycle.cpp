@@ -507,7 +507,7 @@ hit_whitted:
 )");
   for (const std::string& fault : faults_on_every_backend(firmware, 5'000, 8, 8)) {
     EXPECT_EQ(fault,
-              "shader fault in thread 37 (core 1, chunk 1, lane 1; pixel 5, 4) at pc 5 (bra 5): watchdog: the thread "
+              "shader fault in thread 41 (core 1, chunk 2, lane 1; pixel 5, 4) at pc 5 (bra 5): watchdog: the thread "
               "retired 5000 instructions for one pixel; a runaway shader? (at code label spin)");
   }
 }

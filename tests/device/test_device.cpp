@@ -115,7 +115,7 @@ hit_whitted:
       FAIL() << "the fault was not reported";
     } catch (const Error& e) {
       const std::string m = e.what();
-      EXPECT_NE(m.find("shader fault in thread 5 (core 0, chunk 1, lane 1; pixel 5, 0) at pc 4 (ld r3, [r2])"),
+      EXPECT_NE(m.find("shader fault in thread 33 (core 1, chunk 0, lane 1; pixel 5, 0) at pc 4 (ld r3, [r2])"),
                 std::string::npos)
           << m;
       EXPECT_NE(m.find("load of 16 bytes at address 0x30000000 is outside the device memory"), std::string::npos)
