@@ -96,6 +96,7 @@ class CycleDevice final : public device::DeviceBase, CoreTiming::Chip, RayUnitTi
   std::vector<CoreTiming> cores_;
   // Walkers, or pipelined units: traversal unit u's walkers at u * walkers_ ...
   std::vector<std::unique_ptr<RayUnitTiming>> units_;
+  std::vector<Cycle> unit_ran_;  // the cycle each unit last ran in
   std::uint32_t walkers_ = 1;  // per traversal unit
   std::vector<IuTimer> ius_;
   std::uint64_t rounds_done_ = 0, rounds_total_ = 0;
@@ -133,7 +134,12 @@ std::optional<Ray> CycleDevice::next_ray(Cycle from) {
   return ray;
 }
 
+// A ray goes to the lowest unit that takes it, as rpu_ray_dispatch sends it: a unit
+// that runs before a lower one in a cycle leaves the ray to it.
 std::optional<Ray> CycleDevice::send_ray(Cycle now, std::size_t unit) {
+  for (std::size_t u = 0; u < unit; ++u) {
+    if (unit_ran_[u] != now && units_[u]->takes_ray() && dispatch_->may_send_to(u)) return std::nullopt;
+  }
   std::optional<Ray> ray = dispatch_->send(now, unit);
   if (ray) cores_[ray->core].ray_dispatched(now);
   return ray;
@@ -143,6 +149,7 @@ std::optional<Ray> CycleDevice::send_ray(Cycle now, std::size_t unit) {
 void CycleDevice::make_ray_units() {
   ius_.assign(static_cast<std::size_t>(config_.intersection_units), IuTimer{});
   units_.clear();
+  unit_ran_.assign(static_cast<std::size_t>(config_.traversal_units) * walkers_, kNever);
   RayUnitTiming::Ports& ports = *this;
   for (int u = 0; u < config_.traversal_units; ++u) {
     if (config_.tu_pipe) {
@@ -209,6 +216,7 @@ void CycleDevice::run_events() {
     if (e->agent < cores) {
       cores_[e->agent].run(e->at);
     } else {
+      unit_ran_[e->agent - cores] = e->at;
       wake_unit(e->agent - cores, units_[e->agent - cores]->advance(e->at));
     }
   }

@@ -39,6 +39,8 @@ class RayDispatch {
   // The ray sent to pipelined unit `unit` in cycle `now`: the next of those arrived by
   // then, one a cycle to all units; a packet's rays to the unit that took its first.
   std::optional<Ray> send(Cycle now, std::size_t unit = 0);
+  // A packet part sent to another unit keeps `unit` from taking rays.
+  bool may_send_to(std::size_t unit) const { return !locked_ || unit == lock_unit_; }
 
  private:
   std::optional<Ray> take(Cycle arrived_by);

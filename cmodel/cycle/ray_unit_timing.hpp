@@ -51,6 +51,8 @@ class RayUnitTiming {
   // answers those done; returns the next cycle it asks for (kNever: none until a ray
   // waits).
   virtual Cycle advance(Cycle now) = 0;
+  // A pipelined unit that would take a ray offered to it before it runs this cycle.
+  virtual bool takes_ray() const { return false; }
   // Its times and counts in a launch of `end` cycles, in slot-cycles: busy, waiting for
   // memory, for the IU, and idle add up to `end` x its slots.
   virtual TraversalUnitTime time(Cycle end) const = 0;

@@ -232,6 +232,7 @@ class PipeUnitTiming final : public RayUnitTiming, private PacketWalks {
 
   Cycle ray_waiting(Cycle at) override { return at; }
   Cycle advance(Cycle now) override;
+  bool takes_ray() const override { return unit_.ready(); }
   TraversalUnitTime time(Cycle end) const override;
 
  private:
