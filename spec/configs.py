@@ -481,6 +481,8 @@ def doc_tables(schema: Schema, resolved: list[dict]) -> dict[str, str]:
         lambda v: f"{v['traversal_units']} ({v['tu_slots']}) / {v['intersection_units']}")
     row("traversal units' kind", lambda v: (f"pipelined, {v['tu_setups']} set-up engines" if v["tu_pipe"]
                                             else "walkers"))
+    row("rays a packet (tu_packet), memory answered (tu_by_tag)",
+        lambda v: f"{v['tu_packet']}, {'by tag' if v['tu_by_tag'] else 'in order'}")
     row("dividers per core (sfu_units)", lambda v: str(v["sfu_units"]))
     row("stack depth, call depth, stack bytes", lambda v: f"{v['stack_depth']}, {v['call_depth']}, {v['stack_bytes']}")
     row("clock", lambda v: f"{v['clock_mhz']} MHz")

@@ -183,9 +183,12 @@ TEST(CycleModel, UnitTimeAddsUpToTheFrame) {
     EXPECT_GE(t.busy, t.chunk_issues);
     busy += t.busy;
   }
-  // Every lane of every chunk instruction enters a core's pipeline in a cycle of its own.
-  EXPECT_GE(busy, st.thread_instructions);
-  for (const TraversalUnitTime& t : st.tus) EXPECT_EQ(t.busy + t.wait_memory + t.wait_iu + t.idle, st.cycles);
+  // At most issue_lanes lanes of a chunk instruction enter a core's pipeline a cycle.
+  EXPECT_GE(busy * static_cast<std::uint64_t>(hardware_config("default").issue_lanes), st.thread_instructions);
+  // A unit's times are slot-cycles.
+  for (const TraversalUnitTime& t : st.tus) {
+    EXPECT_EQ(t.busy + t.wait_memory + t.wait_iu + t.idle, st.cycles * std::uint64_t{st.tu_slots});
+  }
   EXPECT_EQ(st.closest_rays + st.any_rays, f.stats.shader.closest_rays + f.stats.shader.any_rays);
   ASSERT_FALSE(st.bounds.empty());
   EXPECT_LE(st.bounds.front().cycles, static_cast<double>(st.cycles));  // nothing beats the speed of light

@@ -17,10 +17,11 @@ std::vector<std::string> units(const std::vector<Bound>& bounds) {
   return out;
 }
 
-// `default`: 4 shader cores, 4 IUs. One lane a cycle enters a core; an IU takes a test
-// every initiation interval; the DRAM bus is one.
+// `default` (4 shader cores, 4 IUs) issuing one lane a cycle: one lane a cycle enters a
+// core; an IU takes a test every initiation interval; the DRAM bus is one.
 TEST(SpeedOfLight, EachResourcesWorkOverItsUnitsLargestFirst) {
-  const spec::HardwareConfig& config = hardware_config("default");
+  spec::HardwareConfig config = hardware_config("default");
+  config.issue_lanes = 1;
   CycleStats s;
   s.thread_instructions = 4000;
   s.ius = {{.tests = 200, .busy = 0}, {.tests = 100, .busy = 0}};
