@@ -151,15 +151,21 @@ void CycleDevice::make_ray_units() {
   units_.clear();
   unit_ran_.assign(static_cast<std::size_t>(config_.traversal_units) * walkers_, kNever);
   RayUnitTiming::Ports& ports = *this;
-  for (int u = 0; u < config_.traversal_units; ++u) {
+  const auto tus = static_cast<std::size_t>(config_.traversal_units);
+  for (std::size_t u = 0; u < tus; ++u) {
+    // Traversal unit u sends its tests to its own share of the IUs, as a ray unit pairs
+    // a TU with its IU (rpu_ray_unit): IUs [u I / T, (u + 1) I / T), or with fewer IUs
+    // than TUs the one it shares.
+    const std::size_t first = u * ius_.size() / tus;
+    const std::span<IuTimer> ius(ius_.data() + first, std::max(first + 1, (u + 1) * ius_.size() / tus) - first);
     if (config_.tu_pipe) {
-      units_.push_back(std::make_unique<PipeUnitTiming>(PipeCosts::of(config_, layout_.isect_mode), *lines_, ius_, ports,
-                                                        static_cast<std::size_t>(u), &*tracer_));
+      units_.push_back(std::make_unique<PipeUnitTiming>(PipeCosts::of(config_, layout_.isect_mode), *lines_, ius, ports,
+                                                        u, &*tracer_));
       continue;
     }
     for (std::uint32_t s = 0; s < walkers_; ++s) {
       std::string track = walkers_ == 1 ? fmt::format("TU {}", u) : fmt::format("TU {} slot {}", u, s);
-      units_.push_back(std::make_unique<WalkerTiming>(WalkCosts::of(config_, layout_.isect_mode), *lines_, ius_, ports,
+      units_.push_back(std::make_unique<WalkerTiming>(WalkCosts::of(config_, layout_.isect_mode), *lines_, ius, ports,
                                                       timeline_, std::move(track)));
     }
   }

@@ -194,6 +194,38 @@ TEST(CycleModel, UnitTimeAddsUpToTheFrame) {
   EXPECT_LE(st.bounds.front().cycles, static_cast<double>(st.cycles));  // nothing beats the speed of light
 }
 
+// A traversal unit tests on its own share of the IUs, as rpu_ray_unit pairs a TU with its
+// IU: four TUs on four IUs one each, on eight two each, on two IUs two TUs share one.
+TEST(CycleModel, EachTraversalUnitTestsOnItsOwnIntersectionUnits) {
+  const Cornell c;
+  for (const int ius : {4, 8, 2}) {
+    spec::HardwareConfig config = hardware_config("default");
+    config.intersection_units = ius;
+    const Frame f = render_cycle(config, c.scene, c.si.image, c.firmware, settings(16, 12));
+    const CycleStats& st = f.cycle;
+    ASSERT_EQ(st.tus.size(), 4u);
+    ASSERT_EQ(st.ius.size(), static_cast<std::size_t>(ius));
+    for (std::size_t i = 0; i < st.ius.size(); ++i) {
+      std::uint64_t tests = 0;  // of the TUs whose share holds IU i
+      for (std::size_t u = 0; u < 4; ++u) {
+        if (ius >= 4 ? i * 4 / static_cast<std::size_t>(ius) == u : u * static_cast<std::size_t>(ius) / 4 == i) {
+          tests += st.tus[u].tests;
+        }
+      }
+      if (ius >= 4) {
+        // Its TU's tests are split over its IUs; each pair adds up to the TU's.
+        const std::size_t per = static_cast<std::size_t>(ius) / 4, first = i / per * per;
+        std::uint64_t share = 0;
+        for (std::size_t k = first; k < first + per; ++k) share += st.ius[k].tests;
+        EXPECT_EQ(share, tests) << ius << " IUs, IU " << i;
+      } else {
+        EXPECT_EQ(st.ius[i].tests, tests) << ius << " IUs, IU " << i;
+      }
+      EXPECT_GT(st.ius[i].tests, 0u) << ius << " IUs, IU " << i;
+    }
+  }
+}
+
 // With ray slots a unit's times are slot-cycles: they add up to cycles x slots, and the
 // slots of one unit walk rays side by side, so a frame bound by one traversal unit
 // (rpu2005's) takes fewer cycles with more of them and the same work.
