@@ -28,7 +28,6 @@ std::string SpuChecker::insn_text(std::uint32_t pc) const {
 
 SpuChecker::SpuChecker(const SpuCheckerSetup& setup, functional::DeviceMemory& memory)
     : setup_(setup),
-      memory_(memory),
       core_(*setup.firmware, memory, *setup.tracer, setup.format, setup.core),
       chunks_(setup.threads_per_core / static_cast<std::uint32_t>(setup.core.chunk_size)),
       threads_(setup.threads_per_core),

@@ -89,7 +89,6 @@ class SpuChecker {
   void start_round(std::uint32_t c, std::uint64_t cycle);
 
   SpuCheckerSetup setup_;
-  functional::DeviceMemory& memory_;
   functional::ShaderCore core_;
   std::vector<Chunk> chunks_;
   std::vector<Thread> threads_;
