@@ -39,10 +39,7 @@ class DeviceBase : public Device {
     return static_cast<std::uint64_t>(config_.shader_cores) * static_cast<std::uint64_t>(config_.threads_per_core);
   }
   // Which thread runs which pixel (functional::PixelMap, as the RTL assigns them).
-  functional::PixelMap pixel_map() const {
-    return {static_cast<std::uint32_t>(config_.shader_cores), static_cast<std::uint32_t>(config_.threads_per_core),
-            static_cast<std::uint32_t>(config_.chunk_size), pixels()};
-  }
+  functional::PixelMap pixel_map() const { return functional::PixelMap::of(config_, pixels()); }
   // The lanes of chunk `chunk` (counted over the chip, core by core) in round `round`;
   // empty past the last pixel.
   void lanes_of(std::uint64_t round, std::uint64_t chunk, std::vector<functional::ShaderCore::Lane>& lanes) const;

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "functional/shader_core.hpp"
+#include "rpu/spec.hpp"
 
 namespace rpu::functional {
 
@@ -18,6 +19,11 @@ class PixelMap {
   PixelMap(std::uint32_t cores, std::uint32_t threads_per_core, std::uint32_t chunk_size, std::uint64_t pixels)
       : cores_(cores), chunks_(threads_per_core / chunk_size), size_(chunk_size), per_core_(threads_per_core),
         pixels_(pixels) {}
+  // A configuration's chip rendering `pixels` pixels.
+  static PixelMap of(const spec::HardwareConfig& config, std::uint64_t pixels) {
+    return {static_cast<std::uint32_t>(config.shader_cores), static_cast<std::uint32_t>(config.threads_per_core),
+            static_cast<std::uint32_t>(config.chunk_size), pixels};
+  }
 
   // Blocks in the frame; the last may be partly past its last pixel.
   std::uint64_t blocks() const { return (pixels_ + size_ - 1) / size_; }

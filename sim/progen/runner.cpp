@@ -56,9 +56,8 @@ functional::ShaderCoreConfig Runner::core_config(const Program& program) const {
 }
 
 functional::PixelMap Runner::pixel_map() const {
-  return {static_cast<std::uint32_t>(config_.shader_cores), static_cast<std::uint32_t>(config_.threads_per_core),
-          static_cast<std::uint32_t>(config_.chunk_size),
-          static_cast<std::uint64_t>(launch_.width) * static_cast<std::uint64_t>(launch_.height)};
+  return functional::PixelMap::of(config_, static_cast<std::uint64_t>(launch_.width) *
+                                                static_cast<std::uint64_t>(launch_.height));
 }
 
 Outcome Runner::run(const Program& program, StepObserver* observer) const {
