@@ -32,7 +32,7 @@ module rpu_cache #(
   parameter int unsigned HitLatency = rpu_pkg::ConfigTinyDataCacheHitLatency,
   parameter int unsigned Mshrs      = rpu_pkg::ConfigTinyDataCacheMshrs,
   parameter int unsigned CacheId    = 0,  // the high bits of its memory-port tags (rpu_mem_arbiter's port)
-  parameter int unsigned DramQueue  = 2   // memory requests queued towards the port
+  parameter int unsigned DramQueue  = rpu_pkg::CacheDramQueue  // memory requests queued towards the port
 ) (
   input  logic                     clk_i,
   input  logic                     rst_ni,

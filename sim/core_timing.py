@@ -11,6 +11,7 @@ the sfu's and the traversal unit's latencies, the data cache port). Exit 1 on a
 difference, with the loop, the lanes and both costs.
 
     sim/core_timing.py RPU --config tiny
+    sim/core_timing.py RPU --config default --loop store --lanes 128   # every thread of the chip
 """
 import argparse
 import json
@@ -86,6 +87,9 @@ def main():
     p.add_argument("rpu")
     p.add_argument("--config", required=True)
     p.add_argument("--iterations", type=int, nargs=2, default=[8, 24])
+    p.add_argument("--loop", action="append", choices=LOOPS, help="these loops only (default: all)")
+    p.add_argument("--lanes", type=int, help="this many threads (the frame's width: more than a chunk runs "
+                   "several chunks, cores at once) instead of one, two and a chunk's lanes")
     args = p.parse_args()
     few, many = args.iterations
     shown = subprocess.run([args.rpu, "config", "show", args.config], capture_output=True, text=True, check=True)
@@ -95,9 +99,12 @@ def main():
     with tempfile.TemporaryDirectory() as tmp:
         work = pathlib.Path(tmp)
         for name, body in LOOPS.items():
+            if args.loop and name not in args.loop:
+                continue
             # Two rays at once on two traversal units contend for the caches' ports, which
             # the model does not time (docs/cycle-model.md "Approximations").
-            for lanes in (1,) if body[0].startswith("trace") and ray_units > 1 else sorted({1, 2, chunk}):
+            widths = (1,) if body[0].startswith("trace") and ray_units > 1 else sorted({1, 2, chunk})
+            for lanes in (args.lanes,) if args.lanes else widths:
                 per = {}
                 for backend in ("rtl", "cycle"):
                     runs = []

@@ -147,11 +147,11 @@ Cycle CoreTiming::take_return_slot(Cycle at) {
 // that cycle (0 for a store).
 Cycle CoreTiming::send_access(Cycle s0, const functional::MemoryAccess& a) {
   const Cycle at = std::max(s0 + static_cast<Cycle>(config_.latency.to_unit), lsu_free_);
-  lsu_free_ = at + port_pieces(a.address, a.bytes);
   if (a.store) {
-    data_cache_.write(at, a.address, a.bytes);
+    lsu_free_ = data_cache_.write(at, a.address, a.bytes) + 1;
     return 0;
   }
+  lsu_free_ = at + port_pieces(a.address, a.bytes);
   return take_return_slot(data_cache_.read(at, a.address, a.bytes) + static_cast<Cycle>(config_.latency.from_unit));
 }
 

@@ -116,15 +116,40 @@ Cycle Cache::read_line(Cycle at, std::uint32_t line) {
     in_flight_.erase(earliest);
   }
   const auto line_bytes = static_cast<std::uint32_t>(config_.line_bytes);
-  const Cycle filled = dram_.access(request, line * line_bytes, line_bytes, false) + line_wait_;
+  const Cycle filled = dram_.access(queue_request(request).passed, line * line_bytes, line_bytes, false) + line_wait_;
   in_flight_.push_back(filled);
   *victim = {line, true, at, filled, 0};
   return filled;
 }
 
-void Cache::write(Cycle at, std::uint32_t address, std::uint32_t bytes) {
-  ++stats_.writes;
-  dram_.access(at, address, bytes, true);
+Cycle Cache::write(Cycle at, std::uint32_t address, std::uint32_t bytes) {
+  const std::uint32_t end = address + bytes;
+  Cycle taken = at;
+  for (std::uint32_t piece = address / streams::kMemLineBytes * streams::kMemLineBytes; piece < end;
+       piece += streams::kMemLineBytes) {
+    ++stats_.writes;
+    const std::uint32_t from = std::max(address, piece);
+    const std::uint32_t to = std::min(end, piece + streams::kMemLineBytes);
+    const Queued q = queue_request(piece == address / streams::kMemLineBytes * streams::kMemLineBytes ? at : taken + 1);
+    taken = q.entered;
+    dram_.access(q.passed, from, to - from, true);
+  }
+  return taken;
+}
+
+// The queue's entries leave in order, one a cycle at most, as the port passes them; an
+// entry's place is free two cycles after the one in it passed (the RTL's FIFO counts
+// the pop in the cycle after it, and the pass is a cycle after the request's in the
+// RTL, which line_wait holds for reads).
+Cache::Queued Cache::queue_request(Cycle at) {
+  Cycle entered = at;
+  if (queue_passed_.size() == streams::kCacheDramQueue) {
+    entered = std::max(entered, queue_passed_.front() + 2);
+    queue_passed_.pop_front();
+  }
+  const Cycle passed = dram_.pass_port(queue_passed_.empty() ? entered : std::max(entered, queue_passed_.back() + 1));
+  queue_passed_.push_back(passed);
+  return {entered, passed};
 }
 
 }  // namespace rpu::cycle

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstdint>
+#include <deque>
 #include <vector>
 
 #include "rpu/streams.hpp"
@@ -63,6 +64,9 @@ class Dram {
   // A transfer of `bytes` at `address` requested at cycle `at`: the cycle it completes
   // (read data delivered, write data taken).
   Cycle access(Cycle at, std::uint32_t address, std::uint32_t bytes, bool write);
+  // The chip's one memory port (rpu_mem_arbiter), which passes one request a cycle from
+  // all caches: the cycle a request that would pass at `at` passes it.
+  Cycle pass_port(Cycle at) { return port_.book(at, 1); }
   const DramStats& stats() const { return stats_; }
   const spec::DramConfig& config() const { return config_; }
 
@@ -70,6 +74,7 @@ class Dram {
   spec::DramConfig config_;
   std::vector<Bookings> banks_;
   Bookings bus_;
+  Bookings port_;
   DramStats stats_;
 };
 
@@ -98,9 +103,11 @@ class Cache {
   // A read of `bytes` at `address` from cycle `at`: the port moves one piece
   // (streams::kMemLineBytes, aligned) a cycle, each a lookup; the cycle all are there.
   Cycle read(Cycle at, std::uint32_t address, std::uint32_t bytes);
-  // A store: written through to DRAM, not allocated; a present line stays valid (the
-  // model keeps no data, only tags). It never stalls the writer.
-  void write(Cycle at, std::uint32_t address, std::uint32_t bytes);
+  // A store from cycle `at`: written through to DRAM, not allocated; a present line
+  // stays valid (the model keeps no data, only tags). The port takes one piece a cycle,
+  // each a request to memory that waits for room in the cache's queue to the memory
+  // port; returns the cycle the last piece is taken.
+  Cycle write(Cycle at, std::uint32_t address, std::uint32_t bytes);
   const CacheStats& stats() const { return stats_; }
 
  private:
@@ -112,6 +119,12 @@ class Cache {
     std::uint32_t replays = 0;  // reads merged into that fill, answered one a cycle after it
   };
   Cycle read_line(Cycle at, std::uint32_t line);
+  // A request to memory that could enter the cache's queue at `at`: the cycle it enters
+  // (a full queue holds it back) and the cycle it passes the memory port.
+  struct Queued {
+    Cycle entered, passed;
+  };
+  Queued queue_request(Cycle at);
 
   spec::CacheConfig config_;
   Dram& dram_;
@@ -119,6 +132,8 @@ class Cache {
   std::uint32_t sets_;
   std::vector<Way> ways_;        // sets_ x config_.ways
   std::vector<Cycle> in_flight_;  // fill cycles of outstanding misses
+  // The cycles the last streams::kCacheDramQueue requests passed the port, oldest first.
+  std::deque<Cycle> queue_passed_;
   CacheStats stats_;
 };
 

@@ -1,6 +1,7 @@
-// The cycle model's DRAM alone (cycle/memory_system.hpp): accesses booked on its banks
-// and its data bus, against cycles counted by hand from latency, bank_busy and
-// bytes_per_cycle (docs/cycle-model.md "Memory").
+// The cycle model's DRAM and memory port (cycle/memory_system.hpp): accesses booked on
+// its banks and its data bus, requests on the chip's one memory port and in a cache's
+// queue to it, against cycles counted by hand from latency, bank_busy, bytes_per_cycle
+// and CacheDramQueue (docs/cycle-model.md "Memory").
 #include <gtest/gtest.h>
 
 #include "cycle/memory_system.hpp"
@@ -69,6 +70,48 @@ TEST(Dram, WritesAreCountedApart) {
   EXPECT_EQ(dram.stats().bytes_written, 8u);
   EXPECT_EQ(dram.stats().reads, 0u);
   EXPECT_EQ(dram.stats().bus_cycles, 1u);
+}
+
+TEST(Dram, ThePortPassesOneRequestACycle) {
+  Dram dram(kDram);
+  EXPECT_EQ(dram.pass_port(5), 5u);
+  EXPECT_EQ(dram.pass_port(5), 6u);
+  EXPECT_EQ(dram.pass_port(3), 3u);  // booked late for an earlier, free cycle
+  EXPECT_EQ(dram.pass_port(5), 7u);
+}
+
+constexpr spec::CacheConfig kCache{
+    .bytes = 1024, .line_bytes = 64, .ways = 2, .hit_latency = 2, .mshrs = 2, .sets = 8, .index_bits = 3};
+static_assert(streams::kCacheDramQueue == 2, "the hand counts below queue two requests");
+
+// Another cache holds the port over 0..99: a cache's stores queue in front of it, two at
+// most, and the third is taken when the first's place is free, two cycles after it
+// passed (the RTL's FIFO counts a pop the cycle after it).
+TEST(Cache, StoresWaitForRoomInTheQueueToThePort) {
+  Dram dram(kDram);
+  for (Cycle c = 0; c < 100; ++c) dram.pass_port(c);
+  Cache cache(kCache, dram, 3);
+  EXPECT_EQ(cache.write(0, 0, 4), 0u);    // passes at 100
+  EXPECT_EQ(cache.write(1, 16, 4), 1u);   // passes at 101
+  EXPECT_EQ(cache.write(2, 32, 4), 102u); // passes at 102
+  EXPECT_EQ(cache.write(200, 48, 4), 200u);
+  EXPECT_EQ(cache.stats().writes, 4u);
+  EXPECT_EQ(dram.stats().writes, 4u);
+}
+
+// A store across a piece boundary is two requests a cycle apart, each the bytes of its
+// piece; a line read that misses behind them passes the port after both.
+TEST(Cache, AStoreAcrossAPieceIsTwoRequests) {
+  Dram dram(kDram);
+  Cache cache(kCache, dram, 3);
+  EXPECT_EQ(cache.write(0, 8, 16), 1u);
+  EXPECT_EQ(dram.stats().writes, 2u);
+  EXPECT_EQ(dram.stats().bytes_written, 16u);
+  EXPECT_EQ(cache.stats().writes, 2u);
+  // Looked up at 1 + 2, it passes the port at 3 (the stores passed at 0 and 1), bank 1
+  // starts it then; its data would take the bus over 13..17, but the second store's
+  // (bank 0, busy until 4) holds it at 14, so they take 15..19; then line_wait.
+  EXPECT_EQ(cache.read(1, kBank1, 16), 19u + 3);
 }
 
 }  // namespace
