@@ -124,14 +124,15 @@ Cycle Cache::read_line(Cycle at, std::uint32_t line) {
 
 Cycle Cache::write(Cycle at, std::uint32_t address, std::uint32_t bytes) {
   const std::uint32_t end = address + bytes;
-  Cycle taken = at;
+  Cycle next = at, taken = at;
   for (std::uint32_t piece = address / streams::kMemLineBytes * streams::kMemLineBytes; piece < end;
        piece += streams::kMemLineBytes) {
     ++stats_.writes;
     const std::uint32_t from = std::max(address, piece);
     const std::uint32_t to = std::min(end, piece + streams::kMemLineBytes);
-    const Queued q = queue_request(piece == address / streams::kMemLineBytes * streams::kMemLineBytes ? at : taken + 1);
+    const Queued q = queue_request(next);
     taken = q.entered;
+    next = taken + 1;
     dram_.access(q.passed, from, to - from, true);
   }
   return taken;
