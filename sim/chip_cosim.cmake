@@ -160,6 +160,20 @@ if(rpu_chip_cases)
   set_tests_properties(cli.rtl_backend_refuses_a_changed_configuration cli.rtl_backend_refuses_a_chip_not_built
                        cli.rtl_backend_waves_must_be_fst cli.rtl_backend_waves_refuse_a_selection
                        PROPERTIES LABELS unit)
+  # A chip the ci tier built without waveforms (rpu_cosim_ci_waves) refuses --waves,
+  # naming the file and the tier.
+  foreach(case IN LISTS rpu_chip_cases)
+    rpu_fields("${case}" config isect)
+    if(NOT TEST cli.rtl_backend_waves_need_a_model_built_with_them
+       AND RPU_COSIM_TIER STREQUAL "ci" AND NOT Vchip_${config}_${isect} IN_LIST rpu_cosim_ci_waves)
+      add_test(NAME cli.rtl_backend_waves_need_a_model_built_with_them
+               COMMAND Python3::Interpreter ${cli} --status 1
+                       --stderr "rpu: error: .*no_waves.fst: this model was built without FST waveforms \\(the ci tier"
+                       -- $<TARGET_FILE:rpu> render tetra:1 --backend rtl --config ${config} --isect ${isect}
+                       --waves ${out}/no_waves.fst -o ${out}/never.png)
+      set_tests_properties(cli.rtl_backend_waves_need_a_model_built_with_them PROPERTIES LABELS unit)
+    endif()
+  endforeach()
 endif()
 
 if(RPU_YOSYS)

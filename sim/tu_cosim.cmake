@@ -12,10 +12,13 @@ rpu_cosim_library(tu)
 #             pipeline, rpu_tu_cosim_pipe_setups set-up engines and 2^rpu_tu_cosim_line_tag_bits
 #             lines in flight (rpu_tu_pipe), its memory answered by tag in any order;
 #   ray_pipe  the ray unit with it.
-# Every kind in fp32 with Woop's test (in the `ci` tier but tu_slots, whose walker slots
-# no named configuration has); the others every kind but tu_slots, or in the `ci` tier
-# only ray_pipe (fp32 watertight, rpu24 Woop: the chips' units) and no rpu24 watertight at
-# all. rpu_tu_built lists what is built, "<format> <isect> <kind>".
+# Every kind in fp32 with Woop's test, the others every kind but tu_slots (whose walker
+# slots no named configuration has). The `ci` tier builds the units of its chips and one
+# of each other kind: in fp32 Woop the TU alone and the ray unit with walkers (tiny's),
+# the TU alone with packets and the ray unit with them (default's); in rpu24 Woop the ray
+# unit with packets (rpu2005's and drpu's); in fp32 watertight the pipelined ray unit of
+# single rays; no rpu24 watertight. rpu_tu_built lists what is built, "<format> <isect>
+# <kind>".
 set(rpu_tu_cosim_slots 4)
 set(rpu_tu_cosim_pipe_slots 16)
 set(rpu_tu_cosim_pipe_setups 4)
@@ -34,11 +37,11 @@ foreach(format IN LISTS rpu_ray_unit_formats)
     if("${format} ${isect}" STREQUAL "fp32 woop" AND RPU_COSIM_TIER STREQUAL "full")
       set(kinds tu ray tu_slots tu_pipe ray_pipe tu_packet2 tu_packet4 ray_packet4)
     elseif("${format} ${isect}" STREQUAL "fp32 woop")
-      set(kinds tu ray tu_pipe ray_pipe tu_packet4)
+      set(kinds tu ray tu_packet4 ray_packet4)
     elseif(RPU_COSIM_TIER STREQUAL "full")
       set(kinds tu ray tu_pipe ray_pipe tu_packet2 tu_packet4 ray_packet4)
     elseif("${format} ${isect}" STREQUAL "rpu24 woop")
-      set(kinds ray_pipe ray_packet4)
+      set(kinds ray_packet4)
     elseif("${format} ${isect}" STREQUAL "fp32 watertight")
       set(kinds ray_pipe)
     else()

@@ -166,7 +166,8 @@ class VerilatedDut {
       if constexpr (kHasFst<Top>) {
         fst_ = std::make_unique<FstOutput>(*top_, fst);
       } else {
-        throw Error(fst + ": this model was built without FST waveforms");
+        throw Error(fst + ": this model was built without FST waveforms (the ci tier builds them into the models "
+                          "its tests trace only; RPU_COSIM_TIER=full builds them into all: docs/rtl.md, Tiers)");
       }
     }
   }
