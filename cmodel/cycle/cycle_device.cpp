@@ -80,7 +80,7 @@ class CycleDevice final : public device::DeviceBase, CoreTiming::Chip, RayUnitTi
   std::optional<Ray> next_ray(Cycle from) override;
   std::optional<Ray> send_ray(Cycle now, std::size_t unit) override;
   bool rays_waiting() const override { return dispatch_->any_waiting(); }
-  void answer(Ray& ray, Cycle now) override { cores_[ray.core].ray_answered(ray, now); }
+  void answer(Ray& ray, Cycle now) override;
 
   CycleOptions options_;
 
@@ -116,6 +116,14 @@ void CycleDevice::queue_ray(Ray ray, Cycle at) {
     const std::size_t u = (k % tus) * walkers_ + k / tus;
     wake_unit(u, units_[u]->ray_waiting(at));
   }
+}
+
+void CycleDevice::answer(Ray& ray, Cycle now) {
+  RayLatency& latency = ray.log.mode == functional::TraceMode::kAny ? out_.any_latency : out_.closest_latency;
+  ++latency.rays;
+  latency.waiting += ray.taken - ray.arrived;
+  latency.in_unit += now - ray.taken;
+  cores_[ray.core].ray_answered(ray, now);
 }
 
 void CycleDevice::round_done() {

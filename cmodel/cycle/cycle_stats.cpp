@@ -55,6 +55,8 @@ CycleStats& CycleStats::operator+=(const CycleStats& o) {
   dram += o.dram;
   closest_rays += o.closest_rays;
   any_rays += o.any_rays;
+  closest_latency += o.closest_latency;
+  any_latency += o.any_latency;
   thread_instructions += o.thread_instructions;
   host_seconds += o.host_seconds;
   timeline_slices += o.timeline_slices;
@@ -70,6 +72,16 @@ StatsTree report(const CycleStats& s, const functional::ShaderStats& shader) {
   r.set("host_seconds", s.host_seconds).set("simulated_cycles_per_host_second", ratio(cycles, s.host_seconds));
   r.group("rays").set("closest", s.closest_rays).set("any", s.any_rays).set("total", s.closest_rays + s.any_rays);
   const auto rays = static_cast<double>(s.closest_rays + s.any_rays);
+  if (s.closest_latency.rays + s.any_latency.rays > 0) {
+    StatsTree& latency = r.group("ray_latency");
+    for (const auto& [name, l] : {std::pair{"closest", s.closest_latency}, std::pair{"any", s.any_latency}}) {
+      const auto n = static_cast<double>(l.rays);
+      latency.group(name)
+          .set("rays", l.rays)
+          .set("waiting", ratio(static_cast<double>(l.waiting), n))
+          .set("in_unit", ratio(static_cast<double>(l.in_unit), n));
+    }
+  }
   r.group("rates")
       .set("rays_per_cycle", ratio(rays, cycles))
       .set("rays_per_second", ratio(rays, cycles) * s.clock_mhz * 1e6);  // at the modelled clock
@@ -170,6 +182,13 @@ std::string summarize(const StatsTree& r) {
       std::get<std::uint64_t>(r.find("rays.total")->value()), r.number("iu_tests_per_cycle"),
       100 * r.number("caches.node.hit_rate"), 100 * r.number("caches.triangle.hit_rate"),
       100 * r.number("caches.data.hit_rate"), r.number("dram.bytes_per_cycle"), 100 * r.number("dram.bus_utilisation"));
+  if (r.find("ray_latency")) {
+    text += fmt::format(
+        "  a ray's cycles: closest hit {:.0f} in a traversal unit after {:.0f} waiting for one, any hit {:.0f} after "
+        "{:.0f}\n",
+        r.number("ray_latency.closest.in_unit"), r.number("ray_latency.closest.waiting"),
+        r.number("ray_latency.any.in_unit"), r.number("ray_latency.any.waiting"));
+  }
   if (r.find("speed_of_light")) {
     text += fmt::format("  speed of light: {:.0f} cycles, set by the {}; this frame reached {:.1f}% of it\n",
                         r.number("speed_of_light.cycles"), std::get<std::string>(r.find("speed_of_light.limiter")->value()),

@@ -44,6 +44,19 @@ struct TraversalUnitTime {
   }
 };
 
+// Rays of one mode (closest or any hit), from reaching the dispatch to their answer:
+// cycles waiting for a unit to take them, and in the unit (set-up, walk and answer).
+struct RayLatency {
+  std::uint64_t rays = 0, waiting = 0, in_unit = 0;
+
+  RayLatency& operator+=(const RayLatency& o) {
+    rays += o.rays;
+    waiting += o.waiting;
+    in_unit += o.in_unit;
+    return *this;
+  }
+};
+
 struct IntersectionUnitTime {
   std::uint64_t tests = 0;
   std::uint64_t busy = 0;  // issue slots used: tests x interval
@@ -69,6 +82,8 @@ struct CycleStats {
   DramStats dram;
   int dram_bytes_per_cycle = 0;
   std::uint64_t closest_rays = 0, any_rays = 0;
+  // The cycle model's (the chip has no counters for it: the rtl backend's stay empty).
+  RayLatency closest_latency, any_latency;
   std::uint64_t thread_instructions = 0;
   bool counts_pops = true;    // the RTL's traversal units count no stack pops
   std::vector<Bound> bounds;  // largest first

@@ -18,6 +18,7 @@ struct Ray {
   std::uint32_t core = 0, chunk = 0, dst = 0;
   functional::TraceLog log;
   Cycle arrived = 0;        // the cycle it reached the dispatch
+  Cycle taken = 0;          // the cycle a traversal unit took it
   bool packet_end = true;   // the last ray of its chunk's trace
 };
 

@@ -496,6 +496,7 @@ Cycle PipeUnitTiming::advance(Cycle now) {
       const std::uint32_t id = free_ids_.back();
       free_ids_.pop_back();
       rays_[id] = std::move(*ray);
+      rays_[id].taken = now;
       const functional::TraceLog& log = rays_[id].log;
       unit_.take(id, log,
                  {rays_[id].packet_end, packet_ > 1 ? tracer_->direction_signs(log.ray) : 0,

@@ -98,7 +98,8 @@ Cycle WalkerTiming::take(Cycle from) {
   if (!ray) return kNever;
   ray_ = std::move(ray);
   walk_ = {};
-  return std::max(from, ray_->arrived);
+  ray_->taken = std::max(from, ray_->arrived);
+  return ray_->taken;
 }
 
 Cycle WalkerTiming::advance(Cycle now) {

@@ -190,6 +190,9 @@ TEST(CycleModel, UnitTimeAddsUpToTheFrame) {
     EXPECT_EQ(t.busy + t.wait_memory + t.wait_iu + t.idle, st.cycles * std::uint64_t{st.tu_slots});
   }
   EXPECT_EQ(st.closest_rays + st.any_rays, f.stats.shader.closest_rays + f.stats.shader.any_rays);
+  // Every ray's latency is counted once, in its mode.
+  EXPECT_EQ(st.closest_latency.rays, st.closest_rays);
+  EXPECT_EQ(st.any_latency.rays, st.any_rays);
   ASSERT_FALSE(st.bounds.empty());
   EXPECT_LE(st.bounds.front().cycles, static_cast<double>(st.cycles));  // nothing beats the speed of light
 }
@@ -388,9 +391,10 @@ raygen:
     for (int i = 0; i < traces; ++i) text += fmt::format("        trace   r{}, r1, r2\n", 3 + i);
     return text + "        halt\nhit_whitted:\n        ret\n";
   }
-  std::uint64_t cycles(int traces) const {
-    return render_cycle(config, scene, si.image, assemble_text(program(traces)), settings(1, 1)).cycle.cycles;
+  CycleStats stats(int traces) const {
+    return render_cycle(config, scene, si.image, assemble_text(program(traces)), settings(1, 1)).cycle;
   }
+  std::uint64_t cycles(int traces) const { return stats(traces).cycles; }
   // The cycles of a read that misses: tag check, DRAM latency, one line on the bus, the
   // chip's path to the DRAM.
   Cycle miss(const spec::CacheConfig& cache) const {
@@ -441,6 +445,29 @@ TEST(CycleModel, OneRaysCyclesEqualTheHandCount) {
   EXPECT_EQ(r.cycles(2), arrive + cold + static_cast<Cycle>(c.tu.turnaround) + warm + 1);
   EXPECT_EQ(cold - warm, r.miss(c.node_cache) - static_cast<Cycle>(c.node_cache.hit_latency) +
                              2 * (r.miss(c.triangle_cache) - static_cast<Cycle>(c.triangle_cache.hit_latency)));
+}
+
+// A ray's latency splits into waiting for a unit and its time in one: the first ray finds
+// the unit free and spends its cold walk there; the second waits for the first, then
+// spends its warm walk.
+TEST(CycleModel, ARaysLatencyIsItsWaitAndItsWalk) {
+  const OneRay r;
+  const CycleStats one = r.stats(1);
+  ASSERT_EQ(one.closest_latency.rays, 1u);
+  EXPECT_EQ(one.any_latency.rays, 0u);
+  EXPECT_EQ(one.closest_latency.waiting, 0u);
+  const Cycle cold = one.closest_latency.in_unit;
+  const CycleStats two = r.stats(2);
+  ASSERT_EQ(two.closest_latency.rays, 2u);
+  const Cycle warm = two.closest_latency.in_unit - cold;
+  EXPECT_LT(warm, cold);
+  // The second trace issues `reissue` cycles after the first's lane entered S0, so its
+  // ray arrives 1 + reissue cycles after the first, and is taken after the first's walk
+  // and the unit's turnaround.
+  const auto later = static_cast<Cycle>(1 + r.config.latency.reissue);
+  EXPECT_EQ(two.closest_latency.waiting, cold + static_cast<Cycle>(r.config.tu.turnaround) - later);
+  // The frame ends the cycle after the second ray's answer.
+  EXPECT_EQ(two.cycles, one.cycles + static_cast<Cycle>(r.config.tu.turnaround) + warm);
 }
 
 TEST(CycleModel, AShaderFaultIsReportedAsByTheFunctionalBackend) {
