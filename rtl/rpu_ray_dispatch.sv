@@ -1,12 +1,14 @@
 // The rays of the shader cores onto the ray units (docs/chip.md "Top"): a ray
-// (trace_req_t) from any core goes to the lowest ray unit that takes it and has room in
+// (trace_req_t) from a core goes to the lowest ray unit that takes it and has room in
 // its table of UnitRays rays in flight; the ray's tag at the unit is its entry there, and
 // the unit's answer, by that tag, goes back to the core the entry's request names, as a
-// trace_rsp_t with the request's tag and pc. Cores are served round robin, and so are the
-// units' answers to one core. UnitRays = 1 gives a walker unit one ray at a time. With
+// trace_rsp_t with the request's tag and pc. One ray a cycle: from the next core after
+// the last one served that has a unit to send to; the units' answers to one core are
+// served round robin too. UnitRays = 1 gives a walker unit one ray at a time. With
 // Packets, the rays of a chunk's trace (up to the one with packet_end) go to one unit one
-// after another, as a packet: once a core's ray without packet_end is sent, the next
-// rays sent are that core's, to that unit.
+// after another, as a packet: once a core's ray without packet_end is sent to a unit,
+// that core's rays go to that unit and no other core's do until the packet's last; the
+// other cores meanwhile send to the other units.
 module rpu_ray_dispatch #(
   parameter int unsigned Cores    = 1,
   parameter int unsigned Units    = 1,
@@ -50,46 +52,80 @@ module rpu_ray_dispatch #(
   logic [Entries*32-1:0]      pc_d, pc_q;
 
   // ---------------------------------------------------------------------------------
-  // Requests: the next core after the last one served, to the lowest idle unit.
+  // Requests: the next core after the last one served that has a unit to send to: the
+  // unit its packet holds, or else the lowest unit with room that no other core's packet
+  // holds.
   // ---------------------------------------------------------------------------------
   logic [CoreIdx-1:0] last_core_d, last_core_q;
-  // A packet being sent: its core and unit.
-  logic               lock_d, lock_q;
-  logic [CoreIdx-1:0] lock_core_d, lock_core_q;
-  logic [UnitIdx-1:0] lock_unit_d, lock_unit_q;
-  logic               have_core, have_unit;
-  logic [CoreIdx-1:0] core;
-  logic [UnitIdx-1:0] unit;
-  logic [RayIdx-1:0]  entry;  // the unit's lowest free entry
-  always_comb begin : pick_core_and_unit
-    have_core = 1'b0;
-    core      = '0;
-    for (int k = Cores; k >= 1; k--) begin
-      if (core_req_valid_i[(32'(last_core_q) + k) % Cores]
-          && (!lock_q || CoreIdx'((32'(last_core_q) + k) % Cores) == lock_core_q)) begin
-        have_core = 1'b1;
-        core      = CoreIdx'((32'(last_core_q) + k) % Cores);
-      end
-    end
-    have_unit = 1'b0;
-    unit      = '0;
-    entry     = '0;
-    for (int u = Units - 1; u >= 0; u--) begin
+  // Per core, a packet being sent: the rest of it goes to its unit.
+  logic [Cores-1:0]         locked_d, locked_q;
+  logic [Cores*UnitIdx-1:0] lock_unit_d, lock_unit_q;
+  logic [Units-1:0]         room;       // the unit takes a ray and has a free entry
+  logic [Units*RayIdx-1:0]  free_entry; // its lowest free entry
+  always_comb begin : unit_room
+    room       = '0;
+    free_entry = '0;
+    for (int u = 0; u < Units; u++) begin
       for (int r = UnitRays - 1; r >= 0; r--) begin
-        if (!busy_q[u*UnitRays + r] && unit_req_ready_i[u] && (!lock_q || UnitIdx'(u) == lock_unit_q)) begin
-          have_unit = 1'b1;
-          unit      = UnitIdx'(u);
-          entry     = RayIdx'(r);
+        if (!busy_q[u*UnitRays + r] && unit_req_ready_i[u]) begin
+          room[u]                          = 1'b1;
+          free_entry[RayIdx*u +: RayIdx]   = RayIdx'(r);
         end
       end
     end
   end
 
+  // Per core and unit: another core's packet holds the unit.
+  logic [Cores*Units-1:0]   held;
+  always_comb begin : held_units
+    held = '0;
+    for (int c = 0; c < Cores; c++) begin
+      for (int o = 0; o < Cores; o++) begin
+        if (o != c && locked_q[o]) held[c*Units + 32'(lock_unit_q[UnitIdx*o +: UnitIdx])] = 1'b1;
+      end
+    end
+  end
+
+  logic [Cores-1:0]         can_send;   // per core: a ray and a unit for it
+  logic [Cores*UnitIdx-1:0] target;     // per core: that unit
+  always_comb begin : core_targets
+    can_send = '0;
+    target   = '0;
+    for (int c = 0; c < Cores; c++) begin
+      if (locked_q[c]) begin
+        can_send[c]                  = core_req_valid_i[c] && room[32'(lock_unit_q[UnitIdx*c +: UnitIdx])];
+        target[UnitIdx*c +: UnitIdx] = lock_unit_q[UnitIdx*c +: UnitIdx];
+      end else begin
+        for (int u = Units - 1; u >= 0; u--) begin
+          if (room[u] && !held[c*Units + u]) begin
+            can_send[c]                  = core_req_valid_i[c];
+            target[UnitIdx*c +: UnitIdx] = UnitIdx'(u);
+          end
+        end
+      end
+    end
+  end
+
+  logic               send;
+  logic [CoreIdx-1:0] core;
+  logic [UnitIdx-1:0] unit;
+  logic [RayIdx-1:0]  entry;  // the unit's lowest free entry
+  always_comb begin : pick_core
+    send = 1'b0;
+    core = '0;
+    for (int k = Cores; k >= 1; k--) begin
+      if (can_send[(32'(last_core_q) + k) % Cores]) begin
+        send = 1'b1;
+        core = CoreIdx'((32'(last_core_q) + k) % Cores);
+      end
+    end
+  end
+  assign unit  = target[UnitIdx*core +: UnitIdx];
+  assign entry = free_entry[RayIdx*unit +: RayIdx];
+
   rpu_pkg::trace_req_t req;
   rpu_pkg::tu_req_t    unit_req;
-  logic                send;
   assign req  = core_req_i[rpu_pkg::TraceReqBits*core +: rpu_pkg::TraceReqBits];
-  assign send = have_core && have_unit;
   always_comb begin : unit_request
     unit_req           = '0;
     unit_req.origin    = req.origin;
@@ -198,21 +234,24 @@ module rpu_ray_dispatch #(
     end
   end
 
-  assign lock_d      = Packets && (send ? !req.packet_end : lock_q);
-  assign lock_core_d = send ? core : lock_core_q;
-  assign lock_unit_d = send ? unit : lock_unit_q;
+  always_comb begin : next_locks
+    locked_d    = locked_q;
+    lock_unit_d = lock_unit_q;
+    if (send) begin
+      locked_d[core]                      = Packets && !req.packet_end;
+      lock_unit_d[UnitIdx*core +: UnitIdx] = unit;
+    end
+  end
 
   always_ff @(posedge clk_i or negedge rst_ni) begin : regs
     if (!rst_ni) begin
-      lock_q      <= 1'b0;
-      lock_core_q <= '0;
+      locked_q    <= '0;
       lock_unit_q <= '0;
       busy_q      <= '0;
       last_core_q <= '0;
       last_unit_q <= '0;
     end else begin
-      lock_q      <= lock_d;
-      lock_core_q <= lock_core_d;
+      locked_q    <= locked_d;
       lock_unit_q <= lock_unit_d;
       busy_q      <= busy_d;
       last_core_q <= last_core_d;

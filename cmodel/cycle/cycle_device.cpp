@@ -97,6 +97,10 @@ class CycleDevice final : public device::DeviceBase, CoreTiming::Chip, RayUnitTi
   // Walkers, or pipelined units: traversal unit u's walkers at u * walkers_ ...
   std::vector<std::unique_ptr<RayUnitTiming>> units_;
   std::vector<Cycle> unit_ran_;  // the cycle each unit last ran in
+  // The ray the dispatch sent in cycle sent_in_, until its unit collects it.
+  Cycle sent_in_ = kNever;
+  std::optional<RayDispatch::Sent> sent_;
+  std::vector<bool> takes_;  // per unit: takes a ray in cycle sent_in_
   std::uint32_t walkers_ = 1;  // per traversal unit
   std::vector<IuTimer> ius_;
   std::uint64_t rounds_done_ = 0, rounds_total_ = 0;
@@ -142,14 +146,25 @@ std::optional<Ray> CycleDevice::next_ray(Cycle from) {
   return ray;
 }
 
-// A ray goes to the lowest unit that takes it, as rpu_ray_dispatch sends it: a unit
-// that runs before a lower one in a cycle leaves the ray to it.
+// The cycle's ray and its unit are chosen when the first unit that takes a ray runs in
+// it, from every unit's state at the cycle's start, as rpu_ray_dispatch chooses them: a
+// unit that ran earlier in the cycle took no ray (it would have asked), one that has
+// not run yet has not changed. The unit chosen runs later in the cycle (every unit runs
+// while rays wait) and collects it.
 std::optional<Ray> CycleDevice::send_ray(Cycle now, std::size_t unit) {
-  for (std::size_t u = 0; u < unit; ++u) {
-    if (unit_ran_[u] != now && units_[u]->takes_ray() && dispatch_->may_send_to(u)) return std::nullopt;
+  if (sent_in_ != now) {
+    if (sent_) {
+      throw Error(fmt::format("cycle model: the ray sent to traversal unit {} in cycle {} was not taken",
+                              sent_->unit, sent_in_));
+    }
+    sent_in_ = now;
+    for (std::size_t u = 0; u < units_.size(); ++u) takes_[u] = u == unit || (unit_ran_[u] != now && units_[u]->takes_ray());
+    sent_ = dispatch_->send(now, takes_);
+    if (sent_) cores_[sent_->ray.core].ray_dispatched(now);
   }
-  std::optional<Ray> ray = dispatch_->send(now, unit);
-  if (ray) cores_[ray->core].ray_dispatched(now);
+  if (!sent_ || sent_->unit != unit) return std::nullopt;
+  std::optional<Ray> ray = std::move(sent_->ray);
+  sent_.reset();
   return ray;
 }
 
@@ -158,6 +173,9 @@ void CycleDevice::make_ray_units() {
   ius_.assign(static_cast<std::size_t>(config_.intersection_units), IuTimer{});
   units_.clear();
   unit_ran_.assign(static_cast<std::size_t>(config_.traversal_units) * walkers_, kNever);
+  takes_.assign(unit_ran_.size(), false);
+  sent_in_ = kNever;
+  sent_.reset();
   RayUnitTiming::Ports& ports = *this;
   const auto tus = static_cast<std::size_t>(config_.traversal_units);
   for (std::size_t u = 0; u < tus; ++u) {

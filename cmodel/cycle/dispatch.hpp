@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <deque>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "cycle/event_queue.hpp"
@@ -27,8 +28,10 @@ struct Ray {
 class RayDispatch {
  public:
   // With `packets`, a chunk's rays (up to one with packet_end) go to one unit one after
-  // another (rpu_ray_dispatch's Packets).
-  explicit RayDispatch(std::size_t cores, bool packets = false) : queues_(cores), packets_(packets) {}
+  // another (rpu_ray_dispatch's Packets): a core's packet holds its unit until its last
+  // ray, while other cores send to other units.
+  explicit RayDispatch(std::size_t cores, bool packets = false)
+      : queues_(cores), packets_(packets), locked_(cores, false), lock_unit_(cores, 0) {}
 
   // A ray reaches the dispatch at `at`.
   void queue(Ray ray, Cycle at);
@@ -37,22 +40,27 @@ class RayDispatch {
   // The next ray, whenever it arrives: a walker takes it as it frees and starts it when
   // it has arrived.
   std::optional<Ray> next();
-  // The ray sent to pipelined unit `unit` in cycle `now`: the next of those arrived by
-  // then, one a cycle to all units; a packet's rays to the unit that took its first.
-  std::optional<Ray> send(Cycle now, std::size_t unit = 0);
-  // A packet part sent to another unit keeps `unit` from taking rays.
-  bool may_send_to(std::size_t unit) const { return !locked_ || unit == lock_unit_; }
+  // The ray sent in cycle `now` to a pipelined unit, and that unit, one a cycle: of the
+  // units that take a ray in this cycle (`takes`), the next core in round robin whose
+  // first ray has arrived sends it to the unit its packet holds, or else to the lowest
+  // unit no other core's packet holds.
+  struct Sent {
+    std::size_t unit;
+    Ray ray;
+  };
+  std::optional<Sent> send(Cycle now, const std::vector<bool>& takes);
 
  private:
   std::optional<Ray> take(Cycle arrived_by);
+  // The unit core `core`'s next ray may go to, of those that take one.
+  std::optional<std::size_t> unit_for(std::uint32_t core, const std::vector<bool>& takes) const;
 
   std::vector<std::deque<Ray>> queues_;
   std::uint32_t last_core_ = 0;  // served last
-  Cycle sent_at_ = kNever;       // send() sent a ray in this cycle
   bool packets_ = false;
-  bool locked_ = false;          // a packet is being sent: the rest of it comes next
-  std::uint32_t lock_core_ = 0;
-  std::size_t lock_unit_ = 0;
+  // Per core: a packet is being sent, the rest of it to lock_unit_.
+  std::vector<bool> locked_;
+  std::vector<std::size_t> lock_unit_;
 };
 
 }  // namespace rpu::cycle

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "cycle/dispatch.hpp"
@@ -48,19 +49,50 @@ TEST(RayDispatch, NextTakesARayWhateverItsArrival) {
   EXPECT_EQ(r->arrived, 100u);
 }
 
-TEST(RayDispatch, SendsOneArrivedRayACycle) {
+// The ray a cycle's send gives, and its unit.
+std::optional<std::pair<std::size_t, std::uint32_t>> sent(RayDispatch& d, Cycle now, const std::vector<bool>& takes) {
+  const std::optional<RayDispatch::Sent> s = d.send(now, takes);
+  if (!s) return std::nullopt;
+  return std::pair{s->unit, s->ray.dst};
+}
+
+TEST(RayDispatch, SendsTheNextArrivedRayToTheLowestUnitThatTakesIt) {
   RayDispatch d(2);
   d.queue(ray(0, 1), 10);
   d.queue(ray(1, 2), 5);
   d.queue(ray(1, 3), 5);
-  EXPECT_FALSE(d.send(4));  // none has arrived
-  const std::optional<Ray> first = d.send(5);
-  ASSERT_TRUE(first);
-  EXPECT_EQ(first->dst, 2u);  // core 0's has not arrived
-  EXPECT_FALSE(d.send(5));    // one a cycle, though core 1's second has arrived
-  EXPECT_EQ(d.send(6)->dst, 3u);
-  EXPECT_FALSE(d.send(9));
-  EXPECT_EQ(d.send(10)->dst, 1u);
+  const std::vector<bool> both{true, true}, second{false, true}, none{false, false};
+  EXPECT_FALSE(d.send(4, both));  // none has arrived
+  EXPECT_EQ(sent(d, 5, second), std::pair(std::size_t{1}, 2u));  // core 0's has not arrived
+  EXPECT_FALSE(d.send(6, none));
+  EXPECT_EQ(sent(d, 6, both), std::pair(std::size_t{0}, 3u));
+  EXPECT_FALSE(d.send(9, both));
+  EXPECT_EQ(sent(d, 10, both), std::pair(std::size_t{0}, 1u));
+  EXPECT_FALSE(d.any_waiting());
+}
+
+// A packet's rays go to the unit that took its first, one after another; while that unit
+// takes none, other cores send to other units, never to it.
+TEST(RayDispatch, APacketHoldsItsUnitWhileOtherCoresSendToOthers) {
+  RayDispatch d(2, true);
+  const auto packet_ray = [](std::uint32_t core, std::uint32_t id, bool end) {
+    Ray r = ray(core, id);
+    r.packet_end = end;
+    return r;
+  };
+  d.queue(packet_ray(0, 1, false), 0);
+  d.queue(packet_ray(0, 2, true), 0);
+  d.queue(packet_ray(1, 3, false), 0);
+  d.queue(packet_ray(1, 4, true), 0);
+  const std::vector<bool> both{true, true}, first{true, false}, second{false, true};
+  EXPECT_EQ(sent(d, 0, both), std::pair(std::size_t{0}, 3u));  // core 1 first: core 0 counts as served last
+  // Core 1's packet holds unit 0: core 0 opens its packet on unit 1 ...
+  EXPECT_EQ(sent(d, 1, both), std::pair(std::size_t{1}, 1u));
+  // ... and while unit 0 takes nothing, core 1 waits and core 0 goes on with its packet.
+  EXPECT_EQ(sent(d, 2, second), std::pair(std::size_t{1}, 2u));
+  // Unit 1 is free again but core 1's packet still holds unit 0.
+  EXPECT_FALSE(d.send(3, second));
+  EXPECT_EQ(sent(d, 4, first), std::pair(std::size_t{0}, 4u));
   EXPECT_FALSE(d.any_waiting());
 }
 

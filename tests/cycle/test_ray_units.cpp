@@ -37,7 +37,15 @@ class Ports final : public RayUnitTiming::Ports {
     dispatch_.queue(std::move(ray), at);
   }
   std::optional<Ray> next_ray(Cycle) override { return dispatch_.next(); }
-  std::optional<Ray> send_ray(Cycle now, std::size_t unit) override { return dispatch_.send(now, unit); }
+  // One ray a cycle, to the first unit that asks for one in it.
+  std::optional<Ray> send_ray(Cycle now, std::size_t unit) override {
+    if (asked_in_ == now) return std::nullopt;
+    asked_in_ = now;
+    std::vector<bool> takes(unit + 1, false);
+    takes[unit] = true;
+    std::optional<RayDispatch::Sent> sent = dispatch_.send(now, takes);
+    return sent ? std::optional<Ray>(std::move(sent->ray)) : std::nullopt;
+  }
   bool rays_waiting() const override { return dispatch_.any_waiting(); }
   void answer(Ray& ray, Cycle now) override { answers.emplace_back(ray.dst, now); }
 
@@ -45,6 +53,7 @@ class Ports final : public RayUnitTiming::Ports {
 
  private:
   RayDispatch dispatch_{1};
+  Cycle asked_in_ = kNever;
 };
 using Answers = std::vector<std::pair<std::uint32_t, Cycle>>;
 
