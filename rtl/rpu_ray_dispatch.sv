@@ -13,7 +13,7 @@ module rpu_ray_dispatch #(
   parameter int unsigned Cores    = 1,
   parameter int unsigned Units    = 1,
   parameter int unsigned UnitRays = 1,
-  parameter bit          Packets  = 1'b0,
+  parameter int unsigned Packets  = 0,  // 1: a chunk's rays go to one unit as a packet
   localparam int unsigned CoreIdx = Cores > 1 ? $clog2(Cores) : 1,
   localparam int unsigned UnitIdx = Units > 1 ? $clog2(Units) : 1,
   localparam int unsigned RayIdx  = UnitRays > 1 ? $clog2(UnitRays) : 1
@@ -238,7 +238,7 @@ module rpu_ray_dispatch #(
     locked_d    = locked_q;
     lock_unit_d = lock_unit_q;
     if (send) begin
-      locked_d[core]                      = Packets && !req.packet_end;
+      locked_d[core]                      = Packets != 0 && !req.packet_end;
       lock_unit_d[UnitIdx*core +: UnitIdx] = unit;
     end
   end

@@ -211,7 +211,7 @@ module rpu_top #(
   // works on) and the two of the answer's skid buffer below, to a power of two.
   localparam int unsigned UnitRays = TuPipe != 0 ? 1 << $clog2(TuSlots * TuPacket + 3 * TuSetups + 2) : TuSlots;
 
-  rpu_ray_dispatch #(.Cores(Cores), .Units(RayUnits), .UnitRays(UnitRays), .Packets(TuPacket > 1)) u_dispatch (
+  rpu_ray_dispatch #(.Cores(Cores), .Units(RayUnits), .UnitRays(UnitRays), .Packets(TuPacket > 1 ? 1 : 0)) u_dispatch (
     .clk_i, .rst_ni,
     .core_req_valid_i(t_req_valid), .core_req_ready_o(t_req_ready), .core_req_i(t_req),
     .core_rsp_valid_o(t_rsp_valid), .core_rsp_ready_i(t_rsp_ready), .core_rsp_o(t_rsp),
