@@ -131,6 +131,15 @@ foreach(case IN LISTS rpu_chip_cases)
     # costliest tests first instead of leaving them to run alone at the end.
     set_tests_properties(cosim.timing.core.${config} PROPERTIES LABELS cosim TIMEOUT 900 COST 50)
   endif()
+  # The same loops on 4 and 8 chunks of rpu2005's one core: chunks that contend for
+  # the code memory, the load/store unit's queue and miss registers and the pipeline's
+  # entry (docs/cycle-model.md "Shader cores").
+  if(isect STREQUAL "woop" AND config STREQUAL "rpu2005")
+    add_test(NAME cosim.timing.core_chunks.${config}
+             COMMAND Python3::Interpreter ${CMAKE_CURRENT_SOURCE_DIR}/core_timing.py $<TARGET_FILE:rpu> --config ${config}
+                     --lanes 16 --lanes 32)
+    set_tests_properties(cosim.timing.core_chunks.${config} PROPERTIES LABELS cosim TIMEOUT 900 COST 40)
+  endif()
 endforeach()
 
 # The rtl backend's refusals (docs/chip.md "The rtl backend").

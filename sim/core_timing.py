@@ -12,6 +12,7 @@ difference, with the loop, the lanes and both costs.
 
     sim/core_timing.py RPU --config tiny
     sim/core_timing.py RPU --config default --loop store --lanes 128   # every thread of the chip
+    sim/core_timing.py RPU --config rpu2005 --lanes 16 --lanes 32     # 4 and 8 chunks of one core
 """
 import argparse
 import json
@@ -88,12 +89,11 @@ def main():
     p.add_argument("--config", required=True)
     p.add_argument("--iterations", type=int, nargs=2, default=[8, 24])
     p.add_argument("--loop", action="append", choices=LOOPS, help="these loops only (default: all)")
-    p.add_argument("--lanes", type=int, help="this many threads (the frame's width: more than a chunk runs "
-                   "several chunks, cores at once) instead of one, two and a chunk's lanes")
+    p.add_argument("--lanes", type=int, action="append", help="this many threads (the frame's width: more than a "
+                   "chunk runs several chunks, cores at once) instead of one, two and a chunk's lanes (repeatable)")
     args = p.parse_args()
     few, many = args.iterations
     shown = subprocess.run([args.rpu, "config", "show", args.config], capture_output=True, text=True, check=True)
-    ray_units = int(re.search(r"^traversal_units = (\d+)", shown.stdout, re.M).group(1))
     chunk = int(re.search(r"^chunk_size = (\d+)", shown.stdout, re.M).group(1))
     failed = 0
     with tempfile.TemporaryDirectory() as tmp:
@@ -101,10 +101,7 @@ def main():
         for name, body in LOOPS.items():
             if args.loop and name not in args.loop:
                 continue
-            # Two rays at once on two traversal units contend for the caches' ports, which
-            # the model does not time (docs/cycle-model.md "Approximations").
-            widths = (1,) if body[0].startswith("trace") and ray_units > 1 else sorted({1, 2, chunk})
-            for lanes in (args.lanes,) if args.lanes else widths:
+            for lanes in args.lanes or sorted({1, 2, chunk}):
                 per = {}
                 for backend in ("rtl", "cycle"):
                     runs = []

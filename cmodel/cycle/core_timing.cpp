@@ -32,7 +32,7 @@ void CoreTiming::start() {
     s.index = std::uint64_t{index_} * chunks_.size() + i;
     s.reg_ready.assign(registers, 0);
     s.reg_rays.assign(registers, 0);
-    start_round(i, 0);
+    start_round(i, 0, 0);
   }
   plan(0);
 }
@@ -83,13 +83,33 @@ Cycle CoreTiming::compute_ready_time(const ChunkSlot& s) const {
                     static_cast<std::size_t>(config_.chunk_size);
   const isa::Instruction& in = *shader_.instruction(pc);
   if (in.spec->cls == si::Class::kTrace && chip_.queued_rays(index_) > room) return kNever;
+  // The queue is looked at in the cycle the chunk would issue: not before the core asks
+  // nor before the sequencer is free.
   if (in.spec->cls == si::Class::kMem || in.opcode() == Opcode::kCalli) {
-    t = std::max(t, lsu_free_ - std::min<Cycle>(lsu_free_, room));
+    t = lsu_queue_.room(std::max({t, asked_, seq_free_}), room);
   }
-  if (in.spec->cls == si::Class::kSfu && sfu_starts_.size() > room) {
-    t = std::max(t, sfu_starts_[sfu_starts_.size() - 1 - room]);
-  }
+  if (in.spec->cls == si::Class::kSfu) t = sfu_queue_.room(std::max({t, asked_, seq_free_}), room);
   return t;
+}
+
+void CoreTiming::UnitQueue::add(Cycle s0, Cycle out) {
+  while (!entries_.empty() && entries_.front().second <= s0) entries_.pop_front();
+  entries_.emplace_back(s0 + 2, out);
+}
+
+Cycle CoreTiming::UnitQueue::room(Cycle t, std::size_t room) const {
+  for (;;) {
+    std::size_t queued = 0;
+    Cycle next_out = kNever;
+    for (const auto& [in, out] : entries_) {
+      if (in <= t && t < out) {
+        ++queued;
+        next_out = std::min(next_out, out);
+      }
+    }
+    if (queued <= room) return t;
+    t = next_out;
+  }
 }
 
 // Wakes the core for its next issue at or after `from`, and notes why it waits until
@@ -97,6 +117,7 @@ Cycle CoreTiming::compute_ready_time(const ChunkSlot& s) const {
 // a live chunk has neither rays nor loads out, else for memory while one has loads out,
 // else for rays.
 void CoreTiming::plan(Cycle from) {
+  asked_ = from;
   Cycle best = kNever;
   bool own = false, loads = false, rays = false;
   for (const ChunkSlot& s : chunks_) {
@@ -116,6 +137,7 @@ void CoreTiming::plan(Cycle from) {
 
 void CoreTiming::run(Cycle now) {
   account(now);
+  asked_ = now;
   const auto n = static_cast<std::uint32_t>(chunks_.size());
   for (std::uint32_t k = 0; k < n; ++k) {
     const auto i = static_cast<std::uint32_t>((next_chunk_ + k) % n);
@@ -146,13 +168,25 @@ Cycle CoreTiming::take_return_slot(Cycle at) {
 // piece a cycle onto the data cache's port. A load's data comes back through S0: returns
 // that cycle (0 for a store).
 Cycle CoreTiming::send_access(Cycle s0, const functional::MemoryAccess& a) {
-  const Cycle at = std::max(s0 + static_cast<Cycle>(config_.latency.to_unit), lsu_free_);
+  Cycle at = std::max(s0 + static_cast<Cycle>(config_.latency.to_unit), lsu_free_);
   if (a.store) {
     lsu_free_ = data_cache_.write(at, a.address, a.bytes) + 1;
+    lsu_queue_.add(s0, lsu_free_);
     return 0;
   }
+  // A load holds one of the unit's miss registers from its first piece until its data
+  // takes S0 (rpu_spu_lsu's load slots); with none free it waits at the queue's head.
+  load_slots_.erase(load_slots_.begin(), load_slots_.upper_bound(at));
+  if (load_slots_.size() >= streams::kLsuLoadSlots) {
+    at = *load_slots_.begin();
+    load_slots_.erase(load_slots_.begin());
+  }
   lsu_free_ = at + port_pieces(a.address, a.bytes);
-  return take_return_slot(data_cache_.read(at, a.address, a.bytes) + static_cast<Cycle>(config_.latency.from_unit));
+  lsu_queue_.add(s0, lsu_free_);
+  const Cycle back =
+      take_return_slot(data_cache_.read(at, a.address, a.bytes) + static_cast<Cycle>(config_.latency.from_unit));
+  load_slots_.insert(back + 1);
+  return back;
 }
 
 void CoreTiming::set_result(ChunkSlot& s, int reg, Cycle ready) {
@@ -194,27 +228,42 @@ void CoreTiming::enter_lanes(const ChunkSlot& s, std::uint32_t pc, Cycle now) {
 // Lane k's S0 cycle (the last lane's for lanes past those that entered).
 Cycle CoreTiming::lane_slot(std::size_t lane) const { return lane_slots_[std::min(lane, lane_slots_.size() - 1)]; }
 
+// A value handed back takes S0 before the sequencer's next lane (rpu_spu: a return has
+// the first claim), including one an earlier lane of the same instruction sent: the
+// lanes of a one-lane-a-cycle instruction after lane k move past the returns taken
+// since enter_lanes placed them.
+void CoreTiming::yield_to_returns(std::size_t lane) {
+  for (std::size_t j = lane + 1; j < lane_slots_.size(); ++j) {
+    Cycle at = std::max(lane_slots_[j], lane_slots_[j - 1] + 1);
+    for (auto it = return_slots_.lower_bound(at); it != return_slots_.end() && *it == at; ++it) ++at;
+    lane_slots_[j] = at;
+  }
+}
+
 // Issues chunk i's next instruction; returns the S0 cycle of its last lane.
 Cycle CoreTiming::issue(std::uint32_t i, Cycle now) {
   ChunkSlot& s = chunks_[i];
   const std::uint32_t pc = s.chunk.next_pc();
   enter_lanes(s, pc, now);
-  const Cycle last = lane_slots_.back();
-  seq_free_ = last;
   shader_.step(s.chunk, stats_, &record_);
   if (const functional::ShaderFault* f = s.chunk.fault(); f && f->pixel() < chip_.first_fault()) {
     chip_.fault(f->pixel());
   }
   ++time_.chunk_issues;
-  s.earliest = last + static_cast<Cycle>(config_.latency.reissue);
-  // A step whose every lane faulted at an illegal pc has no instruction to time.
+  const auto reissue = static_cast<Cycle>(config_.latency.reissue);
+  s.earliest = lane_slots_.back() + reissue;
+  // A step whose every lane faulted at an illegal pc has no instruction to time. Its
+  // timing may move its last lanes later (returns of its first lanes come first).
   if (record_.insn) time_issue(i, pc, now);
-  if (s.chunk.done()) {
-    if (s.rays_in_flight) {
-      s.halted = true;
-    } else {
-      start_round(i, s.earliest);
-    }
+  const Cycle last = lane_slots_.back();
+  seq_free_ = last;
+  const Cycle next = std::max(s.earliest, last + reissue);
+  if (!s.chunk.done()) {
+    fetch(i, next, now);
+  } else if (s.rays_in_flight) {
+    s.halted = true;
+  } else {
+    start_round(i, next, now);
   }
   return last;
 }
@@ -232,7 +281,7 @@ void CoreTiming::time_issue(std::uint32_t i, std::uint32_t pc, Cycle now) {
     case si::Class::kFpu:
     case si::Class::kInt:
     case si::Class::kSpecial: set_result(s, use.dst, lane_slots_.back() + result); break;
-    case si::Class::kSfu: set_result(s, use.dst, time_sfu(in, now) + result); break;
+    case si::Class::kSfu: set_result(s, use.dst, time_sfu(in) + result); break;
     case si::Class::kBranch: {
       // calli reads its target from the shader table, one read per lane; the chunk
       // picks its next pc when the last has come back.
@@ -264,19 +313,20 @@ void CoreTiming::time_issue(std::uint32_t i, std::uint32_t pc, Cycle now) {
 // The sfu takes one thread's instruction at a time; each divider takes its share of the
 // written lanes back to back, one cycle apart. Returns the cycle the last value is back
 // in S0.
-Cycle CoreTiming::time_sfu(const isa::Instruction& in, Cycle now) {
+Cycle CoreTiming::time_sfu(const isa::Instruction& in) {
   const spec::LatencyConfig& lat = config_.latency;
   const auto units = static_cast<Cycle>(config_.sfu_units);
   const auto passes = (static_cast<Cycle>(std::popcount(in.wmask)) + units - 1) / units;
   const auto each = static_cast<Cycle>(in.opcode() == Opcode::kRsq ? lat.rsq : lat.sfu) + 1;
   Cycle done = 0;
-  while (!sfu_starts_.empty() && sfu_starts_.front() <= now) sfu_starts_.pop_front();
   for (std::size_t k = 0; k < static_cast<std::size_t>(std::popcount(record_.lanes)); ++k) {
     const Cycle start = std::max(lane_slot(k) + static_cast<Cycle>(lat.to_unit), sfu_free_);
-    sfu_starts_.push_back(start);
-    const Cycle out = start + passes * each - 1 + static_cast<Cycle>(lat.from_unit);
-    sfu_free_ = out + 1;
-    done = std::max(done, take_return_slot(out));
+    // The value waits for S0; the next thread instruction starts once it has left.
+    const Cycle back = take_return_slot(start + passes * each - 1 + static_cast<Cycle>(lat.from_unit));
+    sfu_free_ = back + 1;
+    sfu_queue_.add(lane_slot(k), back + 1);
+    done = std::max(done, back);
+    yield_to_returns(k);
   }
   return done;
 }
@@ -287,6 +337,7 @@ Cycle CoreTiming::send_accesses() {
   Cycle back = 0;
   for (std::size_t k = 0; k < record_.accesses.size(); ++k) {
     back = std::max(back, send_access(lane_slot(k), record_.accesses[k]));
+    yield_to_returns(k);
   }
   return back;
 }
@@ -311,8 +362,25 @@ void CoreTiming::send_rays(std::uint32_t i, int dst) {
   }
 }
 
+// Chunk i may issue from `ready` but for the code memory's one read port, which it
+// reads two cycles before (rpu_spu's CFetch, CFetchWait): one chunk a cycle, the lowest
+// first, so chunk i takes a cycle booked by a higher chunk and moves that one on.
+// Bookings before `now` have happened and are forgotten.
+void CoreTiming::fetch(std::uint32_t i, Cycle ready, Cycle now) {
+  fetches_.erase(fetches_.begin(), fetches_.lower_bound(now));
+  for (Cycle at = ready;; ++at) {
+    auto [it, took] = fetches_.try_emplace(at, i);
+    if (!took && it->second > i) std::swap(it->second, i), took = true;  // i now the one moved on
+    if (!took) continue;
+    ChunkSlot& s = chunks_[it->second];
+    s.earliest = at;
+    s.ready_known = false;
+    if (it->second == i) return;
+  }
+}
+
 // Chunk i's current round is over: it takes its next round of pixels, if any.
-void CoreTiming::start_round(std::uint32_t i, Cycle at) {
+void CoreTiming::start_round(std::uint32_t i, Cycle at, Cycle now) {
   ChunkSlot& s = chunks_[i];
   s.ready_known = false;
   if (s.live) {
@@ -326,7 +394,7 @@ void CoreTiming::start_round(std::uint32_t i, Cycle at) {
   if (!s.live) return;
   shader_.start(s.chunk, lanes_, stats_);
   s.round_start = at;
-  s.earliest = at;
+  fetch(i, at, now);
   std::fill(s.reg_ready.begin(), s.reg_ready.end(), at);
 }
 
@@ -341,7 +409,7 @@ void CoreTiming::ray_answered(Ray& ray, Cycle now) {
   --s.reg_rays[dst];
   --s.rays_in_flight;
   account(now);  // the wait so far had the old reason
-  if (s.halted && !s.rays_in_flight) start_round(ray.chunk, back);
+  if (s.halted && !s.rays_in_flight) start_round(ray.chunk, back, now);
   plan(now + 1);
   spare_logs_.push_back(std::move(ray.log));
 }

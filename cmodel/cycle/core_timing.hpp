@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <deque>
 #include <limits>
+#include <map>
 #include <optional>
 #include <set>
 #include <string>
@@ -103,6 +104,19 @@ class CoreTiming {
     mutable Cycle ready_at = 0;
   };
 
+  // A queue to a unit as rpu_spu counts its room: each lane handed to it counts from
+  // the cycle after its E (S0 + 2) until the cycle it leaves.
+  class UnitQueue {
+   public:
+    // A lane with S0 in `s0` that leaves before `out`; lanes gone by `s0` are forgotten.
+    void add(Cycle s0, Cycle out);
+    // The first cycle from `t` in which at most `room` lanes count.
+    Cycle room(Cycle t, std::size_t room) const;
+
+   private:
+    std::deque<std::pair<Cycle, Cycle>> entries_;
+  };
+
   void account(Cycle until);
   Cycle ready_time(const ChunkSlot& s) const;
   Cycle compute_ready_time(const ChunkSlot& s) const;
@@ -110,14 +124,16 @@ class CoreTiming {
   Cycle issue(std::uint32_t i, Cycle now);
   void enter_lanes(const ChunkSlot& s, std::uint32_t pc, Cycle now);
   void time_issue(std::uint32_t i, std::uint32_t pc, Cycle now);
-  Cycle time_sfu(const isa::Instruction& in, Cycle now);
+  Cycle time_sfu(const isa::Instruction& in);
   Cycle send_accesses();
   void send_rays(std::uint32_t i, int dst);
   Cycle lane_slot(std::size_t lane) const;
+  void yield_to_returns(std::size_t lane);
   Cycle take_return_slot(Cycle at);
   Cycle send_access(Cycle s0, const functional::MemoryAccess& a);
   void set_result(ChunkSlot& s, int reg, Cycle ready);
-  void start_round(std::uint32_t i, Cycle at);
+  void fetch(std::uint32_t i, Cycle ready, Cycle now);
+  void start_round(std::uint32_t i, Cycle at, Cycle now);
 
   std::uint32_t index_;
   const spec::HardwareConfig& config_;
@@ -134,10 +150,13 @@ class CoreTiming {
   // The pipeline's entry (S0) takes one lane a cycle; a value handed back (a load's
   // data, an sfu result, a ray's answer) takes it first, so those cycles are reserved.
   Cycle seq_free_ = 0;             // the next chunk instruction may issue from here
+  Cycle asked_ = 0;                // the cycle from which the core looks for a ready chunk
   std::set<Cycle> return_slots_;   // S0 cycles taken by values handed back
   Cycle lsu_free_ = 0, sfu_free_ = 0;  // the next request the load/store unit, the sfu takes
-  std::deque<Cycle> sfu_starts_;       // when the sfu starts each thread instruction it holds
+  std::multiset<Cycle> load_slots_;    // when each load in flight frees its miss register
+  UnitQueue lsu_queue_, sfu_queue_;
   std::vector<Cycle> lane_slots_;      // the issuing instruction's lanes' S0 cycles
+  std::map<Cycle, std::uint32_t> fetches_;  // the chunk that may issue from each cycle, its fetch two before
   Cycle accounted_ = 0;                // cycles before this are in `time_`
   Wait wait_ = Wait::kIdle;            // why it waits since `accounted_`
   ShaderCoreTime time_;

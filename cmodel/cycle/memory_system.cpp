@@ -79,7 +79,7 @@ Cycle Cache::read(Cycle at, std::uint32_t address, std::uint32_t bytes) {
   const std::uint32_t first = address / streams::kMemLineBytes;
   Cycle done = 0;
   for (std::uint32_t k = 0; k < port_pieces(address, bytes); ++k) {
-    done = std::max(done, read_line(at + k, (first + k) * streams::kMemLineBytes / line_bytes));
+    done = std::max(done, read_line(port_.book(at + k, 1), (first + k) * streams::kMemLineBytes / line_bytes));
   }
   return done;
 }

@@ -101,7 +101,8 @@ class Cache {
   // `line_wait`: the cycles a line read takes beyond the DRAM's (the chip's path to it).
   Cache(const spec::CacheConfig& config, Dram& dram, Cycle line_wait);
   // A read of `bytes` at `address` from cycle `at`: the port moves one piece
-  // (streams::kMemLineBytes, aligned) a cycle, each a lookup; the cycle all are there.
+  // (streams::kMemLineBytes, aligned) a cycle, each a lookup, one a cycle for all its
+  // requesters (rpu_cache_arbiter); the cycle all are there.
   Cycle read(Cycle at, std::uint32_t address, std::uint32_t bytes);
   // A store from cycle `at`: written through to DRAM, not allocated; a present line
   // stays valid (the model keeps no data, only tags). The port takes one piece a cycle,
@@ -134,6 +135,7 @@ class Cache {
   std::vector<Cycle> in_flight_;  // fill cycles of outstanding misses
   // The cycles the last streams::kCacheDramQueue requests passed the port, oldest first.
   std::deque<Cycle> queue_passed_;
+  Bookings port_;  // the lookups, one a cycle
   CacheStats stats_;
 };
 

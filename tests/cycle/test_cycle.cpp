@@ -258,7 +258,8 @@ TEST(CycleModel, RaySlotsShareTheFrameAndSpeedUpATraversalBoundOne) {
 // A pipelined unit (tu_pipe = 1, rpu_tu_pipe) walks the same rays as its walkers would:
 // the same image and work; its slot-cycles add up to cycles x slots; and on a frame bound
 // by the one traversal unit (rpu2005's with four shader cores) its shared pipeline takes
-// fewer cycles than as many walker slots, and more slots never cost cycles.
+// fewer cycles than as many walker slots, and more slots never make a ray take longer
+// (the frame's cycles may: which core's pixels finish last moves with the timing).
 TEST(CycleModel, APipelinedUnitWalksTheSameRaysFasterThanItsWalkers) {
   const Cornell c;
   spec::HardwareConfig config = hardware_config("rpu2005");
@@ -271,11 +272,14 @@ TEST(CycleModel, APipelinedUnitWalksTheSameRaysFasterThanItsWalkers) {
   const Frame walkers = render_cycle(config, c.scene, si.image, c.firmware, settings(32, 24));
   config.tu_pipe = 1;
   config.tu_by_tag = hardware_config("rpu2005").tu_by_tag;
-  std::uint64_t previous = std::numeric_limits<std::uint64_t>::max();
+  double previous = std::numeric_limits<double>::max();
   for (int slots : {2, 8, 16}) {
     config.tu_slots = slots;
     const Frame f = render_cycle(config, c.scene, si.image, c.firmware, settings(32, 24));
     const CycleStats& st = f.cycle;
+    RayLatency rays = st.closest_latency;
+    rays += st.any_latency;
+    const double per_ray = static_cast<double>(rays.waiting + rays.in_unit) / static_cast<double>(rays.rays);
     EXPECT_TRUE(same_bits(walkers.image, f.image)) << slots;
     EXPECT_EQ(f.stats.shader.tests, walkers.stats.shader.tests) << slots;
     ASSERT_EQ(st.tus.size(), 1u);
@@ -283,8 +287,8 @@ TEST(CycleModel, APipelinedUnitWalksTheSameRaysFasterThanItsWalkers) {
     EXPECT_EQ(t.busy + t.wait_memory + t.wait_iu + t.idle, st.cycles * static_cast<std::uint64_t>(slots)) << slots;
     EXPECT_EQ(t.tests, f.stats.shader.tests) << slots;
     EXPECT_EQ(t.rays, st.closest_rays + st.any_rays) << slots;
-    EXPECT_LE(st.cycles, previous) << slots << " slots";
-    previous = st.cycles;
+    EXPECT_LE(per_ray, previous) << slots << " slots: a ray's cycles at the dispatch and in the unit";
+    previous = per_ray;
     if (slots == 8) {
       EXPECT_LT(st.cycles, walkers.cycle.cycles) << "8 slots: the pipeline against 8 walkers";
     }
