@@ -3,12 +3,13 @@
 ;
 ; Registers kept by every routine:
 ;   r15 = (launch block address, ray epsilon (float), max depth (int), 0)
-;   r14 = (random stream state, depth of the current ray (int), primary hit's triangle, -)
+;   r14 = (random stream state, depth of the current ray (int), primary hit's triangle,
+;          0 once the state is seeded, else the draws still to skip + 1: see rand)
 ; Everything else is clobbered by calls; callers push what they need.
 ;
 ; Recursion: shade_ray and hit_whitted keep their return addresses on the memory stack
 ; (mfra/mtra), so the return stack never holds more than FIRMWARE_RETURN_STACK_ENTRIES
-; (raygen or hit_whitted -> rand -> permute, below a hit shader's calli) at any depth.
+; (raygen or hit_whitted -> rand -> permute or hash, below a hit shader's calli) at any depth.
 ; The memory stack holds raygen's two pushes and the primary ray's shade_ray, then per
 ; bounce hit_whitted's eight reflection pushes (its return address rides in r9.z) and
 ; shade_ray's one. The device checks these against the configuration at launch
@@ -18,6 +19,10 @@
 .equ FIRMWARE_STACK_BYTES_PER_DEPTH, 9 * 16
 ; raygen does selected ray tracing (docs/selection.md): the launch block's select fields.
 .equ FIRMWARE_SELECTS, 1
+; The stream's state steps as x * 747796405 + 2891336453 (mod 2^32); two steps at once:
+; x * 747796405^2 + 2891336453 * (747796405 + 1).
+.equ STREAM_MUL2, 4201498105
+.equ STREAM_ADD2, 1192405134
 
 .text
 
@@ -47,16 +52,9 @@ every_pixel:
         f2i     r12.w, r0.y
         li      r13, 0
 sample_loop:
-        ; the sample's stream: h(seed ^ h(pixel ^ h(sample)))
-        mov     r11.x, r12.x
-        call    hash
-        rdsr    r0, pixel
-        xor     r11.x, r11.x, r0.z
-        call    hash
-        ld1     r0.x, [r15 + LAUNCH_SEED_AT]
-        xor     r11.x, r11.x, r0.x
-        call    hash
-        mov     r14.x, r11.x
+        ; the sample's stream, seeded at its first draw (rand)
+        mov     r14.x, r12.x
+        li      r14.w, 1
         ; r1.xy = the sample's position in the pixel
         ld1     r0.x, [r15 + LAUNCH_SPP_AT]
         ilti    r0.y, r0.x, 2
@@ -77,9 +75,15 @@ jitter:
         rcp     r2.x, r2.x
         mul     r1.xy, r1, r2.x
 have_offset:
-        ; the lens sample: a pinhole camera draws it too, to keep the stream in step
-        call    rand
-        call    rand
+        ; the lens sample: two draws a pinhole camera discards, skipped to keep the stream
+        ; in step: two steps of the state at once, or two more for its seeding to skip
+        bnz     r14.w, lens_unseeded
+        imuli   r14.x, r14.x, STREAM_MUL2
+        iaddi   r14.x, r14.x, STREAM_ADD2
+        bra     lens_skipped
+lens_unseeded:
+        li      r14.w, 3
+lens_skipped:
         ; direction = forward + (2 px/width - 1) right + (1 - 2 py/height) up
         rdsr    r0, pixel
         i2f     r0.xy, r0
@@ -511,8 +515,13 @@ unit:
 
 ; ---------------------------------------------------------------------------------
 ; rand: r11.x = the next number of the stream in [0, 1) (docs/shading.md section 1);
-; steps r14.x. Clobbers r11.
+; steps r14.x. Clobbers r11. A sample's stream starts at h(seed ^ h(pixel ^ h(sample))):
+; until its first draw r14.x holds the sample and r14.w the draws to skip + 1, so a
+; sample that draws nothing (one sample a pixel, a pinhole camera, point lights) pays
+; for no hashing.
 rand:
+        bnz     r14.w, rand_seed
+rand_draw:
         mov     r11.x, r14.x
         imuli   r14.x, r14.x, 747796405
         iaddi   r14.x, r14.x, 2891336453
@@ -522,6 +531,23 @@ rand:
         lif     r11.z, 1.0
         add     r11.x, r11.x, -r11.z
         ret
+rand_seed:
+        mov     r11.x, r14.x
+        call    hash
+        rdsr    r11.z, pixel
+        xor     r11.x, r11.x, r11.z
+        call    hash
+        ld1     r11.z, [r15 + LAUNCH_SEED_AT]
+        xor     r11.x, r11.x, r11.z
+        call    hash
+        ilti    r11.z, r14.w, 3
+        bnz     r11.z, rand_seeded
+        imuli   r11.x, r11.x, STREAM_MUL2     ; the two draws skipped
+        iaddi   r11.x, r11.x, STREAM_ADD2
+rand_seeded:
+        mov     r14.x, r11.x
+        li      r14.w, 0
+        bra     rand_draw
 
 ; hash: r11.x = h(r11.x) = permute(r11.x * 747796405 + 2891336453), then falls
 ; through into permute: r11.x = PCG's RXS-M-XS permutation of r11.x. Clobber r11.y.
