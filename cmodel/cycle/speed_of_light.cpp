@@ -38,6 +38,9 @@ std::vector<Bound> speed_of_light(const CycleStats& stats, const spec::HardwareC
                                          : walk_cycles / (config.traversal_units * config.tu_slots)},
       {"intersection units", static_cast<double>(tests) * static_cast<double>(walk.iu_interval) / config.intersection_units},
       {"DRAM bus", static_cast<double>(stats.dram.bus_cycles)},
+      // The node and triangle caches take one lookup a cycle from all traversal units.
+      {"node cache port", static_cast<double>(stats.node_cache.accesses)},
+      {"triangle cache port", static_cast<double>(stats.triangle_cache.accesses)},
   };
   std::stable_sort(bounds.begin(), bounds.end(), [](const Bound& a, const Bound& b) { return a.cycles > b.cycles; });
   return bounds;

@@ -18,7 +18,8 @@ std::vector<std::string> units(const std::vector<Bound>& bounds) {
 }
 
 // `default` (4 shader cores, 4 IUs) issuing one lane a cycle: one lane a cycle enters a
-// core; an IU takes a test every initiation interval; the DRAM bus is one.
+// core; an IU takes a test every initiation interval; the DRAM bus is one, and so are
+// the node and triangle caches' ports, one lookup a cycle for every traversal unit.
 TEST(SpeedOfLight, EachResourcesWorkOverItsUnitsLargestFirst) {
   spec::HardwareConfig config = hardware_config("default");
   config.issue_lanes = 1;
@@ -26,12 +27,17 @@ TEST(SpeedOfLight, EachResourcesWorkOverItsUnitsLargestFirst) {
   s.thread_instructions = 4000;
   s.ius = {{.tests = 200, .busy = 0}, {.tests = 100, .busy = 0}};
   s.dram.bus_cycles = 500;
+  s.node_cache.accesses = 700;
+  s.triangle_cache.accesses = 50;
   const std::vector<Bound> b = speed_of_light(s, config, IsectMode::kWoop);
-  EXPECT_EQ(units(b), (std::vector<std::string>{"shader cores (issue)", "DRAM bus", "intersection units", "traversal units"}));
+  EXPECT_EQ(units(b), (std::vector<std::string>{"shader cores (issue)", "node cache port", "DRAM bus",
+                                                "intersection units", "triangle cache port", "traversal units"}));
   EXPECT_EQ(b[0].cycles, 4000.0 / 4);
-  EXPECT_EQ(b[1].cycles, 500.0);
-  EXPECT_EQ(b[2].cycles, 300.0 * config.iu.interval_woop / 4);
-  EXPECT_EQ(b[3].cycles, 0.0);
+  EXPECT_EQ(b[1].cycles, 700.0);
+  EXPECT_EQ(b[2].cycles, 500.0);
+  EXPECT_EQ(b[3].cycles, 300.0 * config.iu.interval_woop / 4);
+  EXPECT_EQ(b[4].cycles, 50.0);
+  EXPECT_EQ(b[5].cycles, 0.0);
 }
 
 // A pipelined unit (`rpu2005`: one unit, 2 set-up engines) moves a line a cycle on its
