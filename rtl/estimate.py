@@ -22,7 +22,7 @@ SRAM_CELL_UM2 = 140 * 0.090 ** 2
 ARRAY_EFFICIENCY = 0.5
 TRANSISTORS_PER_NAND2 = 4
 
-CORE_KEYS = ("threads_per_core", "chunk_size", "issue_lanes", "registers", "sfu_units", "call_depth",
+CORE_KEYS = ("threads_per_core", "chunk_size", "issue_lanes", "registers", "sfu_units", "sfu_threads", "call_depth",
              "stack_bytes", "format")
 CACHE_KEYS = ("bytes", "line_bytes", "ways", "mshrs")
 
@@ -113,13 +113,18 @@ def estimate(config: str, resolved: dict[str, dict], records: list[dict]) -> dic
     w = resolved[chip["config"]]
     by_tag = "" if w["tu_by_tag"] == v["tu_by_tag"] else (
         f"{chip['config']}'s, whose ray units take their lines in order: the by-tag answers' wait entries not in it")
-    counts = {"node cache": 1, "triangle cache": 1, "data cache": v["shader_cores"]}
+    counts = {"node cache": v["ray_caches"], "triangle cache": v["ray_caches"], "data cache": v["shader_cores"]}
     for name, count in counts.items():
         add(name, count, chip_unit(chip, name), f"{chip['config']} chip ({chip['commit']})", by_tag)
     if not v["tu_by_tag"]:
         add("in-order port", v["traversal_units"], chip_unit(chip, "in-order port"),
             f"{chip['config']} chip ({chip['commit']})")
-    add("cache arbiter", 2, chip_unit(chip, "cache arbiter"), f"{chip['config']} chip ({chip['commit']})")
+    # A pair's arbiter takes its ray units' requests; one unit's pass through, no cells.
+    pair_units, pair_units_there = v["traversal_units"] // v["ray_caches"], w["traversal_units"] // w["ray_caches"]
+    if pair_units > 1:
+        note = "" if pair_units == pair_units_there else f"for {pair_units_there} ray units, this chip's for {pair_units}"
+        add("cache arbiter", 2 * v["ray_caches"], chip_unit(chip, "cache arbiter"),
+            f"{chip['config']} chip ({chip['commit']})", note)
     for name in ("ray dispatch", "memory arbiter", "top-level logic"):
         note = "" if w["shader_cores"] == v["shader_cores"] else f"for {w['shader_cores']} cores"
         held, held_here = w["tu_slots"] * w["tu_packet"], v["tu_slots"] * v["tu_packet"]

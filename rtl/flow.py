@@ -166,7 +166,7 @@ def lint(args) -> int:
     for r in tables["resolved"]:
         params = gen.rtl_parameters(tables, r["values"])
         spu = {k: v for k, v in params.items()
-               if k not in ("StackDepth", "RayUnits", "TuSlots", "TuPipe", "TuSetups", "TuByTag", "TuPacket")
+               if k not in ("StackDepth", "RayUnits", "RayCaches", "TuSlots", "TuPipe", "TuSetups", "TuByTag", "TuPacket")
                and k not in cache_parameters()}
         jobs.append((f"rpu_spu {r['name']}", ["rpu_spu"], [f"-G{k}={v}" for k, v in spu.items()], []))
         if args.chips and r["name"] not in args.chips:
@@ -536,7 +536,7 @@ def synth_mem(args) -> int:
 # registers, the FP units' rounding and classification) counts in the unit around it.
 # The shader core's parameters among a configuration's (gen.rtl_parameters).
 CORE_PARAMETERS = ("Cores", "Threads", "ChunkSize", "IssueLanes", "Registers", "CallDepth", "StackBytes", "SfuUnits",
-                   "ExpBits", "FracBits")
+                   "SfuThreads", "ExpBits", "FracBits")
 
 CHIP_UNITS = [
     ("rpu_chip_cosim_top", r"", "chip"),
@@ -553,8 +553,8 @@ CHIP_UNITS = [
     ("rpu_spu_memcheck", r"", "address check"),
     ("rpu_spu_sfu", r"", "special-function unit"),
     ("rpu_cache", r"g_core\[\d+\]\.u_data_cache$", "data cache"),
-    ("rpu_cache", r"g_ray_cache\[0\]\.u_cache$", "node cache"),
-    ("rpu_cache", r"g_ray_cache\[1\]\.u_cache$", "triangle cache"),
+    ("rpu_cache", r"g_ray_cache\[0\]\.g_pair\[\d+\]\.u_cache$", "node cache"),
+    ("rpu_cache", r"g_ray_cache\[1\]\.g_pair\[\d+\]\.u_cache$", "triangle cache"),
     ("rpu_ray_dispatch", r"", "ray dispatch"),
     ("rpu_ray_unit", r"", "ray unit"),
     ("rpu_tu", r"", "traversal unit"),
@@ -769,6 +769,7 @@ def simulate_chip(args, out: pathlib.Path, stem: str, netlist: pathlib.Path, tab
               for m in re.finditer(r"^\s*(?:input|output)\s+(?:\[(\d+):0\]\s+)?(\w+);", netlist.read_text(), re.M)}
     bits = stream_bits()
     tb_params = {"Cores": widths["issue_valid_o"], "Ways": widths["retire_valid_o"], "RayUnits": widths["ray_counters_o"] // bits["ray_unit_counters"],
+                 "Caches": widths["cache_counters_o"] // bits["cache_counters"],
                  "CodeAddrBits": widths["code_addr_i"], "LaunchBits": bits["launch"], "TuCfgBits": bits["tu_cfg"],
                  "DramReqBits": bits["dram_req"], "DramRspBits": bits["dram_rsp"], "IssueBits": bits["issue"],
                  "RetireBits": bits["retire"], "WritebackBits": bits["writeback"], "FaultBits": bits["fault"],

@@ -30,6 +30,7 @@ module rpu_spu #(
   parameter int unsigned CallDepth  = 16,
   parameter int unsigned StackBytes = 16384,
   parameter int unsigned SfuUnits   = 1,
+  parameter int unsigned SfuThreads = 1,     // sfus, each one thread at a time; divides ChunkSize
   parameter int unsigned CodeWords  = 4096,
   parameter int unsigned ExpBits    = rpu_pkg::FormatFp32ExponentBits,
   parameter int unsigned FracBits   = rpu_pkg::FormatFp32FractionBits,
@@ -966,18 +967,65 @@ module rpu_spu #(
     .idle_o(lsu_idle)
   );
 
-  // Special-function unit: rcp, rsq, sqrt on the sources in the format.
-  logic sfu_in_ready;
-  rpu_spu_sfu #(
-    .ExpBits(ExpBits), .FracBits(FracBits), .Units(SfuUnits), .Depth(QueueDepth), .TagBits(SfuTagBits)
-  ) u_sfu (
-    .clk_i, .rst_ni,
-    .in_valid_i(to_sfu), .in_ready_o(sfu_in_ready), .in_tag_i({u_thread, u_dst, u_wmask}),
-    .in_op_i(u_op == rpu_pkg::OpRcp ? rpu_pkg::FpOpRcp : u_op == rpu_pkg::OpRsq ? rpu_pkg::FpOpRsqrt : rpu_pkg::FpOpSqrt),
-    .in_wmask_i(u_wmask), .in_a_i(u_sfu_a),
-    .out_valid_o(sfu_out_valid), .out_ready_i(sfu_out_ready), .out_tag_o(sfu_out_tag), .out_value_o(sfu_out_value),
-    .free_o(sfu_free)
-  );
+  // Special-function units: rcp, rsq, sqrt on the sources in the format. SfuThreads of
+  // them, each computing one thread's instruction at a time: chunk lane l's thread goes
+  // to sfu l mod SfuThreads. A thread's entry carries its age (the sfus' inputs counted),
+  // and of the results ready the oldest goes back first, so the results take S0 in the
+  // order their lanes entered when they are ready together. A chunk instruction waits
+  // until the fullest sfu has room for it.
+  localparam int unsigned SfuSel  = SfuThreads > 1 ? $clog2(SfuThreads) : 1;
+  localparam int unsigned AgeBits = $clog2(SfuThreads * QueueDepth) + 1;  // outstanding < 2^(AgeBits-1)
+  logic [SfuThreads-1:0]            s_in_valid, s_in_ready, s_out_valid, s_out_ready;
+  logic [SfuThreads*(AgeBits+SfuTagBits)-1:0] s_out_tag;
+  logic [SfuThreads*128-1:0]        s_out_value;
+  logic [SfuThreads*QCountBits-1:0] s_free;
+  logic [AgeBits-1:0]               sfu_age_d, sfu_age_q;
+  logic [SfuSel-1:0]                sfu_in_sel, sfu_out_sel;
+  logic                             sfu_in_ready;
+
+  assign sfu_in_sel = SfuThreads > 1 ? SfuSel'(32'(u_thread) % SfuThreads) : '0;
+  assign sfu_in_ready = s_in_ready[sfu_in_sel];
+  assign sfu_age_d = to_sfu ? sfu_age_q + AgeBits'(1) : sfu_age_q;
+  for (genvar k = 0; k < SfuThreads; k++) begin : g_sfu
+    assign s_in_valid[k] = to_sfu && 32'(sfu_in_sel) == k;
+    rpu_spu_sfu #(
+      .ExpBits(ExpBits), .FracBits(FracBits), .Units(SfuUnits), .Depth(QueueDepth), .TagBits(AgeBits + SfuTagBits)
+    ) u_sfu (
+      .clk_i, .rst_ni,
+      .in_valid_i(s_in_valid[k]), .in_ready_o(s_in_ready[k]), .in_tag_i({sfu_age_q, u_thread, u_dst, u_wmask}),
+      .in_op_i(u_op == rpu_pkg::OpRcp ? rpu_pkg::FpOpRcp : u_op == rpu_pkg::OpRsq ? rpu_pkg::FpOpRsqrt : rpu_pkg::FpOpSqrt),
+      .in_wmask_i(u_wmask), .in_a_i(u_sfu_a),
+      .out_valid_o(s_out_valid[k]), .out_ready_i(s_out_ready[k]),
+      .out_tag_o(s_out_tag[(AgeBits+SfuTagBits)*k +: AgeBits+SfuTagBits]),
+      .out_value_o(s_out_value[128*k +: 128]),
+      .free_o(s_free[QCountBits*k +: QCountBits])
+    );
+  end
+
+  always_comb begin : pick_sfu
+    logic [AgeBits-1:0] age, oldest;
+    logic               found;
+    sfu_out_sel = '0;
+    oldest      = '0;
+    found       = 1'b0;
+    sfu_free    = s_free[0 +: QCountBits];
+    for (int k = 0; k < SfuThreads; k++) begin
+      age = s_out_tag[(AgeBits+SfuTagBits)*k + SfuTagBits +: AgeBits];
+      // Older: behind the other by less than half the age range.
+      if (s_out_valid[k] && (!found || age - oldest >= AgeBits'(1 << (AgeBits - 1)))) begin
+        sfu_out_sel = SfuSel'(k);
+        oldest      = age;
+        found       = 1'b1;
+      end
+      if (s_free[QCountBits*k +: QCountBits] < sfu_free) sfu_free = s_free[QCountBits*k +: QCountBits];
+    end
+  end
+  assign sfu_out_valid = |s_out_valid;
+  assign sfu_out_tag   = s_out_tag[(AgeBits+SfuTagBits)*sfu_out_sel +: SfuTagBits];
+  assign sfu_out_value = s_out_value[128*sfu_out_sel +: 128];
+  for (genvar k = 0; k < SfuThreads; k++) begin : g_sfu_ready
+    assign s_out_ready[k] = sfu_out_ready && 32'(sfu_out_sel) == k;
+  end
 
   // Rays: a queue to the ray units.
   logic                            trace_in_ready;
@@ -1239,6 +1287,7 @@ module rpu_spu #(
       seq_pcfault_q <= 1'b0;
       seq_lanes_q   <= '0;
       trace_count_q <= '0;
+      sfu_age_q     <= '0;
     end else begin
       pc_q          <= pc_d;
       live_q        <= live_d;
@@ -1263,6 +1312,7 @@ module rpu_spu #(
       seq_pcfault_q <= seq_pcfault_d;
       seq_lanes_q   <= seq_lanes_d;
       trace_count_q <= trace_count_d;
+      sfu_age_q     <= sfu_age_d;
     end
   end
 
@@ -1273,6 +1323,7 @@ module rpu_spu #(
     if (rst_ni) begin
       assert (!to_lsu || lsu_in_ready) else $error("rpu_spu: the load/store queue was full");
       assert (!to_sfu || sfu_in_ready) else $error("rpu_spu: the sfu queue was full");
+      assert (ChunkSize % SfuThreads == 0) else $error("rpu_spu: %0d sfus do not divide chunks of %0d", SfuThreads, ChunkSize);
       assert (!to_trace || trace_in_ready) else $error("rpu_spu: the ray queue was full");
       assert ($countones({e_to_lsu, e_to_sfu, e_to_trace}) <= 1)
         else $error("rpu_spu: two lanes handed to units in one cycle");

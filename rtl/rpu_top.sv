@@ -1,9 +1,9 @@
 // The chip (docs/chip.md): Cores shader cores (rpu_spu), each with its data cache;
 // RayUnits ray units (rpu_ray_unit: a traversal unit and its intersection unit) fed by
 // rpu_ray_dispatch, their memory ports on a node cache (kd nodes) and a triangle cache
-// (leaf lists and intersection records), answered in order (rpu_inorder_port) or with
-// TuByTag by tag, as the caches answer; every cache
-// on one memory port (rpu_mem_arbiter). Built for a named configuration of
+// (leaf lists and intersection records) of RayCaches pairs, each pair shared by
+// RayUnits / RayCaches units, answered in order (rpu_inorder_port) or with TuByTag by
+// tag, as the caches answer; every cache on one memory port (rpu_mem_arbiter). Built for a named configuration of
 // spec/configs.toml (its parameters from gen.py --list rtl-configs).
 //
 // The host writes the firmware into every core's code memory, holds the launch and the
@@ -21,8 +21,10 @@ module rpu_top #(
   parameter int unsigned CallDepth           = rpu_pkg::ConfigTinyCallDepth,
   parameter int unsigned StackBytes          = rpu_pkg::ConfigTinyStackBytes,
   parameter int unsigned SfuUnits            = rpu_pkg::ConfigTinySfuUnits,
+  parameter int unsigned SfuThreads          = rpu_pkg::ConfigTinySfuThreads,
   parameter int unsigned StackDepth          = rpu_pkg::ConfigTinyStackDepth,
   parameter int unsigned RayUnits            = rpu_pkg::ConfigTinyTraversalUnits,
+  parameter int unsigned RayCaches           = rpu_pkg::ConfigTinyRayCaches,
   parameter int unsigned TuSlots             = rpu_pkg::ConfigTinyTuSlots,
   parameter int unsigned TuPipe              = rpu_pkg::ConfigTinyTuPipe,
   parameter int unsigned TuSetups            = rpu_pkg::ConfigTinyTuSetups,
@@ -76,22 +78,32 @@ module rpu_top #(
   output logic [Cores*rpu_pkg::FaultBits-1:0]     fault_o,
 
   // Counters of the frame (docs/chip.md "Statistics"): per core, per ray unit, and per
-  // cache (the node cache, the triangle cache, then core c's data cache at 2 + c).
+  // cache (pair p's node cache at p, its triangle cache at RayCaches + p, then core c's
+  // data cache at 2 x RayCaches + c).
   output logic [Cores*rpu_pkg::CoreCountersBits-1:0]        core_counters_o,
   output logic [RayUnits*rpu_pkg::RayUnitCountersBits-1:0]  ray_counters_o,
-  output logic [(2+Cores)*rpu_pkg::CacheCountersBits-1:0]   cache_counters_o
+  output logic [(2*RayCaches+Cores)*rpu_pkg::CacheCountersBits-1:0] cache_counters_o
 );
 
-  // The memory port's caches: the node cache, the triangle cache, a data cache per core.
+  // The memory port's caches: the node caches, the triangle caches, a data cache per core.
   localparam int unsigned NodeCache = 0;
   localparam int unsigned TriangleCache = 1;
-  localparam int unsigned Caches = 2 + Cores;
+  localparam int unsigned RayCaches2 = 2 * RayCaches;
+  localparam int unsigned Caches = RayCaches2 + Cores;
+  // The ray units one pair of caches serves.
+  localparam int unsigned PairUnits = RayUnits / RayCaches;
+`ifndef SYNTHESIS
+  initial begin : check_pairs
+    assert (RayCaches >= 1 && RayUnits % RayCaches == 0)
+      else $fatal(1, "rpu_top: %0d cache pairs do not divide %0d ray units", RayCaches, RayUnits);
+  end
+`endif
   localparam int unsigned ReqBits = rpu_pkg::CacheReqBits;
   localparam int unsigned RspBits = rpu_pkg::CacheRspBits;
   // A ray unit's tags at the node and triangle caches: what their arbiters leave of
   // the cache tag (rpu_cache_arbiter's OwnTagBits); spec/streams.py checks that a record's
   // lines fit.
-  localparam int unsigned PortTagBits = rpu_pkg::CacheTagBits - (RayUnits > 1 ? $clog2(RayUnits) : 0);
+  localparam int unsigned PortTagBits = rpu_pkg::CacheTagBits - (PairUnits > 1 ? $clog2(PairUnits) : 0);
   // A walker has at most an intersection record's lines in flight per slot, so its
   // in-order port's reorder buffer holds that many; a pipelined unit's, every line its
   // tags name.
@@ -161,7 +173,8 @@ module rpu_top #(
     rpu_spu #(
       .CoreId(c), .Cores(Cores), .Threads(Threads), .ChunkSize(ChunkSize), .IssueLanes(IssueLanes),
       .Registers(Registers),
-      .CallDepth(CallDepth), .StackBytes(StackBytes), .SfuUnits(SfuUnits), .CodeWords(CodeWords),
+      .CallDepth(CallDepth), .StackBytes(StackBytes), .SfuUnits(SfuUnits), .SfuThreads(SfuThreads),
+      .CodeWords(CodeWords),
       .ExpBits(ExpBits), .FracBits(FracBits)
     ) u_spu (
       .clk_i, .rst_ni,
@@ -184,17 +197,17 @@ module rpu_top #(
 
     rpu_cache #(
       .Bytes(DataBytes), .Ways(DataWays), .HitLatency(DataHitLatency), .Mshrs(DataMshrs),
-      .CacheId(2 + c)
+      .CacheId(RayCaches2 + c)
     ) u_data_cache (
       .clk_i, .rst_ni,
       .req_valid_i(req_valid), .req_ready_o(req_ready), .req_i(req),
       .rsp_valid_o(rsp_valid), .rsp_ready_i(rsp_ready), .rsp_o(rsp),
-      .dram_req_valid_o(c_dram_req_valid[2 + c]), .dram_req_ready_i(c_dram_req_ready[2 + c]),
-      .dram_req_o(c_dram_req[rpu_pkg::DramReqBits*(2 + c) +: rpu_pkg::DramReqBits]),
-      .dram_rsp_valid_i(c_dram_rsp_valid[2 + c]), .dram_rsp_ready_o(c_dram_rsp_ready[2 + c]),
-      .dram_rsp_i(c_dram_rsp[rpu_pkg::DramRspBits*(2 + c) +: rpu_pkg::DramRspBits]),
-      .counters_o(cache_counters_o[rpu_pkg::CacheCountersBits*(2 + c) +: rpu_pkg::CacheCountersBits]),
-      .idle_o(cache_idle[2 + c])
+      .dram_req_valid_o(c_dram_req_valid[RayCaches2 + c]), .dram_req_ready_i(c_dram_req_ready[RayCaches2 + c]),
+      .dram_req_o(c_dram_req[rpu_pkg::DramReqBits*(RayCaches2 + c) +: rpu_pkg::DramReqBits]),
+      .dram_rsp_valid_i(c_dram_rsp_valid[RayCaches2 + c]), .dram_rsp_ready_o(c_dram_rsp_ready[RayCaches2 + c]),
+      .dram_rsp_i(c_dram_rsp[rpu_pkg::DramRspBits*(RayCaches2 + c) +: rpu_pkg::DramRspBits]),
+      .counters_o(cache_counters_o[rpu_pkg::CacheCountersBits*(RayCaches2 + c) +: rpu_pkg::CacheCountersBits]),
+      .idle_o(cache_idle[RayCaches2 + c])
     );
   end
 
@@ -225,8 +238,9 @@ module rpu_top #(
   // one decides only where a line is kept, never what is read. A walker waits for each of
   // its requests' answers before it asks the other cache, so answers from the two never
   // meet at one port; a pipelined unit's may, and the node cache's goes first (the
-  // in-order port reorders them; by tag, the unit takes them as they come). Requests to cache k (NodeCache, TriangleCache) from
-  // unit u sit at index k * RayUnits + u.
+  // in-order port reorders them; by tag, the unit takes them as they come). Requests to
+  // cache kind k (NodeCache, TriangleCache) from unit u sit at index k * RayUnits + u, so
+  // pair p's units are PairUnits neighbours from k * RayUnits + p * PairUnits.
   logic [2*RayUnits-1:0]         k_req_valid, k_req_ready, k_rsp_valid, k_rsp_ready;
   logic [2*RayUnits*ReqBits-1:0] k_req;
   logic [2*RayUnits*RspBits-1:0] k_rsp;
@@ -335,38 +349,43 @@ module rpu_top #(
 `endif
   end
 
-  // The node and triangle caches, each shared by the ray units.
+  // The node and triangle caches: RayCaches pairs, each shared by PairUnits ray units;
+  // cache k * RayCaches + p (its CacheId) is pair p's of kind k.
   for (genvar k = 0; k < 2; k++) begin : g_ray_cache
-    logic                 req_valid, req_ready, rsp_valid, rsp_ready;
-    logic [ReqBits-1:0]   req;
-    logic [RspBits-1:0]   rsp;
+    for (genvar p = 0; p < RayCaches; p++) begin : g_pair
+      localparam int unsigned I = k * RayCaches + p;
+      localparam int unsigned First = k * RayUnits + p * PairUnits;  // its first unit's request index
+      logic                 req_valid, req_ready, rsp_valid, rsp_ready;
+      logic [ReqBits-1:0]   req;
+      logic [RspBits-1:0]   rsp;
 
-    rpu_cache_arbiter #(.Requesters(RayUnits)) u_arbiter (
-      .clk_i, .rst_ni,
-      .req_valid_i(k_req_valid[RayUnits*k +: RayUnits]), .req_ready_o(k_req_ready[RayUnits*k +: RayUnits]),
-      .req_i(k_req[ReqBits*RayUnits*k +: ReqBits*RayUnits]),
-      .rsp_valid_o(k_rsp_valid[RayUnits*k +: RayUnits]), .rsp_ready_i(k_rsp_ready[RayUnits*k +: RayUnits]),
-      .rsp_o(k_rsp[RspBits*RayUnits*k +: RspBits*RayUnits]),
-      .cache_req_valid_o(req_valid), .cache_req_ready_i(req_ready), .cache_req_o(req),
-      .cache_rsp_valid_i(rsp_valid), .cache_rsp_ready_o(rsp_ready), .cache_rsp_i(rsp)
-    );
-    rpu_cache #(
-      .Bytes(k == NodeCache ? NodeBytes : TriangleBytes),
-      .Ways(k == NodeCache ? NodeWays : TriangleWays),
-      .HitLatency(k == NodeCache ? NodeHitLatency : TriangleHitLatency),
-      .Mshrs(k == NodeCache ? NodeMshrs : TriangleMshrs),
-      .CacheId(k)
-    ) u_cache (
-      .clk_i, .rst_ni,
-      .req_valid_i(req_valid), .req_ready_o(req_ready), .req_i(req),
-      .rsp_valid_o(rsp_valid), .rsp_ready_i(rsp_ready), .rsp_o(rsp),
-      .dram_req_valid_o(c_dram_req_valid[k]), .dram_req_ready_i(c_dram_req_ready[k]),
-      .dram_req_o(c_dram_req[rpu_pkg::DramReqBits*k +: rpu_pkg::DramReqBits]),
-      .dram_rsp_valid_i(c_dram_rsp_valid[k]), .dram_rsp_ready_o(c_dram_rsp_ready[k]),
-      .dram_rsp_i(c_dram_rsp[rpu_pkg::DramRspBits*k +: rpu_pkg::DramRspBits]),
-      .counters_o(cache_counters_o[rpu_pkg::CacheCountersBits*k +: rpu_pkg::CacheCountersBits]),
-      .idle_o(cache_idle[k])
-    );
+      rpu_cache_arbiter #(.Requesters(PairUnits)) u_arbiter (
+        .clk_i, .rst_ni,
+        .req_valid_i(k_req_valid[First +: PairUnits]), .req_ready_o(k_req_ready[First +: PairUnits]),
+        .req_i(k_req[ReqBits*First +: ReqBits*PairUnits]),
+        .rsp_valid_o(k_rsp_valid[First +: PairUnits]), .rsp_ready_i(k_rsp_ready[First +: PairUnits]),
+        .rsp_o(k_rsp[RspBits*First +: RspBits*PairUnits]),
+        .cache_req_valid_o(req_valid), .cache_req_ready_i(req_ready), .cache_req_o(req),
+        .cache_rsp_valid_i(rsp_valid), .cache_rsp_ready_o(rsp_ready), .cache_rsp_i(rsp)
+      );
+      rpu_cache #(
+        .Bytes(k == NodeCache ? NodeBytes : TriangleBytes),
+        .Ways(k == NodeCache ? NodeWays : TriangleWays),
+        .HitLatency(k == NodeCache ? NodeHitLatency : TriangleHitLatency),
+        .Mshrs(k == NodeCache ? NodeMshrs : TriangleMshrs),
+        .CacheId(I)
+      ) u_cache (
+        .clk_i, .rst_ni,
+        .req_valid_i(req_valid), .req_ready_o(req_ready), .req_i(req),
+        .rsp_valid_o(rsp_valid), .rsp_ready_i(rsp_ready), .rsp_o(rsp),
+        .dram_req_valid_o(c_dram_req_valid[I]), .dram_req_ready_i(c_dram_req_ready[I]),
+        .dram_req_o(c_dram_req[rpu_pkg::DramReqBits*I +: rpu_pkg::DramReqBits]),
+        .dram_rsp_valid_i(c_dram_rsp_valid[I]), .dram_rsp_ready_o(c_dram_rsp_ready[I]),
+        .dram_rsp_i(c_dram_rsp[rpu_pkg::DramRspBits*I +: rpu_pkg::DramRspBits]),
+        .counters_o(cache_counters_o[rpu_pkg::CacheCountersBits*I +: rpu_pkg::CacheCountersBits]),
+        .idle_o(cache_idle[I])
+      );
+    end
   end
 
   // ---------------------------------------------------------------------------------

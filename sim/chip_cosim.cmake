@@ -20,6 +20,8 @@ foreach(line IN LISTS rpu_rtl_config_lines)
   set(cores ${CMAKE_MATCH_1})
   string(REGEX MATCH "-GRayUnits=([0-9]+)" ray_units_flag "${line}")
   set(ray_units ${CMAKE_MATCH_1})
+  string(REGEX MATCH "-GRayCaches=([0-9]+)" ray_caches_flag "${line}")
+  set(ray_caches ${CMAKE_MATCH_1})
   string(REGEX MATCH "-GIssueLanes=([0-9]+)" issue_lanes_flag "${line}")
   set(issue_lanes ${CMAKE_MATCH_1})
   set(isects woop)
@@ -31,7 +33,7 @@ foreach(line IN LISTS rpu_rtl_config_lines)
       continue()
     endif()
     rpu_cosim_model(chip Vchip_${config}_${isect} TRACE ASSERT THREADS ${RPU_CHIP_THREADS}
-                    FACTS config=${config} isect=${isect} cores=${cores} ray_units=${ray_units}
+                    FACTS config=${config} isect=${isect} cores=${cores} ray_units=${ray_units} ray_caches=${ray_caches}
                           issue_lanes=${issue_lanes} code_words=${rpu_spu_code_words}
                     PARAMS ${params} -GIsectMode=${rpu_isect_${isect}})
     list(APPEND rpu_chip_cases "${config} ${isect}")

@@ -181,7 +181,9 @@ ChipRunResult run_chip_frame(Model<harness::Chip>& model, const ModelInfo& info,
   const auto ray_units = static_cast<std::size_t>(info.number("ray_units"));
   result.counters.cores.assign(counters.core_counters.begin(), counters.core_counters.begin() + cores);
   result.counters.ray_units.assign(counters.ray_counters.begin(), counters.ray_counters.begin() + ray_units);
-  result.counters.caches.assign(counters.cache_counters.begin(), counters.cache_counters.begin() + 2 + cores);
+  result.counters.ray_caches = static_cast<std::size_t>(info.number("ray_caches"));
+  result.counters.caches.assign(counters.cache_counters.begin(),
+                                counters.cache_counters.begin() + 2 * result.counters.ray_caches + cores);
   check_counters(result.counters, result.counted_cycles);
   result.dram = dram.stats();
   result.framebuffer = memory.read(mm::kDeviceFramebufferBase, pixels * mm::kFramebufferBytesPerPixel);

@@ -47,7 +47,9 @@ struct ChipRunOptions {
 struct ChipCounters {
   std::vector<streams::CoreCounters> cores;
   std::vector<streams::RayUnitCounters> ray_units;
-  std::vector<streams::CacheCounters> caches;  // node, triangle, then core c's data cache
+  // The ray_caches node caches, as many triangle caches, then core c's data cache.
+  std::vector<streams::CacheCounters> caches;
+  std::size_t ray_caches = 1;
 };
 
 // A fault record of the RTL (spec/streams.toml fault).

@@ -18,6 +18,7 @@ module rpu_chip_netlist_tb #(
   parameter integer Cores               = 1,
   parameter integer Ways                = 1,  // retire and writeback records: Cores x IssueLanes
   parameter integer RayUnits            = 1,
+  parameter integer Caches              = 3,  // the node and triangle caches and the data caches
   parameter integer CodeAddrBits        = 1,
   parameter integer LaunchBits          = 1,
   parameter integer TuCfgBits           = 1,
@@ -45,7 +46,7 @@ module rpu_chip_netlist_tb #(
   localparam integer WFault    = (Cores * FaultBits + 31) / 32;
   localparam integer WCoreCnt  = (Cores * CoreCountersBits + 31) / 32;
   localparam integer WRayCnt   = (RayUnits * RayUnitCountersBits + 31) / 32;
-  localparam integer WCacheCnt = ((2 + Cores) * CacheCountersBits + 31) / 32;
+  localparam integer WCacheCnt = (Caches * CacheCountersBits + 31) / 32;
 
   localparam integer IRst       = 0;
   localparam integer ICodeWe    = IRst + 1;
@@ -96,7 +97,7 @@ module rpu_chip_netlist_tb #(
   wire [Cores*FaultBits-1:0]         fault;
   wire [Cores*CoreCountersBits-1:0]  core_counters;
   wire [RayUnits*RayUnitCountersBits-1:0] ray_counters;
-  wire [(2+Cores)*CacheCountersBits-1:0]  cache_counters;
+  wire [Caches*CacheCountersBits-1:0]     cache_counters;
   assign got[ODone*32 +: 32]                 = done;
   assign got[ODReqValid*32 +: 32]            = dram_req_valid;
   assign got[ODReq*32 +: WDReq*32]           = dram_req;

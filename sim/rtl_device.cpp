@@ -1,6 +1,7 @@
 // The rtl backend: a frame on the Verilated chip (sim/chip_run.hpp).
 #include "rtl_device.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cstring>
 
@@ -87,9 +88,16 @@ cycle::CycleStats RtlDevice::cycle_stats(const ChipRunResult& r) const {
     c.mshr_wait_cycles = k.mshr_wait;
     return c;
   };
-  s.node_cache = cache(r.counters.caches.at(0));
-  s.triangle_cache = cache(r.counters.caches.at(1));
-  for (std::size_t c = 2; c < r.counters.caches.size(); ++c) s.data_cache += cache(r.counters.caches[c]);
+  const std::size_t pairs = r.counters.ray_caches;
+  for (std::size_t p = 0; p < pairs; ++p) {
+    const streams::CacheCounters& node = r.counters.caches.at(p);
+    const streams::CacheCounters& triangle = r.counters.caches.at(pairs + p);
+    s.node_cache += cache(node);
+    s.triangle_cache += cache(triangle);
+    s.node_port_lookups = std::max<std::uint64_t>(s.node_port_lookups, node.accesses);
+    s.triangle_port_lookups = std::max<std::uint64_t>(s.triangle_port_lookups, triangle.accesses);
+  }
+  for (std::size_t c = 2 * pairs; c < r.counters.caches.size(); ++c) s.data_cache += cache(r.counters.caches[c]);
   return s;
 }
 

@@ -483,7 +483,11 @@ def doc_tables(schema: Schema, resolved: list[dict]) -> dict[str, str]:
                                             else "walkers"))
     row("rays a packet (tu_packet), memory answered (tu_by_tag)",
         lambda v: f"{v['tu_packet']}, {'by tag' if v['tu_by_tag'] else 'in order'}")
-    row("dividers per core (sfu_units)", lambda v: str(v["sfu_units"]))
+    row("node and triangle cache pairs (ray_caches)",
+        lambda v: (f"{v['ray_caches']}, one a ray unit" if v["ray_caches"] == v["traversal_units"]
+                   else "1, shared by the ray units" if v["ray_caches"] == 1
+                   else f"{v['ray_caches']}, of {v['traversal_units'] // v['ray_caches']} ray units each"))
+    row("sfu: threads at once (sfu_threads) x dividers (sfu_units)", lambda v: f"{v['sfu_threads']} x {v['sfu_units']}")
     row("stack depth, call depth, stack bytes", lambda v: f"{v['stack_depth']}, {v['call_depth']}, {v['stack_bytes']}")
     row("clock", lambda v: f"{v['clock_mhz']} MHz")
     row("format", lambda v: v["format"])

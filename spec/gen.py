@@ -464,7 +464,7 @@ RTL_CACHES = (("Node", "node_cache"), ("Triangle", "triangle_cache"), ("Data", "
 RTL_CACHE_PARAMETERS = (("Bytes", "bytes"), ("Ways", "ways"), ("HitLatency", "hit_latency"), ("Mshrs", "mshrs"))
 RTL_PARAMETERS = {"Cores": "shader_cores", "Threads": "threads_per_core", "ChunkSize": "chunk_size", "IssueLanes": "issue_lanes",
                   "Registers": "registers", "CallDepth": "call_depth", "StackBytes": "stack_bytes",
-                  "SfuUnits": "sfu_units", "StackDepth": "stack_depth", "RayUnits": "traversal_units",
+                  "SfuUnits": "sfu_units", "SfuThreads": "sfu_threads", "StackDepth": "stack_depth", "RayUnits": "traversal_units", "RayCaches": "ray_caches",
                   "TuSlots": "tu_slots", "TuPipe": "tu_pipe", "TuSetups": "tu_setups", "TuByTag": "tu_by_tag",
                   "TuPacket": "tu_packet",
                   **{f"{unit}{param}": f"{cache}.{key}" for unit, cache in RTL_CACHES

@@ -111,9 +111,10 @@ def layout(spec: dict, fp_op_bits: int) -> dict:
             # A ray unit keeps an intersection record's lines in flight under the tag
             # bits its cache arbiter leaves (rtl/rpu_top.sv PortTagBits).
             lines = max(env["TriangleRecordWoopBytes"], env["TriangleRecordWatertightBytes"]) // env["MemLineBytes"]
-            own = env["CacheTagBits"] - (c["traversal_units"] - 1).bit_length()
+            pair_units = c["traversal_units"] // c["ray_caches"]
+            own = env["CacheTagBits"] - (pair_units - 1).bit_length()
             if own < 1 or 1 << own < lines:
-                raise StreamError(f"{WHERE}: config '{c['name']}' has {c['traversal_units']} traversal units; "
+                raise StreamError(f"{WHERE}: config '{c['name']}' has {pair_units} traversal units a cache pair; "
                                   f"CacheTagBits = {env['CacheTagBits']} leaves each {max(own, 0)} tag bits, too few "
                                   f"for an intersection record's {lines} lines in flight")
         if "ChunkLanes" in env and c["chunk_size"] > env["ChunkLanes"]:
@@ -130,9 +131,10 @@ def layout(spec: dict, fp_op_bits: int) -> dict:
                 raise StreamError(f"{WHERE}: config '{c['name']}' has {cache}.mshrs = {c[cache]['mshrs']}, more "
                                   f"than DramMshrBits = {env['DramMshrBits']} can name")
         if {"DramMshrBits", "DramTagBits"} <= env.keys():
-            caches = 2 + c["shader_cores"]  # node, triangle, a data cache per core
+            caches = 2 * c["ray_caches"] + c["shader_cores"]  # node and triangle pairs, a data cache per core
             if env["DramMshrBits"] >= env["DramTagBits"] or caches > 1 << (env["DramTagBits"] - env["DramMshrBits"]):
-                raise StreamError(f"{WHERE}: config '{c['name']}' has {caches} caches (node, triangle and "
+                raise StreamError(f"{WHERE}: config '{c['name']}' has {caches} caches ({c['ray_caches']} node and "
+                                  f"triangle pairs and "
                                   f"{c['shader_cores']} data caches); DramTagBits - DramMshrBits = "
                                   f"{env['DramTagBits'] - env['DramMshrBits']} bits cannot name them")
     faults = len(spec["isa"].get("fault", []))

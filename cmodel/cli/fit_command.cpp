@@ -214,7 +214,11 @@ std::vector<Parameter> parameters(const std::vector<std::string>& formats) {
                               ? std::optional<std::string>(std::to_string(half))
                               : std::nullopt;
                  }});
-  out.push_back({"traversal_units", minus_one(&spec::HardwareConfig::traversal_units, 1)});
+  // One ray unit fewer of each cache pair's, so that the pairs still divide the units.
+  out.push_back({"traversal_units", [](const spec::HardwareConfig& c) -> std::optional<std::string> {
+                   const int fewer = c.traversal_units - c.ray_caches;
+                   return fewer >= 1 ? std::optional<std::string>(std::to_string(fewer)) : std::nullopt;
+                 }});
   out.push_back({"intersection_units", minus_one(&spec::HardwareConfig::intersection_units, 1)});
   return out;
 }

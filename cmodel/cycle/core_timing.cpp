@@ -23,7 +23,10 @@ CoreTiming::CoreTiming(std::uint32_t index, const spec::HardwareConfig& config, 
       timeline_(timeline),
       chip_(chip),
       track_(fmt::format("core {}", index)),
-      chunks_(static_cast<std::size_t>(config.threads_per_core / config.chunk_size)) {}
+      chunks_(static_cast<std::size_t>(config.threads_per_core / config.chunk_size)),
+      sfu_free_(static_cast<std::size_t>(config.sfu_threads), 0),
+      sfu_busy_(sfu_free_.size(), 0),
+      sfu_queues_(sfu_free_.size()) {}
 
 void CoreTiming::start() {
   const auto registers = static_cast<std::size_t>(config_.registers);
@@ -88,7 +91,14 @@ Cycle CoreTiming::compute_ready_time(const ChunkSlot& s) const {
   if (in.spec->cls == si::Class::kMem || in.opcode() == Opcode::kCalli) {
     t = lsu_queue_.room(std::max({t, asked_, seq_free_}), room);
   }
-  if (in.spec->cls == si::Class::kSfu) t = sfu_queue_.room(std::max({t, asked_, seq_free_}), room);
+  if (in.spec->cls == si::Class::kSfu) {
+    // Every sfu's queue has room (rpu_spu takes the least free).
+    t = std::max({t, asked_, seq_free_});
+    for (Cycle before = kNever; before != t;) {
+      before = t;
+      for (const UnitQueue& q : sfu_queues_) t = q.room(t, room);
+    }
+  }
   return t;
 }
 
@@ -319,12 +329,16 @@ Cycle CoreTiming::time_sfu(const isa::Instruction& in) {
   const auto passes = (static_cast<Cycle>(std::popcount(in.wmask)) + units - 1) / units;
   const auto each = static_cast<Cycle>(in.opcode() == Opcode::kRsq ? lat.rsq : lat.sfu) + 1;
   Cycle done = 0;
-  for (std::size_t k = 0; k < static_cast<std::size_t>(std::popcount(record_.lanes)); ++k) {
-    const Cycle start = std::max(lane_slot(k) + static_cast<Cycle>(lat.to_unit), sfu_free_);
+  std::uint32_t lanes = record_.lanes;
+  for (std::size_t k = 0; lanes != 0; ++k, lanes &= lanes - 1) {
+    // The thread in chunk lane l goes to sfu l mod sfu_threads.
+    const std::size_t unit = static_cast<std::size_t>(std::countr_zero(lanes)) % sfu_free_.size();
+    const Cycle start = std::max(lane_slot(k) + static_cast<Cycle>(lat.to_unit), sfu_free_[unit]);
     // The value waits for S0; the next thread instruction starts once it has left.
     const Cycle back = take_return_slot(start + passes * each - 1 + static_cast<Cycle>(lat.from_unit));
-    sfu_free_ = back + 1;
-    sfu_queue_.add(lane_slot(k), back + 1);
+    sfu_free_[unit] = back + 1;
+    sfu_busy_[unit] += back + 1 - start;
+    sfu_queues_[unit].add(lane_slot(k), back + 1);
     done = std::max(done, back);
     yield_to_returns(k);
   }
@@ -426,6 +440,7 @@ void CoreTiming::forget_ready_times() {
 ShaderCoreTime CoreTiming::finish(Cycle end) {
   wait_ = Wait::kIdle;
   account(end);
+  time_.sfu_busy = *std::max_element(sfu_busy_.begin(), sfu_busy_.end());
   return time_;
 }
 

@@ -152,9 +152,14 @@ class CoreTiming {
   Cycle seq_free_ = 0;             // the next chunk instruction may issue from here
   Cycle asked_ = 0;                // the cycle from which the core looks for a ready chunk
   std::set<Cycle> return_slots_;   // S0 cycles taken by values handed back
-  Cycle lsu_free_ = 0, sfu_free_ = 0;  // the next request the load/store unit, the sfu takes
+  Cycle lsu_free_ = 0;  // the next request the load/store unit takes
+  // Per sfu (sfu_threads of them): the cycle it takes its next thread, the cycles it held
+  // threads, its queue.
+  std::vector<Cycle> sfu_free_;
+  std::vector<std::uint64_t> sfu_busy_;
   std::multiset<Cycle> load_slots_;    // when each load in flight frees its miss register
-  UnitQueue lsu_queue_, sfu_queue_;
+  UnitQueue lsu_queue_;
+  std::vector<UnitQueue> sfu_queues_;
   std::vector<Cycle> lane_slots_;      // the issuing instruction's lanes' S0 cycles
   std::map<Cycle, std::uint32_t> fetches_;  // the chunk that may issue from each cycle, its fetch two before
   Cycle accounted_ = 0;                // cycles before this are in `time_`

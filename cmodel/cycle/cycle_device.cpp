@@ -89,8 +89,10 @@ class CycleDevice final : public device::DeviceBase, CoreTiming::Chip, RayUnitTi
   std::optional<functional::ShaderCore> shader_;
   functional::ShaderStats shader_stats_;
   std::optional<Dram> dram_;
-  std::optional<Cache> node_cache_, triangle_cache_;
-  std::optional<CacheLines> lines_;
+  // Pair p of node and triangle caches at p; ray unit u reads through pair
+  // u / (traversal_units / ray_caches). Reserved, never grown: lines_ refers into them.
+  std::vector<Cache> node_caches_, triangle_caches_;
+  std::vector<CacheLines> lines_;
   std::optional<EventQueue> events_;
   std::optional<RayDispatch> dispatch_;
   std::vector<CoreTiming> cores_;
@@ -184,26 +186,37 @@ void CycleDevice::make_ray_units() {
     // than TUs the one it shares.
     const std::size_t first = u * ius_.size() / tus;
     const std::span<IuTimer> ius(ius_.data() + first, std::max(first + 1, (u + 1) * ius_.size() / tus) - first);
+    CacheLines& lines = lines_[u / (tus / lines_.size())];
     if (config_.tu_pipe) {
-      units_.push_back(std::make_unique<PipeUnitTiming>(PipeCosts::of(config_, layout_.isect_mode), *lines_, ius, ports,
+      units_.push_back(std::make_unique<PipeUnitTiming>(PipeCosts::of(config_, layout_.isect_mode), lines, ius, ports,
                                                         u, &*tracer_));
       continue;
     }
     for (std::uint32_t s = 0; s < walkers_; ++s) {
       std::string track = walkers_ == 1 ? fmt::format("TU {}", u) : fmt::format("TU {} slot {}", u, s);
-      units_.push_back(std::make_unique<WalkerTiming>(WalkCosts::of(config_, layout_.isect_mode), *lines_, ius, ports,
+      units_.push_back(std::make_unique<WalkerTiming>(WalkCosts::of(config_, layout_.isect_mode), lines, ius, ports,
                                                       timeline_, std::move(track)));
     }
   }
 }
 
-// The caches the ray units share and the DRAM behind every cache.
+// The ray units' node and triangle caches, `ray_caches` pairs, and the DRAM behind
+// every cache.
 void CycleDevice::make_memory() {
   dram_.emplace(config_.dram);
   const auto line_wait = static_cast<Cycle>(config_.latency.line_wait);
-  node_cache_.emplace(config_.node_cache, *dram_, line_wait);
-  triangle_cache_.emplace(config_.triangle_cache, *dram_, line_wait);
-  lines_.emplace(*node_cache_, *triangle_cache_);
+  const auto pairs = static_cast<std::size_t>(config_.ray_caches);
+  node_caches_.clear();
+  triangle_caches_.clear();
+  lines_.clear();
+  node_caches_.reserve(pairs);
+  triangle_caches_.reserve(pairs);
+  lines_.reserve(pairs);
+  for (std::size_t p = 0; p < pairs; ++p) {
+    node_caches_.emplace_back(config_.node_cache, *dram_, line_wait);
+    triangle_caches_.emplace_back(config_.triangle_cache, *dram_, line_wait);
+    lines_.emplace_back(node_caches_.back(), triangle_caches_.back());
+  }
 }
 
 // The chip of one launch, its cores started on their first pixels.
@@ -317,8 +330,12 @@ void CycleDevice::finish(Cycle end) {
   out_.tus.assign(static_cast<std::size_t>(config_.traversal_units), TraversalUnitTime{});
   for (std::size_t u = 0; u < units_.size(); ++u) out_.tus[u / walkers_] += units_[u]->time(end);
   for (const IuTimer& iu : ius_) out_.ius.push_back(iu.time);
-  out_.node_cache = node_cache_->stats();
-  out_.triangle_cache = triangle_cache_->stats();
+  for (std::size_t p = 0; p < node_caches_.size(); ++p) {
+    out_.node_cache += node_caches_[p].stats();
+    out_.triangle_cache += triangle_caches_[p].stats();
+    out_.node_port_lookups = std::max(out_.node_port_lookups, node_caches_[p].stats().accesses);
+    out_.triangle_port_lookups = std::max(out_.triangle_port_lookups, triangle_caches_[p].stats().accesses);
+  }
   out_.dram = dram_->stats();
   out_.closest_rays = shader_stats_.closest_rays;
   out_.any_rays = shader_stats_.any_rays;

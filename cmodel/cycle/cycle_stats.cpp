@@ -31,6 +31,7 @@ CycleStats& CycleStats::operator+=(const CycleStats& o) {
     a.wait_dependency += b.wait_dependency;
     a.idle += b.idle;
     a.chunk_issues += b.chunk_issues;
+    a.sfu_busy += b.sfu_busy;
   });
   add_each(tus, o.tus, [](TraversalUnitTime& a, const TraversalUnitTime& b) { a += b; });
   add_each(ius, o.ius, [](IntersectionUnitTime& a, const IntersectionUnitTime& b) {
@@ -51,6 +52,8 @@ CycleStats& CycleStats::operator+=(const CycleStats& o) {
   cycles += o.cycles;
   node_cache += o.node_cache;
   triangle_cache += o.triangle_cache;
+  node_port_lookups += o.node_port_lookups;
+  triangle_port_lookups += o.triangle_port_lookups;
   data_cache += o.data_cache;
   dram += o.dram;
   closest_rays += o.closest_rays;

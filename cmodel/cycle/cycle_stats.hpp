@@ -20,6 +20,9 @@ struct ShaderCoreTime {
   std::uint64_t wait_dependency = 0;  // ... for an arithmetic result or a branch
   std::uint64_t idle = 0;             // no live chunk (before the first, after the last)
   std::uint64_t chunk_issues = 0;
+  // The cycles the core's sfu held a thread, from its start until its value left S0 (the
+  // cycle model's; the RTL has no counter for it).
+  std::uint64_t sfu_busy = 0;
 };
 
 struct TraversalUnitTime {
@@ -78,7 +81,10 @@ struct CycleStats {
   std::vector<TraversalUnitTime> tus;  // per unit, its ray slots' times summed
   std::uint32_t tu_slots = 1;          // ray slots per traversal unit
   std::vector<IntersectionUnitTime> ius;
-  CacheStats node_cache, triangle_cache, data_cache;  // data_cache: all cores' together
+  // The ray_caches pairs' node and triangle caches together, all cores' data caches.
+  CacheStats node_cache, triangle_cache, data_cache;
+  // The lookups of the busiest node and of the busiest triangle cache (one a cycle each).
+  std::uint64_t node_port_lookups = 0, triangle_port_lookups = 0;
   DramStats dram;
   int dram_bytes_per_cycle = 0;
   std::uint64_t closest_rays = 0, any_rays = 0;

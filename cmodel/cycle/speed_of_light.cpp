@@ -30,17 +30,25 @@ std::vector<Bound> speed_of_light(const CycleStats& stats, const spec::HardwareC
                              static_cast<double>(tu_work.tests) *
                                  (tri_hit + static_cast<double>(walk.iu_latency + walk.iu_wait)) +
                              static_cast<double>(tu_work.pops) * tc.pop;
+  // A core's sfu takes one thread at a time: the busiest core's sfu bounds.
+  std::uint64_t sfu_busy = 0;
+  for (const ShaderCoreTime& t : stats.cores) sfu_busy = std::max(sfu_busy, t.sfu_busy);
   std::vector<Bound> bounds = {
       // At most issue_lanes lanes a cycle enter a core's pipeline.
       {"shader cores (issue)",
        static_cast<double>(stats.thread_instructions) / (config.shader_cores * config.issue_lanes)},
+      {"sfu (busiest core)", static_cast<double>(sfu_busy)},
       {"traversal units", config.tu_pipe ? pipe_cycles / config.traversal_units
                                          : walk_cycles / (config.traversal_units * config.tu_slots)},
       {"intersection units", static_cast<double>(tests) * static_cast<double>(walk.iu_interval) / config.intersection_units},
       {"DRAM bus", static_cast<double>(stats.dram.bus_cycles)},
-      // The node and triangle caches take one lookup a cycle from all traversal units.
-      {"node cache port", static_cast<double>(stats.node_cache.accesses)},
-      {"triangle cache port", static_cast<double>(stats.triangle_cache.accesses)},
+      // Each access holds its bank `bank_busy` cycles; the blocks interleave over the banks.
+      {"DRAM banks", static_cast<double>(stats.dram.reads + stats.dram.writes) * config.dram.bank_busy /
+                         config.dram.banks},
+      // A node or triangle cache takes one lookup a cycle from all the traversal units
+      // it serves; the busiest of the ray_caches pairs bounds.
+      {"node cache port", static_cast<double>(stats.node_port_lookups)},
+      {"triangle cache port", static_cast<double>(stats.triangle_port_lookups)},
   };
   std::stable_sort(bounds.begin(), bounds.end(), [](const Bound& a, const Bound& b) { return a.cycles > b.cycles; });
   return bounds;

@@ -15,9 +15,10 @@ using functional::TraceEvent;
 PipeCosts PipeCosts::of(const spec::HardwareConfig& config, IsectMode mode) {
   const bool watertight = mode == IsectMode::kWatertight;
   const spec::TraversalUnitConfig& tu = config.tu;
-  // The cache arbiter takes log2(units) of a read's tag bits: each unit keeps as many
-  // lines in flight as the rest can name.
-  const auto unit_bits = static_cast<std::uint32_t>(std::bit_width(static_cast<std::uint32_t>(config.traversal_units) - 1));
+  // A cache pair's arbiter takes log2(its units) of a read's tag bits: each unit keeps
+  // as many lines in flight as the rest can name.
+  const auto pair_units = static_cast<std::uint32_t>(config.traversal_units / config.ray_caches);
+  const auto unit_bits = static_cast<std::uint32_t>(std::bit_width(pair_units - 1));
   return {
       .slots = static_cast<std::uint32_t>(config.tu_slots),
       .setups = static_cast<std::uint32_t>(config.tu_setups),

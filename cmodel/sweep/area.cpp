@@ -101,7 +101,8 @@ AreaEstimate estimate_area(const spec::HardwareConfig& config, IsectMode mode) {
   };
   const double copies = static_cast<double>(out.ram_bits) * unit[{"register file bank", "shader core"}].second /
                         state_bits(base);
-  out.ram_bits = 8 * (config.node_cache.bytes + config.triangle_cache.bytes +
+  out.ram_bits = 8 * ((config.node_cache.bytes + config.triangle_cache.bytes) *
+                          static_cast<std::uint64_t>(config.ray_caches) +
                       config.data_cache.bytes * static_cast<std::uint64_t>(config.shader_cores)) +
                  static_cast<std::uint64_t>(std::llround(copies * state_bits(config)));
 
@@ -119,12 +120,15 @@ AreaEstimate estimate_area(const spec::HardwareConfig& config, IsectMode mode) {
   const auto cells = [&](const char* name, const char* within) { return unit[{name, within}].first; };
   const auto count = [&](const char* name, const char* within) { return unit[{name, within}].second; };
   const double cores = count("shader core", "chip");
-  // A shader core with its FP units (datapath fma and misc, the SFU's divsqrt) in the format.
+  // A shader core with its FP units (datapath fma and misc, the SFU's divsqrt) in the
+  // format, and the configuration's dividers (sfu_units of each of sfu_threads sfus) in
+  // place of the default chip's.
+  const double dividers = static_cast<double>(config.sfu_units) * config.sfu_threads;
   const double core = cells("shader core", "chip") +
                       count("fma", "vector datapath") / cores * cells("fma", "vector datapath") * (*fma - 1.0) +
                       count("misc", "vector datapath") / cores * cells("misc", "vector datapath") * (*misc - 1.0) +
-                      count("divsqrt", "special-function unit") / cores * cells("divsqrt", "special-function unit") *
-                          (*divsqrt - 1.0);
+                      (dividers * *divsqrt - count("divsqrt", "special-function unit") / cores) *
+                          cells("divsqrt", "special-function unit");
   const double tu_cells = cells("traversal unit", "ray unit") * *tu;
   const double iu_cells = cells("intersection unit", "ray unit") * *iu;
   const double rest = cells("chip", "") - cores * cells("shader core", "chip") -

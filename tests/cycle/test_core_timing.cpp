@@ -48,7 +48,8 @@ class OneCoreChip final : public CoreTiming::Chip {
   std::uint32_t chunk_size_;
 };
 
-// One core of `config` running, in every chunk, `lif r1, 1.0; add r2, r1, r1; halt`.
+// One core of `config` running `program` (by default, in every chunk, `lif r1, 1.0;
+// add r2, r1, r1; halt`).
 struct CoreRun {
   std::map<Cycle, std::string> issues;  // the core's timeline: cycle -> "chunk i: mnemonic"
   std::map<std::uint32_t, Cycle> halts;
@@ -57,13 +58,13 @@ struct CoreRun {
   ShaderCoreTime time;
 };
 
-CoreRun run_core(const spec::HardwareConfig& config) {
+CoreRun run_core(const spec::HardwareConfig& config,
+                 const std::string& program = "raygen:\n        lif     r1, 1.0\n        add     r2, r1, r1\n"
+                                              "        halt\n") {
   const Scene scene = resolve_scene("tetra:1");
   const functional::SceneImage si = functional::make_scene_image(scene, kd_build_config_for(config), IsectMode::kWoop);
   const isa::Firmware firmware =
-      isa::assemble("core.s", [](const std::filesystem::path&) -> std::optional<std::string> {
-        return "raygen:\n        lif     r1, 1.0\n        add     r2, r1, r1\n        halt\n";
-      });
+      isa::assemble("core.s", [&program](const std::filesystem::path&) -> std::optional<std::string> { return program; });
   const fp::Format format = fp::format_by_name(config.format);
   functional::DeviceMemory memory(si.image.bytes, {}, firmware.data, 4);
   const functional::Tracer tracer(si.image.bytes, si.layout, format, config.stack_depth);
@@ -150,6 +151,30 @@ TEST(CoreTiming, IssuesLanesTogether) {
   EXPECT_EQ(run.time.busy, 9u);
   EXPECT_EQ(run.time.wait_dependency, M + E - 4);
   EXPECT_EQ(run.time.chunk_issues, 6u);
+}
+
+// sfu_threads: a chunk's lanes go to sfu (lane mod sfu_threads), each one thread at a
+// time. One chunk of tiny's two lanes computing `rcp r2.x, r1`: lane k's value is back
+// in S0 at s + k + T + L - 1 + F with two sfus (s its lane 0's S0, T latency.to_unit,
+// L latency.sfu + 1 a pass, F latency.from_unit), but lane 1 waits for lane 0's value to
+// leave with one sfu, L + F cycles later: the add that reads r2, and the frame, end
+// L + F - 1 cycles sooner; each sfu holds a thread L + F cycles.
+TEST(CoreTiming, SfusTakeTheirOwnLanes) {
+  spec::HardwareConfig config = hardware_config("tiny");
+  config.threads_per_core = config.chunk_size;  // one chunk
+  ASSERT_EQ(config.chunk_size, 2);
+  const Cycle L = static_cast<Cycle>(config.latency.sfu) + 1, F = static_cast<Cycle>(config.latency.from_unit);
+  const std::string program =
+      "raygen:\n        lif     r1, 2.0\n        rcp     r2.x, r1\n        add     r3, r2, r2\n        halt\n";
+  config.sfu_threads = 1;
+  const CoreRun one = run_core(config, program);
+  config.sfu_threads = 2;
+  const CoreRun two = run_core(config, program);
+  EXPECT_EQ(one.end - two.end, L + F - 1);
+  EXPECT_EQ(one.time.sfu_busy, 2 * (L + F));
+  EXPECT_EQ(two.time.sfu_busy, L + F);
+  EXPECT_EQ(one.halts.size(), 2u);
+  EXPECT_EQ(two.halts.size(), 2u);
 }
 
 }  // namespace

@@ -18,8 +18,10 @@ std::vector<std::string> units(const std::vector<Bound>& bounds) {
 }
 
 // `default` (4 shader cores, 4 IUs) issuing one lane a cycle: one lane a cycle enters a
-// core; an IU takes a test every initiation interval; the DRAM bus is one, and so are
-// the node and triangle caches' ports, one lookup a cycle for every traversal unit.
+// core; a core's sfu holds one thread at a time, and the busiest core's bounds; each
+// DRAM access holds its bank bank_busy cycles; an IU takes a test every initiation interval; the DRAM bus is one, and so are
+// the busiest node and triangle caches' ports, one lookup a cycle for the traversal units
+// each serves (the caches' totals, all ray_caches pairs', do not bound).
 TEST(SpeedOfLight, EachResourcesWorkOverItsUnitsLargestFirst) {
   spec::HardwareConfig config = hardware_config("default");
   config.issue_lanes = 1;
@@ -27,17 +29,25 @@ TEST(SpeedOfLight, EachResourcesWorkOverItsUnitsLargestFirst) {
   s.thread_instructions = 4000;
   s.ius = {{.tests = 200, .busy = 0}, {.tests = 100, .busy = 0}};
   s.dram.bus_cycles = 500;
-  s.node_cache.accesses = 700;
-  s.triangle_cache.accesses = 50;
+  s.node_cache.accesses = 2800;
+  s.triangle_cache.accesses = 200;
+  s.node_port_lookups = 700;
+  s.triangle_port_lookups = 50;
+  s.cores = {{.sfu_busy = 120}, {.sfu_busy = 600}, {.sfu_busy = 0}, {.sfu_busy = 30}};
+  s.dram.reads = 10;
+  s.dram.writes = 6;
   const std::vector<Bound> b = speed_of_light(s, config, IsectMode::kWoop);
-  EXPECT_EQ(units(b), (std::vector<std::string>{"shader cores (issue)", "node cache port", "DRAM bus",
-                                                "intersection units", "triangle cache port", "traversal units"}));
+  EXPECT_EQ(units(b), (std::vector<std::string>{"shader cores (issue)", "node cache port", "sfu (busiest core)",
+                                                "DRAM bus", "intersection units", "triangle cache port",
+                                                "DRAM banks", "traversal units"}));
   EXPECT_EQ(b[0].cycles, 4000.0 / 4);
   EXPECT_EQ(b[1].cycles, 700.0);
-  EXPECT_EQ(b[2].cycles, 500.0);
-  EXPECT_EQ(b[3].cycles, 300.0 * config.iu.interval_woop / 4);
-  EXPECT_EQ(b[4].cycles, 50.0);
-  EXPECT_EQ(b[5].cycles, 0.0);
+  EXPECT_EQ(b[2].cycles, 600.0);
+  EXPECT_EQ(b[3].cycles, 500.0);
+  EXPECT_EQ(b[4].cycles, 300.0 * config.iu.interval_woop / 4);
+  EXPECT_EQ(b[5].cycles, 50.0);
+  EXPECT_EQ(b[6].cycles, 16.0 * config.dram.bank_busy / config.dram.banks);
+  EXPECT_EQ(b[7].cycles, 0.0);
 }
 
 // A pipelined unit (`rpu2005`: one unit, 2 set-up engines) moves a line a cycle on its
