@@ -16,7 +16,9 @@ foreach(line IN LISTS rpu_rtl_config_lines)
   endif()
   rpu_rtl_config("${line}" spu config config_params)
   string(REGEX MATCH "-GIssueLanes=([0-9]+)" issue_lanes_flag "${line}")
-  set(facts config=${config} issue_lanes=${CMAKE_MATCH_1} code_words=${rpu_spu_code_words})
+  set(issue_lanes ${CMAKE_MATCH_1})
+  string(REGEX MATCH "-GSfuThreads=([0-9]+)" sfu_threads_flag "${line}")
+  set(facts config=${config} issue_lanes=${issue_lanes} sfu_threads=${CMAKE_MATCH_1} code_words=${rpu_spu_code_words})
   # A core another configuration already has (drpu's is rpu2005's) is built once, and
   # its tests are that configuration's.
   string(MD5 core_key "${config_params}")
@@ -28,12 +30,19 @@ foreach(line IN LISTS rpu_rtl_config_lines)
   rpu_cosim_model(spu Vspu_${config} TRACE ASSERT FACTS ${facts}
                   PARAMS -GCodeWords=${rpu_spu_code_words} ${config_params})
   list(APPEND rpu_spu_configs ${config})
-  # tiny's chunks of 2 also as a core that issues both lanes at once (--issue-lanes 2).
+  # tiny's chunks of 2 also as a core that issues both lanes at once (--issue-lanes 2),
+  # and as one with an sfu for each lane (--sfu-threads 2).
   if(config STREQUAL "tiny")
     set(lanes2_params ${config_params})
     list(FILTER lanes2_params EXCLUDE REGEX "^-GIssueLanes=")
-    rpu_cosim_model(spu Vspu_tiny_lanes2 TRACE ASSERT FACTS config=tiny issue_lanes=2 code_words=${rpu_spu_code_words}
+    rpu_cosim_model(spu Vspu_tiny_lanes2 TRACE ASSERT
+                    FACTS config=tiny issue_lanes=2 sfu_threads=1 code_words=${rpu_spu_code_words}
                     PARAMS -GCodeWords=${rpu_spu_code_words} ${lanes2_params} -GIssueLanes=2)
+    set(sfus2_params ${config_params})
+    list(FILTER sfus2_params EXCLUDE REGEX "^-GSfuThreads=")
+    rpu_cosim_model(spu Vspu_tiny_sfus2 TRACE ASSERT
+                    FACTS config=tiny issue_lanes=${issue_lanes} sfu_threads=2 code_words=${rpu_spu_code_words}
+                    PARAMS -GCodeWords=${rpu_spu_code_words} ${sfus2_params} -GSfuThreads=2)
   endif()
 endforeach()
 rpu_cosim_registry(spu)
@@ -61,6 +70,9 @@ endforeach()
 add_test(NAME cosim.spu.tiny_lanes2.cornell
          COMMAND spu_cosim --config tiny --issue-lanes 2 --scene cornell --width 8 --height 6 --max-depth 2)
 set_tests_properties(cosim.spu.tiny_lanes2.cornell PROPERTIES LABELS cosim TIMEOUT 900)
+add_test(NAME cosim.spu.tiny_sfus2.balls1
+         COMMAND spu_cosim --config tiny --sfu-threads 2 --scene balls:1 --width 8 --height 6 --max-depth 2)
+set_tests_properties(cosim.spu.tiny_sfus2.balls1 PROPERTIES LABELS cosim TIMEOUT 900)
 
 # Every instruction and fault program of tests/isa on the core its .exp names (the
 # programs in a format other than their configuration's are the functional tests' alone).

@@ -56,6 +56,7 @@ struct Options {
   std::string trace;
   bool empty_shader_table = false;
   int issue_lanes = 0;  // the core model's issue lanes; 0: the configuration's
+  int sfu_threads = 0;  // the core model's sfus; 0: the configuration's
   // Random programs (sim/progen): how many, and every how many a fault program.
   std::uint64_t random = 0;
   std::uint64_t fault_every = 5;
@@ -103,13 +104,16 @@ FrameResult run_frame(const Options& o, const Bench& bench, const Frame& frame, 
                       progen::StepObserver* observer = nullptr) {
   const spec::HardwareConfig& config = bench.config;
   const isa::Firmware& firmware = *frame.firmware;
-  // The issue lanes change only the cycles (docs/shader-core.md "Issue"): the checker
-  // expects the same records of a core built with other lanes than the configuration's.
+  // The issue lanes and the sfus change only the cycles (docs/shader-core.md "Issue"): the
+  // checker expects the same records of a core built with others than the configuration's.
   const std::string lanes = std::to_string(o.issue_lanes ? o.issue_lanes : config.issue_lanes);
-  const ModelInfo* info = find_model<harness::Spu>({{"config", config.name}, {"issue_lanes", lanes}});
+  const std::string sfus = std::to_string(o.sfu_threads ? o.sfu_threads : config.sfu_threads);
+  const ModelInfo* info =
+      find_model<harness::Spu>({{"config", config.name}, {"issue_lanes", lanes}, {"sfu_threads", sfus}});
   if (!info) {
-    throw Error(fmt::format("no shader-core model for configuration '{}' with {} issue lanes in this build (built: {})",
-                            config.name, lanes, built_models<harness::Spu>()));
+    throw Error(fmt::format("no shader-core model for configuration '{}' with {} issue lanes and {} sfus in this build "
+                            "(built: {})",
+                            config.name, lanes, sfus, built_models<harness::Spu>()));
   }
   model = make_model<harness::Spu>(*info, seed, fst);
   const auto ways = static_cast<std::size_t>(info->number("issue_lanes"));
@@ -354,6 +358,8 @@ int main(int argc, char** argv) {
   app.add_option("--watchdog", o.watchdog, "instructions a thread may retire for one pixel")
       ->check(CLI::Range(std::uint64_t{1}, std::uint64_t{0xffffffff}));
   app.add_option("--issue-lanes", o.issue_lanes, "run the core built with this many issue lanes (default: the "
+                 "configuration's)")->check(CLI::IsMember({1, 2, 4, 8}));
+  app.add_option("--sfu-threads", o.sfu_threads, "run the core built with this many sfus (default: the "
                  "configuration's)")->check(CLI::IsMember({1, 2, 4, 8}));
   app.add_option("--seed", o.seed, "seed of the RTL's initial values and of the agents' stalls and delays");
   app.add_option("--stall", o.stall, "probability that a ready or an answer stalls in a cycle")->check(CLI::Range(0.0, 0.9));

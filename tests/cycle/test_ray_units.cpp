@@ -250,14 +250,14 @@ TEST(PipeUnitTiming, ByTagALineBackEarlyPassesALineThatWaits) {
 // rpu_top's cache arbiter keeps log2(the units of its cache pair) of the cache's 6 tag
 // bits for itself, and a unit keeps as many lines in flight as the rest name
 // (docs/cycle-model.md): 64 with one unit a pair (rpu2005's one unit, drpu's four with a
-// pair each), 32 with two (default), 16 with four.
+// pair each), 32 with two, 16 with four (default's, one pair).
 TEST(PipeCosts, TheUnitKeepsTheLinesItsTagBitsName) {
   EXPECT_EQ(PipeCosts::of(hardware_config("rpu2005"), IsectMode::kWoop).lines, 64u);
   EXPECT_EQ(PipeCosts::of(hardware_config("drpu"), IsectMode::kWoop).lines, 64u);
-  EXPECT_EQ(PipeCosts::of(hardware_config("default"), IsectMode::kWoop).lines, 32u);
-  spec::HardwareConfig shared = hardware_config("default");
-  shared.ray_caches = 1;
-  EXPECT_EQ(PipeCosts::of(shared, IsectMode::kWoop).lines, 16u);
+  EXPECT_EQ(PipeCosts::of(hardware_config("default"), IsectMode::kWoop).lines, 16u);
+  spec::HardwareConfig pairs = hardware_config("default");
+  pairs.ray_caches = 2;
+  EXPECT_EQ(PipeCosts::of(pairs, IsectMode::kWoop).lines, 32u);
 }
 
 }  // namespace
