@@ -31,6 +31,34 @@ class EstimateError(Exception):
     pass
 
 
+# Keys the configurations gained after some records were made, with the value every
+# configuration had before: what the chip of an older record was built with.
+KEYS_ADDED = {"issue_lanes": 1, "tu_slots": 1, "tu_pipe": 0, "tu_setups": 1, "tu_by_tag": 0, "tu_packet": 1,
+              "ray_caches": 1, "sfu_threads": 1}
+
+
+def config_at(root, commit: str, name: str) -> dict | None:
+    """Configuration `name` as spec/configs.toml held it at `commit` (a record's, "-dirty"
+    ignored), its cache keys flattened as the resolved ones are; None if git has no such
+    commit or configuration."""
+    import subprocess
+    import tomllib
+    shown = subprocess.run(["git", "-C", str(root), "show", f"{commit.removesuffix('-dirty')}:spec/configs.toml"],
+                           capture_output=True, text=True)
+    if shown.returncode != 0:
+        return None
+    for c in tomllib.loads(shown.stdout).get("config", []):
+        if c.get("name") == name:
+            flat = dict(KEYS_ADDED)
+            for k, value in c.items():
+                if isinstance(value, dict):
+                    flat.update({f"{k}.{kk}": vv for kk, vv in value.items()})
+                else:
+                    flat[k] = value
+            return flat
+    return None
+
+
 def latest(records: list[dict], match) -> dict | None:
     found = [r for r in records if match(r)]
     return found[-1] if found else None
@@ -43,11 +71,18 @@ def chip_unit(record: dict, name: str) -> dict:
     raise EstimateError(f"chip record {record['commit']} ({record['config']}) has no unit '{name}'")
 
 
-def estimate(config: str, resolved: dict[str, dict], records: list[dict]) -> dict:
-    """The estimate record of configuration `config` (resolved: spec's resolved configurations by name)."""
+def estimate(config: str, resolved: dict[str, dict], records: list[dict], root=None) -> dict:
+    """The estimate record of configuration `config` (resolved: spec's resolved configurations by name). A
+    unit record is matched against its configuration as it was at the record's commit (in the git
+    repository at `root`), else as it is now."""
     if config not in resolved:
         raise EstimateError(f"unknown configuration '{config}'; spec/configs.toml has {sorted(resolved)}")
     v = resolved[config]
+
+    def then(r: dict) -> dict:
+        """The configuration record `r` was made with."""
+        at = config_at(root, r.get("commit", ""), r["config"]) if root is not None else None
+        return at if at is not None else resolved[r["config"]]
     rows = []
 
     def add(unit: str, count: int, src: dict, source: str, note: str = "") -> None:
@@ -57,7 +92,7 @@ def estimate(config: str, resolved: dict[str, dict], records: list[dict]) -> dic
     def same_core(r: dict) -> bool:
         if r.get("unit") != "core" or r.get("config") not in resolved:
             return False
-        w = resolved[r["config"]]
+        w = then(r)
         lanes = r.get("issue_lanes", w["issue_lanes"])
         return lanes == v["issue_lanes"] and all(w[k] == v[k] for k in CORE_KEYS if k != "issue_lanes")
 
@@ -103,14 +138,14 @@ def estimate(config: str, resolved: dict[str, dict], records: list[dict]) -> dic
     def same_caches(r: dict) -> bool:
         if r.get("unit") != "chip" or r.get("config") not in resolved:
             return False
-        w = resolved[r["config"]]
+        w = then(r)
         return all(w[f"{c}.{k}"] == v[f"{c}.{k}"] for c in ("node_cache", "triangle_cache", "data_cache")
                    for k in CACHE_KEYS)
 
     chip = latest(records, same_caches)
     if chip is None:
         raise EstimateError(f"no chip record has {config}'s cache geometry")
-    w = resolved[chip["config"]]
+    w = then(chip)
     by_tag = "" if w["tu_by_tag"] == v["tu_by_tag"] else (
         f"{chip['config']}'s, whose ray units take their lines in order: the by-tag answers' wait entries not in it")
     counts = {"node cache": v["ray_caches"], "triangle cache": v["ray_caches"], "data cache": v["shader_cores"]}

@@ -941,7 +941,7 @@ def estimate_area(args) -> int:
     tables = gen.load(ROOT / "spec")
     resolved = {r["name"]: r["values"] for r in tables["resolved"]}
     try:
-        rec = estimate.estimate(args.config, resolved, json.loads(results.read_text())["records"])
+        rec = estimate.estimate(args.config, resolved, json.loads(results.read_text())["records"], ROOT)
     except estimate.EstimateError as e:
         print(f"flow.py estimate: {e}", file=sys.stderr)
         return 1
