@@ -1,7 +1,6 @@
 // The rtl backend: a frame on the Verilated chip (sim/chip_run.hpp).
 #include "rtl_device.hpp"
 
-#include <algorithm>
 #include <chrono>
 #include <cstring>
 
@@ -90,12 +89,7 @@ cycle::CycleStats RtlDevice::cycle_stats(const ChipRunResult& r) const {
   };
   const std::size_t pairs = r.counters.ray_caches;
   for (std::size_t p = 0; p < pairs; ++p) {
-    const streams::CacheCounters& node = r.counters.caches.at(p);
-    const streams::CacheCounters& triangle = r.counters.caches.at(pairs + p);
-    s.node_cache += cache(node);
-    s.triangle_cache += cache(triangle);
-    s.node_port_lookups = std::max<std::uint64_t>(s.node_port_lookups, node.accesses);
-    s.triangle_port_lookups = std::max<std::uint64_t>(s.triangle_port_lookups, triangle.accesses);
+    s.add_ray_caches(cache(r.counters.caches.at(p)), cache(r.counters.caches.at(pairs + p)));
   }
   for (std::size_t c = 2 * pairs; c < r.counters.caches.size(); ++c) s.data_cache += cache(r.counters.caches[c]);
   return s;

@@ -331,10 +331,7 @@ void CycleDevice::finish(Cycle end) {
   for (std::size_t u = 0; u < units_.size(); ++u) out_.tus[u / walkers_] += units_[u]->time(end);
   for (const IuTimer& iu : ius_) out_.ius.push_back(iu.time);
   for (std::size_t p = 0; p < node_caches_.size(); ++p) {
-    out_.node_cache += node_caches_[p].stats();
-    out_.triangle_cache += triangle_caches_[p].stats();
-    out_.node_port_lookups = std::max(out_.node_port_lookups, node_caches_[p].stats().accesses);
-    out_.triangle_port_lookups = std::max(out_.triangle_port_lookups, triangle_caches_[p].stats().accesses);
+    out_.add_ray_caches(node_caches_[p].stats(), triangle_caches_[p].stats());
   }
   out_.dram = dram_->stats();
   out_.closest_rays = shader_stats_.closest_rays;

@@ -19,6 +19,13 @@ void add_cache(StatsTree& t, const CacheStats& c) {
 
 }  // namespace
 
+void CycleStats::add_ray_caches(const CacheStats& node, const CacheStats& triangle) {
+  node_cache += node;
+  triangle_cache += triangle;
+  node_port_lookups = std::max(node_port_lookups, node.accesses);
+  triangle_port_lookups = std::max(triangle_port_lookups, triangle.accesses);
+}
+
 CycleStats& CycleStats::operator+=(const CycleStats& o) {
   const auto add_each = [](auto& to, const auto& from, auto add) {
     to.resize(std::max(to.size(), from.size()));

@@ -20,8 +20,8 @@ struct ShaderCoreTime {
   std::uint64_t wait_dependency = 0;  // ... for an arithmetic result or a branch
   std::uint64_t idle = 0;             // no live chunk (before the first, after the last)
   std::uint64_t chunk_issues = 0;
-  // The cycles the core's sfu held a thread, from its start until its value left S0 (the
-  // cycle model's; the RTL has no counter for it).
+  // The cycles its busiest sfu held threads, each from its start until its value left S0
+  // (the cycle model's; the RTL has no counter for it).
   std::uint64_t sfu_busy = 0;
 };
 
@@ -81,7 +81,8 @@ struct CycleStats {
   std::vector<TraversalUnitTime> tus;  // per unit, its ray slots' times summed
   std::uint32_t tu_slots = 1;          // ray slots per traversal unit
   std::vector<IntersectionUnitTime> ius;
-  // The ray_caches pairs' node and triangle caches together, all cores' data caches.
+  // The ray_caches pairs' node and triangle caches together (add_ray_caches), all cores'
+  // data caches.
   CacheStats node_cache, triangle_cache, data_cache;
   // The lookups of the busiest node and of the busiest triangle cache (one a cycle each).
   std::uint64_t node_port_lookups = 0, triangle_port_lookups = 0;
@@ -101,6 +102,9 @@ struct CycleStats {
   // (CycleOptions::timeline_max_slices), the begin of the first slice left out.
   std::uint64_t timeline_slices = 0;
   std::optional<Cycle> timeline_cut_at;
+
+  // One pair's node and triangle cache: added to the totals, and to the busiest ports'.
+  void add_ray_caches(const CacheStats& node, const CacheStats& triangle);
 
   // The frame of two launches, `o` run after this one on the same chip (a selected
   // frame, docs/selection.md): cycles, times and counts add, and so do the bounds.
