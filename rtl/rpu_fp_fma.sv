@@ -46,8 +46,15 @@ module rpu_fp_fma #(
   logic [rpu_pkg::FpTagBits-1:0] s1_tag;
   logic [Width-1:0]             x_q, y_q, z_q;
 
+  // The stages' clock runs while an op is offered or in a stage: with every valid low
+  // a clock edge changes nothing (rpu_pipe_reg), so the gate only saves the work.
+  logic stage_clk;
+  rpu_clock_gate u_stage_gate (
+    .clk_i, .en_i(req_valid_i || s1_valid || rsp_valid_o), .clk_o(stage_clk)
+  );
+
   rpu_pipe_reg #(.Width(StageBits)) u_stage1 (
-    .clk_i, .rst_ni,
+    .clk_i(stage_clk), .rst_ni,
     .valid_i(req_valid_i), .ready_o(req_ready_o), .data_i({req_i.tag, x_d, y_d, z_d}),
     .valid_o(s1_valid), .ready_i(s1_ready), .data_o(s1_q)
   );
@@ -65,7 +72,7 @@ module rpu_fp_fma #(
   assign rsp_d.result = rpu_pkg::FpOperandBits'(result);
 
   rpu_pipe_reg #(.Width($bits(rsp_d))) u_stage2 (
-    .clk_i, .rst_ni,
+    .clk_i(stage_clk), .rst_ni,
     .valid_i(s1_valid), .ready_o(s1_ready), .data_i(rsp_d),
     .valid_o(rsp_valid_o), .ready_i(rsp_ready_i), .data_o(rsp_o)
   );

@@ -28,8 +28,15 @@ module rpu_fp_misc #(
   logic [rpu_pkg::FpTagBits-1:0] s1_tag;
   logic [OpBits-1:0]             s1_a, s1_b;
 
+  // The stages' clock runs while an op is offered or in a stage: with every valid low
+  // a clock edge changes nothing (rpu_pipe_reg), so the gate only saves the work.
+  logic stage_clk;
+  rpu_clock_gate u_stage_gate (
+    .clk_i, .en_i(req_valid_i || s1_valid || rsp_valid_o), .clk_o(stage_clk)
+  );
+
   rpu_pipe_reg #(.Width(StageBits)) u_stage1 (
-    .clk_i, .rst_ni,
+    .clk_i(stage_clk), .rst_ni,
     .valid_i(req_valid_i), .ready_o(req_ready_o), .data_i({req_i.op, req_i.tag, req_i.a, req_i.b}),
     .valid_o(s1_valid), .ready_i(s1_ready), .data_o(s1_q)
   );
@@ -43,7 +50,7 @@ module rpu_fp_misc #(
   );
 
   rpu_pipe_reg #(.Width($bits(rsp_d))) u_stage2 (
-    .clk_i, .rst_ni,
+    .clk_i(stage_clk), .rst_ni,
     .valid_i(s1_valid), .ready_o(s1_ready), .data_i(rsp_d),
     .valid_o(rsp_valid_o), .ready_i(rsp_ready_i), .data_o(rsp_o)
   );

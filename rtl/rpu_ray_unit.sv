@@ -47,9 +47,14 @@ module rpu_ray_unit #(
   logic             iu_rsp_valid, iu_rsp_ready;
   rpu_pkg::iu_rsp_t iu_rsp;
 
+  // The TU's clock runs while a ray is offered or in the unit, or a line or a test it
+  // asked for is out (rpu_clock_gate; the counts are the counters' below): without
+  // them it has nothing to do.
+  logic tu_clk;
+
   rpu_tu_slots #(.ExpBits(ExpBits), .FracBits(FracBits), .IsectMode(IsectMode), .StackDepth(StackDepth),
                  .Slots(TuSlots), .Pipe(TuPipe), .Packet(TuPacket), .Setups(TuSetups), .LineTagBits(LineTagBits)) u_tu (
-    .clk_i, .rst_ni, .cfg_i,
+    .clk_i(tu_clk), .rst_ni, .cfg_i,
     .req_valid_i, .req_ready_o, .req_i,
     .rsp_valid_o, .rsp_ready_i, .rsp_o,
     .mem_req_valid_o, .mem_req_ready_i, .mem_req_o,
@@ -98,6 +103,12 @@ module rpu_ray_unit #(
   assign rays_in_d   = rays_in_q + CountBits'(ray_in) - CountBits'(ray_out);
   assign lines_out_d = lines_out_q + CountBits'(line_out) - CountBits'(line_back);
   assign tests_out_d = tests_out_q + CountBits'(test_out) - CountBits'(test_back);
+
+  rpu_clock_gate u_tu_gate (
+    .clk_i,
+    .en_i(req_valid_i || rays_in_q != '0 || lines_out_q != '0 || tests_out_q != '0),
+    .clk_o(tu_clk)
+  );
 
   rpu_pkg::ray_unit_counters_t counters_d, counters_q;
   always_comb begin : count_cycles
