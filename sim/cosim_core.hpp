@@ -198,6 +198,17 @@ S all_fields() {
 template <class S>
 std::string field_mismatch(const S& expected, const S& got, const S& care) {
   const auto e = expected.fields(), g = got.fields(), c = care.fields();
+  // Compared before anything is formatted: a run checks every answer, and the report is
+  // for the one that fails.
+  bool any = false;
+  for (std::size_t i = 0; i < e.size(); ++i) {
+    for (int k = 0; k < e[i].count; ++k) {
+      any |= ((e[i].words[k] ^ g[i].words[k]) & c[i].words[k]) != 0;
+    }
+  }
+  if (!any) {
+    return "";
+  }
   std::string first, table;
   for (std::size_t i = 0; i < e.size(); ++i) {
     std::string want, have;
@@ -216,7 +227,7 @@ std::string field_mismatch(const S& expected, const S& got, const S& care) {
     table += "\n    " + std::string(e[i].name) + (differs ? " (differs)" : cared ? "" : " (not compared)") +
              ": expected " + want + ", got " + have;
   }
-  return first.empty() ? "" : first + table;
+  return first + table;
 }
 
 template <class S>
