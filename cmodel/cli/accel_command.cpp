@@ -245,7 +245,7 @@ int run_accel(const AccelOptions& o) {
     throw Error(fmt::format("--beam {} traces beams of primary rays; leave it out with --rays {}", o.beam, o.rays));
   }
   std::vector<PlannedInput> inputs;
-  if (std::filesystem::is_regular_file(o.scene)) inputs.push_back({"the scene", o.scene});
+  if (std::error_code ec; std::filesystem::is_regular_file(o.scene, ec)) inputs.push_back({"the scene", o.scene});
   std::vector<PlannedOutput> outputs;
   if (!o.csv.empty()) outputs.push_back({"--csv", o.csv, {".csv"}});
   if (!o.heatmap.empty()) {

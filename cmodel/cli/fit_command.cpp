@@ -236,7 +236,7 @@ int run_fit(const FitOptions& o) {
   if (!o.output.empty()) outputs.push_back({"-o", o.output, {".toml"}});
   if (!o.json.empty()) outputs.push_back({"--json", o.json, {".json"}});
   std::vector<PlannedInput> inputs;
-  if (fs::is_regular_file(o.scene)) inputs.push_back({"the scene", o.scene});
+  if (std::error_code ec; fs::is_regular_file(o.scene, ec)) inputs.push_back({"the scene", o.scene});
   check_outputs(outputs, inputs);
   Scene world = resolve_scene(o.scene);
   for (const std::string& w : world.warnings) fmt::print(stderr, "rpu: warning: {}\n", w);

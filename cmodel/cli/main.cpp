@@ -3,6 +3,8 @@
 #include <cctype>
 #include <cstdio>
 #include <exception>
+#include <filesystem>
+#include <new>
 #include <string>
 #include <string_view>
 
@@ -61,6 +63,13 @@ int main(int argc, char** argv) {
     return rpu::cli::run(argc, argv);
   } catch (const rpu::Error& e) {
     std::fprintf(stderr, "rpu: error: %s\n", e.what());
+    return 1;
+  } catch (const std::filesystem::filesystem_error& e) {
+    // A path the user gave that a check before it did not foresee: still theirs, named.
+    std::fprintf(stderr, "rpu: error: %s: %s\n", e.path1().c_str(), e.code().message().c_str());
+    return 1;
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "rpu: error: out of memory: the host refused an allocation (a limit such as ulimit -v?)\n");
     return 1;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "rpu: internal error: %s\n", e.what());

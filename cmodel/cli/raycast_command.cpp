@@ -34,7 +34,7 @@ struct RaycastOptions {
 
 int run_raycast(const RaycastOptions& o) {
   std::vector<PlannedInput> inputs;
-  if (std::filesystem::is_regular_file(o.scene)) inputs.push_back({"the scene", o.scene});
+  if (std::error_code ec; std::filesystem::is_regular_file(o.scene, ec)) inputs.push_back({"the scene", o.scene});
   check_outputs({{"-o", o.output, {".png", ".exr"}}}, inputs);
   const Scene scene = resolve_scene(o.scene);
   for (const std::string& w : scene.warnings) fmt::print(stderr, "rpu: warning: {}\n", w);

@@ -236,7 +236,7 @@ void check_render_outputs(const RenderOptions& o, const device::Backend* backend
     for (const device::BackendOutput& f : backend->outputs()) outputs.push_back({f.option, f.path, f.extensions});
   }
   std::vector<PlannedInput> inputs;
-  if (std::filesystem::is_regular_file(o.scene)) inputs.push_back({"the scene", o.scene});
+  if (std::error_code ec; std::filesystem::is_regular_file(o.scene, ec)) inputs.push_back({"the scene", o.scene});
   for (const auto& f : o.firmware) inputs.push_back({"the firmware", f});
   if (!o.compare.empty()) inputs.push_back({"the --compare image", o.compare});
   check_outputs(outputs, inputs);

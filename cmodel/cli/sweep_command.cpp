@@ -23,6 +23,7 @@
 #include "cli/process.hpp"
 #include "common/csv.hpp"
 #include "common/error.hpp"
+#include "common/input_file.hpp"
 #include "common/output_file.hpp"
 #include "config/config.hpp"
 #include "fp/format.hpp"
@@ -83,10 +84,9 @@ void write_text(const fs::path& file, const std::string& text) {
 }
 
 json read_json(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw Error(fmt::format("{}: cannot read the file", file.string()));
+  const std::string text = read_input_file(file);
   try {
-    return json::parse(in);
+    return json::parse(text);
   } catch (const json::exception& e) {
     throw Error(fmt::format("{}: not JSON: {}", file.string(), e.what()));
   }

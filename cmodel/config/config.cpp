@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <charconv>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <optional>
 #include <sstream>
@@ -14,11 +13,15 @@
 
 #include "common/did_you_mean.hpp"
 #include "common/error.hpp"
+#include "common/input_file.hpp"
 #include "common/hardware_config.hpp"
 #include "fp/format.hpp"
 
 namespace rpu::config {
 namespace {
+
+// A configuration is a few dozen keys; a larger file is not one (and is not read whole).
+constexpr std::uintmax_t kMaxConfigFileBytes = std::uintmax_t{1} << 20;
 
 const spec::ConfigKey* find_key(std::string_view name) {
   for (const spec::ConfigKey& k : spec::kConfigKeys) {
@@ -171,16 +174,12 @@ void read_text(std::string_view text, const std::string& file, Builder& b) {
 
 std::string read_file(const std::string& file) {
   std::error_code ec;
-  if (!std::filesystem::is_regular_file(file, ec)) {
+  if (!std::filesystem::exists(std::filesystem::symlink_status(file, ec))) {
     throw Error(fmt::format("--config {}: no such configuration file, and no named configuration '{}' "
                             "(spec/configs.toml has {}){}",
                             file, file, fmt::join(config_names(), ", "), did_you_mean(file, config_names())));
   }
-  std::ifstream in(file, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (!in && !in.eof()) throw Error(fmt::format("{}: cannot read the file", file));
-  return text.str();
+  return read_input_file(file, "the configuration file", kMaxConfigFileBytes);
 }
 
 void apply_set(const std::string& assignment, Builder& b) {

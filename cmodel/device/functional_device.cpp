@@ -12,6 +12,7 @@
 #include <thread>
 
 #include "common/error.hpp"
+#include "common/host_threads.hpp"
 #include "device/device_base.hpp"
 #include "functional/tracer.hpp"
 
@@ -70,8 +71,8 @@ class FunctionalDevice final : public DeviceBase {
       }
     };
 
-    // Runs on every host thread; nothing may escape it, since an exception leaving a
-    // std::jthread ends the process.
+    // Runs on every host thread; its errors are kept by item, so that the one reported is
+    // the first pixel's whatever the threads' timing.
     const auto worker = [&] {
       try {
         functional::ShaderCore core(firmware_, *memory_, tracer, format_, core_config, options_.fast_path);
@@ -97,11 +98,7 @@ class FunctionalDevice final : public DeviceBase {
     };
     const int n = options_.host_threads > 0 ? options_.host_threads
                                              : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-    {
-      std::vector<std::jthread> pool;
-      for (int i = 1; i < n; ++i) pool.emplace_back(worker);
-      worker();
-    }
+    run_host_threads(n, [&](int) { worker(); });
     double host_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (continues_frame()) {
       total += stats_.shader;

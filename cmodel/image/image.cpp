@@ -12,6 +12,7 @@
 #include <fmt/format.h>
 
 #include "common/error.hpp"
+#include "common/input_file.hpp"
 #include "common/output_file.hpp"
 
 namespace rpu {
@@ -91,6 +92,7 @@ void write_image(const Image& image, const std::filesystem::path& file) {
 }
 
 Image read_image(const std::filesystem::path& file) {
+  check_input_file(file, "the image");
   std::unique_ptr<OIIO::ImageInput> in = OIIO::ImageInput::open(file.string());
   if (!in) throw Error(fmt::format("{}: cannot read image: {}", file.string(), OIIO::geterror()));
   const OIIO::ImageSpec& spec = in->spec();

@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "common/error.hpp"
+#include "common/input_file.hpp"
 #include "common/output_file.hpp"
 #include "memory/image_sections.hpp"
 #include "memory/little_endian.hpp"
@@ -276,10 +277,8 @@ void save_memory_image(const MemoryImage& image, const std::filesystem::path& fi
 }
 
 MemoryImage load_memory_image(const std::filesystem::path& file) {
+  check_input_file(file, "the memory image");
   std::error_code ec;
-  if (!std::filesystem::is_regular_file(file, ec)) {
-    throw Error(fmt::format("{}: not a memory image file (missing or not a regular file)", file.string()));
-  }
   const std::uintmax_t size = std::filesystem::file_size(file, ec);
   if (ec || size > std::numeric_limits<std::uint32_t>::max()) {
     throw Error(fmt::format("{}: cannot read the memory image ({})", file.string(),

@@ -4,8 +4,6 @@
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
-#include <fstream>
-#include <iterator>
 #include <set>
 #include <string>
 #include <utility>
@@ -18,6 +16,7 @@
 #include <fmt/format.h>
 
 #include "common/error.hpp"
+#include "common/input_file.hpp"
 #include "scene/geometry.hpp"
 #include "scene/mesh_check.hpp"
 
@@ -101,11 +100,6 @@ MeshFormat reader_format(const Assimp::Importer& importer, const fs::path& path)
   return MeshFormat::kOther;
 }
 
-std::string read_bytes(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error(fmt::format("{}: cannot open the mesh file", path.string()));
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
 
 // Readers leave faces without indices (an OFF file with fewer face lines than it
 // declares) and indices past the last vertex (corrupt files); post-processing asserts or
@@ -257,9 +251,7 @@ fs::path resolve_mesh_path(std::string_view reference, const fs::path& base_dir)
 }
 
 Scene load_mesh(const fs::path& path, const MeshOptions& options) {
-  if (!fs::is_regular_file(path)) {
-    throw Error(fmt::format("{}: not a mesh file (missing or a directory)", path.string()));
-  }
+  const std::string bytes = read_input_file(path, "the mesh file");
   const glm::dmat3 linear(options.transform);
   if (!std::isfinite(glm::determinant(linear)) || glm::determinant(linear) == 0.0) {
     throw Error(fmt::format("{}: the transform is singular (a zero scale?)", path.string()));
@@ -268,7 +260,7 @@ Scene load_mesh(const fs::path& path, const MeshOptions& options) {
   // Points and lines cannot be hit by a ray: let SortByPType remove them.
   importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE,
                               aiPrimitiveType_POINT | aiPrimitiveType_LINE);
-  check_mesh_bytes(path, reader_format(importer, path), read_bytes(path));
+  check_mesh_bytes(path, reader_format(importer, path), bytes);
   // Read without post-processing first, so that vertex numbers in errors follow the file.
   const aiScene* ai = importer.ReadFile(path.string(), 0);
   if (ai == nullptr) {

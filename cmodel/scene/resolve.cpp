@@ -6,6 +6,7 @@
 #include <fmt/ranges.h>
 
 #include "common/error.hpp"
+#include "common/input_file.hpp"
 #include "scene/mesh.hpp"
 #include "scene/procedural.hpp"
 #include "scene/scene_file.hpp"
@@ -19,7 +20,11 @@ Scene resolve_scene(std::string_view arg) {
   if (arg.starts_with(kMeshCachePrefix)) return load_bare_mesh(resolve_mesh_path(arg, {}));
   if (is_builtin_scene(arg)) return make_builtin_scene(arg);
   const fs::path path(arg);
-  if (fs::is_regular_file(path)) return load_bare_mesh(path);
+  std::error_code ec;
+  if (fs::exists(fs::symlink_status(path, ec))) {
+    check_input_file(path, "the scene");
+    return load_bare_mesh(path);
+  }
   throw Error(fmt::format(
       "{}: no such scene: not a file, nor a built-in scene ({}; a size may follow, as in "
       "balls:4)",

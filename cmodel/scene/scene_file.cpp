@@ -2,12 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <initializer_list>
 #include <numbers>
 #include <optional>
 #include <set>
-#include <sstream>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -19,6 +17,7 @@
 #include <nlohmann/json.hpp>
 
 #include "common/error.hpp"
+#include "common/input_file.hpp"
 #include "scene/mesh.hpp"
 #include "scene/procedural.hpp"
 
@@ -157,49 +156,85 @@ class Reader {
 };
 
 std::string read_text(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error(fmt::format("{}: cannot open the scene file", path.string()));
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
+  return read_input_file(path, "the scene file", kMaxSceneFileBytes);
 }
+
+// nlohmann keeps the last of two equal keys; a scene file with both is ambiguous. A first
+// pass over the file's events (SAX, no document built) finds them, with the JSON pointer
+// that names them, and refuses nesting no scene needs before the document is built: a
+// callback on nlohmann's own parser would do the same in time quadratic in an array's
+// length (its end_object rescans the parent container) and memory that grows with depth.
+class KeyTracker : public nlohmann::json_sax<Json> {
+ public:
+  // A scene file nests 5 deep (/meshes/0/transform/rotate/0); this bounds the first
+  // pass's memory and the document's.
+  static constexpr std::size_t kMaxDepth = 32;
+
+  explicit KeyTracker(const std::string& file) : file_(file) {}
+
+  bool null() override { return value(); }
+  bool boolean(bool) override { return value(); }
+  bool number_integer(number_integer_t) override { return value(); }
+  bool number_unsigned(number_unsigned_t) override { return value(); }
+  bool number_float(number_float_t, const string_t&) override { return value(); }
+  bool string(string_t&) override { return value(); }
+  bool binary(binary_t&) override { return value(); }
+  bool start_object(std::size_t) override { return open(true); }
+  bool start_array(std::size_t) override { return open(false); }
+  bool end_object() override { return close(); }
+  bool end_array() override { return close(); }
+  bool key(string_t& k) override {
+    Frame& f = frames_.back();
+    f.key = k;
+    if (!f.keys.insert(k).second) {
+      throw Error(fmt::format("{}: {}: duplicate key \"{}\" (the keys of an object must be unique)", file_, pointer(),
+                              k));
+    }
+    return true;
+  }
+  // The document parse that follows reports the error with its position.
+  bool parse_error(std::size_t, const std::string&, const nlohmann::detail::exception&) override { return false; }
+
+ private:
+  struct Frame {
+    bool object;
+    std::set<std::string> keys;
+    std::string key;       // object: the key being read
+    std::size_t next = 0;  // array: the index of the next element
+  };
+
+  bool value() {
+    if (!frames_.empty() && !frames_.back().object) ++frames_.back().next;
+    return true;
+  }
+  bool open(bool object) {
+    value();
+    if (frames_.size() == kMaxDepth) {
+      throw Error(fmt::format("{}: {}: nested deeper than {} levels; a scene file needs 5", file_, pointer(), kMaxDepth));
+    }
+    frames_.push_back({object, {}, {}});
+    return true;
+  }
+  bool close() {
+    frames_.pop_back();
+    return true;
+  }
+  std::string pointer() const {
+    std::string out;
+    for (std::size_t i = 0; i + 1 < frames_.size(); ++i) {
+      out += '/';
+      out += frames_[i].object ? escape_pointer_token(frames_[i].key) : std::to_string(frames_[i].next - 1);
+    }
+    return out.empty() ? std::string("/") : out;
+  }
+
+  const std::string& file_;
+  std::vector<Frame> frames_;
+};
 
 // nlohmann reports the byte offset just past the offending character; editors want
 // line:column (both from 1).
 Json parse_json(const std::string& text, const std::string& file) {
-  // nlohmann keeps the last of two equal keys; a scene file with both is ambiguous, so
-  // the parser's events track each object's keys and the JSON pointer to name it.
-  struct Frame {
-    bool object;
-    std::set<std::string> keys;
-    std::string key;         // object: the key being read
-    std::size_t next = 0;    // array: the index of the next element
-  };
-  std::vector<Frame> frames;
-  const auto pointer = [&frames] {
-    std::string out;
-    for (std::size_t i = 0; i + 1 < frames.size(); ++i) {
-      out += '/';
-      out += frames[i].object ? escape_pointer_token(frames[i].key) : std::to_string(frames[i].next - 1);
-    }
-    return out.empty() ? std::string("/") : out;
-  };
-  const auto track = [&](int, Json::parse_event_t event, Json& parsed) {
-    using E = Json::parse_event_t;
-    const bool element_starts = event == E::object_start || event == E::array_start || event == E::value;
-    if (element_starts && !frames.empty() && !frames.back().object) ++frames.back().next;
-    if (event == E::object_start || event == E::array_start) frames.push_back({event == E::object_start, {}, {}});
-    if (event == E::object_end || event == E::array_end) frames.pop_back();
-    if (event == E::key) {
-      Frame& f = frames.back();
-      f.key = parsed.get<std::string>();
-      if (!f.keys.insert(f.key).second) {
-        throw Error(fmt::format("{}: {}: duplicate key \"{}\" (the keys of an object must be unique)", file,
-                                pointer(), f.key));
-      }
-    }
-    return true;
-  };
   // nlohmann stops at a NUL byte and accepts the document before it: bytes after it,
   // a truncated or binary file, would be ignored unseen.
   if (const std::size_t nul = text.find('\0'); nul != std::string::npos) {
@@ -210,7 +245,9 @@ Json parse_json(const std::string& text, const std::string& file) {
                             line, column, nul, text.size()));
   }
   try {
-    return Json::parse(text, track);
+    KeyTracker tracker(file);
+    Json::sax_parse(text, &tracker);
+    return Json::parse(text);
   } catch (const Json::parse_error& e) {
     const std::size_t at = std::min<std::size_t>(e.byte == 0 ? 0 : e.byte - 1, text.size());
     const std::size_t line = 1 + static_cast<std::size_t>(

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <string_view>
@@ -8,6 +9,10 @@
 #include "scene/scene.hpp"
 
 namespace rpu {
+
+// A scene file names its meshes and holds no geometry: one larger than this is refused
+// before it is read, which bounds the memory its parse takes (docs/robustness.md).
+inline constexpr std::uintmax_t kMaxSceneFileBytes = std::uintmax_t{4} << 20;
 
 // Reads a JSON scene file (docs/scene-format.md). Throws rpu::Error naming the file and
 // the line:column (malformed JSON) or the JSON pointer of the offending value.

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
-#include <fstream>
 #include <map>
 #include <string>
 
@@ -11,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "common/error.hpp"
+#include "common/input_file.hpp"
 
 namespace rpu::sweep {
 namespace {
@@ -21,13 +21,14 @@ const nlohmann::json& records() {
   static const nlohmann::json parsed = [] {
     const char* chosen = std::getenv("RPU_AREA_RECORDS");
     const std::string path = chosen != nullptr && *chosen != '\0' ? chosen : RPU_AREA_RECORDS;
-    std::ifstream in(path, std::ios::binary);
-    if (!in) {
-      throw Error(fmt::format("{}: cannot read the synthesis records (bench/results/area.json of a checkout; "
-                              "RPU_AREA_RECORDS names the file)", path));
+    std::string text;
+    try {
+      text = read_input_file(path, "the synthesis records");
+    } catch (const Error& e) {
+      throw Error(fmt::format("{} (bench/results/area.json of a checkout; RPU_AREA_RECORDS names the file)", e.what()));
     }
     try {
-      return nlohmann::json::parse(in).at("records");
+      return nlohmann::json::parse(text).at("records");
     } catch (const nlohmann::json::exception& e) {
       throw Error(fmt::format("{}: not the synthesis records rtl/flow.py area writes ({})", path, e.what()));
     }

@@ -19,6 +19,7 @@ import io
 import json
 import math
 import os
+import stat
 import sys
 
 import doc_blocks
@@ -37,17 +38,56 @@ MARKERS = {"woop": "o", "watertight": "s"}
 IMAGES_PER_ROW = 8
 
 
+class BadInput(Exception):
+    """A file of the sweep directory that is not what rpu sweep writes; the message names it."""
+
+
+def read_object(path, what):
+    """The JSON object in the regular file `path` (rpu sweep writes no NaN or Infinity)."""
+    try:
+        mode = os.stat(path).st_mode
+    except OSError as e:
+        raise BadInput(f"{path}: {what}: {e.strerror}")
+    if not stat.S_ISREG(mode):
+        raise BadInput(f"{path}: {what} is not a regular file; the tools read only regular files")
+
+    def refuse(name):
+        raise ValueError(f"{name} is not a JSON number")
+
+    try:
+        with open(path, encoding="utf-8") as f:
+            value = json.load(f, parse_constant=refuse)
+    except (OSError, UnicodeDecodeError, ValueError) as e:
+        raise BadInput(f"{path}: {what} is not JSON that rpu sweep wrote ({e})")
+    if not isinstance(value, dict):
+        raise BadInput(f"{path}: {what} is a JSON {type(value).__name__}, not an object")
+    return value
+
+
+def field(obj, key, kind, path, what):
+    value = obj.get(key)
+    if not isinstance(value, kind):
+        raise BadInput(f"{path}: {what} has no \"{key}\" of the kind rpu sweep writes")
+    return value
+
+
 def load(directory):
-    with open(os.path.join(directory, "plan.json")) as f:
-        plan = json.load(f)
+    plan_path = os.path.join(directory, "plan.json")
+    plan = read_object(plan_path, "the sweep's plan")
+    points = field(plan, "references", list, plan_path, "the plan") + field(plan, "points", list, plan_path, "the plan")
     records, missing = [], 0
-    for point in plan["references"] + plan["points"]:
+    for point in points:
+        if not isinstance(point, dict) or not isinstance(point.get("id"), str):
+            raise BadInput(f"{plan_path}: a point without an id: {json.dumps(point)[:200]}")
         path = os.path.join(directory, "points", point["id"] + ".json")
-        if not os.path.exists(path):
+        if not os.path.lexists(path):
             missing += 1
             continue
-        with open(path) as f:
-            records.append(json.load(f))
+        record = read_object(path, "the point's record")
+        field(record, "row", dict, path, "the record")
+        if field(record, "point", dict, path, "the record").get("fidelity") not in FIDELITIES:
+            raise BadInput(f"{path}: the record's point has no fidelity of {', '.join(FIDELITIES)}")
+        records.append(record)
     return plan, records, missing
 
 
@@ -457,7 +497,11 @@ def main():
         except doc_blocks.DocBlockError as e:
             print(f"rpu: error: {e}", file=sys.stderr)
             sys.exit(2)
-    plan, records, missing = load(directory)
+    try:
+        plan, records, missing = load(directory)
+    except BadInput as e:
+        print(f"rpu: error: {e}", file=sys.stderr)
+        sys.exit(2)
     rows = [r["row"] for r in records if r["point"]["fidelity"] != "reference"]
     references = [r["row"] for r in records if r["point"]["fidelity"] == "reference"]
     for r in references + rows:

@@ -3,13 +3,11 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
-#include <fstream>
 #include <functional>
 #include <map>
 #include <optional>
 #include <set>
 #include <span>
-#include <sstream>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -17,6 +15,7 @@
 
 #include "common/did_you_mean.hpp"
 #include "common/error.hpp"
+#include "common/input_file.hpp"
 #include "config/config.hpp"
 #include "fp/format.hpp"
 #include "render/selection.hpp"
@@ -124,9 +123,10 @@ std::string format_label(const fp::Format& f) {
 std::string existing_path(const std::string& text, const fs::path& base_dir, const std::string& at,
                           std::string_view what) {
   const fs::path path = fs::path(text).is_absolute() ? fs::path(text) : base_dir / text;
-  std::error_code ec;
-  if (!fs::is_regular_file(path, ec)) {
-    throw Error(fmt::format("{}: {} '{}': no such file ({})", at, what, text, path.string()));
+  try {
+    check_input_file(path);
+  } catch (const Error& e) {
+    throw Error(fmt::format("{}: {} '{}': {}", at, what, text, e.what()));
   }
   return fs::absolute(path).lexically_normal().string();
 }
@@ -448,13 +448,8 @@ Spec parse_spec(std::string_view text, const std::string& source, const fs::path
 }
 
 Spec read_spec(const fs::path& file) {
-  std::error_code ec;
-  if (!fs::is_regular_file(file, ec)) throw Error(fmt::format("{}: no such sweep file", file.string()));
-  std::ifstream in(file, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (!in && !in.eof()) throw Error(fmt::format("{}: cannot read the file", file.string()));
-  return parse_spec(text.str(), file.string(), fs::absolute(file).parent_path());
+  return parse_spec(read_input_file(file, "the sweep file", std::uintmax_t{1} << 20), file.string(),
+                    fs::absolute(file).parent_path());
 }
 
 }  // namespace rpu::sweep

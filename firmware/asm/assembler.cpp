@@ -5,9 +5,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
-#include <fstream>
 #include <map>
-#include <sstream>
 #include <string_view>
 #include <tuple>
 
@@ -17,6 +15,7 @@
 #include "asm/lexer.hpp"
 #include "common/did_you_mean.hpp"
 #include "common/error.hpp"
+#include "common/input_file.hpp"
 #include "isa/instruction.hpp"
 #include "rpu/spec.hpp"
 
@@ -1014,13 +1013,8 @@ class Assembler final : public assembler::SymbolValues {
 
 std::optional<std::string> read_source_file(const std::filesystem::path& file) {
   std::error_code ec;
-  if (!std::filesystem::is_regular_file(file, ec)) return std::nullopt;
-  std::ifstream in(file, std::ios::binary);
-  if (!in) return std::nullopt;
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) return std::nullopt;
-  return text.str();
+  if (!std::filesystem::exists(std::filesystem::symlink_status(file, ec))) return std::nullopt;
+  return read_input_file(file, "the assembly source");
 }
 
 Assembly assemble_with_listing(const std::filesystem::path& file, const SourceLoader& load) {

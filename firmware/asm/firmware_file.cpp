@@ -1,13 +1,13 @@
 #include "asm/firmware_file.hpp"
 
 #include <fstream>
-#include <iterator>
 
 #include <fmt/format.h>
 
 #include "asm/assembler.hpp"
 #include "asm/lexer.hpp"
 #include "common/error.hpp"
+#include "common/input_file.hpp"
 #include "common/output_file.hpp"
 #include "rpu/spec.hpp"
 
@@ -184,11 +184,8 @@ void save_firmware(const Firmware& firmware, const std::filesystem::path& file) 
 namespace {
 
 std::vector<std::uint8_t> read_firmware_bytes(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw Error(fmt::format("{}: cannot open the firmware file", file.string()));
-  const std::vector<std::uint8_t> bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-  if (in.bad()) throw Error(fmt::format("{}: cannot read the firmware file", file.string()));
-  return bytes;
+  const std::string bytes = read_input_file(file, "the firmware file");
+  return {bytes.begin(), bytes.end()};
 }
 
 }  // namespace
@@ -198,6 +195,7 @@ Firmware load_firmware(const std::filesystem::path& file) {
 }
 
 Firmware load_firmware_or_assemble(const std::filesystem::path& file) {
+  check_input_file(file, "the firmware");
   std::ifstream in(file, std::ios::binary);
   std::uint8_t head[4] = {};
   in.read(reinterpret_cast<char*>(head), sizeof head);

@@ -2,10 +2,7 @@
 
 #include <cstdlib>
 #include <algorithm>
-#include <fstream>
-#include <iterator>
 #include <set>
-#include <sstream>
 
 #include <fmt/format.h>
 
@@ -19,6 +16,7 @@
 #include "cc/regalloc.hpp"
 #include "cc/spirv_module.hpp"
 #include "common/error.hpp"
+#include "common/input_file.hpp"
 #include "rpu/version.hpp"
 
 namespace rpu::cc {
@@ -40,11 +38,7 @@ void check_stem(const fs::path& file) {
 }
 
 std::string read_text(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw Error(fmt::format("{}: cannot read the shader", file.string()));
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
+  return read_input_file(file, "the shader");
 }
 
 }  // namespace

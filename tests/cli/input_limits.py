@@ -1,0 +1,62 @@
+#!/usr/bin/env python3
+"""Inputs that would take the host's memory or time, and a host that refuses threads.
+
+    input_limits.py RPU
+
+Each must end in `rpu: error: ...` naming the input, exit status 1, within a minute and
+never as an internal error (docs/robustness.md, "Files the tools read" and "Host
+resources"): a scene file over its size limit, one nested deeper than any scene, one
+of a million empty objects (nlohmann's callback parser took hours on it), and --threads
+1000 under a limit on the address space.
+"""
+import os
+import re
+import resource
+import subprocess
+import sys
+import tempfile
+
+rpu = sys.argv[1]
+tmp = tempfile.mkdtemp(prefix="rpu-limits-")
+failures = []
+MiB = 1 << 20
+
+
+def run(argv, expect, label, limit_address_space=None):
+    def limit():
+        if limit_address_space:
+            resource.setrlimit(resource.RLIMIT_AS, (limit_address_space, limit_address_space))
+    try:
+        r = subprocess.run(argv, capture_output=True, text=True, timeout=60, preexec_fn=limit)
+    except subprocess.TimeoutExpired:
+        failures.append(f"{label}: still running after 60 s")
+        return
+    if r.returncode != 1 or not re.search(expect, r.stderr) or "internal error" in r.stderr:
+        failures.append(f"{label}: exit {r.returncode}, stderr {r.stderr.strip()[:300]!r}; expected exit 1 and /{expect}/")
+
+
+def scene(name, text):
+    path = os.path.join(tmp, name)
+    with open(path, "w") as f:
+        f.write(text)
+    return path
+
+
+out = os.path.join(tmp, "never.png")
+big = scene("big.json", '{"comment": "' + "a" * (4 * MiB) + '"}')
+run([rpu, "render", big, "-o", out], f"the scene file {re.escape(big)}: {4 * MiB + 15} bytes, more than the {4 * MiB}",
+    "a scene file over 4 MiB")
+deep = scene("deep.json", "[" * (4 * MiB - 64))
+run([rpu, "render", deep, "-o", out], f"{re.escape(deep)}: /0/0/.*: nested deeper than 32 levels", "4 MiB of [")
+objects = scene("objects.json", '{"meshes": [' + "{}," * ((4 * MiB - 32) // 3) + "{}]}")
+run([rpu, "render", objects, "-o", out], f"{re.escape(objects)}: /meshes/0", "a million empty objects")
+run([rpu, "render", "tetra:1", "--backend", "functional", "--threads", "1000", "--width", "8", "--height", "8",
+     "-o", out], "cannot start 1000 host threads: the host started [0-9]+ \\(Resource temporarily unavailable\\)",
+    "--threads 1000 in 2 GiB of address space", limit_address_space=2 << 30)
+
+if failures:
+    print(f"{len(failures)} of the inputs are not refused as they should be:")
+    for f in failures:
+        print("  " + f)
+    sys.exit(1)
+print("ok: 4 inputs refused within a minute, each named")
