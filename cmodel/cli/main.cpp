@@ -11,6 +11,7 @@
 #include <CLI/CLI.hpp>
 
 #include "cli/commands.hpp"
+#include "cli/output_paths.hpp"
 #include "common/error.hpp"
 
 namespace rpu::cli {
@@ -27,7 +28,10 @@ int run(int argc, char** argv) {
                               add_fit_command(app)};
   CLI11_PARSE(app, argc, argv);
   for (const Command& command : commands) {
-    if (command.subcommand->parsed()) return command.run();
+    if (command.subcommand->parsed()) {
+      note_command_line_files(*command.subcommand);
+      return command.run();
+    }
   }
   return 1;
 }
