@@ -46,10 +46,23 @@ void remove_live_temporaries() {
   }
 }
 
+// The first fatal signal removes the temporaries; one that arrives meanwhile, on another
+// thread (a library's worker), waits until they are gone instead of ending the process
+// half way. Either way the process then dies of its signal (status 128 + sig): the
+// default action restored, the signal raised on this thread, where the handler's mask
+// blocks it until the handler returns.
+std::atomic<bool> cleaning{false};
+std::atomic<bool> cleaned{false};
+static_assert(std::atomic<bool>::is_always_lock_free, "a signal handler may use only lock-free atomics");
+
 void on_fatal_signal(int sig) {
-  remove_live_temporaries();
-  // SA_RESETHAND restored the default action, and the signal is blocked while this
-  // runs: the process dies of it (status 128 + sig) once the handler returns.
+  if (!cleaning.exchange(true)) {
+    remove_live_temporaries();
+    cleaned.store(true);
+  }
+  while (!cleaned.load()) {
+  }
+  ::signal(sig, SIG_DFL);
   ::raise(sig);
 }
 
@@ -79,7 +92,11 @@ void on_sigbus(int) {
   if (any) ::_exit(2);
 }
 
-void install(int sig, void (*handler)(int)) {
+constexpr int kFatalSignals[] = {SIGINT, SIGTERM, SIGHUP};
+
+// `reset`: the default action comes back when the handler runs (SIGBUS, which must not
+// loop). The fatal signals' handler blocks all three on its thread while it runs.
+void install(int sig, void (*handler)(int), bool reset) {
   struct sigaction old {};
   ::sigaction(sig, nullptr, &old);
   // An ignored signal (nohup) or the program's own handler is left alone.
@@ -87,14 +104,15 @@ void install(int sig, void (*handler)(int)) {
   struct sigaction sa {};
   sa.sa_handler = handler;
   sigemptyset(&sa.sa_mask);
-  sa.sa_flags = SA_RESETHAND;
+  for (int fatal : kFatalSignals) sigaddset(&sa.sa_mask, fatal);
+  sa.sa_flags = reset ? SA_RESETHAND : 0;
   ::sigaction(sig, &sa, nullptr);
 }
 
 void install_signal_handlers() {
   static std::once_flag once;
   std::call_once(once, [] {
-    for (int sig : {SIGINT, SIGTERM, SIGHUP}) install(sig, on_fatal_signal);
+    for (int sig : kFatalSignals) install(sig, on_fatal_signal, false);
     struct sigaction old {};
     ::sigaction(SIGXFSZ, nullptr, &old);
     if (!(old.sa_flags & SA_SIGINFO) && old.sa_handler == SIG_DFL) ::signal(SIGXFSZ, SIG_IGN);
@@ -210,23 +228,22 @@ OutputFile::OutputFile(fs::path target) : target_(std::move(target)) {
   const fs::path real = resolved(target_);
   std::error_code ec;
   replaces_ = fs::exists(real, ec);
-  // Hidden, named after the target, and ending in its extension.
+  // Hidden, named after the target, and ending in its extension. The signal handlers
+  // know the name before the file exists, so no signal can leave it behind.
   for (int attempt = 0; fd_ < 0; ++attempt) {
     temp_ = directory_of(real) /
             fmt::format(".{}.{}{}", real.filename().string(), random_tag(), real.extension().string());
+    slot_ = claim_slot(temp_, target_);
     // 0666 less the umask, as a file the tool created directly would have.
     fd_ = ::open(temp_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
     const int error = errno;
-    if (fd_ < 0 && (error != EEXIST || attempt == 100)) {
-      throw Error(fmt::format("{}: cannot create a temporary file beside it: {}", target_.string(),
-                              std::strerror(error)));
+    if (fd_ < 0) {
+      free_slot();
+      if (error != EEXIST || attempt == 100) {
+        throw Error(fmt::format("{}: cannot create a temporary file beside it: {}", target_.string(),
+                                std::strerror(error)));
+      }
     }
-  }
-  try {
-    slot_ = claim_slot(temp_, target_);
-  } catch (...) {
-    release();
-    throw;
   }
 }
 
@@ -237,6 +254,10 @@ void OutputFile::release() {
   fd_ = -1;
   if (!committed_) ::unlink(temp_.c_str());
   if (!sidecar_.empty()) ::unlink(sidecar_.c_str());
+  free_slot();
+}
+
+void OutputFile::free_slot() {
   if (slot_ >= 0) {
     const std::lock_guard lock(slots_mutex);
     slots[static_cast<std::size_t>(slot_)].live.store(false, std::memory_order_release);
@@ -311,7 +332,7 @@ void OutputFile::commit() {
 
 void report_sigbus_as_write_failure(const char* program) {
   sigbus_program = program;
-  install(SIGBUS, on_sigbus);
+  install(SIGBUS, on_sigbus, true);
 }
 
 }  // namespace rpu

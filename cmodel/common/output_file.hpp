@@ -49,6 +49,8 @@ class OutputFile {
  private:
   class Buffer;
   void release();
+  // The signal handlers forget the temporary.
+  void free_slot();
 
   std::filesystem::path target_, temp_, sidecar_;
   bool replaces_ = false;  // the target exists: messages say it is unchanged
