@@ -1,11 +1,16 @@
 // rpu sweep: a sweep file expanded into points, each one `rpu render` run measured
 // against its reference, run here with a job limit or handed to GNU parallel or Slurm;
 // rpu sweep-point: one point, the line every job list holds (docs/sweeps.md).
+#include <fcntl.h>
+#include <sys/file.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <chrono>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -92,6 +97,50 @@ json read_json(const fs::path& file) {
   }
 }
 
+// An flock(2) on a file, held until destruction: the kernel releases it when the
+// process ends however it ends, so a killed run never leaves a directory locked. The
+// holder writes its pid into the file, for the message of the one that waits or is
+// refused.
+class FileLock {
+ public:
+  enum class Wait { kNo, kYes };
+  // Takes the lock, waiting for it or not; false when another process holds it.
+  FileLock(const fs::path& file, Wait wait) : file_(file) {
+    fd_ = ::open(file.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0666);
+    if (fd_ < 0) throw Error(fmt::format("{}: cannot create the lock file: {}", file.string(), std::strerror(errno)));
+    int r;
+    while ((r = ::flock(fd_, LOCK_EX | (wait == Wait::kNo ? LOCK_NB : 0))) != 0 && errno == EINTR) {
+    }
+    if (r != 0) {
+      if (errno != EWOULDBLOCK) {
+        throw Error(fmt::format("{}: cannot lock: {}", file.string(), std::strerror(errno)));
+      }
+      holder_ = read_input_file(file);
+      ::close(fd_);
+      fd_ = -1;
+      return;
+    }
+    const std::string pid = std::to_string(::getpid());
+    if (::ftruncate(fd_, 0) != 0 || ::pwrite(fd_, pid.data(), pid.size(), 0) != static_cast<ssize_t>(pid.size())) {
+      // The lock holds without the pid; only messages would miss it.
+    }
+  }
+  ~FileLock() {
+    if (fd_ >= 0) ::close(fd_);
+  }
+  FileLock(const FileLock&) = delete;
+  FileLock& operator=(const FileLock&) = delete;
+
+  bool held() const { return fd_ >= 0; }
+  // Another holder's pid, as it wrote it ("" if it had not yet).
+  const std::string& holder() const { return holder_; }
+
+ private:
+  fs::path file_;
+  int fd_ = -1;
+  std::string holder_;
+};
+
 // The sweep directory's files.
 struct Layout {
   fs::path dir;
@@ -102,6 +151,9 @@ struct Layout {
     return dir / "images" / fmt::format("{}{}", id, ext);
   }
   fs::path log(const std::string& id) const { return dir / "logs" / (id + ".log"); }
+  // Held by rpu sweep while it plans and runs; by rpu sweep-point while it runs a point.
+  fs::path sweep_lock() const { return dir / ".rpu-sweep.lock"; }
+  fs::path point_lock(const std::string& id) const { return dir / "logs" / (id + ".lock"); }
 };
 
 // A point is done when its record exists and is its own: records are written whole
@@ -200,6 +252,9 @@ int run_sweep_point(const PointOptions& o) {
   }
   if (!found) throw Error(fmt::format("{}: no point '{}' in the sweep", layout.plan().string(), o.id));
   const sweep::Point& p = *found;
+  // Two runs of one point (a job list run twice, rpu sweep beside run-parallel.sh)
+  // take turns: the second waits, then finds the point done.
+  const FileLock lock(layout.point_lock(p.id), FileLock::Wait::kYes);
   if (done(layout, p.id)) {
     fmt::print("{}: done already\n", p.id);
     return 0;
@@ -442,6 +497,14 @@ int run_sweep(const SweepOptions& o) {
     std::error_code ec;
     fs::create_directories(layout.dir / sub, ec);
     if (ec) throw Error(fmt::format("-o {}: cannot create {}: {}", o.dir.string(), (layout.dir / sub).string(), ec.message()));
+  }
+  // One rpu sweep a directory: a second would rewrite the plan and the table under the
+  // first. Refused at once; the job lists' sweep-point runs may go on beside it.
+  const FileLock lock(layout.sweep_lock(), FileLock::Wait::kNo);
+  if (!lock.held()) {
+    throw Error(fmt::format("-o {}: another rpu sweep{} is running on this directory; wait for it to end, or give "
+                            "another directory",
+                            o.dir.string(), lock.holder().empty() ? "" : fmt::format(" (pid {})", lock.holder())));
   }
   json plan = {{"sweep", spec.name},         {"spec", fs::absolute(o.spec).string()},
                {"leak_rays", spec.leak_rays}, {"extreme_rays", spec.extreme_rays}, {"hit_check", spec.hit_check},
