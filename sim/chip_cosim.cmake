@@ -174,8 +174,18 @@ if(rpu_chip_cases)
                    --stderr "rpu: error: --waves records one launch and --select 2 renders the frame in two"
                    -- $<TARGET_FILE:rpu> render cornell --backend rtl --config ${config} --select 2
                    --waves ${out}/never.fst -o ${out}/never.png)
+  add_test(NAME cli.rtl_backend_wave_window_needs_the_waves
+           COMMAND Python3::Interpreter ${cli} --status 1
+                   --stderr "rpu: error: --wave-window needs --waves: it chooses the cycles --waves records"
+                   -- $<TARGET_FILE:rpu> render tetra:1 --backend rtl --config ${config} --wave-window 0 100
+                   -o ${out}/never.png)
+  add_test(NAME cli.rtl_backend_wave_window_must_not_be_empty
+           COMMAND Python3::Interpreter ${cli} --status 1 --stderr "rpu: error: --wave-window 100 10: the window is empty"
+                   -- $<TARGET_FILE:rpu> render tetra:1 --backend rtl --config ${config} --waves ${out}/never.fst
+                   --wave-window 100 10 -o ${out}/never.png)
   set_tests_properties(cli.rtl_backend_refuses_a_changed_configuration cli.rtl_backend_refuses_a_chip_not_built
                        cli.rtl_backend_waves_must_be_fst cli.rtl_backend_waves_refuse_a_selection
+                       cli.rtl_backend_wave_window_needs_the_waves cli.rtl_backend_wave_window_must_not_be_empty
                        PROPERTIES LABELS unit)
   # A chip the ci tier built without waveforms (rpu_cosim_ci_waves) refuses --waves,
   # naming the file and the tier.

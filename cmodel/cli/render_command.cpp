@@ -22,6 +22,7 @@
 #include "cli/output_paths.hpp"
 #include "cli/progress.hpp"
 #include "common/stats_tree.hpp"
+#include "common/whole_number.hpp"
 #include "config/config.hpp"
 #include "device/registry.hpp"
 #include "functional/scene_image.hpp"
@@ -418,13 +419,7 @@ Command add_render_command(CLI::App& app) {
   render_cmd->add_option("--watchdog", render->watchdog,
                          "device backends: instructions one thread may retire for one pixel before it "
                          "faults")
-      ->check(CLI::Validator(
-          [](const std::string& text) {
-            return text.find_first_not_of("0123456789") == std::string::npos && text.find_first_not_of('0') != std::string::npos
-                       ? std::string()
-                       : fmt::format("the watchdog must be a whole number of instructions >= 1, got {}", text);
-          },
-          "INSTRUCTIONS>=1"))
+      ->check(whole_number("the watchdog (instructions)", 1))
       ->capture_default_str();
   render_cmd->add_option("--compare", render->compare,
                          "Measure the image against this linear .exr of the same size (e.g. the reference "

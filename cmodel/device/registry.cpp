@@ -10,6 +10,7 @@
 #include <fmt/ranges.h>
 
 #include "common/error.hpp"
+#include "common/whole_number.hpp"
 #include "cycle/cycle_device.hpp"
 #include "image/image.hpp"
 #ifdef RPU_HAVE_RTL
@@ -24,6 +25,31 @@ std::vector<BackendOutput> Backend::outputs() const { return {}; }
 void Backend::finish(const DeviceStats&) {}
 
 namespace {
+
+// A cycle window [BEGIN, END) of a backend's recording: two whole numbers below 2^64
+// (CLI11 alone turns 2^64 into 2^64 - 1 without a word), read only with its recording.
+CLI::Option* add_window_option(CLI::App& command, const std::string& name, std::vector<std::uint64_t>& window,
+                               const std::string& help) {
+  return command.add_option(name, window, help)->expected(2)->check(whole_number(name, 0));
+}
+
+void check_window(const std::string& name, const std::vector<std::uint64_t>& window, const std::string& recording,
+                  bool recorded, bool given) {
+  if (given && !recorded) throw Error(fmt::format("{} needs {}: it chooses the cycles {} records", name, recording, recording));
+  if (window[0] >= window[1]) throw Error(fmt::format("{} {} {}: the window is empty", name, window[0], window[1]));
+}
+
+// A window that begins after the frame's last cycle recorded nothing.
+void warn_past_the_end(const std::string& name, const std::vector<std::uint64_t>& window, const std::string& file,
+                       const StatsTree& report) {
+  const StatsTree* cycles = report.find("cycles");
+  if (cycles == nullptr) return;
+  const std::uint64_t* last = std::get_if<std::uint64_t>(&cycles->value());
+  if (last != nullptr && window[0] >= *last) {
+    fmt::print(stderr, "rpu: warning: {} {} {}: the frame ended at cycle {}, so {} holds no cycles\n", name, window[0],
+               window[1], *last, file);
+  }
+}
 
 // The golden model (functional_device.cpp): no options of its own.
 class FunctionalBackend final : public Backend {
@@ -62,13 +88,12 @@ class CycleBackend final : public Backend {
                        "cycle backend: per-pixel cycle cost, .png (false colour) and/or .exr (cycles, linear)");
     command.add_option("--trace", trace_,
                        "cycle backend: timeline of the units in Chrome/Perfetto trace JSON (1 us shown = 1 cycle)");
-    command.add_option("--trace-window", window_, "cycle backend: the timeline's cycles [BEGIN, END)")
-        ->expected(2)
-        ->capture_default_str();
+    window_option_ = add_window_option(command, "--trace-window", window_, "cycle backend: the timeline's cycles [BEGIN, END)");
+    window_option_->capture_default_str();
   }
 
   void check(const RenderSettings&, std::string_view) const override {
-    if (window_[0] >= window_[1]) throw Error(fmt::format("--trace-window {} {}: the window is empty", window_[0], window_[1]));
+    check_window("--trace-window", window_, "--trace", !trace_.empty(), window_option_->count() != 0);
   }
 
   std::vector<BackendOutput> outputs() const override {
@@ -97,6 +122,7 @@ class CycleBackend final : public Backend {
     fmt::print(stderr, "{}", cycle::summarize(stats.report));
     for (const std::filesystem::path& f : heatmap_) write_cycle_heatmap(frame_.value(), f);
     if (!timeline_) return;
+    warn_past_the_end("--trace-window", window_, trace_.string(), stats.report);
     timeline_->finish(frame_.value());
     if (frame_->timeline_cut_at) {
       fmt::print(stderr, "rpu: warning: --trace {}: {}; start --trace-window at {} to see the rest\n", trace_.string(),
@@ -108,6 +134,7 @@ class CycleBackend final : public Backend {
   std::vector<std::filesystem::path> heatmap_;  // .png false colour / .exr linear cycles
   std::filesystem::path trace_;                 // Chrome trace JSON
   std::vector<std::uint64_t> window_{0, 200'000};
+  CLI::Option* window_option_ = nullptr;
   std::optional<cycle::TimelineWriter> timeline_;
   std::optional<cycle::CycleStats> frame_;
 };
@@ -120,12 +147,13 @@ class RtlBackend final : public Backend {
 
   void add_options(CLI::App& command) override {
     command.add_option("--waves", waves_, "rtl backend: FST waveforms of the chip (GTKWave, Surfer)");
-    command.add_option("--wave-window", window_, "rtl backend: the waveforms' cycles [BEGIN, END)")->expected(2);
+    window_option_ = add_window_option(command, "--wave-window", window_, "rtl backend: the waveforms' cycles [BEGIN, END)");
     command.add_flag("--lockstep", lockstep_,
                      "rtl backend: compare every core with the functional model, instruction by instruction");
   }
 
   void check(const RenderSettings& settings, std::string_view select) const override {
+    check_window("--wave-window", window_, "--waves", !waves_.empty(), window_option_->count() != 0);
     if (!waves_.empty() && settings.select.enabled()) {
       throw Error(fmt::format("--waves records one launch and --select {} renders the frame in two; record "
                               "without --select",
@@ -150,11 +178,15 @@ class RtlBackend final : public Backend {
     return sim::make_rtl_device(config, format, o);
   }
 
-  void finish(const DeviceStats& stats) override { fmt::print(stderr, "{}", cycle::summarize(stats.report)); }
+  void finish(const DeviceStats& stats) override {
+    fmt::print(stderr, "{}", cycle::summarize(stats.report));
+    if (!waves_.empty()) warn_past_the_end("--wave-window", window_, waves_.string(), stats.report);
+  }
 
  private:
   std::filesystem::path waves_;  // FST
   std::vector<std::uint64_t> window_{0, ~std::uint64_t{0}};
+  CLI::Option* window_option_ = nullptr;
   bool lockstep_ = false;
 };
 #endif
