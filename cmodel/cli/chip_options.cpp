@@ -25,9 +25,9 @@ KdBuildConfig ChipOptions::build_config() const {
 
 const spec::HardwareConfig& ChipOptions::hardware_config() const {
   if (!resolved_) {
-    std::vector<std::string> all = sets;
-    if (!format.empty()) all.push_back("format=" + format);
-    resolved_ = config::resolve(config, all);
+    std::vector<config::Change> all = config::set_options(sets);
+    if (!format.empty()) all.push_back({"format=" + format, "--format " + format});
+    resolved_ = config::resolve_changed(config, all);
   }
   return *resolved_;
 }

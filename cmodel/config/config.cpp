@@ -182,8 +182,9 @@ std::string read_file(const std::string& file) {
   return read_input_file(file, "the configuration file", kMaxConfigFileBytes);
 }
 
-void apply_set(const std::string& assignment, Builder& b) {
-  const std::string where = "--set " + assignment;
+void apply_set(const Change& change, Builder& b) {
+  const std::string& assignment = change.assignment;
+  const std::string& where = change.option;
   const std::size_t eq = assignment.find('=');
   if (eq == std::string::npos || eq == 0) throw Error(fmt::format("{}: expected key=value", where));
   const std::string name = assignment.substr(0, eq), text = assignment.substr(eq + 1);
@@ -227,8 +228,15 @@ std::string value_text(const Entry& e) {
 }
 
 // The sets, then the latencies of the format, the derived values and the rules.
-spec::HardwareConfig finish(Builder& b, const std::vector<std::string>& sets) {
-  for (const std::string& s : sets) apply_set(s, b);
+spec::HardwareConfig finish(Builder& b, const std::vector<Change>& changes) {
+  for (const Change& c : changes) apply_set(c, b);
+  // What was changed stays with the configuration (`rpu config show`, --stats), so a
+  // changed one never reads as the file or the named configuration it started from.
+  if (!changes.empty()) {
+    std::vector<std::string> options;
+    for (const Change& c : changes) options.push_back(c.option);
+    b.config.doc = fmt::format("{}; changed by {}", b.config.doc, fmt::join(options, ", "));
+  }
 
   spec::HardwareConfig& c = b.config;
   const int fraction_bits = fp::format_by_name(c.format).fraction_bits;
@@ -262,22 +270,33 @@ spec::HardwareConfig finish(Builder& b, const std::vector<std::string>& sets) {
 
 }  // namespace
 
+std::vector<Change> set_options(const std::vector<std::string>& sets) {
+  std::vector<Change> out;
+  for (const std::string& s : sets) out.push_back({s, "--set " + s});
+  return out;
+}
+
 spec::HardwareConfig resolve(std::string_view name_or_file, const std::vector<std::string>& sets) {
+  return resolve_changed(name_or_file, set_options(sets));
+}
+
+spec::HardwareConfig resolve_changed(std::string_view name_or_file, const std::vector<Change>& changes) {
   const auto named = std::find_if(spec::kConfigs.begin(), spec::kConfigs.end(),
                                   [&](const spec::HardwareConfig& c) { return c.name == name_or_file; });
+  Builder b;
   if (named == spec::kConfigs.end()) {
     const std::string file(name_or_file);
-    return parse(read_file(file), file, sets);
+    read_text(read_file(file), file, b);
+  } else {
+    b.set_from(*named, fmt::format("config '{}'", named->name));
   }
-  Builder b;
-  b.set_from(*named, fmt::format("config '{}'", named->name));
-  return finish(b, sets);
+  return finish(b, changes);
 }
 
 spec::HardwareConfig parse(std::string_view toml_text, const std::string& source, const std::vector<std::string>& sets) {
   Builder b;
   read_text(toml_text, source, b);
-  return finish(b, sets);
+  return finish(b, set_options(sets));
 }
 
 std::vector<Entry> entries(const spec::HardwareConfig& c) {

@@ -21,6 +21,16 @@ namespace rpu::config {
 // out of range or not a power of two where one is needed, and a broken rule.
 spec::HardwareConfig resolve(std::string_view name_or_file, const std::vector<std::string>& sets = {});
 
+// One key changed ("key=value") and the option that changed it, as messages name it
+// ("--set key=value", "--format E5M10").
+struct Change {
+  std::string assignment;
+  std::string option;
+};
+// The same with each change's own option; `sets` above are each "--set key=value".
+spec::HardwareConfig resolve_changed(std::string_view name_or_file, const std::vector<Change>& changes);
+std::vector<Change> set_options(const std::vector<std::string>& sets);
+
 // The same for the text of a configuration file; `source` names it in messages.
 spec::HardwareConfig parse(std::string_view toml_text, const std::string& source,
                            const std::vector<std::string>& sets = {});
