@@ -60,7 +60,7 @@ std::string not_a_choice(std::string_view name) {
 std::string unknown_key(std::string_view name) {
   const std::string why = not_a_choice(name);
   if (!why.empty()) return why;
-  return fmt::format("unknown key '{}'{}", name, did_you_mean(name, key_names()));
+  return fmt::format("unknown key '{}'{}", quote_input(name), did_you_mean(name, key_names()));
 }
 
 // The configuration being built, and where each value came from (for messages).
@@ -184,7 +184,7 @@ std::string read_file(const std::string& file) {
 
 void apply_set(const Change& change, Builder& b) {
   const std::string& assignment = change.assignment;
-  const std::string& where = change.option;
+  const std::string where = quote_input(change.option);
   const std::size_t eq = assignment.find('=');
   if (eq == std::string::npos || eq == 0) throw Error(fmt::format("{}: expected key=value", where));
   const std::string name = assignment.substr(0, eq), text = assignment.substr(eq + 1);

@@ -47,7 +47,8 @@ std::string escape_pointer_token(std::string_view key) {
       out += c;
     }
   }
-  return out;
+  // Pointers are for messages: a huge key is quoted in part (quote_input).
+  return quote_input(out);
 }
 
 std::string describe(const Json& j) {
@@ -81,7 +82,7 @@ class Reader {
     for (const auto& [key, value] : n->items()) {
       if (std::find(allowed.begin(), allowed.end(), key) == allowed.end()) {
         fail(child_node(n, key),
-             fmt::format("unknown key \"{}\" (expected one of: {})", key, fmt::join(allowed, ", ")));
+             fmt::format("unknown key \"{}\" (expected one of: {})", quote_input(key), fmt::join(allowed, ", ")));
       }
     }
   }
@@ -188,7 +189,7 @@ class KeyTracker : public nlohmann::json_sax<Json> {
     f.key = k;
     if (!f.keys.insert(k).second) {
       throw Error(fmt::format("{}: {}: duplicate key \"{}\" (the keys of an object must be unique)", file_, pointer(),
-                              k));
+                              quote_input(k)));
     }
     return true;
   }

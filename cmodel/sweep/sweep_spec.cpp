@@ -51,7 +51,7 @@ void check_keys(const toml::table& table, std::span<const std::string_view> know
                 std::string_view context) {
   for (const auto& [key, node] : table) {
     if (std::find(known.begin(), known.end(), key.str()) != known.end()) continue;
-    throw Error(fmt::format("{}: unknown key '{}'{} (known: {}){}", where(source, node), key.str(), context,
+    throw Error(fmt::format("{}: unknown key '{}'{} (known: {}){}", where(source, node), quote_input(key.str()), context,
                             fmt::join(known, ", "), did_you_mean(key.str(), names_of(known))));
   }
 }

@@ -51,7 +51,9 @@ std::size_t number_length(std::string_view s) {
 
 std::string printable(std::string_view text) {
   std::string out;
-  for (const char c : text) {
+  // A message quotes at most 64 bytes of a token (quote_input).
+  constexpr std::size_t kShown = 64;
+  for (const char c : text.substr(0, kShown)) {
     const auto u = static_cast<unsigned char>(c);
     if (u >= 0x20 && u < 0x7f) {
       out += c;
@@ -59,6 +61,7 @@ std::string printable(std::string_view text) {
       out += fmt::format("\\x{:02x}", u);
     }
   }
+  if (text.size() > kShown) out += fmt::format("... ({} bytes)", text.size());
   return out;
 }
 

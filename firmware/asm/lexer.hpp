@@ -35,7 +35,8 @@ std::vector<Token> lex_line(std::string_view line, LexError& error);
 // How a token reads in "found X, expected Y" messages: 'mov', end of line, ...
 std::string describe(const Token& token);
 
-// Printable form of arbitrary bytes for error messages (fuzzed sources hold any byte).
+// Printable form of arbitrary bytes for error messages (fuzzed sources hold any byte),
+// at most 64 of them and the length.
 std::string printable(std::string_view text);
 
 bool is_ident_start(char c);

@@ -7,7 +7,8 @@ Each must end in `rpu: error: ...` naming the input, exit status 1, within a min
 never as an internal error (docs/robustness.md, "Files the tools read" and "Host
 resources"): a scene file over its size limit, one nested deeper than any scene, one
 of a million empty objects (nlohmann's callback parser took hours on it), and --threads
-1000 under a limit on the address space.
+1000 under a limit on the address space; and a megabyte key in every kind of file that
+names keys, which the message quotes in part.
 """
 import os
 import re
@@ -54,9 +55,25 @@ run([rpu, "render", "tetra:1", "--backend", "functional", "--threads", "1000", "
      "-o", out], "cannot start 1000 host threads: the host started [0-9]+ \\(Resource temporarily unavailable\\)",
     "--threads 1000 in 2 GiB of address space", limit_address_space=2 << 30)
 
+# A key of 10^6 bytes (100 kB on the command line, which takes at most 128 kB an argument) in
+# every kind of file that names keys or tokens: the message quotes 64 bytes of it.
+key = "k" * 1_000_000
+quoted = [
+    ("scene key", [rpu, "render", scene("key.json", '{"%s": 1}' % key), "-o", out]),
+    ("scene duplicate key", [rpu, "render", scene("dup.json", '{"%s": 1, "%s": 2}' % (key, key)), "-o", out]),
+    ("sweep key", [rpu, "sweep", scene("key.toml", "[grid]\n%s = 1\n" % key), "-o", os.path.join(tmp, "sw")]),
+    ("configuration key", [rpu, "config", "show", scene("cfg.toml", "%s = 1\n" % key)]),
+    ("assembly mnemonic", [rpu, "asm", scene("key.s", "raygen:\n  %s r0\n" % key), "-o", os.path.join(tmp, "k.rfw")]),
+    ("--set key", [rpu, "render", "tetra:1", "--backend", "functional", "--set", "k" * 100_000 + "=1", "-o", out]),
+]
+for label, argv in quoted:
+    r = subprocess.run(argv, capture_output=True, text=True, timeout=60)
+    if r.returncode != 1 or "... (" not in r.stderr or len(r.stderr) > 2000:
+        failures.append(f"{label}: exit {r.returncode}, {len(r.stderr)} bytes of stderr: {r.stderr[:200]!r}")
+
 if failures:
     print(f"{len(failures)} of the inputs are not refused as they should be:")
     for f in failures:
         print("  " + f)
     sys.exit(1)
-print("ok: 4 inputs refused within a minute, each named")
+print(f"ok: {4 + len(quoted)} inputs refused within a minute, each named, huge keys quoted in part")
