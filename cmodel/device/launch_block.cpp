@@ -1,5 +1,10 @@
+#include <cmath>
 #include <cstring>
+#include <numbers>
 
+#include <fmt/format.h>
+
+#include "common/error.hpp"
 #include "device/device.hpp"
 #include "memory/little_endian.hpp"
 #include "render/sampling.hpp"
@@ -18,7 +23,21 @@ std::vector<std::uint8_t> make_launch_block(std::span<const std::uint8_t> image,
   camera.look_at = glm::dvec3(load_float4(image, cam + mm::kCameraLookAtAt));
   camera.up = glm::dvec3(load_float4(image, cam + mm::kCameraUpAt));
   camera.vfov_degrees = load_f32(image, cam + mm::kCameraVfovAt);
+  // Cameras the reference renders in double but the chip cannot: refused, not rendered
+  // in one colour.
+  if (camera.look_at == camera.position) {
+    throw Error("the camera's look_at equals its position in fp32, as the memory image holds them: the chip has no "
+                "view direction; move them further apart (the reference, in double, may still tell them apart)");
+  }
   const CameraModel frame(camera, launch.width, launch.height);
+  // The image plane's half extent at distance 1 below fp32's precision at 1: every
+  // pixel's ray is forward once rounded.
+  if (std::max(frame.half_width(), frame.half_height()) < std::ldexp(1.0, -23)) {
+    throw Error(fmt::format("the camera's vfov {:.3g} degrees: the image plane is {:.3g} across at distance 1, below fp32's "
+                            "precision (2^-23), so every pixel's ray would be the same on the chip; give at least "
+                            "{:.3g} degrees",
+                            camera.vfov_degrees, 2 * frame.half_width(), 2 * std::atan(std::ldexp(1.0, -23)) * 180 / std::numbers::pi));
+  }
 
   // The shader table follows the block; pass 1's corners follow it on a 16-byte boundary.
   const std::size_t table_end = mm::kLaunchBytes + 4 * shader_table.size();
