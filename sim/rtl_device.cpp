@@ -202,8 +202,7 @@ std::string rtl_models_built() {
   return s.empty() ? "none" : s;
 }
 
-std::unique_ptr<device::Device> make_rtl_device(const spec::HardwareConfig& config, fp::Format format,
-                                                const RtlOptions& options) {
+void check_rtl_runs(const spec::HardwareConfig& config, fp::Format format, IsectMode isect) {
   // The RTL is built for the named configurations as spec/configs.toml has them.
   const spec::HardwareConfig* named = nullptr;
   for (const spec::HardwareConfig& c : spec::kConfigs) {
@@ -225,6 +224,15 @@ std::unique_ptr<device::Device> make_rtl_device(const spec::HardwareConfig& conf
     throw Error(fmt::format("the rtl backend's chip of configuration '{}' computes in {}, not {}", config.name,
                             config.format, format.name()));
   }
+  if (!find_model<harness::Chip>({{"config", config.name}, {"isect", isect_name(isect)}})) {
+    throw Error(fmt::format("no RTL chip model for configuration '{}' with the {} test in this build (built: {})",
+                            config.name, isect_name(isect), rtl_models_built()));
+  }
+}
+
+std::unique_ptr<device::Device> make_rtl_device(const spec::HardwareConfig& config, fp::Format format,
+                                                const RtlOptions& options) {
+  check_rtl_runs(config, format, options.isect);
   return std::make_unique<RtlDevice>(config, format, options);
 }
 

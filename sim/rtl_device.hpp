@@ -30,4 +30,8 @@ std::unique_ptr<device::Device> make_rtl_device(const spec::HardwareConfig& conf
 // The configurations and intersection tests a chip model was built for, "tiny/woop ...".
 std::string rtl_models_built();
 
+// rpu::Error unless this build has a Verilated chip for `config` as spec/configs.toml
+// names it, in its own format, with `isect`.
+void check_rtl_runs(const spec::HardwareConfig& config, fp::Format format, IsectMode isect);
+
 }  // namespace rpu::sim

@@ -15,6 +15,7 @@
 #include <fstream>
 #include <map>
 #include <optional>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -31,6 +32,7 @@
 #include "common/input_file.hpp"
 #include "common/output_file.hpp"
 #include "config/config.hpp"
+#include "device/registry.hpp"
 #include "fp/format.hpp"
 #include "image/image.hpp"
 #include "scene/geometry.hpp"
@@ -490,8 +492,43 @@ std::vector<std::string> run_phase(const Layout& layout, const std::vector<sweep
   return failed;
 }
 
+// Every point's backend, chip and firmware are checked before any point runs: a point
+// that cannot run is an error of the plan that names it, not a "refused" row of a sweep
+// that ends well (a refused row is a chip's measured refusal of its scene).
+void check_points_run(const sweep::Spec& spec) {
+  const device::Registry backends;
+  std::set<std::vector<std::string>> firmware_checked;
+  for (const auto* list : {&spec.references, &spec.points}) {
+    for (const sweep::Point& p : *list) {
+      if (p.fidelity == "reference") continue;
+      const device::Backend* backend = backends.find(p.fidelity);
+      if (backend == nullptr) {
+        throw Error(fmt::format("point {}: fidelity {}: this build has no {} backend (it has {})", p.id, p.fidelity,
+                                p.fidelity, fmt::join(backends.names(), ", ")));
+      }
+      ChipOptions chip;
+      chip.config = p.config;
+      chip.sets = p.sets;
+      chip.format = p.format;
+      chip.isect = p.isect;
+      try {
+        backend->check_runs(chip.hardware_config(), chip.number_format(), chip.isect_mode());
+      } catch (const Error& e) {
+        throw Error(fmt::format("point {}: fidelity {}: {}", p.id, p.fidelity, e.what()));
+      }
+      if (p.firmware.empty() || !firmware_checked.insert(p.firmware).second) continue;
+      try {
+        load_firmware(std::vector<fs::path>(p.firmware.begin(), p.firmware.end()));
+      } catch (const Error& e) {
+        throw Error(fmt::format("point {}: firmware {}: {}", p.id, fmt::join(p.firmware, " "), e.what()));
+      }
+    }
+  }
+}
+
 int run_sweep(const SweepOptions& o) {
   const sweep::Spec spec = sweep::read_spec(o.spec);
+  check_points_run(spec);
   const Layout layout{fs::absolute(o.dir)};
   for (const char* sub : {"points", "images", "logs", "jobs", "slurm", "slurm/logs"}) {
     std::error_code ec;

@@ -21,6 +21,7 @@ namespace rpu::device {
 
 void Backend::add_options(CLI::App&) {}
 void Backend::check(const RenderSettings&, std::string_view) const {}
+void Backend::check_runs(const spec::HardwareConfig&, fp::Format, IsectMode) const {}
 std::vector<BackendOutput> Backend::outputs() const { return {}; }
 void Backend::finish(const DeviceStats&) {}
 
@@ -159,6 +160,10 @@ class RtlBackend final : public Backend {
                               "without --select",
                               select));
     }
+  }
+
+  void check_runs(const spec::HardwareConfig& config, fp::Format format, IsectMode isect) const override {
+    sim::check_rtl_runs(config, format, isect);
   }
 
   std::vector<BackendOutput> outputs() const override {

@@ -54,6 +54,10 @@ class Backend {
   virtual void check(const RenderSettings& settings, std::string_view select) const;
   // The files its options will write.
   virtual std::vector<BackendOutput> outputs() const;
+  // rpu::Error unless a device of this configuration, format and intersection test can
+  // be made (the rtl backend runs only the chips it was built with); what a sweep checks
+  // of each point before it runs any.
+  virtual void check_runs(const spec::HardwareConfig& config, fp::Format format, IsectMode isect) const;
   virtual std::unique_ptr<Device> make(const spec::HardwareConfig& config, fp::Format format,
                                        const DeviceOptions& options) = 0;
   // After a frame on the device it made: writes its own outputs and prints its lines for
