@@ -17,6 +17,7 @@
 #include "cc/spirv_module.hpp"
 #include "common/error.hpp"
 #include "common/input_file.hpp"
+#include "common/output_file.hpp"
 #include "rpu/version.hpp"
 
 namespace rpu::cc {
@@ -123,20 +124,33 @@ isa::Firmware compile_cached(const std::vector<fs::path>& files, const CompileOp
                        : xdg ? fs::path(xdg) / "rpu"
                        : home ? fs::path(home) / ".cache" / "rpu"
                               : fs::temp_directory_path() / "rpu-cache";
-  const fs::path cached = dir / fmt::format("cc-{:016x}.rfw", h);
+  // An entry is its whole key, then the firmware file's bytes: it is used only when the
+  // key it holds is this one, so neither a hash collision nor a file put in its place (a
+  // damaged entry, another firmware) is ever run instead of the compile.
+  const fs::path cached = dir / fmt::format("cc-{:016x}.entry", h);
+  const std::string head = fmt::format("rpu compile cache\n{}\n", keyed.size());
   std::error_code ec;
   if (fs::is_regular_file(cached, ec)) {
     try {
-      return isa::load_firmware(cached);
+      const std::string entry = read_input_file(cached, "the compile-cache entry");
+      if (entry.size() > head.size() + keyed.size() && entry.compare(0, head.size(), head) == 0 &&
+          entry.compare(head.size(), keyed.size(), keyed) == 0) {
+        const auto* bytes = reinterpret_cast<const std::uint8_t*>(entry.data()) + head.size() + keyed.size();
+        return isa::firmware_from_bytes({bytes, entry.size() - head.size() - keyed.size()}, cached.string());
+      }
     } catch (const Error&) {
-      // a damaged cache entry is compiled again and replaced
+      // a damaged entry is compiled again and replaced
     }
   }
   Compiled c = compile_files(files, options);
   fs::create_directories(dir, ec);
   if (!ec) {
     try {
-      isa::save_firmware(c.firmware, cached);
+      const std::vector<std::uint8_t> bytes = isa::firmware_to_bytes(c.firmware);
+      OutputFile out(cached);
+      out.stream() << head << keyed;
+      out.stream().write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+      out.commit();
     } catch (const Error&) {
       // an unwritable cache costs only the next compile
     }
