@@ -4,7 +4,10 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <set>
 #include <sstream>
+#include <unordered_map>
+#include <vector>
 
 #include <fmt/format.h>
 #include <glslang/Public/ResourceLimits.h>
@@ -14,6 +17,7 @@
 #include <spirv-tools/optimizer.hpp>
 
 #include "cc/glsl_library.hpp"
+#include "cc/spirv_module.hpp"
 #include "common/error.hpp"
 
 namespace rpu::cc {
@@ -136,6 +140,66 @@ struct Shader {
   glslang::TShader shader;
 };
 
+// The blocks a block's terminator may go to (a condition that is a constant, as this
+// compile sees it, goes one way).
+std::vector<Id> successors(const Module& m, const Block& b) {
+  const Instruction& t = b.body.back();
+  switch (t.op) {
+    case spv::Op::OpBranch: return {t.operands[0]};
+    case spv::Op::OpBranchConditional: {
+      const auto c = m.constants.find(t.operands[0]);
+      if (c != m.constants.end() && !c->second.composite) return {c->second.bits ? t.operands[1] : t.operands[2]};
+      return {t.operands[1], t.operands[2]};
+    }
+    case spv::Op::OpSwitch: {
+      std::vector<Id> out = {t.operands[1]};
+      for (std::size_t k = 3; k < t.operands.size(); k += 2) out.push_back(t.operands[k]);
+      return out;
+    }
+    default: return {};
+  }
+}
+
+// A loop that no path leaves (no break past its merge, no return, terminate or kill
+// inside it) runs until the watchdog stops its thread. SPIRV-Tools' dead-code
+// elimination removes one without side effects, and the shader would end instead of
+// running away: refused at its line, before the optimiser runs.
+void refuse_endless_loops(const std::vector<std::uint32_t>& words, const fs::path& file) {
+  const Module m = Module::parse(words, file.string());
+  for (const Function& f : m.functions) {
+    std::unordered_map<Id, const Block*> blocks;
+    for (const Block& b : f.blocks) blocks[b.label] = &b;
+    for (const Block& header : f.blocks) {
+      const Instruction* merge = nullptr;
+      for (const Instruction& i : header.body) {
+        if (i.op == spv::Op::OpLoopMerge) merge = &i;
+      }
+      if (merge == nullptr) continue;
+      // Every block reached from the header without passing its merge; any path out
+      // of the function or into the merge leaves the loop.
+      std::set<Id> seen = {header.label};
+      std::vector<const Block*> work = {&header};
+      bool leaves = false;
+      while (!work.empty() && !leaves) {
+        const Block* b = work.back();
+        work.pop_back();
+        const spv::Op last = b->body.empty() ? spv::Op::OpNop : b->body.back().op;
+        leaves = last == spv::Op::OpReturn || last == spv::Op::OpReturnValue || last == spv::Op::OpKill ||
+                 last == spv::Op::OpTerminateRayKHR || last == spv::Op::OpIgnoreIntersectionKHR;
+        for (const Id next : b->body.empty() ? std::vector<Id>{} : successors(m, *b)) {
+          if (next == merge->operands[0]) leaves = true;
+          if (seen.insert(next).second && blocks.count(next)) work.push_back(blocks.at(next));
+        }
+      }
+      if (!leaves) {
+        throw Error(fmt::format("{}:{}: this loop never ends: no break, return or terminate leaves it, so its thread "
+                                "would run until the watchdog stops it (a runaway shader)",
+                                merge->where.file.empty() ? file.string() : merge->where.file, merge->where.line));
+      }
+    }
+  }
+}
+
 }  // namespace
 
 std::string preprocess_glsl(const fs::path& file, const std::string& source) {
@@ -168,6 +232,7 @@ SpirvShader compile_glsl(const fs::path& file, const std::string& source, int op
   spv::SpvBuildLogger logger;
   std::vector<std::uint32_t> words;
   glslang::GlslangToSpv(*program.getIntermediate(language_of(out.stage)), words, &logger, &spv_options);
+  refuse_endless_loops(words, file);
 
 
   std::string messages;
