@@ -1,6 +1,7 @@
 #include "cc/frontend.hpp"
 
 #include <fstream>
+#include <algorithm>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -160,12 +161,61 @@ std::vector<Id> successors(const Module& m, const Block& b) {
   }
 }
 
+// The scalar components of a value of type `t` (saturating: a type may be enormous).
+std::uint64_t components(const Module& m, Id t) {
+  constexpr std::uint64_t kMany = std::uint64_t{1} << 40;
+  const Type& type = m.type(t);
+  switch (type.op) {
+    case spv::Op::OpTypeVector: return type.count;
+    case spv::Op::OpTypeMatrix:
+    case spv::Op::OpTypeArray: return std::min(kMany, type.count * components(m, type.element));
+    case spv::Op::OpTypeStruct: {
+      std::uint64_t sum = 0;
+      for (const Id member : type.members) sum = std::min(kMany, sum + components(m, member));
+      return sum;
+    }
+    default: return 1;
+  }
+}
+
+// The back end keeps every local variable in registers (64 of 4 lanes at most, spilled
+// whole); a larger local array cannot be kept, and SPIRV-Tools takes minutes and
+// gigabytes on one before that shows (a loop over 4096 elements, unrolled). Refused at
+// its line, before the optimiser runs.
+void refuse_huge_locals(const Module& m, const fs::path& file) {
+  constexpr std::uint64_t kMaxComponents = 64 * 4;
+  for (const Function& f : m.functions) {
+    for (const Block& b : f.blocks) {
+      for (const Instruction& i : b.body) {
+        if (i.op != spv::Op::OpVariable || i.operands.empty() ||
+            static_cast<spv::StorageClass>(i.operands[0]) != spv::StorageClass::Function) {
+          continue;
+        }
+        const std::uint64_t n = components(m, m.type(i.type).element);
+        if (n <= kMaxComponents) continue;
+        // Declarations carry no line: name the first line that uses the variable.
+        SourceLocation where = i.where;
+        for (const Block& c : f.blocks) {
+          for (const Instruction& use : c.body) {
+            const bool uses = std::find(use.operands.begin(), use.operands.end(), i.result) != use.operands.end();
+            if (where.line == 0 && uses && use.where.line > 0) where = use.where;
+          }
+        }
+        const auto name = m.names.find(i.result);
+        throw Error(fmt::format("{}:{}: the local variable '{}' has {} components, more than the {} of the largest "
+                                "register file (64 registers of 4 lanes) that the RPU back end keeps locals in",
+                                where.file.empty() ? file.string() : where.file, where.line,
+                                name == m.names.end() ? "?" : name->second, n, kMaxComponents));
+      }
+    }
+  }
+}
+
 // A loop that no path leaves (no break past its merge, no return, terminate or kill
 // inside it) runs until the watchdog stops its thread. SPIRV-Tools' dead-code
 // elimination removes one without side effects, and the shader would end instead of
 // running away: refused at its line, before the optimiser runs.
-void refuse_endless_loops(const std::vector<std::uint32_t>& words, const fs::path& file) {
-  const Module m = Module::parse(words, file.string());
+void refuse_endless_loops(const Module& m, const fs::path& file) {
   for (const Function& f : m.functions) {
     std::unordered_map<Id, const Block*> blocks;
     for (const Block& b : f.blocks) blocks[b.label] = &b;
@@ -232,7 +282,11 @@ SpirvShader compile_glsl(const fs::path& file, const std::string& source, int op
   spv::SpvBuildLogger logger;
   std::vector<std::uint32_t> words;
   glslang::GlslangToSpv(*program.getIntermediate(language_of(out.stage)), words, &logger, &spv_options);
-  refuse_endless_loops(words, file);
+  {
+    const Module unoptimised = Module::parse(words, file.string());
+    refuse_huge_locals(unoptimised, file);
+    refuse_endless_loops(unoptimised, file);
+  }
 
 
   std::string messages;
