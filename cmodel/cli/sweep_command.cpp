@@ -3,6 +3,7 @@
 // rpu sweep-point: one point, the line every job list holds (docs/sweeps.md).
 #include <fcntl.h>
 #include <sys/file.h>
+#include <sys/statvfs.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -178,6 +179,20 @@ std::string tail(const fs::path& file, std::size_t lines) {
   std::string out;
   for (std::size_t i = from; i < all.size(); ++i) out += "  " + all[i] + "\n";
   return out;
+}
+
+// The end of a failed point's log; when it is empty, why: a full file system leaves no
+// room for the message the point wrote there.
+std::string failure_text(const fs::path& log) {
+  const std::string text = tail(log, 12);
+  if (!text.empty()) return text;
+  struct statvfs fs_info {};
+  if (::statvfs(log.parent_path().c_str(), &fs_info) == 0 && fs_info.f_bavail == 0) {
+    return fmt::format("  (the log is empty: the file system of {} has no space left ({}), so the point's own "
+                       "message could not be written; free space and run the sweep again)\n",
+                       log.parent_path().string(), std::strerror(ENOSPC));
+  }
+  return "  (the log is empty)\n";
 }
 
 // The PNG beside each EXR, and where the point differs from its reference: the largest
@@ -478,7 +493,7 @@ std::vector<std::string> run_phase(const Layout& layout, const std::vector<sweep
       fmt::print(stderr, "[{}/{}] {} ({:.1f} s)\n", finished, total, line, seconds);
     } else {
       failed.push_back(id);
-      fmt::print(stderr, "[{}/{}] {}: FAILED; {}:\n{}", finished, total, id, log.string(), tail(log, 12));
+      fmt::print(stderr, "[{}/{}] {}: FAILED; {}:\n{}", finished, total, id, log.string(), failure_text(log));
     }
   };
   for (const sweep::Point& p : phase) {

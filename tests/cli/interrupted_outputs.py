@@ -1,11 +1,12 @@
 """Outputs interrupted by SIGINT, and a real full disk: the old file keeps its bytes and
 no temporary is left beside it (issue 14 class 3).
 
-    interrupted_outputs.py RPU WORKDIR
+    interrupted_outputs.py RPU WORKDIR SWEEP_FILE
 
 1. SIGINT while a cycle render streams its --trace (the temporary lives the whole frame).
 2. SIGINT while a large EXR is being written.
-3. As root: a 64 KiB tmpfs that an EXR does not fit on. Skipped, saying so, otherwise.
+3. As root: a 64 KiB tmpfs that an EXR does not fit on, and a 256 KiB one that a sweep
+   fills (its failed points must name the full disk). Skipped, saying so, otherwise.
 """
 import os
 import shutil
@@ -14,7 +15,7 @@ import subprocess
 import sys
 import time
 
-rpu, work = sys.argv[1], sys.argv[2]
+rpu, work, sweep_file = sys.argv[1], sys.argv[2], sys.argv[3]
 shutil.rmtree(work, ignore_errors=True)
 os.makedirs(work)
 OLD = b"the previous file\n"
@@ -91,6 +92,18 @@ else:
         if r.returncode != 1 or expected not in r.stderr or "the previous file is unchanged" not in r.stderr:
             failures.append(f"full tmpfs: status {r.returncode}, expected 1 and '{expected}...'")
         check_kept("full tmpfs", full)
+    finally:
+        subprocess.run(["umount", mnt], check=True)
+    # A sweep that fills its file system: the failed points say so, though their logs
+    # are empty.
+    subprocess.run(["mount", "-t", "tmpfs", "-o", "size=256k", "tmpfs", mnt], check=True)
+    try:
+        r = subprocess.run([rpu, "sweep", sweep_file, "-o", os.path.join(mnt, "sweep")], capture_output=True, text=True,
+                           timeout=600)
+        print(f"sweep on a full tmpfs: status {r.returncode}\n{r.stderr[-2000:]}")
+        if r.returncode != 1 or "FAILED" not in r.stderr or "No space left on device" not in r.stderr:
+            failures.append(f"sweep on a full tmpfs: status {r.returncode}, expected 1 and a FAILED point that names "
+                            "'No space left on device'")
     finally:
         subprocess.run(["umount", mnt], check=True)
 
