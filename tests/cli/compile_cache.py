@@ -10,6 +10,8 @@ import shutil
 import subprocess
 import sys
 
+from outcome import finish
+
 rpu, glsl, work = sys.argv[1], sys.argv[2], sys.argv[3]
 shutil.rmtree(work, ignore_errors=True)
 cache = os.path.join(work, "cache")
@@ -60,8 +62,4 @@ shutil.copy(fw, os.path.join(cache, a_entry))
 if render(a_dir, "a_after_rfw") != a_image:
     failures.append("with a firmware file in A's entry, A's render ran it")
 
-for f in failures:
-    print(f"FAIL: {f}")
-if not failures:
-    print("ok: a replaced compile-cache entry is compiled again")
-sys.exit(1 if failures else 0)
+finish(failures, "a replaced compile-cache entry is compiled again")

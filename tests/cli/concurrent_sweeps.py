@@ -14,6 +14,8 @@ import subprocess
 import sys
 import time
 
+from outcome import finish
+
 rpu, spec, work = sys.argv[1], sys.argv[2], sys.argv[3]
 shutil.rmtree(work, ignore_errors=True)
 os.makedirs(work)
@@ -70,8 +72,4 @@ with open(os.path.join(d, "points", reference + ".json")) as f:
     if json.load(f).get("id") != reference:
         failures.append("one point run twice at once: its record is not its own")
 
-for f in failures:
-    print(f"FAIL: {f}")
-if not failures:
-    print("ok: the second sweep refused at once, a killed one no obstacle, a point run twice rendered once")
-sys.exit(1 if failures else 0)
+finish(failures, "the second sweep refused at once, a killed one no obstacle, a point run twice rendered once")

@@ -16,6 +16,8 @@ import subprocess
 import sys
 import time
 
+from outcome import finish
+
 rpu, work, trials = sys.argv[1], sys.argv[2], int(sys.argv[3])
 shutil.rmtree(work, ignore_errors=True)
 os.makedirs(work)
@@ -72,6 +74,4 @@ for trial in range(trials):
         failures.append(f"trial {trial}: the target is neither the old file nor an EXR")
 
 print(f"{trials} trials: {died} died of a signal, {finished} finished first, {missed} never showed a temporary")
-for f in failures:
-    print(f"FAIL: {f}")
-sys.exit(1 if failures else 0)
+finish(failures, "no temporary left")
