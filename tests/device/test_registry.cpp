@@ -61,9 +61,18 @@ TEST(Registry, TheCycleBackendRefusesAnEmptyTraceWindow) {
   CLI::App app;
   Registry registry;
   registry.add_options(app);
-  app.parse("--trace-window 5 5", false);
+  app.parse("--trace t.json --trace-window 5 5", false);
   EXPECT_EQ(error_of([&] { registry.find("cycle")->check(RenderSettings{}, "1"); }),
             "--trace-window 5 5: the window is empty");
+}
+
+TEST(Registry, TheCycleBackendRefusesATraceWindowWithoutATrace) {
+  CLI::App app;
+  Registry registry;
+  registry.add_options(app);
+  app.parse("--trace-window 0 10", false);
+  EXPECT_EQ(error_of([&] { registry.find("cycle")->check(RenderSettings{}, "1"); }),
+            "--trace-window needs --trace: it chooses the cycles --trace records");
 }
 
 }  // namespace
