@@ -53,9 +53,16 @@ deep = scene("deep.json", "[" * (4 * MiB - 64))
 run([rpu, "render", deep, "-o", out], f"{re.escape(deep)}: /0/0/.*: nested deeper than 32 levels", "4 MiB of [")
 objects = scene("objects.json", '{"meshes": [' + "{}," * ((4 * MiB - 32) // 3) + "{}]}")
 run([rpu, "render", objects, "-o", out], f"{re.escape(objects)}: /meshes/0", "a million empty objects")
-run([rpu, "render", "tetra:1", "--backend", "functional", "--threads", "1000", "--width", "8", "--height", "8",
-     "-o", out], "cannot start 1000 host threads: the host started [0-9]+ \\(Resource temporarily unavailable\\)",
-    "--threads 1000 in 2 GiB of address space", limit_address_space=2 << 30)
+# AddressSanitizer reserves terabytes of shadow memory at start and cannot run under an
+# address-space limit: under it this case is skipped, saying so (the ci preset's build
+# runs it).
+asan = b"__asan_init" in open(rpu, "rb").read()
+if asan:
+    print("SKIP --threads 1000 in 2 GiB of address space: rpu is built with AddressSanitizer")
+else:
+    run([rpu, "render", "tetra:1", "--backend", "functional", "--threads", "1000", "--width", "8", "--height", "8",
+         "-o", out], "cannot start 1000 host threads: the host started [0-9]+ \\(Resource temporarily unavailable\\)",
+        "--threads 1000 in 2 GiB of address space", limit_address_space=2 << 30)
 
 # A key of 10^6 bytes (100 kB on the command line, which takes at most 128 kB an argument) in
 # every kind of file that names keys or tokens: the message quotes 64 bytes of it.
@@ -73,4 +80,5 @@ for label, argv in quoted:
     if r.returncode != 1 or "... (" not in r.stderr or len(r.stderr) > 2000:
         failures.append(f"{label}: exit {r.returncode}, {len(r.stderr)} bytes of stderr: {r.stderr[:200]!r}")
 
-finish(failures, f"{4 + len(quoted)} inputs refused within a minute, each named, huge keys quoted in part")
+finish(failures, f"{(3 if asan else 4) + len(quoted)} inputs refused within a minute, each named, huge keys quoted "
+                 "in part")
