@@ -19,6 +19,17 @@ namespace {
 
 std::string isect_name(IsectMode m) { return m == IsectMode::kWoop ? "woop" : "watertight"; }
 
+// The Verilated chip of configuration `config` with `isect`; rpu::Error naming the
+// chips built when there is none.
+const ModelInfo& chip_model(std::string_view config, IsectMode isect) {
+  const ModelInfo* info = find_model<harness::Chip>({{"config", config}, {"isect", isect_name(isect)}});
+  if (!info) {
+    throw Error(fmt::format("no RTL chip model for configuration '{}' with the {} test in this build (built: {})",
+                            config, isect_name(isect), rtl_models_built()));
+  }
+  return *info;
+}
+
 class RtlDevice final : public device::DeviceBase {
  public:
   RtlDevice(const spec::HardwareConfig& config, fp::Format format, const RtlOptions& options)
@@ -101,12 +112,8 @@ void RtlDevice::run(const ProgressCallback& progress) {
     throw Error(fmt::format("the image's intersection mode is {}, the rtl backend's chip {}",
                             isect_name(layout_.isect_mode), isect_name(options_.isect)));
   }
-  const ModelInfo* info = find_model<harness::Chip>({{"config", config_.name}, {"isect", isect_name(options_.isect)}});
-  if (!info) {
-    throw Error(fmt::format("no RTL chip model for configuration '{}' with the {} test in this build (built: {})",
-                            config_.name, isect_name(options_.isect), rtl_models_built()));
-  }
-  std::unique_ptr<Model<harness::Chip>> model = make_model<harness::Chip>(*info, 1, options_.waves);
+  const ModelInfo& info = chip_model(config_.name, options_.isect);
+  std::unique_ptr<Model<harness::Chip>> model = make_model<harness::Chip>(info, 1, options_.waves);
   model->set_wave_window(options_.wave_begin, options_.wave_end);
   ChipFrame frame;
   frame.config = &config_;
@@ -122,7 +129,7 @@ void RtlDevice::run(const ProgressCallback& progress) {
   if (progress) run.progress = [&progress](std::uint64_t done, std::uint64_t total) { progress(done, total); };
   ChipRunResult r;
   try {
-    r = run_chip_frame(*model, *info, frame, run);
+    r = run_chip_frame(*model, info, frame, run);
   } catch (...) {
     model->close_trace();
     throw;
@@ -224,10 +231,7 @@ void check_rtl_runs(const spec::HardwareConfig& config, fp::Format format, Isect
     throw Error(fmt::format("the rtl backend's chip of configuration '{}' computes in {}, not {}", config.name,
                             config.format, format.name()));
   }
-  if (!find_model<harness::Chip>({{"config", config.name}, {"isect", isect_name(isect)}})) {
-    throw Error(fmt::format("no RTL chip model for configuration '{}' with the {} test in this build (built: {})",
-                            config.name, isect_name(isect), rtl_models_built()));
-  }
+  chip_model(config.name, isect);
 }
 
 std::unique_ptr<device::Device> make_rtl_device(const spec::HardwareConfig& config, fp::Format format,

@@ -108,7 +108,7 @@ class FileLock {
  public:
   enum class Wait { kNo, kYes };
   // Takes the lock, waiting for it or not; false when another process holds it.
-  FileLock(const fs::path& file, Wait wait) : file_(file) {
+  FileLock(const fs::path& file, Wait wait) {
     fd_ = ::open(file.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0666);
     if (fd_ < 0) throw Error(fmt::format("{}: cannot create the lock file: {}", file.string(), std::strerror(errno)));
     int r;
@@ -123,9 +123,11 @@ class FileLock {
       fd_ = -1;
       return;
     }
+    // The lock holds without the pid if these fail; only messages would miss it.
     const std::string pid = std::to_string(::getpid());
-    if (::ftruncate(fd_, 0) != 0 || ::pwrite(fd_, pid.data(), pid.size(), 0) != static_cast<ssize_t>(pid.size())) {
-      // The lock holds without the pid; only messages would miss it.
+    if (::ftruncate(fd_, 0) == 0) {
+      const ssize_t written = ::pwrite(fd_, pid.data(), pid.size(), 0);
+      static_cast<void>(written);
     }
   }
   ~FileLock() {
@@ -139,7 +141,6 @@ class FileLock {
   const std::string& holder() const { return holder_; }
 
  private:
-  fs::path file_;
   int fd_ = -1;
   std::string holder_;
 };

@@ -13,8 +13,8 @@
 
 #include "common/did_you_mean.hpp"
 #include "common/error.hpp"
-#include "common/input_file.hpp"
 #include "common/hardware_config.hpp"
+#include "common/input_file.hpp"
 #include "fp/format.hpp"
 
 namespace rpu::config {

@@ -33,10 +33,11 @@ std::vector<std::uint8_t> make_launch_block(std::span<const std::uint8_t> image,
   // The image plane's half extent at distance 1 below fp32's precision at 1: every
   // pixel's ray is forward once rounded.
   if (std::max(frame.half_width(), frame.half_height()) < std::ldexp(1.0, -23)) {
-    throw Error(fmt::format("the camera's vfov {:.3g} degrees: the image plane is {:.3g} across at distance 1, below fp32's "
-                            "precision (2^-23), so every pixel's ray would be the same on the chip; give at least "
-                            "{:.3g} degrees",
-                            camera.vfov_degrees, 2 * frame.half_width(), 2 * std::atan(std::ldexp(1.0, -23)) * 180 / std::numbers::pi));
+    const double least_degrees = 2 * std::atan(std::ldexp(1.0, -23)) * 180 / std::numbers::pi;
+    throw Error(fmt::format("the camera's vfov {:.3g} degrees: the image plane is {:.3g} across at distance 1, below "
+                            "fp32's precision (2^-23), so every pixel's ray would be the same on the chip; give at "
+                            "least {:.3g} degrees",
+                            camera.vfov_degrees, 2 * frame.half_width(), least_degrees));
   }
 
   // The shader table follows the block; pass 1's corners follow it on a 16-byte boundary.

@@ -36,7 +36,9 @@ CLI::Option* add_window_option(CLI::App& command, const std::string& name, std::
 
 void check_window(const std::string& name, const std::vector<std::uint64_t>& window, const std::string& recording,
                   bool recorded, bool given) {
-  if (given && !recorded) throw Error(fmt::format("{} needs {}: it chooses the cycles {} records", name, recording, recording));
+  if (given && !recorded) {
+    throw Error(fmt::format("{} needs {}: it chooses the cycles {} records", name, recording, recording));
+  }
   if (window[0] >= window[1]) throw Error(fmt::format("{} {} {}: the window is empty", name, window[0], window[1]));
 }
 
@@ -89,7 +91,8 @@ class CycleBackend final : public Backend {
                        "cycle backend: per-pixel cycle cost, .png (false colour) and/or .exr (cycles, linear)");
     command.add_option("--trace", trace_,
                        "cycle backend: timeline of the units in Chrome/Perfetto trace JSON (1 us shown = 1 cycle)");
-    window_option_ = add_window_option(command, "--trace-window", window_, "cycle backend: the timeline's cycles [BEGIN, END)");
+    window_option_ = add_window_option(command, "--trace-window", window_,
+                                       "cycle backend: the timeline's cycles [BEGIN, END)");
     window_option_->capture_default_str();
   }
 
@@ -148,7 +151,8 @@ class RtlBackend final : public Backend {
 
   void add_options(CLI::App& command) override {
     command.add_option("--waves", waves_, "rtl backend: FST waveforms of the chip (GTKWave, Surfer)");
-    window_option_ = add_window_option(command, "--wave-window", window_, "rtl backend: the waveforms' cycles [BEGIN, END)");
+    window_option_ = add_window_option(command, "--wave-window", window_,
+                                       "rtl backend: the waveforms' cycles [BEGIN, END)");
     command.add_flag("--lockstep", lockstep_,
                      "rtl backend: compare every core with the functional model, instruction by instruction");
   }

@@ -100,7 +100,6 @@ MeshFormat reader_format(const Assimp::Importer& importer, const fs::path& path)
   return MeshFormat::kOther;
 }
 
-
 // Readers leave faces without indices (an OFF file with fewer face lines than it
 // declares) and indices past the last vertex (corrupt files); post-processing asserts or
 // crashes on either, so they are errors here, before it runs.

@@ -11,6 +11,7 @@
 #include "cc/builder.hpp"
 #include "cc/frontend.hpp"
 #include "cc/machine.hpp"
+#include "rpu/spec.hpp"
 
 namespace rpu::cc {
 
@@ -19,6 +20,11 @@ inline constexpr int kRegDirection = 1;  // (direction, t_max)
 inline constexpr int kRegHit = 2;        // the hit record (t, u, v, primitive)
 inline constexpr int kRegInfo = 3;       // (material index, nesting level of the ray, -, -)
 inline constexpr int kRegPayload = 4;    // the payload, one register per member leaf
+
+// The most registers an instruction names (its register fields) and the lanes of each:
+// the bound of --registers and of what the back end keeps in registers.
+inline constexpr int kMaxRegisters = 1 << spec::isa::kDstField.width;
+inline constexpr int kLanes = spec::isa::kWmaskField.width;
 
 // One traceRayEXT form: which trace routine a call goes to.
 struct TraceForm {

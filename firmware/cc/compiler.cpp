@@ -45,9 +45,9 @@ std::string read_text(const fs::path& file) {
 }  // namespace
 
 Compiled compile(const std::vector<ShaderSource>& sources, const CompileOptions& options) {
-  if (options.registers < kRegPayload + 2 || options.registers > 64) {
-    throw Error(fmt::format("--registers {}: the calling convention needs {} to 64", options.registers,
-                            kRegPayload + 2));
+  if (options.registers < kRegPayload + 2 || options.registers > kMaxRegisters) {
+    throw Error(fmt::format("--registers {}: the calling convention needs {} to {}", options.registers,
+                            kRegPayload + 2, kMaxRegisters));
   }
   std::vector<SpirvShader> shaders;
   std::vector<std::string> miss_labels;

@@ -17,6 +17,7 @@
 #include <spirv-tools/libspirv.hpp>
 #include <spirv-tools/optimizer.hpp>
 
+#include "cc/abi.hpp"
 #include "cc/glsl_library.hpp"
 #include "cc/spirv_module.hpp"
 #include "common/error.hpp"
@@ -178,12 +179,12 @@ std::uint64_t components(const Module& m, Id t) {
   }
 }
 
-// The back end keeps every local variable in registers (64 of 4 lanes at most, spilled
-// whole); a larger local array cannot be kept, and SPIRV-Tools takes minutes and
+// The back end keeps every local variable in registers (kMaxRegisters of kLanes at most,
+// spilled whole); a larger local array cannot be kept, and SPIRV-Tools takes minutes and
 // gigabytes on one before that shows (a loop over 4096 elements, unrolled). Refused at
 // its line, before the optimiser runs.
 void refuse_huge_locals(const Module& m, const fs::path& file) {
-  constexpr std::uint64_t kMaxComponents = 64 * 4;
+  constexpr std::uint64_t kMaxComponents = std::uint64_t{kMaxRegisters} * kLanes;
   for (const Function& f : m.functions) {
     for (const Block& b : f.blocks) {
       for (const Instruction& i : b.body) {
@@ -203,9 +204,9 @@ void refuse_huge_locals(const Module& m, const fs::path& file) {
         }
         const auto name = m.names.find(i.result);
         throw Error(fmt::format("{}:{}: the local variable '{}' has {} components, more than the {} of the largest "
-                                "register file (64 registers of 4 lanes) that the RPU back end keeps locals in",
+                                "register file ({} registers of {} lanes) that the RPU back end keeps locals in",
                                 where.file.empty() ? file.string() : where.file, where.line,
-                                name == m.names.end() ? "?" : name->second, n, kMaxComponents));
+                                name == m.names.end() ? "?" : name->second, n, kMaxComponents, kMaxRegisters, kLanes));
       }
     }
   }
