@@ -93,6 +93,7 @@ module rpu_spu #(
   localparam int unsigned StackSlots   = StackBytes / 16;
   localparam int unsigned SspBits      = $clog2(StackSlots + 1);
   localparam int unsigned CntBits      = $clog2(ChunkSize + 1);
+  localparam int unsigned SpinBits     = $clog2(CodeWords + 1);
   localparam int unsigned FlightBits   = 16;
   localparam int unsigned TotalThreads = Cores * Threads;
   localparam int unsigned Thread0      = CoreId * Threads;  // this core's first global thread
@@ -153,6 +154,7 @@ module rpu_spu #(
   logic [RspBits*Threads-1:0]   rsp_d, rsp_q;       // return addresses held
   logic [SspBits*Threads-1:0]   ssp_d, ssp_q;       // memory-stack slots used
   logic [32*Threads-1:0]        retired_d, retired_q;
+  logic [SpinBits*Threads-1:0]  spin_d, spin_q;     // pc-only instructions retired in a row
   logic [Registers*Threads-1:0] written_d, written_q;
   // Per chunk.
   logic [3*Chunks-1:0]          state_d, state_q;
@@ -430,7 +432,7 @@ module rpu_spu #(
 
   // Per way, side by side.
   logic [IssueLanes-1:0]         e_valid, e_ret, e_inst, e_raw_fault, e_fault, e_exec, e_last, e_calli;
-  logic [IssueLanes-1:0]         e_to_lsu, e_to_sfu, e_to_trace, e_setpc;
+  logic [IssueLanes-1:0]         e_to_lsu, e_to_sfu, e_to_trace, e_setpc, e_pc_only;
   logic [TB*IssueLanes-1:0]      e_thread;
   logic [32*IssueLanes-1:0]      e_pc;
   logic [64*IssueLanes-1:0]      e_insn;
@@ -661,6 +663,7 @@ module rpu_spu #(
     logic [RspBits-1:0]   e_rsp;
     logic [SspBits-1:0]   e_ssp;
     logic [31:0]          e_retired;
+    logic [SpinBits-1:0]  e_spin;
 
     assign w         = e_insn[64*v +: 64];
     assign op        = f_op(w);
@@ -671,6 +674,8 @@ module rpu_spu #(
     assign e_rsp     = rsp_q[RspBits*e_thread[TB*v +: TB] +: RspBits];
     assign e_ssp     = ssp_q[SspBits*e_thread[TB*v +: TB] +: SspBits];
     assign e_retired = retired_q[32*e_thread[TB*v +: TB] +: 32];
+    assign e_spin    = spin_q[SpinBits*e_thread[TB*v +: TB] +: SpinBits];
+    assign e_pc_only[v] = rpu_pkg::isa_pc_only(op) != 1'b0;
 
     assign a_reg = masked(rf_rdata[0 +: 128], written_q, e_thread[TB*v +: TB], f_a(w));
     assign b_reg = masked(rf_rdata[128 +: 128], written_q, e_thread[TB*v +: TB], f_b(w));
@@ -715,6 +720,9 @@ module rpu_spu #(
         f_kind = rpu_pkg::FaultKindBits'(rpu_pkg::FaultWatchdog);
       end else if (bad_reg) begin
         f_kind = rpu_pkg::FaultKindBits'(rpu_pkg::FaultRegister);
+      end else if (e_pc_only[v] && 32'(e_spin) >= launch_i.code_words) begin
+        // Its pcs have repeated with nothing else written: it can never end.
+        f_kind = rpu_pkg::FaultKindBits'(rpu_pkg::FaultSpin);
       end else begin
         unique case (op)
           rpu_pkg::OpLd, rpu_pkg::OpLdf, rpu_pkg::OpLd1, rpu_pkg::OpLd1f: begin
@@ -1069,6 +1077,7 @@ module rpu_spu #(
       rsp_d[RspBits*t +: RspBits]       = rsp_q[RspBits*t +: RspBits];
       ssp_d[SspBits*t +: SspBits]       = ssp_q[SspBits*t +: SspBits];
       retired_d[32*t +: 32]             = retired_q[32*t +: 32];
+      spin_d[SpinBits*t +: SpinBits]    = spin_q[SpinBits*t +: SpinBits];
       written_d[Registers*t +: Registers] = written_q[Registers*t +: Registers];
       if (init_chunk[C]) begin
         pc_d[32*t +: 32]      = launch_i.raygen;
@@ -1076,10 +1085,14 @@ module rpu_spu #(
         rsp_d[RspBits*t +: RspBits] = '0;
         ssp_d[SspBits*t +: SspBits] = '0;
         retired_d[32*t +: 32] = '0;
+        spin_d[SpinBits*t +: SpinBits] = '0;
         written_d[Registers*t +: Registers] = '0;
       end else begin
         if (here && pc_we[V]) pc_d[32*t +: 32] = pc_next[32*V +: 32];
-        if (here && e_inst[V]) retired_d[32*t +: 32] = retired_q[32*t +: 32] + 32'd1;
+        if (here && e_inst[V]) begin
+          retired_d[32*t +: 32]          = retired_q[32*t +: 32] + 32'd1;
+          spin_d[SpinBits*t +: SpinBits] = e_pc_only[V] ? spin_q[SpinBits*t +: SpinBits] + SpinBits'(1) : '0;
+        end
         if (here && rsp_push[V]) rsp_d[RspBits*t +: RspBits] = rsp_q[RspBits*t +: RspBits] + RspBits'(1);
         if (here && rsp_pop[V]) rsp_d[RspBits*t +: RspBits] = rsp_q[RspBits*t +: RspBits] - RspBits'(1);
         if (here && ssp_push[V]) ssp_d[SspBits*t +: SspBits] = ssp_q[SspBits*t +: SspBits] + SspBits'(1);
@@ -1269,6 +1282,7 @@ module rpu_spu #(
       rsp_q         <= '0;
       ssp_q         <= '0;
       retired_q     <= '0;
+      spin_q        <= '0;
       written_q     <= '0;
       state_q       <= '0;
       base_q        <= '0;
@@ -1294,6 +1308,7 @@ module rpu_spu #(
       rsp_q         <= rsp_d;
       ssp_q         <= ssp_d;
       retired_q     <= retired_d;
+      spin_q        <= spin_d;
       written_q     <= written_d;
       state_q       <= state_d;
       base_q        <= base_d;

@@ -183,6 +183,19 @@ if(rpu_chip_cases)
            COMMAND Python3::Interpreter ${cli} --status 1 --stderr "rpu: error: --wave-window 100 10: the window is empty"
                    -- $<TARGET_FILE:rpu> render tetra:1 --backend rtl --config ${config} --waves ${out}/never.fst
                    --wave-window 100 10 -o ${out}/never.png)
+  # A shader that spins (a loop that writes nothing) is stopped on the chip as on the
+  # models, at the default watchdog, within a minute (docs/robustness.md).
+  foreach(case IN LISTS rpu_chip_cases)
+    rpu_fields("${case}" config isect)
+    add_test(NAME cli.rtl_backend_stops_a_spinning_shader_at_once.${config}.${isect}
+             COMMAND Python3::Interpreter ${cli} --status 1
+                     --stderr "rpu: error: shader fault in thread 0 .*pixel 0, 0\\) at pc 0 \\(bra 0\\): spin: the thread loops"
+                     -- $<TARGET_FILE:rpu> render tetra:1 --backend rtl --config ${config} --isect ${isect}
+                     --width 32 --height 32 --firmware ${PROJECT_SOURCE_DIR}/tests/cli/firmware/runaway.s
+                     -o ${out}/never.png)
+    set_tests_properties(cli.rtl_backend_stops_a_spinning_shader_at_once.${config}.${isect}
+                         PROPERTIES LABELS unit TIMEOUT 60)
+  endforeach()
   set_tests_properties(cli.rtl_backend_refuses_a_changed_configuration cli.rtl_backend_refuses_a_chip_not_built
                        cli.rtl_backend_waves_must_be_fst cli.rtl_backend_waves_refuse_a_selection
                        cli.rtl_backend_wave_window_needs_the_waves cli.rtl_backend_wave_window_must_not_be_empty

@@ -195,6 +195,12 @@ def validate_isa(isa: dict) -> None:
     for m in issue["one_lane"]:
         if m not in mnemonics:
             raise SpecError(f"{where}: [issue] one_lane: '{m}' is not an instruction")
+    if set(isa.get("spin", {})) != {"pc_only"}:
+        raise SpecError(f"{where}: [spin] has pc_only")
+    for m in isa["spin"]["pc_only"]:
+        insn = next((i for i in isa["insn"] if i["mnemonic"] == m), None)
+        if insn is None or "d" in insn["operands"] or insn["class"] != "branch":
+            raise SpecError(f"{where}: [spin] pc_only: '{m}' is not a branch that writes nothing but the pc")
     names = set()
     for fault in isa.get("fault", []):
         if not IDENT.match(fault.get("name", "")) or fault["name"] in names or set(fault) != {"name", "doc"}:
@@ -246,6 +252,11 @@ def at_once(isa: dict, insn: dict) -> bool:
     """A core with issue_lanes > 1 issues that many lanes of it in one cycle (spec/isa.toml
     [issue])."""
     return insn["class"] in isa["issue"]["at_once_classes"] and insn["mnemonic"] not in isa["issue"]["one_lane"]
+
+
+def pc_only(isa: dict, insn: dict) -> bool:
+    """The instruction writes nothing but the pc (spec/isa.toml [spin])."""
+    return insn["mnemonic"] in isa["spin"]["pc_only"]
 
 
 def lanewise(insn: dict, ignore_sources: bool = False) -> bool:
@@ -375,6 +386,7 @@ def gen_cpp_isa(spec: dict) -> list[str]:
             "  bool dst_is_data;  // the dst field names a register read (a store's data), not written",
             "  bool lanewise;  // lane i of d is computed from lane i of each source (else each has a role)",
             "  bool at_once;  // issue_lanes lanes of it issue in one cycle (spec/isa.toml [issue])",
+            "  bool pc_only;  // writes nothing but the pc: counts towards a spin (spec/isa.toml [spin])",
             "  int operand_count;", "  std::array<Operand, 4> operands;",
             "  // The bits an encoding of it may set; any other set bit is an illegal instruction.",
             "  std::uint64_t used_bits;", "  std::string_view doc;", "};", "", f"inline constexpr std::array<InsnSpec, {len(isa['insn'])}> kInsns{{{{"]
@@ -384,6 +396,7 @@ def gen_cpp_isa(spec: dict) -> list[str]:
                    f"Format::k{i['format']}, Class::k{camel(i['class'])}, "
                    f"{'true' if i['mods'] == 'float' else 'false'}, {'true' if dst_is_data(i) else 'false'}, "
                    f"{'true' if lanewise(i) else 'false'}, {'true' if at_once(isa, i) else 'false'}, "
+                   f"{'true' if pc_only(isa, i) else 'false'}, "
                    f"{len(i['operands'])}, "
                    f"{{{ops}}}, {used_bits(isa, i):#018x}u, {cpp_string(i['doc'])}}},")
     out += ["}};", "", "struct SpecialSpec {", "  std::string_view name;", "  int index;",
@@ -520,6 +533,8 @@ def gen_sv_decode(isa: dict) -> list[str]:
                  lambda i: int(i["format"] == "I"))
     out += table("isa_at_once", 1, "issue_lanes lanes of it enter the pipeline in one cycle (spec/isa.toml [issue]).",
                  lambda i: int(at_once(isa, i)))
+    out += table("isa_pc_only", 1, "It writes nothing but the pc: a run of them counts towards a spin (spec/isa.toml [spin]).",
+                 lambda i: int(pc_only(isa, i)))
     return out
 
 
@@ -550,6 +565,9 @@ def gen_isa_doc(spec: dict) -> str:
     out += ["", f"A core with `issue_lanes` > 1 issues that many lanes a cycle of the classes "
             f"{', '.join(issue['at_once_classes'])} (except {', '.join(f'`{m}`' for m in issue['one_lane'])}), "
             "one lane a cycle of the others ([shader-core.md](shader-core.md) \"Issue\")."]
+    out += ["", f"{', '.join(f'`{m}`' for m in isa['spin']['pc_only'])} write nothing but the pc: a thread "
+            "about to retire more of them in a row than its code has instructions faults `spin` "
+            "([shader-core.md](shader-core.md) \"Faults\")."]
     out += ["", "## Instructions", "", "| opcode | mnemonic | operands | format | class | "
             "neg/abs | meaning |", "|--:|---|---|---|---|---|---|"]
     for i in isa["insn"]:

@@ -144,6 +144,7 @@ void ShaderCore::start(Chunk& chunk, std::span<const Lane> lanes, ShaderStats& s
     t.pc = raygen_;
     t.done = false;
     t.retired = 0;
+    t.spin = 0;
     t.regs.assign(static_cast<std::size_t>(config_.registers), Vec{});
     t.returns.clear();
     t.stack.clear();
@@ -238,6 +239,17 @@ void ShaderCore::execute(const Arith& ar, Thread& t, ShaderStats& stats, StepRec
   if (use.data >= 0) check_reg(use.data, "data");
   for (const int r : use.src) {
     if (r >= 0) check_reg(r, "source");
+  }
+  // With nothing but the pc written, the pcs of more such instructions in a row than the
+  // code has must repeat, with the same registers and memory each time: the thread can
+  // never end (spec/isa.toml [spin]).
+  if (!in.spec->pc_only) {
+    t.spin = 0;
+  } else if (t.spin++ >= code_.size()) {
+    fault(t, si::FaultKind::kSpin,
+          fmt::format("spin: the thread loops without writing anything ({} branches in a row that wrote only the "
+                      "pc, as many as the code has instructions), so it can never end; a runaway shader",
+                      code_.size()));
   }
 
   // Raw source lanes (swizzled) and float source lanes (rounded into the format, abs,

@@ -120,6 +120,7 @@ class ShaderCore {
     std::uint32_t pc = 0;
     bool done = false;
     std::uint64_t retired = 0;
+    std::uint32_t spin = 0;  // instructions retired in a row that wrote nothing but the pc
     std::vector<std::array<std::uint32_t, 4>> regs;
     std::vector<std::uint32_t> returns;                // the return-address stack
     std::vector<std::array<std::uint32_t, 4>> stack;   // push/pop memory stack (its contents)

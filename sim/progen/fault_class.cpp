@@ -5,7 +5,7 @@ namespace rpu::progen {
 // The message fragments are those of cmodel/functional/shader_core.cpp and
 // device_memory.cpp; classify_fault_message reads them in this order, so a more
 // specific fragment comes before one it contains.
-const std::array<FaultClassInfo, 18> kFaultClasses{{
+const std::array<FaultClassInfo, 19> kFaultClasses{{
     {FaultClass::kIllegalOpcode, "illegal-opcode", "illegal instruction: unknown opcode"},
     {FaultClass::kIllegalUnusedField, "illegal-unused-field", "that it does not use"},
     {FaultClass::kIllegalRegister, "illegal-register", "does not exist (the configuration has"},
@@ -23,6 +23,7 @@ const std::array<FaultClassInfo, 18> kFaultClasses{{
     {FaultClass::kReturnStackEmpty, "return-stack-empty", "with an empty return stack"},
     {FaultClass::kShaderId, "shader-id", "is outside the shader table"},
     {FaultClass::kWatchdog, "watchdog", "watchdog: the thread retired"},
+    {FaultClass::kSpin, "spin", "spin: the thread loops without writing anything"},
     {FaultClass::kPc, "pc", "is past the end of the code"},
 }};
 

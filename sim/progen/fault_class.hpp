@@ -30,6 +30,7 @@ enum class FaultClass : unsigned char {
   kReturnStackEmpty,
   kShaderId,
   kWatchdog,
+  kSpin,
   kPc,
 };
 
@@ -40,7 +41,7 @@ struct FaultClassInfo {
 };
 
 // Every class but kNone, in the order of the enum.
-extern const std::array<FaultClassInfo, 18> kFaultClasses;
+extern const std::array<FaultClassInfo, 19> kFaultClasses;
 
 std::string_view fault_name(FaultClass fault);  // "halt" for kNone
 // The class of a name as fault_name gives it; nullopt if there is none.

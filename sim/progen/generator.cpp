@@ -906,6 +906,16 @@ class Generator {
         c.repeat = static_cast<std::uint32_t>(o_.watchdog);
         c.text = fmt::format("a loop of {} trips, 2 instructions each, past the watchdog", c.repeat);
         break;
+      case FaultClass::kSpin: {
+        const std::uint32_t branches = rng_.below(3);
+        for (std::uint32_t i = 0; i < branches; ++i) {
+          c.spin_branches.push_back(make_instruction(rng_.chance(50) ? Opcode::kBz : Opcode::kBnz, 0, 0,
+                                                     reg(source_reg(), swizzle())));
+        }
+        c.spin = true;
+        c.text = fmt::format("a loop of {} branch{} that writes nothing", branches + 1, branches == 0 ? "" : "es");
+        break;
+      }
       case FaultClass::kPc:
         c.branch_past_end = true;
         c.text = "a branch past the last instruction";

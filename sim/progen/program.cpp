@@ -207,6 +207,12 @@ class Writer {
     }
     for (const std::uint64_t w : f.after) line(isa::disassemble(w));
     if (f.branch_past_end) jump(make_instruction(Opcode::kBra), "code_end");
+    if (f.spin) {
+      const std::string top = fresh("spin");
+      label(top);
+      for (const isa::Instruction& i : f.spin_branches) jump(i, top);
+      jump(make_instruction(Opcode::kBra), top);
+    }
   }
 
  private:
@@ -239,7 +245,7 @@ std::optional<std::uint32_t> fault_pixel_in(const std::vector<Statement>& list) 
 
 std::uint64_t fault_instructions(const FaultCode& f) {
   return f.before.size() + (f.repeat ? 1 + std::uint64_t{f.repeat} * (f.repeated.size() + 2) : 0) + f.after.size() +
-         (f.branch_past_end ? 1 : 0);
+         (f.branch_past_end ? 1 : 0) + (f.spin ? f.spin_branches.size() + 1 : 0);
 }
 
 std::string Program::assembly() const {
@@ -345,7 +351,11 @@ Cost Program::cost() const {
 }
 
 std::uint64_t Program::watchdog() const {
-  return fault == FaultClass::kWatchdog ? watchdog_limit : cost().instructions;
+  if (fault == FaultClass::kWatchdog) return watchdog_limit;
+  // A spinning thread faults once it has retired as many branches in a row as the code
+  // has instructions: at most that many past its first trip of the loop.
+  if (fault == FaultClass::kSpin) return cost().instructions + firmware().code.size() + 1;
+  return cost().instructions;
 }
 
 std::optional<std::uint32_t> Program::fault_pixel() const {

@@ -67,8 +67,10 @@ enum class StatementKind : unsigned char {
 };
 
 // What a fault statement runs: `before`, then `repeated` `repeat` times (a counted loop),
-// then `after`, then (for the pc fault) a branch past the end of the code. Words, not
-// instructions, because some are illegal; they print as disassembly or `.insn`.
+// then `after`, then (for the pc fault) a branch past the end of the code, or (for the
+// spin fault) a loop that writes nothing: `spin` conditional branches back to its top,
+// then a bra to it. Words, not instructions, because some are illegal; they print as
+// disassembly or `.insn`.
 struct FaultCode {
   FaultClass fault = FaultClass::kNone;
   std::vector<std::uint64_t> before;
@@ -76,6 +78,8 @@ struct FaultCode {
   std::vector<std::uint64_t> repeated;
   std::vector<std::uint64_t> after;
   bool branch_past_end = false;
+  bool spin = false;
+  std::vector<isa::Instruction> spin_branches;
   std::string text;  // what it does, for the comment
 };
 

@@ -552,11 +552,11 @@ hit_whitted:
   }
 }
 
-// Pixel 37 runs away; pixel 50 faults at once, long before 37's watchdog. The watchdog
-// counts one thread's instructions for one pixel on every backend, and pixel 37 is the
-// one reported.
-TEST(CycleModel, ARunawayPixelIsReportedBeforeALaterPixelsEarlierFault) {
-  const isa::Firmware firmware = assemble_text(R"(
+// Pixel 37 runs away in `loop` (at code label spin); pixel 50 faults at once, long
+// before 37's runaway is stopped. A runaway is counted per thread and pixel on every
+// backend, and pixel 37 is the one reported.
+isa::Firmware runaway_at_pixel_37(std::string_view loop) {
+  return assemble_text(fmt::format(R"(
 raygen:
         rdsr    r0, pixel
         iaddi   r1.x, r0.z, -50
@@ -564,7 +564,7 @@ raygen:
         iaddi   r1.x, r0.z, -37
         bnz     r1.x, done
 spin:
-        bra     spin
+{}
 bad_load:
         li      r2.x, 0x30000000
         ld      r3, [r2]
@@ -572,11 +572,29 @@ done:
         halt
 hit_whitted:
         ret
-)");
+)",
+                                   loop));
+}
+
+// A loop that writes runs to the watchdog.
+TEST(CycleModel, ARunawayPixelIsReportedBeforeALaterPixelsEarlierFault) {
+  const isa::Firmware firmware = runaway_at_pixel_37("        iaddi   r4.x, r4.x, 1\n        bra     spin");
   for (const std::string& fault : faults_on_every_backend(firmware, 5'000, 8, 8)) {
     EXPECT_EQ(fault,
-              "shader fault in thread 41 (core 1, chunk 2, lane 1; pixel 5, 4) at pc 5 (bra 5): watchdog: the thread "
-              "retired 5000 instructions for one pixel; a runaway shader? (at code label spin)");
+              "shader fault in thread 41 (core 1, chunk 2, lane 1; pixel 5, 4) at pc 6 (bra 5): watchdog: the thread "
+              "retired 5000 instructions for one pixel; a runaway shader? (code label spin + 1)");
+  }
+}
+
+// A loop that writes nothing is stopped after as many branches in a row as the code
+// has instructions (10 here), at the default watchdog of 5 x 10^7 too.
+TEST(CycleModel, ASpinningPixelIsStoppedAtOnceOnEveryBackend) {
+  const isa::Firmware firmware = runaway_at_pixel_37("        bra     spin");
+  for (const std::string& fault : faults_on_every_backend(firmware, 50'000'000, 8, 8)) {
+    EXPECT_EQ(fault,
+              "shader fault in thread 41 (core 1, chunk 2, lane 1; pixel 5, 4) at pc 5 (bra 5): spin: the thread "
+              "loops without writing anything (10 branches in a row that wrote only the pc, as many as the code has "
+              "instructions), so it can never end; a runaway shader (at code label spin)");
   }
 }
 

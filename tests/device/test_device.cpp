@@ -170,7 +170,8 @@ TEST(FunctionalDevice, DestroyingADeviceDuringItsFrameWaitsForTheFrame) {
   for (int i = 0; i < 3; ++i) {
     const auto dev = make_functional_device(hardware_config("tiny"), fp::kFp32, o);
     dev->load_image(f.si.image.bytes, f.scene.source);
-    dev->load_firmware(assemble_text("raygen:\nspin:\n bra spin\nhit_whitted:\n ret\n"), shader_names(f.scene));
+    dev->load_firmware(assemble_text("raygen:\nloop:\n iaddi r1.x, r1.x, 1\n bra loop\nhit_whitted:\n ret\n"),
+                       shader_names(f.scene));
     dev->launch({4, 4, 1, 0, 1});
   }
 }

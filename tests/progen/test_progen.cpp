@@ -116,6 +116,7 @@ TEST(Progen, FaultClassesReadTheModelsMessages) {
       {"fault_shader_id", FaultClass::kShaderId},
       {"fault_stack_overflow", FaultClass::kStackOverflow},
       {"fault_stack_underflow", FaultClass::kStackUnderflow},
+      {"fault_spin", FaultClass::kSpin},
       {"fault_watchdog", FaultClass::kWatchdog},
   };
   std::set<FaultClass> seen;
