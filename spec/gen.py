@@ -198,9 +198,9 @@ def validate_isa(isa: dict) -> None:
     if set(isa.get("spin", {})) != {"pc_only"}:
         raise SpecError(f"{where}: [spin] has pc_only")
     for m in isa["spin"]["pc_only"]:
-        insn = next((i for i in isa["insn"] if i["mnemonic"] == m), None)
-        if insn is None or "d" in insn["operands"] or insn["class"] != "branch":
-            raise SpecError(f"{where}: [spin] pc_only: '{m}' is not a branch that writes nothing but the pc")
+        if m not in PC_ONLY:
+            raise SpecError(f"{where}: [spin] pc_only: '{m}' is not a branch that writes nothing but the pc "
+                            f"(those are {', '.join(sorted(PC_ONLY))})")
     names = set()
     for fault in isa.get("fault", []):
         if not IDENT.match(fault.get("name", "")) or fault["name"] in names or set(fault) != {"name", "doc"}:
@@ -234,6 +234,11 @@ def validate_fp_units(spec: dict) -> None:
             if op in op_names:
                 raise SpecError(f"spec/fp_units.toml: op '{op}' is in two units")
             op_names.add(op)
+
+
+# The instructions whose semantics (cmodel/functional/shader_core.cpp, rtl/rpu_spu.sv)
+# write nothing but the pc: no register, stack, return stack or memory.
+PC_ONLY = {"bra", "bz", "bnz"}
 
 
 # rpu::fp::soft's operations (cmodel/fp/soft.hpp) with their operand count.

@@ -21,6 +21,8 @@ cases = {
     "positional sources without a destination": ("isa.toml", 'operands = ["a"]\nclass = "mem"\nmods = "none"\n',
                                                  'operands = ["a"]\nclass = "mem"\nmods = "none"\nsources = "positional"\n'),
     "unknown latency class": ("isa.toml", 'class = "sfu"', 'class = "fancy"'),
+    "spin counting an instruction that writes": ("isa.toml", 'pc_only = ["bra", "bz", "bnz"]',
+                                                 'pc_only = ["bra", "bz", "bnz", "call"]'),
     "operand without its field": ("isa.toml", 'format = "R"\noperands = ["d", "a", "b", "c"]', 'format = "I"\noperands = ["d", "a", "b", "c"]'),
     "more registers than the encoding names": ("configs.toml", "registers = 32", "registers = 65"),
     "unknown config key": ("configs.toml", "shader_cores = 4", "shader_cores = 4\nshader_core = 4"),
