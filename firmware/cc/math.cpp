@@ -58,6 +58,79 @@ Src sine(Builder& b, const Src& x, int n) {
   return b.op(Opcode::kMul, n, {p, y});
 }
 
+// tan as Cephes' tanf: |x| less j pi/4 for the even j nearest (x 4/pi), pi/4 in three
+// parts so that j pi/4 is subtracted nearly exactly, then a polynomial on [-pi/4, pi/4];
+// where j/2 is odd, tan is -1/that; the sign of x last (relative error about 2e-7 while
+// j pi/4 stays exact, |x| below some thousands).
+Src tangent(Builder& b, const Src& x, int n) {
+  const Src j_low = b.op(Opcode::kFlr, n, {b.op(Opcode::kMul, n, {abs(x), b.fconst(1.27323954f, n)})});
+  const Src odd = b.op(Opcode::kFrc, n, {b.op(Opcode::kMul, n, {j_low, b.fconst(0.5f, n)})});  // 0 or 1/2
+  const Src j = b.op(Opcode::kMad, n, {odd, b.fconst(2.0f, n), j_low});
+  Src z = b.op(Opcode::kMad, n, {neg(j), b.fconst(0.78515625f, n), abs(x)});
+  z = b.op(Opcode::kMad, n, {neg(j), b.fconst(2.4187564849853515625e-4f, n), z});
+  z = b.op(Opcode::kMad, n, {neg(j), b.fconst(3.77489497744594108e-8f, n), z});
+  const Src zz = b.op(Opcode::kMul, n, {z, z});
+  static constexpr float kCoefficients[] = {9.38540185543e-3f, 3.11992232697e-3f, 2.44301354525e-2f,
+                                            5.34112807005e-2f, 1.33387994085e-1f, 3.33331568548e-1f};
+  Src p = b.fconst(kCoefficients[0], n);
+  for (std::size_t k = 1; k < std::size(kCoefficients); ++k) {
+    p = b.op(Opcode::kMad, n, {p, zz, b.fconst(kCoefficients[k], n)});
+  }
+  p = b.op(Opcode::kMul, n, {p, zz});
+  p = b.op(Opcode::kMad, n, {p, z, z});
+  const Src quarter = b.op(Opcode::kFrc, n, {b.op(Opcode::kMul, n, {j, b.fconst(0.25f, n)})});  // 0 or 1/2
+  const Src cotangent = b.op(Opcode::kFne, n, {quarter, b.fconst(0.0f, n)});
+  const Src inverse = b.op(Opcode::kRcp, n, {p});
+  const Src t = b.select(cotangent, neg(inverse), p, n);
+  const Src negative = b.op(Opcode::kFlt, n, {x, b.fconst(0.0f, n)});
+  const Src negated = b.op(Opcode::kMov, n, {neg(t)});
+  return b.select(negative, negated, t, n);
+}
+
+// atan t for t in [0, 1]: t above tan(pi/8) is moved below it by atan t = pi/4 +
+// atan((t - 1) / (t + 1)), then Cephes' atanf polynomial in t^2 (relative error below
+// 2e-7 on [0, tan(pi/8)]).
+Src arctangent_unit(Builder& b, const Src& t, int n) {
+  const Src one = b.fconst(1.0f, n);
+  const Src high = b.op(Opcode::kFlt, n, {b.fconst(0.414213562f, n), t});
+  const Src below = b.op(Opcode::kAdd, n, {t, neg(one)});
+  const Src above = b.op(Opcode::kRcp, n, {b.op(Opcode::kAdd, n, {t, one})});
+  const Src moved = b.op(Opcode::kMul, n, {below, above});
+  const Src u = b.select(high, moved, t, n);
+  const Src z = b.op(Opcode::kMul, n, {u, u});
+  static constexpr float kCoefficients[] = {8.05374449538e-2f, -1.38776856032e-1f, 1.99777106478e-1f,
+                                            -3.33329491539e-1f};
+  Src p = b.fconst(kCoefficients[0], n);
+  for (std::size_t k = 1; k < std::size(kCoefficients); ++k) {
+    p = b.op(Opcode::kMad, n, {p, z, b.fconst(kCoefficients[k], n)});
+  }
+  p = b.op(Opcode::kMul, n, {p, z});
+  p = b.op(Opcode::kMad, n, {p, u, u});
+  const Src shifted = b.op(Opcode::kAdd, n, {p, b.fconst(0.785398163f, n)});
+  return b.select(high, shifted, p, n);
+}
+
+// The smaller of |x| and |y| over the larger gives the angle within an octant; the
+// octant's reflections (|y| > |x|: pi/2 - a; x < 0: pi - a; y < 0: -a) give the rest.
+Src arctangent2(Builder& b, const Src& y, const Src& x, int n) {
+  const Src zero = b.fconst(0.0f, n);
+  const Src larger = b.op(Opcode::kMax, n, {abs(x), abs(y)});
+  const Src smaller = b.op(Opcode::kMin, n, {abs(x), abs(y)});
+  const Src ratio = b.op(Opcode::kMul, n, {smaller, b.op(Opcode::kRcp, n, {larger})});
+  const Src origin = b.op(Opcode::kFeq, n, {larger, zero});
+  const Src t = b.select(origin, zero, ratio, n);
+  Src a = arctangent_unit(b, t, n);
+  const Src steep = b.op(Opcode::kFlt, n, {abs(x), abs(y)});
+  const Src from_half_pi = b.op(Opcode::kAdd, n, {b.fconst(1.57079633f, n), neg(a)});
+  a = b.select(steep, from_half_pi, a, n);
+  const Src left = b.op(Opcode::kFlt, n, {x, zero});
+  const Src from_pi = b.op(Opcode::kAdd, n, {b.fconst(3.14159265f, n), neg(a)});
+  a = b.select(left, from_pi, a, n);
+  const Src below = b.op(Opcode::kFlt, n, {y, zero});
+  const Src negated = b.op(Opcode::kMov, n, {neg(a)});
+  return b.select(below, negated, a, n);
+}
+
 // log2 as firmware/whitted.s's pow computes it: x = m 2^e with m in [sqrt(1/2), sqrt(2)),
 // log2 m = (2/ln 2) atanh((m-1)/(m+1)) to t^9. For x > 0; 0 gives -126.something, so
 // exp2 of a product with it still flushes to 0.

@@ -16,5 +16,10 @@ Src exp2(Builder& b, const Src& y, int n);
 Src log2(Builder& b, const Src& x, int n);
 // sin x; cos x is sin(x + pi/2).
 Src sine(Builder& b, const Src& x, int n);
+// tan x, from x reduced to [-pi/4, pi/4] (Cephes' tanf).
+Src tangent(Builder& b, const Src& x, int n);
+// atan2(y, x), the angle of (x, y) in [-pi, pi]: 0 for (0, 0). atan y is atan2(y, 1),
+// asin and acos atan2 of x and sqrt(1 - x^2).
+Src arctangent2(Builder& b, const Src& y, const Src& x, int n);
 
 }  // namespace rpu::cc

@@ -396,6 +396,37 @@ Src cosine_of(Selection& s) {
   return sine(s.b, s.b.op(Opcode::kAdd, s.n, {s.in.value(0), s.b.fconst(1.57079632679f, s.n)}), s.n);
 }
 
+Src tangent_of(Selection& s) { return tangent(s.b, s.in.value(0), s.n); }
+
+Src arctangent_of(Selection& s) {
+  const Src y = s.in.value(0);
+  const Src one = s.b.fconst(1.0f, s.n);
+  return arctangent2(s.b, y, one, s.n);
+}
+
+Src arctangent2_of(Selection& s) {
+  const Src y = s.in.value(0), x = s.in.value(1);
+  return arctangent2(s.b, y, x, s.n);
+}
+
+// sqrt(1 - x^2) as sqrt((1 - x)(1 + x)), exact near |x| = 1 where 1 - x^2 cancels.
+Src cosine_of_arcsine(Selection& s, const Src& x) {
+  const Src one = s.b.fconst(1.0f, s.n);
+  const Src left = s.b.op(Opcode::kAdd, s.n, {one, neg(x)});
+  const Src right = s.b.op(Opcode::kAdd, s.n, {one, x});
+  return s.b.op(Opcode::kSqrt, s.n, {s.b.op(Opcode::kMul, s.n, {left, right})});
+}
+
+Src arcsine_of(Selection& s) {
+  const Src x = s.in.value(0);
+  return arctangent2(s.b, x, cosine_of_arcsine(s, x), s.n);
+}
+
+Src arccosine_of(Selection& s) {
+  const Src x = s.in.value(0);
+  return arctangent2(s.b, cosine_of_arcsine(s, x), x, s.n);
+}
+
 Src exp2_of(Selection& s) { return exp2(s.b, s.in.value(0), s.n); }
 
 Src log2_of(Selection& s) { return log2(s.b, s.in.value(0), s.n); }
@@ -495,6 +526,11 @@ constexpr std::pair<GLSLstd450, Expansion> kExpandedStd450[] = {
     {GLSLstd450SmoothStep, smoothstep},
     {GLSLstd450Sin, sine_of},
     {GLSLstd450Cos, cosine_of},
+    {GLSLstd450Tan, tangent_of},
+    {GLSLstd450Atan, arctangent_of},
+    {GLSLstd450Atan2, arctangent2_of},
+    {GLSLstd450Asin, arcsine_of},
+    {GLSLstd450Acos, arccosine_of},
     {GLSLstd450Exp2, exp2_of},
     {GLSLstd450Log2, log2_of},
     {GLSLstd450Exp, exp_of},

@@ -21,6 +21,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <optional>
 #include <sstream>
 
@@ -223,6 +224,60 @@ TEST_P(GlslProgram, MeetsItsExpectations) {
 
 INSTANTIATE_TEST_SUITE_P(Programs, GlslProgram, testing::ValuesIn(program_names()),
                          [](const testing::TestParamInfo<std::string>& i) { return i.param; });
+
+
+// The library's inverse trigonometry and tan against libm in double, on fp32 (default),
+// over the 512x512 grids of tests/glsl/accuracy: the bounds docs/shaders.md states.
+Image render_accuracy_grid(const std::string& raygen) {
+  const fs::path file = fs::path(RPU_GLSL_ACCURACY_DIR) / raygen;
+  std::ifstream in(file, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  const std::vector<cc::ShaderSource> sources{
+      {file, text.str()},
+      {file.parent_path() / "whitted.rchit", "#version 460\n#extension GL_EXT_ray_tracing : require\nvoid main() {}\n"}};
+  const isa::Firmware firmware = cc::compile(sources, cc::CompileOptions{}).firmware;
+  const spec::HardwareConfig& config = hardware_config("default");
+  const Scene scene = resolve_scene("tetra:1");
+  const functional::SceneImage si = functional::make_scene_image(scene, kd_build_config_for("default"), IsectMode::kWoop);
+  RenderSettings settings;
+  settings.width = 512;
+  settings.height = 512;
+  settings.spp = 1;
+  settings.max_depth = 1;
+  const auto dev = device::make_functional_device(config, fp::kFp32);
+  return device::render_frame(*dev, scene, si.image, firmware, settings);
+}
+
+TEST(GlslMath, InverseTrigonometryAndTanAreWithinTheirStatedError) {
+  const Image inverse = render_accuracy_grid("inverse_trig.rgen");
+  const Image tangent = render_accuracy_grid("tangent.rgen");
+  double atan1 = 0, asin1 = 0, acos1 = 0, atan2_grid = 0, atan2_steep = 0, tan_relative = 0;
+  for (int y = 0; y < 512; ++y) {
+    for (int x = 0; x < 512; ++x) {
+      const float d = static_cast<float>(512 * y + x - 131072);
+      const double t = d / 4096.0f, s = d / 131072.0f, a = d * 1.1980533599853516e-05f;
+      const double u = static_cast<float>(x - 256) / 64.0f, v = static_cast<float>(y - 256) / 64.0f;
+      const glm::vec3 i = inverse.at(x, y), g = tangent.at(x, y);
+      atan1 = std::max(atan1, std::abs(i.x - std::atan(t)));
+      asin1 = std::max(asin1, std::abs(i.y - std::asin(s)));
+      acos1 = std::max(acos1, std::abs(i.z - std::acos(s)));
+      if (a != 0) tan_relative = std::max(tan_relative, std::abs(g.x - std::tan(a)) / std::abs(std::tan(a)));
+      if (u != 0 || v != 0) atan2_grid = std::max(atan2_grid, std::abs(g.y - std::atan2(v, u)));
+      const double u_small = static_cast<float>(u / 1024.0);
+      if (u != 0 || v != 0) atan2_steep = std::max(atan2_steep, std::abs(g.z - std::atan2(u_small, v)));
+    }
+  }
+  EXPECT_LE(atan1, 1.5e-7);
+  EXPECT_LE(asin1, 1.7e-7);
+  EXPECT_LE(acos1, 3e-7);
+  EXPECT_LE(atan2_grid, 3e-7);
+  EXPECT_LE(atan2_steep, 3e-7);
+  EXPECT_LE(tan_relative, 2.5e-7);
+  std::cout << fmt::format("max abs error: atan {:.3g}, asin {:.3g}, acos {:.3g}, atan2 {:.3g} and {:.3g}; tan's "
+                           "relative error {:.3g}\n",
+                           atan1, asin1, acos1, atan2_grid, atan2_steep, tan_relative);
+}
 
 }  // namespace
 }  // namespace rpu
