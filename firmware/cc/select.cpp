@@ -212,27 +212,71 @@ Src snegate(Selection& s) {
   return s.b.op(Opcode::kIsub, s.n, {s.b.op(Opcode::kLi, s.n, {}, Imm::integer(0)), s.in.value(0)});
 }
 
-// UDiv, UMod, SDiv, SMod, SRem by a constant power of two: shifts and masks.
-Src by_power_of_two(Selection& s) {
+// a / d, unsigned, for a constant d: a shift for a power of two, else Granlund and
+// Montgomery's multiply by a magic number ("Division by Invariant Integers using
+// Multiplication", PLDI 1994, figure 4.1), exact for every 32-bit a.
+Src unsigned_quotient(Builder& b, const Src& a, std::uint32_t d, int n) {
+  if (std::has_single_bit(d)) return b.op(Opcode::kShri, n, {a}, Imm::integer(std::countr_zero(d)));
+  const int l = std::bit_width(d - 1);  // ceil(log2 d), 2..32
+  const std::uint64_t magic = (std::uint64_t{1} << 32) * ((std::uint64_t{1} << l) - d) / d + 1;
+  const Src m = b.op(Opcode::kLi, n, {}, Imm::bits(static_cast<std::uint32_t>(magic)));
+  const Src t = b.op(Opcode::kImulhu, n, {a, m});
+  const Src half = b.op(Opcode::kShri, n, {b.op(Opcode::kIsub, n, {a, t})}, Imm::integer(1));
+  return b.op(Opcode::kShri, n, {b.op(Opcode::kIadd, n, {t, half})}, Imm::integer(l - 1));
+}
+
+// UDiv, UMod, SDiv, SRem and SMod by a constant. A positive power of two takes shifts and
+// masks; any other divisor the magic multiply on magnitudes (signed: the quotient rounds
+// toward zero, SRem has the dividend's sign, SMod the divisor's).
+Src by_constant(Selection& s) {
   const int n = s.n;
   const auto op = static_cast<Op>(s.op);
   const auto c = s.in.constant(1);
   const bool is_signed = op != Op::OpUDiv && op != Op::OpUMod;
-  if (!c || !std::has_single_bit(*c) || (is_signed && static_cast<std::int32_t>(*c) <= 0)) {
-    s.b.unsupported(
-        fmt::format("{} by other than a constant power of two (the RPU has no integer divider)", op_name(op)));
+  if (!c) {
+    s.b.unsupported(fmt::format("{} by a value not known when compiling (the RPU has no integer divider; a "
+                                "constant divisor compiles to a multiply)",
+                                op_name(op)));
   }
-  const int k = std::countr_zero(*c);
+  if (*c == 0) s.b.unsupported(fmt::format("{} by the constant 0", op_name(op)));
   const Src x = s.in.value(0);
-  if (op == Op::OpUDiv) return s.b.op(Opcode::kShri, n, {x}, Imm::integer(k));
-  // SMod takes the divisor's sign, positive here: the low bits
-  if (op == Op::OpUMod || op == Op::OpSMod) return s.b.op(Opcode::kAndi, n, {x}, Imm::integer(*c - 1));
-  if (k == 0) return op == Op::OpSDiv ? x : s.b.op(Opcode::kLi, n, {}, Imm::integer(0));  // by 1
-  // Round toward zero: add 2^k - 1 to negative x first.
-  const Src bias = s.b.op(Opcode::kShri, n, {s.b.op(Opcode::kSrai, n, {x}, Imm::integer(31))}, Imm::integer(32 - k));
-  const Src q = s.b.op(Opcode::kSrai, n, {s.b.op(Opcode::kIadd, n, {x, bias})}, Imm::integer(k));
-  // SRem: the remainder with x's sign
-  return op == Op::OpSDiv ? q : s.b.op(Opcode::kIsub, n, {x, s.b.op(Opcode::kShli, n, {q}, Imm::integer(k))});
+  const std::uint32_t d = *c;
+  const auto remainder = [&](const Src& q) {
+    const Src product = s.b.op(Opcode::kImuli, n, {q}, Imm::bits(d));
+    return s.b.op(Opcode::kIsub, n, {x, product});
+  };
+  if (!is_signed) {
+    if (op == Op::OpUMod && std::has_single_bit(d)) return s.b.op(Opcode::kAndi, n, {x}, Imm::bits(d - 1));
+    const Src q = unsigned_quotient(s.b, x, d, n);
+    return op == Op::OpUDiv ? q : remainder(q);
+  }
+  const auto sd = static_cast<std::int32_t>(d);
+  if (sd > 0 && std::has_single_bit(d)) {
+    const int k = std::countr_zero(d);
+    // SMod takes the divisor's sign, positive here: the low bits
+    if (op == Op::OpSMod) return s.b.op(Opcode::kAndi, n, {x}, Imm::bits(d - 1));
+    if (k == 0) return op == Op::OpSDiv ? x : s.b.op(Opcode::kLi, n, {}, Imm::integer(0));  // by 1
+    // Round toward zero: add 2^k - 1 to negative x first.
+    const Src bias = s.b.op(Opcode::kShri, n, {s.b.op(Opcode::kSrai, n, {x}, Imm::integer(31))}, Imm::integer(32 - k));
+    const Src q = s.b.op(Opcode::kSrai, n, {s.b.op(Opcode::kIadd, n, {x, bias})}, Imm::integer(k));
+    // SRem: the remainder with x's sign
+    return op == Op::OpSDiv ? q : s.b.op(Opcode::kIsub, n, {x, s.b.op(Opcode::kShli, n, {q}, Imm::integer(k))});
+  }
+  // |x| / |d| unsigned (|INT_MIN| is 2^31), then the quotient's sign: x's, flipped if d < 0.
+  const Src sign = s.b.op(Opcode::kSrai, n, {x}, Imm::integer(31));  // 0 or all ones
+  const Src magnitude = s.b.op(Opcode::kIsub, n, {s.b.op(Opcode::kXor, n, {x, sign}), sign});
+  const std::uint32_t divisor = sd < 0 ? 0u - d : d;
+  const Src uq = unsigned_quotient(s.b, magnitude, divisor, n);
+  const Src q_sign = sd < 0 ? s.b.not_of(sign) : sign;
+  const Src q = s.b.op(Opcode::kIsub, n, {s.b.op(Opcode::kXor, n, {uq, q_sign}), q_sign});
+  if (op == Op::OpSDiv) return q;
+  const Src r = remainder(q);
+  if (op == Op::OpSRem) return r;
+  // SMod: a nonzero remainder whose sign differs from d's moves by d.
+  const Src nonzero = s.b.not_of(s.b.op(Opcode::kIeq, n, {r, s.b.op(Opcode::kLi, n, {}, Imm::integer(0))}));
+  const Src differs = s.b.op(Opcode::kIlti, n, {s.b.op(Opcode::kXori, n, {r}, Imm::bits(d))}, Imm::integer(0));
+  const Src moved = s.b.op(Opcode::kIaddi, n, {r}, Imm::bits(d));
+  return s.b.select(s.b.op(Opcode::kAnd, n, {nonzero, differs}), moved, r, n);
 }
 
 Src uint_to_float(Selection& s) {
@@ -281,11 +325,11 @@ constexpr std::pair<Op, Expansion> kExpandedOps[] = {
     {Op::OpSelect, select_op},
     {Op::OpISub, isub},
     {Op::OpSNegate, snegate},
-    {Op::OpUDiv, by_power_of_two},
-    {Op::OpUMod, by_power_of_two},
-    {Op::OpSDiv, by_power_of_two},
-    {Op::OpSMod, by_power_of_two},
-    {Op::OpSRem, by_power_of_two},
+    {Op::OpUDiv, by_constant},
+    {Op::OpUMod, by_constant},
+    {Op::OpSDiv, by_constant},
+    {Op::OpSMod, by_constant},
+    {Op::OpSRem, by_constant},
     {Op::OpConvertUToF, uint_to_float},
     {Op::OpConvertFToU, float_to_uint},
 };

@@ -279,5 +279,48 @@ TEST(GlslMath, InverseTrigonometryAndTanAreWithinTheirStatedError) {
                            atan1, asin1, acos1, atan2_grid, atan2_steep, tan_relative);
 }
 
+
+// Integer division and remainder by constants, compiled to multiplies by magic numbers
+// (and shifts), against C++ on 262,144 dividends and eight divisors.
+TEST(GlslMath, IntegerDivisionByAConstantIsExact) {
+  const Image image = render_accuracy_grid("integer_division.rgen");
+  const auto dividend = [](std::uint32_t k) -> std::uint32_t {
+    if (k == 0) return 0;
+    if (k == 8) return 0xffffffffu;
+    if (k == 16) return 0x80000000u;
+    if (k == 24) return 0x7fffffffu;
+    return k * 2654435761u + (k >> 3);
+  };
+  // SPIR-V's SMod: the remainder with the divisor's sign.
+  const auto smod = [](std::int64_t a, std::int64_t d) {
+    const std::int64_t r = a % d;
+    return r != 0 && (r < 0) != (d < 0) ? r + d : r;
+  };
+  int wrong = 0;
+  for (std::uint32_t k = 0; k < 512 * 512; ++k) {
+    const std::uint32_t a = dividend(k & ~7u);
+    const std::int64_t i = static_cast<std::int32_t>(a);
+    std::int64_t q = 0, r = 0;
+    switch (k & 7u) {
+      case 0: q = a / 3u, r = a % 3u; break;
+      case 1: q = a / 7u, r = a % 7u; break;
+      case 2: q = a / 1000u, r = a % 1000u; break;
+      case 3: q = a / 0xfffffffbu, r = a % 0xfffffffbu; break;
+      case 4: q = i / 10, r = smod(i, 10); break;
+      case 5: q = i / -7, r = smod(i, -7); break;
+      case 6: q = i / 641, r = smod(i, -641); break;
+      default: q = i / -2147483648LL, r = smod(i, 6700417); break;
+    }
+    const auto qu = static_cast<std::uint32_t>(q), ru = static_cast<std::uint32_t>(r);
+    const glm::vec3 want(static_cast<float>(qu & 0xffffu), static_cast<float>(qu >> 16), static_cast<float>(ru & 0xffffu));
+    const glm::vec3 have = image.at(static_cast<int>(k % 512), static_cast<int>(k / 512));
+    if (have != want && ++wrong <= 5) {
+      ADD_FAILURE() << fmt::format("case {} of a = {:#010x}: quotient {:#x}, remainder {:#x}; the shader gave ({}, {}, {})",
+                                   k & 7u, a, qu, ru, have.x, have.y, have.z);
+    }
+  }
+  EXPECT_EQ(wrong, 0);
+}
+
 }  // namespace
 }  // namespace rpu
