@@ -60,6 +60,11 @@ def record_struct(section: str, table: dict, types: dict[str, str]) -> list[str]
     return out + ["};", ""]
 
 
+def block_name(buffer: dict) -> str:
+    """The GLSL block rpu.glsl declares the buffer as; the compiler accepts only it there."""
+    return "Rpu" + camel(buffer["name"])
+
+
 def gen_glsl(spec: dict, memory_map_text: str, banner: str) -> str:
     types = field_types(memory_map_text)
     mm, shaders = spec["memory_map"], spec["shaders"]
@@ -68,7 +73,7 @@ def gen_glsl(spec: dict, memory_map_text: str, banner: str) -> str:
         if "record" in b:
             out += record_struct(b["record"], mm[b["record"]], types.get(b["record"], {}))
     for b in shaders["buffer"]:
-        block = "Rpu" + camel(b["name"])
+        block = block_name(b)
         if "record" in b:
             elem = camel(b["record"])
         else:
@@ -110,12 +115,14 @@ def gen_cpp(spec: dict) -> list[str]:
     shaders, mm = spec["shaders"], spec["memory_map"]
     out = ["// Compiled shaders' descriptor set 0 (spec/shaders.toml): where each buffer's address is.",
            "struct ShaderBuffer {", "  std::string_view name;", "  std::uint32_t binding;",
+           "  std::string_view block;  // the block rpu.glsl declares at the binding",
            "  bool in_launch_block;     // the address is the launch-block word at launch_word_at",
            "  std::uint32_t launch_word_at;", "};",
            f"inline constexpr std::array<ShaderBuffer, {len(shaders['buffer'])}> kShaderBuffers{{{{"]
     for b in shaders["buffer"]:
         at = mm["launch"][b["address"]] if "address" in b else 0
-        out.append(f"    {{\"{b['name']}\", {b['binding']}u, {'true' if 'address' in b else 'false'}, {at}u}},")
+        out.append(f"    {{\"{b['name']}\", {b['binding']}u, \"{block_name(b)}\", {'true' if 'address' in b else 'false'}, "
+                   f"{at}u}},")
     out += ["}};",
             f"inline constexpr std::uint32_t kShaderFramebufferBinding = {shaders['framebuffer']['binding']}u;",
             f"inline constexpr std::uint32_t kShaderAccelerationStructureBinding = "

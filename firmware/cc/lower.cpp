@@ -407,6 +407,15 @@ class Lowerer {
     if (d.set.value_or(0) != 0) b_.unsupported(fmt::format("descriptor set {} (the chip has set 0)", *d.set));
     for (const spec::ShaderBuffer& b : spec::kShaderBuffers) {
       if (b.binding != binding) continue;
+      // A block of the shader's own at a binding the chip uses would read the chip's
+      // buffer (lights[] for binding 2) as if it were its own.
+      const auto block = m_.names.find(block_type);
+      if (block == m_.names.end() || block->second != b.block) {
+        b_.fail(b_.where, fmt::format("storage buffer block '{}' at binding {}: that binding is the chip's {} "
+                                      "buffer, block {} of rpu.glsl; the chip reads no other buffers "
+                                      "(spec/shaders.toml, docs/shaders.md)",
+                                      block == m_.names.end() ? "" : block->second, binding, b.name, b.block));
+      }
       Pointer p;
       p.type = block_type;
       p.binding = binding;
