@@ -85,6 +85,8 @@ void Builder::branch(const std::string& target) {
   push(std::move(b));
 }
 
+std::string Builder::fresh_label(const std::string& stem) { return fmt::format(".{}_{}{}", fn_.label, stem, labels_++); }
+
 void Builder::cond_branch(bool if_nonzero, const Src& cond, const std::string& target) {
   MInst b;
   b.kind = Kind::kCondBranch;

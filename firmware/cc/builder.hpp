@@ -43,6 +43,8 @@ class Builder {
   Src select(const Src& cond, const Src& a, const Src& b, int n);
 
   void label(const std::string& name);
+  // A label of this function no other has: its name, the stem and a count.
+  std::string fresh_label(const std::string& stem);
   void branch(const std::string& target);
   void cond_branch(bool if_nonzero, const Src& cond, const std::string& target);
 
@@ -52,6 +54,7 @@ class Builder {
 
  private:
   MFunction& fn_;
+  int labels_ = 0;
 };
 
 }  // namespace rpu::cc

@@ -225,6 +225,65 @@ Src unsigned_quotient(Builder& b, const Src& a, std::uint32_t d, int n) {
   return b.op(Opcode::kShri, n, {b.op(Opcode::kIadd, n, {t, half})}, Imm::integer(l - 1));
 }
 
+// a / d, unsigned, for a d known only when the shader runs: restoring division, one
+// quotient bit a trip for 32 trips (every lane the same count), exact for every a and d;
+// d = 0 gives all ones. The remainder is left in `remainder`.
+Src unsigned_quotient_of(Builder& b, const Src& a_in, const Src& d, int n, Src& remainder) {
+  const Src zero = b.op(Opcode::kLi, n, {}, Imm::integer(0));
+  const int a = b.vreg(n), q = b.vreg(n), r = b.vreg(n), trips = b.vreg(1);
+  b.op_into(a, 0, Opcode::kMov, {a_in}, {}, true);
+  b.op_into(q, 0, Opcode::kMov, {zero}, {}, true);
+  b.op_into(r, 0, Opcode::kMov, {zero}, {}, true);
+  b.op_into(trips, 0, Opcode::kLi, {}, Imm::integer(32), true);
+  const std::string top = b.fresh_label("divide");
+  b.label(top);
+  // r:a shifted left one bit; r's bit shifted out (carry) means r is past any d.
+  const Src carry = b.op(Opcode::kSrai, n, {b.whole(r)}, Imm::integer(31));
+  const Src next_bit = b.op(Opcode::kShri, n, {b.whole(a)}, Imm::integer(31));
+  const Src shifted = b.op(Opcode::kOr, n, {b.op(Opcode::kShli, n, {b.whole(r)}, Imm::integer(1)), next_bit});
+  b.op_into(a, 0, Opcode::kShli, {b.whole(a)}, Imm::integer(1));
+  const Src below = b.op(Opcode::kIltu, n, {shifted, d});
+  const Src fits = b.op(Opcode::kOr, n, {carry, b.not_of(below)});
+  const Src less_d = b.op(Opcode::kIsub, n, {shifted, d});
+  b.op_into(r, 0, Opcode::kSel, {fits, less_d, shifted});
+  const Src bit = b.op(Opcode::kAndi, n, {fits}, Imm::integer(1));
+  b.op_into(q, 0, Opcode::kOr, {b.op(Opcode::kShli, n, {b.whole(q)}, Imm::integer(1)), bit});
+  b.op_into(trips, 0, Opcode::kIaddi, {b.whole(trips)}, Imm::integer(-1));
+  b.cond_branch(true, b.whole(trips), top);
+  remainder = b.whole(r);
+  return b.whole(q);
+}
+
+// UDiv, UMod, SDiv, SRem and SMod by a value known only when the shader runs: the
+// restoring division on magnitudes, then the signs as for a constant.
+Src by_variable(Selection& s) {
+  const int n = s.n;
+  const auto op = static_cast<Op>(s.op);
+  const Src x = s.in.value(0), y = s.in.value(1);
+  Src r;
+  if (op == Op::OpUDiv || op == Op::OpUMod) {
+    const Src q = unsigned_quotient_of(s.b, x, y, n, r);
+    return op == Op::OpUDiv ? q : r;
+  }
+  const Src x_sign = s.b.op(Opcode::kSrai, n, {x}, Imm::integer(31));  // 0 or all ones
+  const Src y_sign = s.b.op(Opcode::kSrai, n, {y}, Imm::integer(31));
+  const Src x_magnitude = s.b.op(Opcode::kIsub, n, {s.b.op(Opcode::kXor, n, {x, x_sign}), x_sign});
+  const Src y_magnitude = s.b.op(Opcode::kIsub, n, {s.b.op(Opcode::kXor, n, {y, y_sign}), y_sign});
+  const Src uq = unsigned_quotient_of(s.b, x_magnitude, y_magnitude, n, r);
+  if (op == Op::OpSDiv) {
+    const Src q_sign = s.b.op(Opcode::kXor, n, {x_sign, y_sign});
+    return s.b.op(Opcode::kIsub, n, {s.b.op(Opcode::kXor, n, {uq, q_sign}), q_sign});
+  }
+  // SRem: |x| mod |y| with x's sign.
+  const Src rem = s.b.op(Opcode::kIsub, n, {s.b.op(Opcode::kXor, n, {r, x_sign}), x_sign});
+  if (op == Op::OpSRem) return rem;
+  // SMod: a nonzero remainder whose sign differs from y's moves by y.
+  const Src nonzero = s.b.not_of(s.b.op(Opcode::kIeq, n, {rem, s.b.op(Opcode::kLi, n, {}, Imm::integer(0))}));
+  const Src differs = s.b.op(Opcode::kIlti, n, {s.b.op(Opcode::kXor, n, {rem, y})}, Imm::integer(0));
+  const Src moved = s.b.op(Opcode::kIadd, n, {rem, y});
+  return s.b.select(s.b.op(Opcode::kAnd, n, {nonzero, differs}), moved, rem, n);
+}
+
 // UDiv, UMod, SDiv, SRem and SMod by a constant. A positive power of two takes shifts and
 // masks; any other divisor the magic multiply on magnitudes (signed: the quotient rounds
 // toward zero, SRem has the dividend's sign, SMod the divisor's).
@@ -233,11 +292,7 @@ Src by_constant(Selection& s) {
   const auto op = static_cast<Op>(s.op);
   const auto c = s.in.constant(1);
   const bool is_signed = op != Op::OpUDiv && op != Op::OpUMod;
-  if (!c) {
-    s.b.unsupported(fmt::format("{} by a value not known when compiling (the RPU has no integer divider; a "
-                                "constant divisor compiles to a multiply)",
-                                op_name(op)));
-  }
+  if (!c) return by_variable(s);
   if (*c == 0) s.b.unsupported(fmt::format("{} by the constant 0", op_name(op)));
   const Src x = s.in.value(0);
   const std::uint32_t d = *c;

@@ -322,5 +322,44 @@ TEST(GlslMath, IntegerDivisionByAConstantIsExact) {
   EXPECT_EQ(wrong, 0);
 }
 
+
+// Integer division and remainder by divisors known only when the shader runs (a loop of
+// 32 restoring steps), against C++ on 65,536 pairs.
+TEST(GlslMath, IntegerDivisionByAVariableIsExact) {
+  const Image image = render_accuracy_grid("integer_division_variable.rgen");
+  const auto smod = [](std::int64_t a, std::int64_t d) {
+    const std::int64_t r = a % d;
+    return r != 0 && (r < 0) != (d < 0) ? r + d : r;
+  };
+  int wrong = 0;
+  for (std::uint32_t k = 0; k < 512 * 512; ++k) {
+    const std::uint32_t g = k >> 2;
+    std::uint32_t a = 0, d = 0;
+    if (g < 16) {
+      a = g < 4 ? 0u : g < 8 ? 1u : g < 12 ? 0x80000000u : 0xffffffffu;
+      d = std::array<std::uint32_t, 4>{1u, 3u, 0x80000000u, 0xffffffffu}[g & 3];
+    } else {
+      a = g * 2654435761u + (g >> 3);
+      d = ((g ^ 0x5bd1e995u) * 0x27d4eb2du) >> (g % 31);
+      if (d == 0) d = 7;
+    }
+    std::int64_t q = 0, r = 0;
+    if ((k & 1) == 0) {
+      q = a / d, r = a % d;
+    } else {
+      const std::int64_t i = static_cast<std::int32_t>(a), j = static_cast<std::int32_t>(d);
+      q = i / j, r = smod(i, j);
+    }
+    const auto qu = static_cast<std::uint32_t>(q), ru = static_cast<std::uint32_t>(r);
+    const glm::vec3 want(static_cast<float>(qu & 0xffffu), static_cast<float>(qu >> 16), static_cast<float>(ru & 0xffffu));
+    const glm::vec3 have = image.at(static_cast<int>(k % 512), static_cast<int>(k / 512));
+    if (have != want && ++wrong <= 5) {
+      ADD_FAILURE() << fmt::format("{} {:#010x} / {:#010x}: quotient {:#x}, remainder {:#x}; the shader gave ({}, {}, {})",
+                                   (k & 1) ? "signed" : "unsigned", a, d, qu, ru, have.x, have.y, have.z);
+    }
+  }
+  EXPECT_EQ(wrong, 0);
+}
+
 }  // namespace
 }  // namespace rpu
