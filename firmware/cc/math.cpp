@@ -83,8 +83,7 @@ Src tangent(Builder& b, const Src& x, int n) {
   const Src inverse = b.op(Opcode::kRcp, n, {p});
   const Src t = b.select(cotangent, neg(inverse), p, n);
   const Src negative = b.op(Opcode::kFlt, n, {x, b.fconst(0.0f, n)});
-  const Src negated = b.op(Opcode::kMov, n, {neg(t)});
-  return b.select(negative, negated, t, n);
+  return b.select(negative, neg(t), t, n);
 }
 
 // atan t for t in [0, 1]: t above tan(pi/8) is moved below it by atan t = pi/4 +
@@ -127,8 +126,7 @@ Src arctangent2(Builder& b, const Src& y, const Src& x, int n) {
   const Src from_pi = b.op(Opcode::kAdd, n, {b.fconst(3.14159265f, n), neg(a)});
   a = b.select(left, from_pi, a, n);
   const Src below = b.op(Opcode::kFlt, n, {y, zero});
-  const Src negated = b.op(Opcode::kMov, n, {neg(a)});
-  return b.select(below, negated, a, n);
+  return b.select(below, neg(a), a, n);
 }
 
 // log2 as firmware/whitted.s's pow computes it: x = m 2^e with m in [sqrt(1/2), sqrt(2)),

@@ -212,6 +212,21 @@ Src snegate(Selection& s) {
   return s.b.op(Opcode::kIsub, s.n, {s.b.op(Opcode::kLi, s.n, {}, Imm::integer(0)), s.in.value(0)});
 }
 
+// (v ^ sign) - sign: v negated where sign is all ones, kept where it is 0; with v's own
+// sign (srai 31), |v| as an unsigned value (|INT_MIN| = 2^31).
+Src flip_sign(Builder& b, const Src& v, const Src& sign, int n) {
+  return b.op(Opcode::kIsub, n, {b.op(Opcode::kXor, n, {v, sign}), sign});
+}
+
+// SMod from the remainder with the dividend's sign: a nonzero one whose sign differs
+// from the divisor's moves by the divisor.
+Src modulo_of_remainder(Builder& b, const Src& rem, const Src& divisor, int n) {
+  const Src nonzero = b.not_of(b.op(Opcode::kIeq, n, {rem, b.op(Opcode::kLi, n, {}, Imm::integer(0))}));
+  const Src differs = b.op(Opcode::kIlti, n, {b.op(Opcode::kXor, n, {rem, divisor})}, Imm::integer(0));
+  const Src moved = b.op(Opcode::kIadd, n, {rem, divisor});
+  return b.select(b.op(Opcode::kAnd, n, {nonzero, differs}), moved, rem, n);
+}
+
 // a / d, unsigned, for a constant d: a shift for a power of two, else Granlund and
 // Montgomery's multiply by a magic number ("Division by Invariant Integers using
 // Multiplication", PLDI 1994, figure 4.1), exact for every 32-bit a.
@@ -267,21 +282,12 @@ Src by_variable(Selection& s) {
   }
   const Src x_sign = s.b.op(Opcode::kSrai, n, {x}, Imm::integer(31));  // 0 or all ones
   const Src y_sign = s.b.op(Opcode::kSrai, n, {y}, Imm::integer(31));
-  const Src x_magnitude = s.b.op(Opcode::kIsub, n, {s.b.op(Opcode::kXor, n, {x, x_sign}), x_sign});
-  const Src y_magnitude = s.b.op(Opcode::kIsub, n, {s.b.op(Opcode::kXor, n, {y, y_sign}), y_sign});
+  const Src x_magnitude = flip_sign(s.b, x, x_sign, n);
+  const Src y_magnitude = flip_sign(s.b, y, y_sign, n);
   const Src uq = unsigned_quotient_of(s.b, x_magnitude, y_magnitude, n, r);
-  if (op == Op::OpSDiv) {
-    const Src q_sign = s.b.op(Opcode::kXor, n, {x_sign, y_sign});
-    return s.b.op(Opcode::kIsub, n, {s.b.op(Opcode::kXor, n, {uq, q_sign}), q_sign});
-  }
-  // SRem: |x| mod |y| with x's sign.
-  const Src rem = s.b.op(Opcode::kIsub, n, {s.b.op(Opcode::kXor, n, {r, x_sign}), x_sign});
-  if (op == Op::OpSRem) return rem;
-  // SMod: a nonzero remainder whose sign differs from y's moves by y.
-  const Src nonzero = s.b.not_of(s.b.op(Opcode::kIeq, n, {rem, s.b.op(Opcode::kLi, n, {}, Imm::integer(0))}));
-  const Src differs = s.b.op(Opcode::kIlti, n, {s.b.op(Opcode::kXor, n, {rem, y})}, Imm::integer(0));
-  const Src moved = s.b.op(Opcode::kIadd, n, {rem, y});
-  return s.b.select(s.b.op(Opcode::kAnd, n, {nonzero, differs}), moved, rem, n);
+  if (op == Op::OpSDiv) return flip_sign(s.b, uq, s.b.op(Opcode::kXor, n, {x_sign, y_sign}), n);
+  const Src rem = flip_sign(s.b, r, x_sign, n);  // SRem: |x| mod |y| with x's sign
+  return op == Op::OpSRem ? rem : modulo_of_remainder(s.b, rem, y, n);
 }
 
 // UDiv, UMod, SDiv, SRem and SMod by a constant. A positive power of two takes shifts and
@@ -319,19 +325,14 @@ Src by_constant(Selection& s) {
   }
   // |x| / |d| unsigned (|INT_MIN| is 2^31), then the quotient's sign: x's, flipped if d < 0.
   const Src sign = s.b.op(Opcode::kSrai, n, {x}, Imm::integer(31));  // 0 or all ones
-  const Src magnitude = s.b.op(Opcode::kIsub, n, {s.b.op(Opcode::kXor, n, {x, sign}), sign});
+  const Src magnitude = flip_sign(s.b, x, sign, n);
   const std::uint32_t divisor = sd < 0 ? 0u - d : d;
   const Src uq = unsigned_quotient(s.b, magnitude, divisor, n);
   const Src q_sign = sd < 0 ? s.b.not_of(sign) : sign;
-  const Src q = s.b.op(Opcode::kIsub, n, {s.b.op(Opcode::kXor, n, {uq, q_sign}), q_sign});
+  const Src q = flip_sign(s.b, uq, q_sign, n);
   if (op == Op::OpSDiv) return q;
   const Src r = remainder(q);
-  if (op == Op::OpSRem) return r;
-  // SMod: a nonzero remainder whose sign differs from d's moves by d.
-  const Src nonzero = s.b.not_of(s.b.op(Opcode::kIeq, n, {r, s.b.op(Opcode::kLi, n, {}, Imm::integer(0))}));
-  const Src differs = s.b.op(Opcode::kIlti, n, {s.b.op(Opcode::kXori, n, {r}, Imm::bits(d))}, Imm::integer(0));
-  const Src moved = s.b.op(Opcode::kIaddi, n, {r}, Imm::bits(d));
-  return s.b.select(s.b.op(Opcode::kAnd, n, {nonzero, differs}), moved, r, n);
+  return op == Op::OpSRem ? r : modulo_of_remainder(s.b, r, s.b.op(Opcode::kLi, n, {}, Imm::bits(d)), n);
 }
 
 Src uint_to_float(Selection& s) {
