@@ -195,6 +195,16 @@ if(rpu_chip_cases)
                      -o ${out}/never.png)
     set_tests_properties(cli.rtl_backend_stops_a_spinning_shader_at_once.${config}.${isect}
                          PROPERTIES LABELS unit TIMEOUT 60)
+    # A GLSL shader's fault names its file:line on the RTL too.
+    add_test(NAME cli.rtl_backend_names_a_glsl_faults_line.${config}.${isect}
+             COMMAND Python3::Interpreter ${cli} --status 1
+                     --stderr "rpu: error: shader fault in thread 0 .*: load of 16 bytes at address 0x[0-9a-f]+ is outside the device memory \\(${PROJECT_SOURCE_DIR}/tests/glsl/programs/fault_at_line/raygen.rgen:7\\x3b code label .*\\)"
+                     -- $<TARGET_FILE:rpu> render tetra:1 --backend rtl --config ${config} --isect ${isect}
+                     --width 4 --height 4 --spp 1
+                     --firmware ${PROJECT_SOURCE_DIR}/tests/glsl/programs/fault_at_line/raygen.rgen
+                     ${PROJECT_SOURCE_DIR}/firmware/glsl/whitted.rchit ${PROJECT_SOURCE_DIR}/firmware/glsl/background.rmiss
+                     -o ${out}/never.png)
+    set_tests_properties(cli.rtl_backend_names_a_glsl_faults_line.${config}.${isect} PROPERTIES LABELS unit TIMEOUT 60)
   endforeach()
   set_tests_properties(cli.rtl_backend_refuses_a_changed_configuration cli.rtl_backend_refuses_a_chip_not_built
                        cli.rtl_backend_waves_must_be_fst cli.rtl_backend_waves_refuse_a_selection

@@ -56,10 +56,44 @@ void add_chip_options(CLI::App& command, ChipOptions& o) {
   command.add_flag("--perfect-splits", o.build.perfect_splits, "Clip triangles to node boxes for split candidates");
 }
 
-isa::Firmware load_firmware(const std::vector<std::filesystem::path>& files) {
-  if (files.empty()) return isa::builtin_firmware("whitted.s");
-  const std::string ext = files[0].extension().string();
-  if (files.size() == 1 && ext != ".rgen") return isa::load_firmware_or_assemble(files[0]);
+cc::CompileOptions ShaderOptions::compile_options() const {
+  cc::CompileOptions o;
+  for (const std::string& d : defines) cc::check_define(d);
+  o.defines = defines;
+  for (const std::string& dir : include_dirs) {
+    std::error_code ec;
+    if (!std::filesystem::is_directory(dir, ec)) throw Error(fmt::format("-I {}: not a directory", dir));
+    o.include_dirs.emplace_back(dir);
+  }
+  for (const std::string& s : spec_constants) {
+    const auto [id, value] = cc::parse_spec_constant(s);
+    if (!o.spec_constants.emplace(id, value).second) {
+      throw Error(fmt::format("--spec-constant {}: constant_id {} is given twice", s, id));
+    }
+  }
+  return o;
+}
+
+void add_shader_options(CLI::App& command, ShaderOptions& o) {
+  command.add_option("-D", o.defines, "GLSL: #define NAME VALUE (1 if no value) before every shader (repeatable)")
+      ->type_name("NAME[=VALUE]");
+  command.add_option("-I", o.include_dirs,
+                     "GLSL: a directory #include \"x\" searches after the including file's own (repeatable)")
+      ->type_name("DIR");
+  command.add_option("--spec-constant", o.spec_constants,
+                     "GLSL: the value of the specialization constant layout(constant_id = ID) (repeatable)")
+      ->type_name("ID=VALUE");
+}
+
+isa::Firmware load_firmware(const std::vector<std::filesystem::path>& files, const ShaderOptions& shaders) {
+  if (files.empty() && !shaders.given()) return isa::builtin_firmware("whitted.s");
+  const std::string ext = files.empty() ? std::string() : files[0].extension().string();
+  if (files.size() <= 1 && ext != ".rgen") {
+    if (shaders.given()) {
+      throw Error("-D, -I and --spec-constant are for GLSL shaders, and --firmware names none");
+    }
+    return isa::load_firmware_or_assemble(files[0]);
+  }
   for (const auto& f : files) {
     if (f.extension() == ".s" || f.extension() == ".rfw") {
       throw Error(fmt::format("--firmware {}: give one assembly source or firmware file, or GLSL shaders "
@@ -67,7 +101,9 @@ isa::Firmware load_firmware(const std::vector<std::filesystem::path>& files) {
                               f.string()));
     }
   }
-  return cc::compile_cached(files, {});
+  cc::Compiled compiled = cc::compile_cached(files, shaders.compile_options());
+  for (const std::string& w : compiled.warnings) fmt::print(stderr, "rpu: warning: {}\n", w);
+  return std::move(compiled.firmware);
 }
 
 }  // namespace rpu::cli

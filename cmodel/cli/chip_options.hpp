@@ -7,6 +7,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "cc/compiler.hpp"
 #include "fp/format.hpp"
 #include "isa/firmware.hpp"
 #include "kdtree/kdtree.hpp"
@@ -40,8 +41,23 @@ struct ChipOptions {
 
 void add_chip_options(CLI::App& command, ChipOptions& options);
 
+// The GLSL front end's options of rpu cc, and of rpu render for GLSL --firmware: -D,
+// -I and --spec-constant (docs/shaders.md).
+struct ShaderOptions {
+  std::vector<std::string> defines;         // NAME or NAME=VALUE
+  std::vector<std::string> include_dirs;
+  std::vector<std::string> spec_constants;  // ID=VALUE
+
+  bool given() const { return !defines.empty() || !include_dirs.empty() || !spec_constants.empty(); }
+  // Checked: a bad macro name, ID=VALUE or directory is an rpu::Error.
+  cc::CompileOptions compile_options() const;
+};
+
+void add_shader_options(CLI::App& command, ShaderOptions& options);
+
 // What --firmware names: none, the built-in whitted.s; one assembly source or firmware
-// file; or GLSL shaders, compiled on the fly (rpu cc, cached by content).
-isa::Firmware load_firmware(const std::vector<std::filesystem::path>& files);
+// file; or GLSL shaders, compiled on the fly (rpu cc, cached by content), their
+// warnings printed.
+isa::Firmware load_firmware(const std::vector<std::filesystem::path>& files, const ShaderOptions& shaders = {});
 
 }  // namespace rpu::cli

@@ -45,6 +45,7 @@ struct RenderOptions {
   std::string backend{kReference};
   device::Registry backends;  // the device backends, with their own options
   std::vector<std::filesystem::path> firmware;  // empty: the built-in whitted.s
+  ShaderOptions shaders;                        // -D, -I, --spec-constant for GLSL firmware
   std::string select = "1";                     // docs/selection.md
   std::filesystem::path compare;                // .exr to measure the image against
   std::uint64_t watchdog = device::DeviceOptions{}.watchdog;
@@ -186,8 +187,16 @@ Image render_device(const Scene& world, device::Backend& backend, const RenderOp
   const KdBuildConfig build = o.chip.build_config();
   const Scene scene = functional::chip_space_scene(world, build.format);
   const functional::SceneImage si = functional::make_scene_image(scene, build, o.chip.isect_mode());
+  // Firmware of the user's own sees the scaled scene: a length it writes is in chip units.
+  if (const int s = kd_scale_exponent(world, build.format); s != 0 && !o.firmware.empty()) {
+    fmt::print(stderr,
+               "rpu: note: the shaders see the scene in chip space, its lengths times 2^{} = {:g} (its largest "
+               "coordinate {:g} is {:g} there); a length a shader writes is in chip units (docs/shaders.md "
+               "\"Coordinates\")\n",
+               -s, std::ldexp(1.0, -s), largest_coordinate(world), std::ldexp(largest_coordinate(world), -s));
+  }
   if (o.firmware.empty()) check_builtin_firmware_format(build.format, o.settings);
-  const isa::Firmware firmware = load_firmware(o.firmware);
+  const isa::Firmware firmware = load_firmware(o.firmware, o.shaders);
   const device::DeviceOptions options{
       .watchdog = o.watchdog, .host_threads = o.settings.threads, .isect = o.chip.isect_mode()};
   const std::unique_ptr<device::Device> dev = backend.make(o.chip.hardware_config(), build.format, options);
@@ -245,9 +254,11 @@ void check_render_outputs(const RenderOptions& o, const device::Backend* backend
 
 // The options that only a device backend reads: the reference renderer computes in
 // double precision, without firmware, chip configuration or kd-tree.
-constexpr std::string_view kDeviceOptions[] = {"--firmware", "--select", "--watchdog", "--config", "--set", "--format", "--isect",
-                                               "--kd-depth", "--leaf-prims", "--traversal-cost",
-                                               "--intersection-cost", "--empty-bonus", "--perfect-splits"};
+constexpr std::string_view kDeviceOptions[] = {"--firmware",     "--select",          "--watchdog",     "--config",
+                                               "--set",          "--format",          "--isect",        "--kd-depth",
+                                               "--leaf-prims",   "--traversal-cost",  "--intersection-cost",
+                                               "--empty-bonus",  "--perfect-splits",  "-D",
+                                               "-I",             "--spec-constant"};
 
 void check_reference_options(const CLI::App& command, const Scene& scene) {
   std::vector<std::string_view> given;
@@ -401,6 +412,7 @@ Command add_render_command(CLI::App& app) {
                          "device backends: firmware (.s or .rfw), or GLSL shaders (.rgen .rchit .rmiss, compiled by "
                          "`rpu cc` and cached), instead of the built-in whitted.s")
       ->expected(1, -1);
+  add_shader_options(*render_cmd, render->shaders);
   render_cmd->add_option("--select", render->select,
                          "device backends: selected ray tracing, BLOCK[:THRESHOLD[:material|primitive]]: trace the "
                          "corners of BLOCK x BLOCK blocks, interpolate where they agree (docs/selection.md)")

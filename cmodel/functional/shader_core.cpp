@@ -100,10 +100,15 @@ void ShaderCore::fault(const Thread& t, spec::isa::FaultKind kind, const std::st
       nearest_name = name;
     }
   }
-  const std::string routine =
-      nearest == nullptr ? std::string()
-      : t.pc == nearest->value ? fmt::format(" (at code label {})", nearest_name)
-                               : fmt::format(" (code label {} + {})", nearest_name, t.pc - nearest->value);
+  const std::string label = nearest == nullptr       ? std::string()
+                            : t.pc == nearest->value ? fmt::format("code label {}", nearest_name)
+                                                     : fmt::format("code label {} + {}", nearest_name, t.pc - nearest->value);
+  // The source line first: the GLSL or assembly line the instruction was made for.
+  const std::optional<std::string> line =
+      t.pc < firmware_.code.size() ? firmware_.lines.where(t.pc) : std::optional<std::string>();
+  const std::string routine = line         ? fmt::format(" ({}{}{})", *line, label.empty() ? "" : "; ", label)
+                              : nearest    ? fmt::format(" ({}{})", t.pc == nearest->value ? "at " : "", label)
+                                           : std::string();
   const std::uint32_t width = memory_.launch_block().size() >= 8
                                   ? memory_.load32(mm::kDeviceLaunchBase + mm::kLaunchWidthAt)
                                   : 1;

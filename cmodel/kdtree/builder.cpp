@@ -925,7 +925,7 @@ void compute_stats(KdTree& tree, const KdBuildConfig& config) {
 
 }  // namespace
 
-int kd_scale_exponent(const Scene& scene, fp::Format format) {
+float largest_coordinate(const Scene& scene) {
   float magnitude = 0.0f;
   for (const glm::uvec3& t : scene.triangles) {
     for (int v = 0; v < 3; ++v) {
@@ -935,6 +935,11 @@ int kd_scale_exponent(const Scene& scene, fp::Format format) {
       }
     }
   }
+  return magnitude;
+}
+
+int kd_scale_exponent(const Scene& scene, fp::Format format) {
+  const float magnitude = largest_coordinate(scene);
   // Zero and subnormal magnitudes read as zero (docs/numbers.md): nothing to scale.
   if (!(magnitude >= std::numeric_limits<float>::min())) return 0;
   const int target = std::min(kKdMagnitudeExponent, format.max_exponent() / 2);

@@ -89,6 +89,8 @@ inline constexpr int kKdMagnitudeExponent = 5;
 inline constexpr int kKdMinScaleExponent = -126;
 inline constexpr int kKdMaxScaleExponent = 127;
 int kd_scale_exponent(const Scene& scene, fp::Format format);
+// The largest finite coordinate magnitude of a vertex a triangle uses (0 for none).
+float largest_coordinate(const Scene& scene);
 inline glm::vec3 to_kd_space(const glm::vec3& world, int scale_exponent) {
   glm::vec3 kd;
   for (int k = 0; k < 3; ++k) {

@@ -78,8 +78,8 @@ std::string signature(const InsnSpec& spec) {
   return s;
 }
 
-constexpr std::string_view kDirectives[] = {".text", ".data", ".equ",  ".include", ".word",
-                                            ".byte", ".float", ".space", ".align",  ".insn"};
+constexpr std::string_view kDirectives[] = {".text",  ".data", ".equ",   ".include", ".word", ".byte",
+                                            ".float", ".space", ".align", ".insn",    ".loc"};
 
 const std::map<std::string_view, std::uint32_t>& predefined_symbols() {
   static const auto table = [] {
@@ -119,6 +119,15 @@ struct Statement {
   std::vector<std::uint32_t> floats;  // kFloat
   std::uint32_t address = 0;          // after layout: pc, or offset into .data
   std::uint32_t bytes = 0;            // after layout: data bytes
+  std::string source_file;            // kInsn, kRawInsn: the line table's line (0: none)
+  std::uint32_t source_line = 0;
+};
+
+// What a .loc directive set: the source line of the instructions after it in its file.
+struct SourceLineSet {
+  bool set = false;  // no .loc yet: each instruction's own file:line
+  std::string file;
+  std::uint32_t line = 0;
 };
 
 struct SymbolDef {
@@ -256,8 +265,10 @@ class Assembler final : public assembler::SymbolValues {
     }
     files_.push_back(std::move(source));
     open_.push_back(path.lexically_normal());
+    source_lines_.emplace_back();
     const std::size_t lines = files_.back().lines.size();
     for (std::size_t i = 0; i < lines; ++i) read_line(index, static_cast<int>(i) + 1);
+    source_lines_.pop_back();
     open_.pop_back();
   }
 
@@ -398,6 +409,8 @@ class Assembler final : public assembler::SymbolValues {
       equ(rest, line);
     } else if (name == ".include") {
       include(rest, line);
+    } else if (name == ".loc") {
+      source_line(rest, line);
     } else if (name == ".word" || name == ".byte" || name == ".space" || name == ".align" || name == ".insn") {
       const bool insn = name == ".insn";
       if (!require_section(insn ? Section::kText : Section::kData, head, line)) return;
@@ -417,6 +430,7 @@ class Assembler final : public assembler::SymbolValues {
                                   : StatementKind::kRawInsn;
       s.section = section_;
       s.loc = at(line, head.column);
+      if (insn) place_source(s, line);
       for (Cursor part : *parts) {
         const int column = part.peek().column;
         const std::optional<int> e = expression(part, line);
@@ -447,7 +461,7 @@ class Assembler final : public assembler::SymbolValues {
       std::vector<std::string_view> names(std::begin(kDirectives), std::end(kDirectives));
       error(at(line, head.column),
             fmt::format("unknown directive '{}', expected one of .text .data .equ .include .word .byte .float "
-                        ".space .align .insn{}",
+                        ".space .align .insn .loc{}",
                         printable(name), did_you_mean(name, names)));
     }
   }
@@ -479,6 +493,47 @@ class Assembler final : public assembler::SymbolValues {
     stored.expr = *e;
     stored.loc = at(line, column);
     stored.state = SymbolDef::State::kPending;
+  }
+
+  // .loc "file", line: the instructions after it in this file came from that line (a
+  // compiler's listing says which GLSL line); .loc alone: from no line.
+  void source_line(Cursor rest, const Location& line) {
+    SourceLineSet& current = source_lines_.back();
+    if (rest.done()) {
+      current = {true, {}, 0};
+      return;
+    }
+    const Token& file = rest.peek();
+    if (file.kind != TokenKind::kString || file.text.empty() || file.text.size() > LineTable::kMaxFileName ||
+        std::any_of(file.text.begin(), file.text.end(), [](char c) { return static_cast<unsigned char>(c) < 0x20; })) {
+      error(at(line, file.column), fmt::format("{}, expected a quoted file name of 1 to {} bytes without control "
+                                               "characters: .loc \"file.rchit\", 12",
+                                               describe(file), LineTable::kMaxFileName));
+      return;
+    }
+    ++rest.pos;
+    if (!rest.peek().is(",")) {
+      error(at(line, rest.peek().column), fmt::format("{}, expected ',' and a line number", describe(rest.peek())));
+      return;
+    }
+    ++rest.pos;
+    const Token& number = rest.peek();
+    const std::optional<std::int64_t> n =
+        number.kind == TokenKind::kNumber ? assembler::parse_integer(number.text) : std::nullopt;
+    if (!n || *n < 1 || *n > INT32_MAX) {
+      error(at(line, number.column), fmt::format("{}, expected a line number from 1 to {}", describe(number), INT32_MAX));
+      return;
+    }
+    ++rest.pos;
+    if (!expect_done(rest, line, "the line number")) return;
+    current = {true, file.text, static_cast<std::uint32_t>(*n)};
+  }
+
+  // The line-table line of an instruction statement at `line`.
+  void place_source(Statement& s, const Location& line) const {
+    const SourceLineSet& current = source_lines_.back();
+    s.source_file = current.set ? current.file : files_[static_cast<std::size_t>(line.file)].name;
+    s.source_line = current.set ? current.line : static_cast<std::uint32_t>(line.line);
   }
 
   std::string include_chain(const std::string& last) const {
@@ -546,6 +601,7 @@ class Assembler final : public assembler::SymbolValues {
     s.section = section_;
     s.loc = at(line, head.column);
     s.spec = spec;
+    place_source(s, line);
     for (std::size_t k = 0; k < want; ++k) {
       Cursor part = (*parts)[k];
       ParsedOperand op;
@@ -969,6 +1025,9 @@ class Assembler final : public assembler::SymbolValues {
           break;
       }
       if (s.kind != StatementKind::kLabel) listing(s);
+      if (s.kind == StatementKind::kInsn || s.kind == StatementKind::kRawInsn) {
+        fw.lines.add(s.address, s.source_file, s.source_line);
+      }
     }
     for (const auto& [name, def] : symbols_) {
       const Symbol::Kind kind = def.kind == SymbolDef::Kind::kCode   ? Symbol::Kind::kCode
@@ -1000,6 +1059,7 @@ class Assembler final : public assembler::SymbolValues {
   std::vector<SourceFile> files_;
   std::vector<std::filesystem::path> open_;  // files being read, outermost first
   std::vector<Location> include_sites_;      // the .include lines leading to open_.back()
+  std::vector<SourceLineSet> source_lines_;  // per file of open_: what its last .loc set
   std::vector<Statement> statements_;
   std::map<std::string, SymbolDef, std::less<>> symbols_;
   std::vector<std::string> resolving_;  // constants being evaluated, for cycle messages

@@ -1,5 +1,6 @@
 #include "asm/firmware_file.hpp"
 
+#include <algorithm>
 #include <fstream>
 
 #include <fmt/format.h>
@@ -76,6 +77,69 @@ class Reader {
   std::size_t at_ = 0;
 };
 
+// The line table after the symbols, checked to be canonical (isa::LineTable), so that a
+// file loads as the one table that writes it.
+void read_line_table(Reader& r, std::uint32_t code_words, LineTable& lines) {
+  const std::size_t files_at = r.offset();
+  const std::uint32_t file_count = r.u32("the source file count");
+  // Each name takes at least 5 bytes (its length and one byte).
+  if (file_count > r.left() / 5) {
+    r.fail(files_at, fmt::format("{} source files, expected at most {} in the {} bytes left", file_count, r.left() / 5,
+                                 r.left()));
+  }
+  for (std::uint32_t i = 0; i < file_count; ++i) {
+    const std::size_t start = r.offset();
+    const std::uint32_t length = r.u32("a source file name length");
+    if (length == 0 || length > LineTable::kMaxFileName) {
+      r.fail(start, fmt::format("a source file name of {} bytes, expected 1 to {}", length, LineTable::kMaxFileName));
+    }
+    const auto text = r.take(length, "a source file name");
+    std::string file(text.begin(), text.end());
+    if (std::any_of(file.begin(), file.end(), [](char c) { return static_cast<unsigned char>(c) < 0x20; })) {
+      r.fail(start + 4, fmt::format("source file name '{}' holds a control character", assembler::printable(file)));
+    }
+    lines.files.push_back(std::move(file));
+  }
+  const std::size_t runs_at = r.offset();
+  const std::uint32_t run_count = r.u32("the count of runs of source lines");
+  if (run_count > r.left() / 12) {
+    r.fail(runs_at, fmt::format("{} runs of source lines, expected at most {} in the {} bytes left", run_count,
+                                r.left() / 12, r.left()));
+  }
+  std::uint32_t files_named = 0;
+  for (std::uint32_t i = 0; i < run_count; ++i) {
+    const std::size_t start = r.offset();
+    LineTable::Run run;
+    run.pc = r.u32("a run's pc");
+    run.source.file = r.u32("a run's source file");
+    run.source.line = r.u32("a run's line");
+    if (run.pc >= code_words || (i > 0 && run.pc <= lines.runs.back().pc)) {
+      r.fail(start, fmt::format("a run of source lines at pc {}, expected a pc after {} and below {} (the code size)",
+                                run.pc, i > 0 ? fmt::format("{}", lines.runs.back().pc) : std::string("none"),
+                                code_words));
+    }
+    const bool known = run.source.file < files_named ||
+                       (run.source.file == files_named && run.source.line != 0 && files_named < file_count);
+    if (run.source.line == 0 ? run.source.file != 0 : !known) {
+      r.fail(start + 4, fmt::format("a run at pc {} names source file {}, expected {}", run.pc, run.source.file,
+                                    run.source.line == 0 ? std::string("0 (it has no line)")
+                                                         : fmt::format("one of the {} named before or the next, {}",
+                                                                       files_named, files_named)));
+    }
+    if (i == 0 ? run.source.line == 0 : run.source == lines.runs.back().source) {
+      r.fail(start + 8, fmt::format("a run at pc {} with the line of the run before it (or none first), expected "
+                                    "runs that change the line",
+                                    run.pc));
+    }
+    files_named = std::max(files_named, run.source.line == 0 ? 0 : run.source.file + 1);
+    lines.runs.push_back(run);
+  }
+  if (files_named != file_count) {
+    r.fail(files_at, fmt::format("{} source files, of which the runs name {}; expected each named", file_count,
+                                 files_named));
+  }
+}
+
 bool is_predefined(std::string_view name) {
   for (const auto& s : spec::isa::kAsmSymbols) {
     if (s.name == name) return true;
@@ -103,6 +167,17 @@ std::vector<std::uint8_t> firmware_to_bytes(const Firmware& firmware) {
     put_u32(out, symbol.value);
     put_u32(out, checked_u32(name.size(), "bytes in a symbol name"));
     out.insert(out.end(), name.begin(), name.end());
+  }
+  put_u32(out, checked_u32(firmware.lines.files.size(), "source files"));
+  for (const std::string& file : firmware.lines.files) {
+    put_u32(out, checked_u32(file.size(), "bytes in a source file name"));
+    out.insert(out.end(), file.begin(), file.end());
+  }
+  put_u32(out, checked_u32(firmware.lines.runs.size(), "runs of source lines"));
+  for (const LineTable::Run& run : firmware.lines.runs) {
+    put_u32(out, run.pc);
+    put_u32(out, run.source.file);
+    put_u32(out, run.source.line);
   }
   return out;
 }
@@ -168,8 +243,9 @@ Firmware firmware_from_bytes(std::span<const std::uint8_t> bytes, const std::str
     const auto it = fw.symbols.emplace(std::move(symbol_name), Symbol{k, value}).first;
     previous = &it->first;
   }
+  read_line_table(r, code_words, fw.lines);
   if (r.left() != 0) {
-    r.fail(r.offset(), fmt::format("{} bytes after the symbol table, expected the end of the file", r.left()));
+    r.fail(r.offset(), fmt::format("{} bytes after the line table, expected the end of the file", r.left()));
   }
   return fw;
 }

@@ -9,11 +9,12 @@
 #include "isa/firmware.hpp"
 
 // The firmware object file (.rfw): a small little-endian container of a Firmware's
-// code words, data bytes and symbol table. docs/assembler.md gives it byte by byte.
+// code words, data bytes, symbol table and line table. docs/assembler.md gives it byte
+// by byte.
 namespace rpu::isa {
 
 inline constexpr std::uint32_t kFirmwareMagic = 0x31574652;  // "RFW1" read as a little-endian u32
-inline constexpr std::uint32_t kFirmwareVersion = 1;
+inline constexpr std::uint32_t kFirmwareVersion = 2;  // 2: the line table
 inline constexpr std::size_t kFirmwareHeaderBytes = 20;
 
 std::vector<std::uint8_t> firmware_to_bytes(const Firmware& firmware);

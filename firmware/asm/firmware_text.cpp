@@ -64,6 +64,16 @@ void print_data(std::string& out, const std::vector<std::uint8_t>& data, std::si
 
 }  // namespace
 
+std::string source_line_directive(std::string_view file, std::uint32_t line) {
+  if (line == 0) return ".loc";
+  std::string quoted;
+  for (const char c : file) {
+    if (c == '"' || c == '\\') quoted += '\\';
+    quoted += c;
+  }
+  return fmt::format(".loc \"{}\", {}", quoted, line);
+}
+
 std::string firmware_to_text(const Firmware& fw) {
   std::string out = fmt::format("; {} instructions, {} data bytes, {} symbols\n", fw.code.size(), fw.data.size(),
                                 fw.symbols.size());
@@ -73,8 +83,18 @@ std::string firmware_to_text(const Firmware& fw) {
   out += ".text\n";
   const Labels code_labels = labels_of(fw, Symbol::Kind::kCode, 0);
   std::size_t next = 0;
+  // Every run of the line table starts with its .loc, and pc 0 has one even without a
+  // line, so that the text's own lines are in no instruction's place.
+  auto run = fw.lines.runs.begin();
   for (std::size_t pc = 0; pc < fw.code.size(); ++pc) {
     print_labels(out, code_labels, next, pc);
+    if (run != fw.lines.runs.end() && run->pc == pc) {
+      const SourceLine& s = run->source;
+      out += fmt::format("    {}\n", source_line_directive(s.line ? fw.lines.files[s.file] : "", s.line));
+      ++run;
+    } else if (pc == 0) {
+      out += "    .loc\n";
+    }
     out += fmt::format("    {:<40} ; {}\n", disassemble(fw.code[pc]), pc);
   }
   print_labels(out, code_labels, next, fw.code.size());

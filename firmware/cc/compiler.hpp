@@ -6,12 +6,14 @@
 #include <utility>
 #include <vector>
 
+#include "cc/frontend.hpp"
 #include "isa/firmware.hpp"
 
 namespace rpu::cc {
 
-struct CompileOptions {
-  int opt_level = 2;     // 0: SPIRV-Tools' legalisation passes only; 2: its performance passes too
+// The front end's -O (0: SPIRV-Tools' legalisation passes only; 2: its performance
+// passes too), -D, -I and --spec-constant, and the back end's:
+struct CompileOptions : FrontEndOptions {
   int registers = 16;    // the firmware uses r0..r(registers-1): 16 runs on every configuration
   bool listing = false;  // also print the firmware as assembly text
 };
@@ -19,6 +21,7 @@ struct CompileOptions {
 struct Compiled {
   isa::Firmware firmware;
   std::string listing;  // with CompileOptions::listing: the stack constants, every shader, the trace routines
+  std::vector<std::string> warnings;  // "file: ..." each: a specialization constant left at its default
 };
 
 struct ShaderSource {
@@ -32,7 +35,8 @@ Compiled compile(const std::vector<ShaderSource>& sources, const CompileOptions&
 Compiled compile_files(const std::vector<std::filesystem::path>& files, const CompileOptions& options);
 
 // The firmware for `rpu render --firmware` with shader files: compiled, or read from the
-// cache directory (keyed by a hash of the sources, the options and this build).
-isa::Firmware compile_cached(const std::vector<std::filesystem::path>& files, const CompileOptions& options);
+// cache directory (keyed by a hash of the sources, the options and this build), with the
+// compile's warnings.
+Compiled compile_cached(const std::vector<std::filesystem::path>& files, const CompileOptions& options);
 
 }  // namespace rpu::cc

@@ -109,6 +109,7 @@ class Emitter {
         return;
       case Kind::kRet: put(m, Opcode::kRet, {}); return;
       case Kind::kHalt: put(m, Opcode::kHalt, {}); return;
+      case Kind::kTrap: out_.emplace_back(IllegalWord{m.where}); return;
       case Kind::kCall: {
         // What lives across the call: every register is the callee's.
         const auto& saves = a_.saves[i];

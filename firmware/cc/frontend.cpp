@@ -1,7 +1,13 @@
 #include "cc/frontend.hpp"
 
-#include <fstream>
 #include <algorithm>
+#include <bit>
+#include <cerrno>
+#include <charconv>
+#include <clocale>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -59,19 +65,25 @@ const std::string* library_header(const std::string& name) {
 
 namespace {
 
-// #include "x": beside the including file on disk, then the built-in library.
+// #include "x": beside the including file on disk, then in the include directories,
+// then the built-in library.
 class Includer : public glslang::TShader::Includer {
  public:
+  explicit Includer(const std::vector<fs::path>& dirs) : dirs_(dirs) {}
+
   IncludeResult* includeLocal(const char* requested, const char* requesting, size_t) override {
     auto text = std::make_unique<std::string>();
     std::string name;
-    const fs::path beside = fs::path(requesting).parent_path() / requested;
     std::error_code ec;
-    if (fs::is_regular_file(beside, ec)) {
-      std::ifstream in(beside, std::ios::binary);
+    fs::path found = fs::path(requesting).parent_path() / requested;
+    for (auto dir = dirs_.begin(); !fs::is_regular_file(found, ec) && dir != dirs_.end(); ++dir) {
+      found = *dir / requested;
+    }
+    if (fs::is_regular_file(found, ec)) {
+      std::ifstream in(found, std::ios::binary);
       std::ostringstream s;
       s << in.rdbuf();
-      name = beside.lexically_normal().string();
+      name = found.lexically_normal().string();
       *text = s.str();
     } else if (const std::string* lib = library_header(fs::path(requested).filename().string());
                lib != nullptr && fs::path(requested).filename() == fs::path(requested)) {
@@ -91,7 +103,26 @@ class Includer : public glslang::TShader::Includer {
     delete static_cast<std::string*>(r->userData);
     delete r;
   }
+
+ private:
+  const std::vector<fs::path>& dirs_;
 };
+
+bool is_identifier(std::string_view name) {
+  const auto word = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; };
+  return !name.empty() && !std::isdigit(static_cast<unsigned char>(name[0])) && std::all_of(name.begin(), name.end(), word);
+}
+
+// The preamble of every shader: the extensions rpu cc turns on, then the -D defines.
+std::string preamble(const FrontEndOptions& options) {
+  std::string text =
+      "#extension GL_GOOGLE_include_directive : require\n#extension GL_GOOGLE_cpp_style_line_directive : require\n";
+  for (const std::string& d : options.defines) {
+    const auto eq = d.find('=');
+    text += fmt::format("#define {} {}\n", d.substr(0, eq), eq == std::string::npos ? "1" : d.substr(eq + 1));
+  }
+  return text;
+}
 
 EShLanguage language_of(Stage stage) {
   switch (stage) {
@@ -114,16 +145,15 @@ void initialise() {
 
 // One TShader set up for a file: Vulkan 1.2, SPIR-V 1.5, includes on.
 struct Shader {
-  Shader(const fs::path& file, const std::string& source, Stage stage)
-      : name(file.string()), text(source), shader(language_of(stage)) {
+  Shader(const fs::path& file, const std::string& source, Stage stage, const FrontEndOptions& options)
+      : name(file.string()), text(source), head(preamble(options)), shader(language_of(stage)) {
     initialise();
     // TShader keeps these pointers until it parses: members, not locals.
     text_ptr = text.c_str();
     name_ptr = name.c_str();
     text_length = static_cast<int>(text.size());
     shader.setStringsWithLengthsAndNames(&text_ptr, &text_length, &name_ptr, 1);
-    shader.setPreamble(
-        "#extension GL_GOOGLE_include_directive : require\n#extension GL_GOOGLE_cpp_style_line_directive : require\n");
+    shader.setPreamble(head.c_str());
     shader.setEnvInput(glslang::EShSourceGlsl, language_of(stage), glslang::EShClientVulkan, 100);
     shader.setEnvClient(glslang::EShClientVulkan, glslang::EShTargetVulkan_1_2);
     shader.setEnvTarget(glslang::EShTargetSpv, glslang::EShTargetSpv_1_5);
@@ -135,7 +165,7 @@ struct Shader {
     while (!message.empty() && (message.back() == '\n' || message.back() == ' ')) message.pop_back();
     return message.empty() ? fmt::format("{}: glslang failed without a message", name) : message;
   }
-  std::string name, text;
+  std::string name, text, head;  // head: the preamble
   const char* text_ptr = nullptr;
   const char* name_ptr = nullptr;
   int text_length = 0;
@@ -251,11 +281,138 @@ void refuse_endless_loops(const Module& m, const fs::path& file) {
   }
 }
 
+// The type of a scalar specialization constant, as GLSL names it.
+std::string spec_type(const Module& m, Id type) {
+  const Type& t = m.type(type);
+  if (t.op == spv::Op::OpTypeBool) return "bool";
+  if (t.op == spv::Op::OpTypeFloat && t.count == 32) return "float";
+  if (t.op == spv::Op::OpTypeInt && t.count == 32) return t.is_signed ? "int" : "uint";
+  return "";
+}
+
+std::string spec_text(const std::string& type, std::uint32_t bits) {
+  if (type == "bool") return bits ? "true" : "false";
+  if (type == "int") return fmt::format("{}", static_cast<std::int32_t>(bits));
+  if (type == "uint") return fmt::format("{}u", bits);
+  return fmt::format("{}", std::bit_cast<float>(bits));
+}
+
+// The bits of `text` as a constant of `type`, or nullopt if it is not one.
+std::optional<std::uint32_t> spec_bits(const std::string& type, std::string text) {
+  if (type == "bool") {
+    if (text == "true" || text == "false") return text == "true" ? 1u : 0u;
+    return std::nullopt;
+  }
+  if (type == "float") {
+    if (!text.empty() && (text.back() == 'f' || text.back() == 'F')) text.pop_back();
+    if (text.empty() || std::isspace(static_cast<unsigned char>(text[0]))) return std::nullopt;
+    // strtof reads the C locale's decimal point, which is the one rpu runs in.
+    char* end = nullptr;
+    errno = 0;
+    const float f = std::strtof(text.c_str(), &end);
+    if (end != text.c_str() + text.size() || (errno == ERANGE && std::isinf(f))) return std::nullopt;
+    return std::bit_cast<std::uint32_t>(f);
+  }
+  if (type == "uint" && !text.empty() && (text.back() == 'u' || text.back() == 'U')) text.pop_back();
+  const bool negative = type == "int" && !text.empty() && text[0] == '-';
+  std::string_view digits(text);
+  if (negative) digits.remove_prefix(1);
+  int base = 10;
+  if (digits.size() > 2 && digits[0] == '0' && (digits[1] == 'x' || digits[1] == 'X')) {
+    digits.remove_prefix(2);
+    base = 16;
+  }
+  std::uint64_t v = 0;
+  const auto [end, error] = std::from_chars(digits.data(), digits.data() + digits.size(), v, base);
+  if (digits.empty() || error != std::errc() || end != digits.data() + digits.size()) return std::nullopt;
+  if (type == "uint") return v <= UINT32_MAX ? std::optional(static_cast<std::uint32_t>(v)) : std::nullopt;
+  if (v > (negative ? 0x80000000ull : 0x7fffffffull)) return std::nullopt;
+  return static_cast<std::uint32_t>(negative ? 0 - v : v);
+}
+
+const char* spec_range(const std::string& type) {
+  if (type == "bool") return "true or false";
+  if (type == "int") return "an integer from -2147483648 to 2147483647";
+  if (type == "uint") return "an integer from 0 to 4294967295";
+  return "a float such as 0.5 or 1e-3";
+}
+
+// The shader's specialization constants, given the values `options` holds for their
+// ids; sets them in `words` (SPIRV-Tools' set-spec-constant-default-value pass), then
+// freezes every one into a plain constant and folds what is made of them, so that the
+// checks and the optimiser below see the values the firmware runs with.
+std::vector<SpecConstant> specialise(std::vector<std::uint32_t>& words, const fs::path& file,
+                                     const FrontEndOptions& options) {
+  const Module m = Module::parse(words, file.string());
+  std::vector<SpecConstant> out;
+  std::unordered_map<std::uint32_t, std::vector<std::uint32_t>> given;
+  for (const auto& [id, d] : m.decorations) {
+    const auto c = m.constants.find(id);
+    if (!d.spec_id || c == m.constants.end() || !c->second.spec) continue;
+    SpecConstant s;
+    s.id = *d.spec_id;
+    const auto name = m.names.find(id);
+    s.name = name == m.names.end() ? fmt::format("constant_id {}", s.id) : name->second;
+    s.type = spec_type(m, c->second.type);
+    std::uint32_t bits = c->second.bits;
+    if (const auto v = options.spec_constants.find(s.id); v != options.spec_constants.end()) {
+      const std::optional<std::uint32_t> parsed = s.type.empty() ? std::nullopt : spec_bits(s.type, v->second);
+      if (!parsed) {
+        throw Error(fmt::format("{}: --spec-constant {}={}: {} (constant_id {}) is {}; expected {}", file.string(),
+                                s.id, v->second, s.name, s.id, s.type.empty() ? "not a 32-bit scalar" : "a " + s.type,
+                                s.type.empty() ? "a bool, int, uint or float constant" : spec_range(s.type)));
+      }
+      bits = *parsed;
+      given[s.id] = {bits};
+      s.given = true;
+    }
+    s.value = spec_text(s.type, bits);
+    out.push_back(std::move(s));
+  }
+  std::sort(out.begin(), out.end(), [](const SpecConstant& a, const SpecConstant& b) { return a.id < b.id; });
+  spvtools::Optimizer optimizer(SPV_ENV_VULKAN_1_2);
+  if (!given.empty()) optimizer.RegisterPass(spvtools::CreateSetSpecConstantDefaultValuePass(given));
+  optimizer.RegisterPass(spvtools::CreateFreezeSpecConstantValuePass());
+  // What glslang made of the constants (OpSpecConstantOp: a conversion, a comparison)
+  // becomes a plain constant too.
+  optimizer.RegisterPass(spvtools::CreateFoldSpecConstantOpAndCompositePass());
+  std::vector<std::uint32_t> frozen;
+  if (!optimizer.Run(words.data(), words.size(), &frozen)) {
+    throw Error(fmt::format("{}: SPIRV-Tools could not set the specialization constants", file.string()));
+  }
+  words = std::move(frozen);
+  return out;
+}
+
 }  // namespace
 
-std::string preprocess_glsl(const fs::path& file, const std::string& source) {
-  Shader s(file, source, stage_of(file));
-  Includer includer;
+void check_define(const std::string& define) {
+  const std::string name = define.substr(0, define.find('='));
+  if (!is_identifier(name)) {
+    throw Error(fmt::format("-D {}: '{}' is not a macro name, expected -D NAME or -D NAME=VALUE", define, name));
+  }
+  if (define.find_first_of("\n\r") != std::string::npos) {
+    throw Error(fmt::format("-D {}: the value holds a line break, expected one line", name));
+  }
+}
+
+std::pair<std::uint32_t, std::string> parse_spec_constant(const std::string& assignment) {
+  const auto eq = assignment.find('=');
+  std::uint32_t id = 0;
+  const char* first = assignment.data();
+  const char* last = assignment.data() + (eq == std::string::npos ? 0 : eq);
+  const auto [end, error] = std::from_chars(first, last, id);
+  if (eq == std::string::npos || eq == 0 || error != std::errc() || end != last || eq + 1 == assignment.size()) {
+    throw Error(fmt::format("--spec-constant {}: expected ID=VALUE, the constant_id a number (0 to 4294967295) and "
+                            "a value",
+                            assignment));
+  }
+  return {id, assignment.substr(eq + 1)};
+}
+
+std::string preprocess_glsl(const fs::path& file, const std::string& source, const FrontEndOptions& options) {
+  Shader s(file, source, stage_of(file), options);
+  Includer includer(options.include_dirs);
   std::string out;
   if (!s.shader.preprocess(GetDefaultResources(), 460, ENoProfile, false, false, kMessages, &out, includer)) {
     throw Error(s.log());
@@ -263,12 +420,12 @@ std::string preprocess_glsl(const fs::path& file, const std::string& source) {
   return out;
 }
 
-SpirvShader compile_glsl(const fs::path& file, const std::string& source, int opt_level) {
+SpirvShader compile_glsl(const fs::path& file, const std::string& source, const FrontEndOptions& options) {
   SpirvShader out;
   out.file = file;
   out.stage = stage_of(file);
-  Shader s(file, source, out.stage);
-  Includer includer;
+  Shader s(file, source, out.stage, options);
+  Includer includer(options.include_dirs);
   if (!s.shader.parse(GetDefaultResources(), 460, false, kMessages, includer)) throw Error(s.log());
   glslang::TProgram program;
   program.addShader(&s.shader);
@@ -283,6 +440,7 @@ SpirvShader compile_glsl(const fs::path& file, const std::string& source, int op
   spv::SpvBuildLogger logger;
   std::vector<std::uint32_t> words;
   glslang::GlslangToSpv(*program.getIntermediate(language_of(out.stage)), words, &logger, &spv_options);
+  out.spec_constants = specialise(words, file, options);
   {
     const Module unoptimised = Module::parse(words, file.string());
     refuse_huge_locals(unoptimised, file);
@@ -297,7 +455,7 @@ SpirvShader compile_glsl(const fs::path& file, const std::string& source, int op
   spvtools::Optimizer optimizer(SPV_ENV_VULKAN_1_2);
   optimizer.SetMessageConsumer(consumer);
   optimizer.RegisterLegalizationPasses();
-  if (opt_level >= 2) optimizer.RegisterPerformancePasses();
+  if (options.opt_level >= 2) optimizer.RegisterPerformancePasses();
   std::vector<std::uint32_t> optimised;
   if (!optimizer.Run(words.data(), words.size(), &optimised)) {
     throw Error(fmt::format("{}: SPIRV-Tools' optimiser failed:\n{}", file.string(), messages));

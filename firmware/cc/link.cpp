@@ -35,10 +35,14 @@ isa::Firmware link(const Program& program) {
     for (const MachineItem& item : section.items) {
       if (std::holds_alternative<Label>(item)) continue;
       const MachineInstruction* m = std::get_if<MachineInstruction>(&item);
+      const auto pc_here = static_cast<std::uint32_t>(fw.code.size());
       if (m == nullptr) {
+        const SourceLocation& where = std::get<IllegalWord>(item).where;
+        fw.lines.add(pc_here, where.file, static_cast<std::uint32_t>(where.line));
         fw.code.push_back(0);  // IllegalWord
         continue;
       }
+      fw.lines.add(pc_here, m->where.file, static_cast<std::uint32_t>(m->where.line));
       isa::Instruction insn = m->insn;
       if (m->imm.type == Imm::Type::kLabel) {
         const auto it = labels.find(m->imm.label);

@@ -1,6 +1,10 @@
 #include "cc/listing.hpp"
 
+#include <optional>
+
 #include <fmt/format.h>
+
+#include "asm/firmware_text.hpp"
 
 namespace rpu::cc {
 
@@ -31,7 +35,7 @@ std::string address_text(const isa::Source& base, const Imm& offset) {
   return offset.value < 0 ? fmt::format("[{} - {}]", r, -offset.value) : fmt::format("[{} + {}]", r, offset.value);
 }
 
-std::string instruction_text(const MachineInstruction& m) {
+std::string instruction_text(const MachineInstruction& m, std::uint32_t pc) {
   const isa::Instruction& insn = m.insn;
   std::string text = fmt::format("{:<7}", insn.spec->mnemonic);
   for (int k = 0; k < insn.spec->operand_count; ++k) {
@@ -49,7 +53,7 @@ std::string instruction_text(const MachineInstruction& m) {
     }
   }
   text.erase(text.find_last_not_of(' ') + 1);
-  return m.note.empty() ? text : fmt::format("{:<39} ; {}", text, m.note);
+  return m.note.empty() ? fmt::format("{:<39} ; {}", text, pc) : fmt::format("{:<39} ; {}: {}", text, pc, m.note);
 }
 
 }  // namespace
@@ -61,22 +65,27 @@ std::string listing(const Program& program) {
     out += fmt::format(".equ {}, {}\n", d.name, d.value);
   }
   out += ".text\n";
+  // A .loc where the source line changes (the first instruction's too, even without a
+  // line), so that the listing assembles to the firmware with its line table.
+  std::optional<SourceLocation> last;
+  std::uint32_t pc = 0;
   for (const Section& section : program.sections) {
     out += fmt::format("\n; {}\n", section.heading);
-    SourceLocation last;
     for (const MachineItem& item : section.items) {
       if (const Label* l = std::get_if<Label>(&item)) {
         if (!l->note.empty()) out += fmt::format("; {}\n", l->note);
         out += l->name + ":\n";
-      } else if (const MachineInstruction* m = std::get_if<MachineInstruction>(&item)) {
-        if (m->where.line > 0 && (m->where.line != last.line || m->where.file != last.file)) {
-          out += fmt::format("        ; {}:{}\n", m->where.file, m->where.line);
-          last = m->where;
-        }
-        out += "        " + instruction_text(*m) + "\n";
-      } else {
-        out += "        .insn 0\n";
+        continue;
       }
+      const MachineInstruction* m = std::get_if<MachineInstruction>(&item);
+      const SourceLocation where = m ? m->where : std::get<IllegalWord>(item).where;
+      const auto line = static_cast<std::uint32_t>(where.line);
+      if (!last || line != static_cast<std::uint32_t>(last->line) || (line > 0 && where.file != last->file)) {
+        out += fmt::format("        {}\n", isa::source_line_directive(where.file, line));
+        last = where;
+      }
+      out += m ? fmt::format("        {}\n", instruction_text(*m, pc)) : fmt::format("        {:<39} ; {}\n", ".insn 0", pc);
+      ++pc;
     }
   }
   return out;

@@ -1,12 +1,15 @@
 #include "cc/lower.hpp"
 
+#include <algorithm>
 #include <bit>
 #include <functional>
 #include <map>
 #include <tuple>
 #include <unordered_map>
+#include <unordered_set>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "cc/abi.hpp"
 #include "cc/builder.hpp"
@@ -34,10 +37,15 @@ struct Pointer {
   Id type = 0;                // pointee type
 };
 
+// Thrown where an instruction reads, through a phi or a pointer, the result of one that
+// failed: it is skipped without an error of its own.
+struct UsesAFailure {};
+
 // A value of the shader: a scalar or vector (one source operand), or an aggregate.
 // An aggregate loaded from a buffer stays `lazy` (where it is and its type) until a
 // member is used: buffers are read-only, so a late load reads the same, and the members
-// a shader never uses cost neither a load nor a register.
+// a shader never uses cost neither a load nor a register. The late load keeps the source
+// line of the OpLoad, which a fault in it names.
 struct Value {
   bool aggregate = false;
   Src leaf;
@@ -45,6 +53,7 @@ struct Value {
   bool lazy = false;
   Pointer at;
   Id type = 0;
+  SourceLocation where;  // lazy: the OpLoad's line
 };
 
 class Lowerer {
@@ -72,6 +81,7 @@ class Lowerer {
       for (const Instruction& i : b.body) {
         if (i.op == spv::Op::OpTraceRayKHR) has_calls_ = true;
         if (i.result != 0) defined_by_[i.result] = i.op;
+        if (const auto at = launch_word(i)) launch_words_read_.insert(*at);
       }
     }
     entry();
@@ -89,10 +99,28 @@ class Lowerer {
       block_loads_.clear();
       for (const Instruction& i : b.body) {
         b_.where = i.where;
-        instruction(i);
+        // An instruction that reads a result that failed is skipped, and fails too, without
+        // a message of its own: the errors reported are each a cause.
+        const bool reads_failed = std::any_of(i.operands.begin(), i.operands.end(),
+                                              [&](std::uint32_t word) { return failed_.contains(word); });
+        if (reads_failed) {
+          if (i.result != 0) failed_.insert(i.result);
+          continue;
+        }
+        try {
+          instruction(i);
+        } catch (const UsesAFailure&) {
+          if (i.result != 0) failed_.insert(i.result);
+        } catch (const Error& e) {
+          if (std::find(errors_.begin(), errors_.end(), e.what()) == errors_.end()) errors_.emplace_back(e.what());
+          if (i.result != 0) failed_.insert(i.result);
+          if (errors_.size() >= kMaxErrors) break;
+        }
       }
+      if (errors_.size() >= kMaxErrors) break;
     }
-    return {std::move(fn_), traces_, reads_aperture_};
+    if (!errors_.empty()) throw Error(fmt::format("{}", fmt::join(errors_, "\n")));
+    return {std::move(fn_), traces_, reads_aperture_, incoming_type_, traced_};
   }
 
  private:
@@ -179,6 +207,7 @@ class Lowerer {
     if (const auto it = values_.find(id); it != values_.end()) return it->second;
     if (m_.constants.count(id)) return constant(id);
     if (const auto it = phis_.find(id); it != phis_.end()) return it->second;
+    if (failed_.contains(id)) throw UsesAFailure{};
     const auto def = defined_by_.find(id);
     b_.unsupported(def == defined_by_.end()
                        ? fmt::format("the value %{} (an operand the back end has no value for)", id)
@@ -218,15 +247,23 @@ class Lowerer {
     } else if (t.op == spv::Op::OpTypeArray || t.op == spv::Op::OpTypeMatrix) {
       for (std::uint32_t k = 0; k < t.count; ++k) v.members.push_back(fresh(t.element));
     } else {
-      b_.unsupported(fmt::format("a value of type {}", op_name(t.op)));
+      b_.unsupported(fmt::format("a value of type {}", m_.glsl_type(type)));
     }
     return v;
   }
-  Value concrete(const Value& v) { return v.lazy ? load_memory(v.at, v.type, true) : v; }
+  // A lazy value loaded now, at the line of its OpLoad.
+  Value materialise(const Value& lazy) {
+    const SourceLocation here = b_.where;
+    b_.where = lazy.where;
+    Value v = load_memory(lazy.at, lazy.type, true);
+    b_.where = here;
+    return v;
+  }
+  Value concrete(const Value& v) { return v.lazy ? materialise(v) : v; }
   // A lazy aggregate as its members, each still lazy; a lazy scalar or vector loaded.
   Value expand(const Value& v) {
     if (!v.lazy) return v;
-    if (width_of(v.type) > 0) return load_memory(v.at, v.type, true);
+    if (width_of(v.type) > 0) return materialise(v);
     const Type& t = m_.type(v.type);
     Value r;
     r.aggregate = true;
@@ -235,6 +272,7 @@ class Lowerer {
       Value m;
       m.lazy = true;
       m.at = v.at;
+      m.where = v.where;
       if (t.op == spv::Op::OpTypeStruct) {
         m.at.offset += m_.member_decoration(v.type, static_cast<std::uint32_t>(k)).offset.value_or(0);
         m.type = t.members[k];
@@ -247,7 +285,7 @@ class Lowerer {
     return r;
   }
   void leaves(const Value& lazy_or_not, std::vector<Src>& out) {
-    const Value v = lazy_or_not.lazy ? load_memory(lazy_or_not.at, lazy_or_not.type, true) : lazy_or_not;
+    const Value v = concrete(lazy_or_not);
     if (!v.aggregate) {
       out.push_back(v.leaf);
       return;
@@ -261,7 +299,7 @@ class Lowerer {
     for (std::size_t k = 0; k < a.size() && k < b.size(); ++k) b_.copy_into(a[k].v, b[k]);
   }
   Value copy_of(const Value& lazy_or_not) {
-    if (lazy_or_not.lazy) return load_memory(lazy_or_not.at, lazy_or_not.type, true);  // a fresh load is a copy
+    if (lazy_or_not.lazy) return materialise(lazy_or_not);  // a fresh load is a copy
     const Value& from = lazy_or_not;
     if (!from.aggregate) {
       Value v;
@@ -285,7 +323,12 @@ class Lowerer {
       incoming_payload_ = id;
     }
     const Id payload_type = incoming_payload_ ? m_.type(m_.variables.at(incoming_payload_).type).element : 0;
-    if (incoming_payload_) payload_widths_ = payload_widths(payload_type);
+    if (incoming_payload_) {
+      payload_widths_ = payload_widths(payload_type);
+      const auto name = m_.names.find(incoming_payload_);
+      incoming_type_ = payload_of(payload_type, fmt::format("{}'s rayPayloadInEXT {}", shader_.file.string(),
+                                                             name == m_.names.end() ? "" : name->second));
+    }
     entry_ = enter(b_, shader_.stage, payload_widths_, ctx_.registers);
     if (incoming_payload_) {
       Value home = fresh(payload_type);
@@ -295,6 +338,24 @@ class Lowerer {
       homes_[incoming_payload_] = home;
     }
     if (has_calls_) return_address_ = save_return_address(b_);
+  }
+  PayloadType payload_of(Id type, std::string where) {
+    PayloadType p;
+    std::function<void(Id)> walk = [&](Id t) {
+      const Type& ty = m_.type(t);
+      if (width_of(t) > 0) {
+        if (!p.leaves.empty()) p.leaves += ' ';
+        p.leaves += m_.glsl_type(t);
+      } else if (ty.op == spv::Op::OpTypeStruct) {
+        for (Id member : ty.members) walk(member);
+      } else {
+        for (std::uint32_t k = 0; k < ty.count; ++k) walk(ty.element);
+      }
+    };
+    walk(type);
+    p.glsl = m_.glsl_type(type);
+    p.where = std::move(where);
+    return p;
   }
   // The widths of a payload's scalar and vector leaves (one register each), in declaration order.
   std::vector<int> payload_widths(Id type) {
@@ -310,7 +371,7 @@ class Lowerer {
       } else if (ty.op == spv::Op::OpTypeArray || ty.op == spv::Op::OpTypeMatrix) {
         for (std::uint32_t k = 0; k < ty.count; ++k) walk(ty.element);
       } else {
-        b_.unsupported(fmt::format("a ray payload member of type {}", op_name(ty.op)));
+        b_.unsupported(fmt::format("a ray payload member of type {}", m_.glsl_type(t)));
       }
     };
     walk(type);
@@ -400,6 +461,41 @@ class Lowerer {
     return ~0u;
   }
   Src launch_base() { return b_.op(Opcode::kLi, 1, {}, Imm::bits(mm::kDeviceLaunchBase)); }
+  // A scene without vertex normals or uvs has their buffer at address 0 (launch
+  // normals_at, uvs_at of spec/memory_map.toml), where the memory image's header is: a
+  // shader that reads one there stops at its line with an illegal-instruction fault at
+  // the code label .<shader>_no_<buffer><n>, instead of reading the header as normals.
+  // The byte offset in the launch block of a scalar an access chain names, if it is one.
+  std::optional<std::uint32_t> launch_word(const Instruction& i) const {
+    if (i.op != spv::Op::OpAccessChain && i.op != spv::Op::OpInBoundsAccessChain) return std::nullopt;
+    const auto var = m_.variables.find(i.operands[0]);
+    if (var == m_.variables.end() || m_.decoration(i.operands[0]).binding.value_or(~0u) != 0 ||
+        var->second.storage != spv::StorageClass::StorageBuffer) {
+      return std::nullopt;
+    }
+    Id type = m_.type(var->second.type).element;
+    std::uint32_t offset = 0;
+    for (std::size_t k = 1; k < i.operands.size(); ++k) {
+      const auto c = m_.constants.find(i.operands[k]);
+      const Type& t = m_.type(type);
+      if (c == m_.constants.end() || c->second.composite || t.op != spv::Op::OpTypeStruct ||
+          c->second.bits >= t.members.size()) {
+        return std::nullopt;
+      }
+      offset += m_.member_decoration(type, c->second.bits).offset.value_or(0);
+      type = t.members[c->second.bits];
+    }
+    return offset;
+  }
+  void stop_if_absent(const Src& base, std::string_view buffer) {
+    const std::string present = b_.fresh_label(fmt::format("has_{}", buffer));
+    b_.cond_branch(true, base, present);
+    b_.label(b_.fresh_label(fmt::format("no_{}", buffer)));
+    MInst trap;
+    trap.kind = Kind::kTrap;
+    b_.push(std::move(trap));
+    b_.label(present);
+  }
   Pointer buffer_pointer(Id var_id, const Variable& var) {
     const Decorations& d = m_.decoration(var_id);
     const Id block_type = m_.type(var.type).element;
@@ -433,6 +529,10 @@ class Lowerer {
         const int d2 = l.dst;
         b_.push(std::move(l));
         base = whole(d2, 1);
+        // A shader that reads launch_record.normals (uvs) tests for the buffer itself.
+        if ((b.name == "normals" || b.name == "uvs") && !launch_words_read_.contains(b.launch_word_at)) {
+          stop_if_absent(base, b.name);
+        }
       }
       block_addresses_[binding] = base.v;
       p.address = base.v;
@@ -445,6 +545,7 @@ class Lowerer {
   }
   Pointer pointer(Id id) {
     if (const auto it = pointers_.find(id); it != pointers_.end()) return it->second;
+    if (failed_.contains(id)) throw UsesAFailure{};
     const auto v = m_.variables.find(id);
     if (v == m_.variables.end()) b_.unsupported(fmt::format("the pointer %{}", id));
     const Variable& var = v->second;
@@ -510,7 +611,7 @@ class Lowerer {
         stride = m_.decoration(p.type).array_stride.value_or(0);
         if (stride == 0) b_.unsupported("an array without an ArrayStride in a buffer");
       } else if (t.op != spv::Op::OpTypeVector) {
-        b_.unsupported(fmt::format("indexing a {} in a buffer", op_name(t.op)));
+        b_.unsupported(fmt::format("indexing a {} in a buffer", m_.glsl_type(p.type)));
       }
       p.type = t.element;
       if (c) {
@@ -533,6 +634,7 @@ class Lowerer {
         v.lazy = true;
         v.at = p;
         v.type = type;
+        v.where = b_.where;
         return v;
       }
     }
@@ -576,7 +678,7 @@ class Lowerer {
         v.members.push_back(load_memory(q, t.element, eager));
       }
     } else {
-      b_.unsupported(fmt::format("loading a {} from a buffer", op_name(t.op)));
+      b_.unsupported(fmt::format("loading a {} from a buffer", m_.glsl_type(type)));
     }
     return v;
   }
@@ -740,6 +842,13 @@ class Lowerer {
   Builder b_{fn_};
   std::set<TraceForm> traces_;
   bool reads_aperture_ = false;
+  std::optional<PayloadType> incoming_type_;
+  std::vector<std::pair<TraceForm, PayloadType>> traced_;
+  // Every error of the shader is reported, up to kMaxErrors.
+  static constexpr std::size_t kMaxErrors = 20;
+  std::vector<std::string> errors_;
+  std::unordered_set<Id> failed_;  // results of instructions that failed or were skipped
+  std::set<std::uint32_t> launch_words_read_;  // byte offsets of launch-block words the shader reads
   std::unordered_map<Id, Value> values_, phis_, homes_;
   std::unordered_map<Id, Pointer> pointers_;
   std::unordered_map<Id, spv::Op> defined_by_;  // for messages
@@ -817,7 +926,12 @@ void Lowerer::trace(const Instruction& i) {
   if (p.where != Pointer::Where::kRegisters) b_.unsupported("a payload that is not a rayPayloadEXT variable");
   std::vector<Src> home;
   leaves(homes_.at(payload_var), home);
-  call_trace_routine(b_, form, ray, payload_widths(p.type), home, ctx_.registers);
+  const std::vector<int> widths = payload_widths(p.type);
+  traced_.emplace_back(form, payload_of(p.type, fmt::format("{}:{}: traceRayEXT's payload", b_.where.file.empty()
+                                                                                              ? shader_.file.string()
+                                                                                              : b_.where.file,
+                                                                b_.where.line)));
+  call_trace_routine(b_, form, ray, widths, home, ctx_.registers);
 }
 
 void Lowerer::image_store(const Instruction& i) {
@@ -1044,7 +1158,8 @@ void Lowerer::composite_extract(const Instruction& i) {
   for (std::size_t k = 1; k < o.size(); ++k) {
     if (v.lazy) v = expand(v);
     if (v.aggregate) {
-      v = v.members.at(o[k]);
+      Value member = v.members.at(o[k]);  // a copy first: v's members die in the assignment
+      v = std::move(member);
     } else {
       v.leaf = component(v.leaf, static_cast<int>(o[k]));
     }

@@ -29,8 +29,10 @@ struct Label {
 };
 
 // The all-zero word: no instruction, so that a thread reaching it stops with an
-// illegal-instruction fault.
-struct IllegalWord {};
+// illegal-instruction fault (at the source line it was made for, if any).
+struct IllegalWord {
+  SourceLocation where;
+};
 
 using MachineItem = std::variant<Label, MachineInstruction, IllegalWord>;
 

@@ -127,6 +127,7 @@ enum class Kind : std::uint8_t {
   kCall,     // call imm: clobbers every register; uses and defines fixed vregs
   kRet,      // ret; uses fixed vregs (the payload it returns)
   kHalt,
+  kTrap,     // the all-zero word: the thread stops with an illegal-instruction fault here
   kEntry,    // defines the fixed vregs a shader is entered with
   kSpill,    // push the register of srcs[0] (a whole vreg) on the memory stack
   kReload,   // pop the lanes of dst from the memory stack (its kSpill's value)

@@ -70,7 +70,7 @@ void defs_of(const MInst& i, std::vector<int>& out) {
 }
 
 bool falls_through(const MInst& m) {
-  return m.kind != Kind::kBranch && m.kind != Kind::kRet && m.kind != Kind::kHalt;
+  return m.kind != Kind::kBranch && m.kind != Kind::kRet && m.kind != Kind::kHalt && m.kind != Kind::kTrap;
 }
 
 // The control flow between instructions: where a branch goes, and each instruction's
@@ -310,6 +310,7 @@ class Spans {
         switch (m.kind) {
           case Kind::kRet:
           case Kind::kHalt:
+          case Kind::kTrap:
           case Kind::kEntry: return std::nullopt;
           case Kind::kBranch:
           case Kind::kCondBranch: reach(target_[k], changed); break;

@@ -26,6 +26,71 @@ std::string literal_string(std::span<const std::uint32_t> words, std::size_t& us
   return s;
 }
 
+// A scalar OpSpecConstantOp (operands: the opcode, then constant ids) of the operations
+// the Shader capability allows it, evaluated on 32-bit words; nullopt for any other.
+std::optional<std::uint32_t> spec_constant_op(const Module& m, const std::vector<std::uint32_t>& o) {
+  std::vector<std::uint32_t> v;
+  for (std::size_t k = 1; k < o.size(); ++k) {
+    const auto c = m.constants.find(o[k]);
+    if (c == m.constants.end() || c->second.composite) return std::nullopt;
+    v.push_back(c->second.bits);
+  }
+  const auto s = [&](std::size_t k) { return static_cast<std::int32_t>(v[k]); };
+  const auto b = [](bool x) { return x ? 1u : 0u; };
+  using spv::Op;
+  const auto op = static_cast<Op>(o[0]);
+  if (v.size() == 1) {
+    switch (op) {
+      case Op::OpSNegate: return 0u - v[0];
+      case Op::OpNot: return ~v[0];
+      case Op::OpLogicalNot: return b(v[0] == 0);
+      case Op::OpSConvert:
+      case Op::OpUConvert: return v[0];
+      default: return std::nullopt;
+    }
+  }
+  if (v.size() == 3 && op == Op::OpSelect) return v[0] ? v[1] : v[2];
+  if (v.size() != 2) return std::nullopt;
+  switch (op) {
+    case Op::OpIAdd: return v[0] + v[1];
+    case Op::OpISub: return v[0] - v[1];
+    case Op::OpIMul: return v[0] * v[1];
+    case Op::OpUDiv: return v[1] ? std::optional(v[0] / v[1]) : std::nullopt;
+    case Op::OpUMod: return v[1] ? std::optional(v[0] % v[1]) : std::nullopt;
+    case Op::OpSDiv:
+    case Op::OpSRem:
+    case Op::OpSMod: {
+      if (v[1] == 0 || (s(0) == INT32_MIN && s(1) == -1)) return std::nullopt;
+      const std::int32_t r = s(0) % s(1);
+      if (op == Op::OpSDiv) return static_cast<std::uint32_t>(s(0) / s(1));
+      if (op == Op::OpSRem || r == 0 || (r < 0) == (s(1) < 0)) return static_cast<std::uint32_t>(r);
+      return static_cast<std::uint32_t>(r + s(1));
+    }
+    case Op::OpShiftLeftLogical: return v[1] < 32 ? std::optional(v[0] << v[1]) : std::nullopt;
+    case Op::OpShiftRightLogical: return v[1] < 32 ? std::optional(v[0] >> v[1]) : std::nullopt;
+    case Op::OpShiftRightArithmetic:
+      return v[1] < 32 ? std::optional(static_cast<std::uint32_t>(s(0) >> v[1])) : std::nullopt;
+    case Op::OpBitwiseOr: return v[0] | v[1];
+    case Op::OpBitwiseXor: return v[0] ^ v[1];
+    case Op::OpBitwiseAnd: return v[0] & v[1];
+    case Op::OpLogicalOr: return b(v[0] || v[1]);
+    case Op::OpLogicalAnd: return b(v[0] && v[1]);
+    case Op::OpLogicalEqual:
+    case Op::OpIEqual: return b(v[0] == v[1]);
+    case Op::OpLogicalNotEqual:
+    case Op::OpINotEqual: return b(v[0] != v[1]);
+    case Op::OpULessThan: return b(v[0] < v[1]);
+    case Op::OpSLessThan: return b(s(0) < s(1));
+    case Op::OpUGreaterThan: return b(v[0] > v[1]);
+    case Op::OpSGreaterThan: return b(s(0) > s(1));
+    case Op::OpULessThanEqual: return b(v[0] <= v[1]);
+    case Op::OpSLessThanEqual: return b(s(0) <= s(1));
+    case Op::OpUGreaterThanEqual: return b(v[0] >= v[1]);
+    case Op::OpSGreaterThanEqual: return b(s(0) >= s(1));
+    default: return std::nullopt;
+  }
+}
+
 }  // namespace
 
 Module Module::parse(std::span<const std::uint32_t> words, const std::string& file) {
@@ -104,6 +169,7 @@ Module Module::parse(std::span<const std::uint32_t> words, const std::string& fi
           case spv::Decoration::DescriptorSet: d.set = value(); break;
           case spv::Decoration::Offset: d.offset = value(); break;
           case spv::Decoration::ArrayStride: d.array_stride = value(); break;
+          case spv::Decoration::SpecId: d.spec_id = value(); break;
           default: break;
         }
         break;
@@ -161,17 +227,24 @@ Module Module::parse(std::span<const std::uint32_t> words, const std::string& fi
       case spv::Op::OpSpecConstantFalse:
         m.constants[inst.result] = {inst.type, false,
                                     op == spv::Op::OpConstantTrue || op == spv::Op::OpSpecConstantTrue ? 1u : 0u, {},
-                                    false};
+                                    false, op == spv::Op::OpSpecConstantTrue || op == spv::Op::OpSpecConstantFalse};
         break;
       case spv::Op::OpConstant:
       case spv::Op::OpSpecConstant:
         need(1);
         if (o.size() != 1) throw Error(fmt::format("{}: SPIR-V constant %{} is wider than 32 bits", file, inst.result));
-        m.constants[inst.result] = {inst.type, false, o[0], {}, false};
+        m.constants[inst.result] = {inst.type, false, o[0], {}, false, op == spv::Op::OpSpecConstant};
         break;
       case spv::Op::OpConstantComposite:
       case spv::Op::OpSpecConstantComposite:
         m.constants[inst.result] = {inst.type, true, 0, o, false};
+        break;
+      case spv::Op::OpSpecConstantOp:
+        // What SPIRV-Tools' folding leaves of frozen specialization constants.
+        need(2);
+        if (const std::optional<std::uint32_t> bits = spec_constant_op(m, o)) {
+          m.constants[inst.result] = {inst.type, false, *bits, {}, false};
+        }
         break;
       case spv::Op::OpUndef:
         if (function != nullptr) {
@@ -234,6 +307,50 @@ const Type& Module::type(Id id) const {
   const auto it = types.find(id);
   if (it == types.end()) throw Error(fmt::format("SPIR-V: %{} is not a type", id));
   return it->second;
+}
+
+std::string Module::glsl_type(Id id) const {
+  const auto it = types.find(id);
+  if (it == types.end()) return fmt::format("%{}", id);
+  const Type& t = it->second;
+  const auto scalar_prefix = [&](Id s) -> std::string {
+    const Type& e = type(s);
+    if (e.op == spv::Op::OpTypeBool) return "b";
+    if (e.op == spv::Op::OpTypeInt) {
+      return fmt::format("{}{}", e.is_signed ? "i" : "u", e.count == 32 ? std::string() : std::to_string(e.count));
+    }
+    return e.count == 64 ? "d" : e.count == 16 ? "f16" : "";
+  };
+  switch (t.op) {
+    case spv::Op::OpTypeVoid: return "void";
+    case spv::Op::OpTypeBool: return "bool";
+    case spv::Op::OpTypeInt:
+      return t.count == 32 ? (t.is_signed ? "int" : "uint") : fmt::format("{}int{}_t", t.is_signed ? "" : "u", t.count);
+    case spv::Op::OpTypeFloat: return t.count == 32 ? "float" : t.count == 64 ? "double" : fmt::format("float{}_t", t.count);
+    case spv::Op::OpTypeVector: return fmt::format("{}vec{}", scalar_prefix(t.element), t.count);
+    case spv::Op::OpTypeMatrix: {
+      const Type& column = type(t.element);
+      return column.count == t.count ? fmt::format("{}mat{}", scalar_prefix(column.element), t.count)
+                                     : fmt::format("{}mat{}x{}", scalar_prefix(column.element), t.count, column.count);
+    }
+    case spv::Op::OpTypeArray: return fmt::format("{}[{}]", glsl_type(t.element), t.count);
+    case spv::Op::OpTypeRuntimeArray: return fmt::format("{}[]", glsl_type(t.element));
+    case spv::Op::OpTypePointer: return glsl_type(t.element);
+    case spv::Op::OpTypeStruct: {
+      if (const auto name = names.find(id); name != names.end() && !name->second.empty()) {
+        return "struct " + name->second;
+      }
+      std::string members;
+      for (const Id m : t.members) members += (members.empty() ? "" : ", ") + glsl_type(m);
+      return fmt::format("struct {{ {} }}", members);
+    }
+    case spv::Op::OpTypeImage: return "an image (image2D or texture2D)";
+    case spv::Op::OpTypeSampler: return "sampler";
+    case spv::Op::OpTypeSampledImage: return "a sampled image (sampler2D)";
+    case spv::Op::OpTypeAccelerationStructureKHR: return "accelerationStructureEXT";
+    case spv::Op::OpTypeRayQueryKHR: return "rayQueryEXT";
+    default: return fmt::format("%{}", id);
+  }
 }
 
 const Decorations& Module::decoration(Id id) const {

@@ -56,6 +56,7 @@ struct Constant {
   std::uint32_t bits = 0;          // scalar: the 32 bits (bool: 0 or 1)
   std::vector<Id> constituents;    // composite
   bool null = false;               // OpConstantNull
+  bool spec = false;               // OpSpecConstant, OpSpecConstantTrue/False: its default
 };
 
 struct Variable {
@@ -66,7 +67,7 @@ struct Variable {
 
 struct Decorations {
   std::optional<spv::BuiltIn> builtin;
-  std::optional<std::uint32_t> binding, set, offset, array_stride;
+  std::optional<std::uint32_t> binding, set, offset, array_stride, spec_id;
 };
 
 class Module {
@@ -94,6 +95,9 @@ class Module {
   Id scalar_of(Id type_id) const;
   bool is_float(Id type_id) const;  // a float scalar or vector
   bool is_bool(Id type_id) const;
+  // A type as GLSL spells it, for messages: float, uvec3, mat4, vec2[3], a struct by its
+  // name (struct Payload) or its members, an opaque type by what it holds (sampler2D).
+  std::string glsl_type(Id type_id) const;
 };
 
 }  // namespace rpu::cc

@@ -4,6 +4,7 @@
 
 #include <bit>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -185,6 +186,29 @@ TEST(AsmInclude, SameFileTwiceWithoutCycleIsFine) {
   EXPECT_EQ(sources.assemble().code.size(), 2u);
 }
 
+// The line table: each instruction's own file:line, or what a .loc in its file set.
+TEST(AsmLines, EachInstructionHasItsLineOrTheOneALocSets) {
+  MemorySources sources;
+  sources.files["main.s"] =
+      "halt\n"                              // pc 0: main.s:1
+      ".loc \"shade.rchit\", 12\n"
+      "halt\n"                              // pc 1: shade.rchit:12
+      ".insn 0\n"                           // pc 2: shade.rchit:12
+      ".include \"lib.s\"\n"                // pc 3: lib.s:1, its own lines
+      "halt\n"                              // pc 4: shade.rchit:12 again
+      ".loc\n"
+      "halt\n";                             // pc 5: none
+  sources.files["lib.s"] = "halt\n";
+  const Firmware fw = sources.assemble();
+  ASSERT_EQ(fw.code.size(), 6u);
+  const std::vector<std::optional<std::string>> expected{"main.s:1", "shade.rchit:12", "shade.rchit:12",
+                                                         "lib.s:1",  "shade.rchit:12", std::nullopt};
+  for (std::uint32_t pc = 0; pc < fw.code.size(); ++pc) EXPECT_EQ(fw.lines.where(pc), expected[pc]) << "pc " << pc;
+  // Canonical: one run per change of line, files in the order the runs name them.
+  EXPECT_EQ(fw.lines.files, (std::vector<std::string>{"main.s", "shade.rchit", "lib.s"}));
+  EXPECT_EQ(fw.lines.runs.size(), 5u);
+}
+
 TEST(AsmListing, NamesPcWordAndSourceLine) {
   MemorySources sources;
   sources.files["main.s"] = "  halt   \n.data\n.word 7\n";
@@ -207,6 +231,7 @@ TEST(AsmFirmwareText, ReassemblesToTheSameFirmware) {
       ".equ SIZE, 0x20\n"
       ".equ NEG, -3\n"
       "main: li r1, SIZE\n"
+      ".loc \"a \\\"quoted\\\" name.rchit\", 40\n"
       "loop: bnz r1.y, loop\n"
       ".insn 0xdeadbeefdeadbeef\n"
       "end:\n"
@@ -220,6 +245,8 @@ TEST(AsmFirmwareText, ReassemblesToTheSameFirmware) {
   const std::string text = firmware_to_text(fw);
   const Firmware again = assemble_text(text);
   EXPECT_EQ(again.code, fw.code) << text;
+  EXPECT_EQ(again.lines, fw.lines) << text;
+  EXPECT_EQ(fw.lines.where(1), "a \"quoted\" name.rchit:40");
   EXPECT_EQ(again.data, fw.data) << text;
   ASSERT_EQ(again.symbols.size(), fw.symbols.size()) << text;
   for (const auto& [name, symbol] : fw.symbols) {

@@ -93,7 +93,7 @@ const ErrorCase kCases[] = {
     {"ControlByteShownEscaped", "li r1, \x01", "main.s:1:8: error: unexpected character '\\x01'"},
     {"UnknownDirectiveSuggestsTheClosest", ".wrod 1",
      "main.s:1:1: error: unknown directive '.wrod', expected one of .text .data .equ .include .word .byte .float "
-     ".space .align .insn (did you mean '.word'?)"},
+     ".space .align .insn .loc (did you mean '.word'?)"},
     {"DataDirectiveInText", ".word 1", "main.s:1:1: error: '.word' in .text, expected it in .data"},
     {"InstructionInData", ".data\nhalt", "main.s:2:1: error: 'halt' in .data, expected it in .text"},
     {"ByteOutOfRange", ".data\n.byte 256", "main.s:2:7: error: value 256 out of range for .byte, expected -128 to 255"},
@@ -109,6 +109,11 @@ const ErrorCase kCases[] = {
     {"InsnInData", ".data\n.insn 0", "main.s:2:1: error: '.insn' in .data, expected it in .text"},
     {"TextAfterTheOperand", "mov r1, r2 r3", "main.s:1:12: error: 'r3' after the operand, expected ','"},
     {"StrayToken", ", halt", "main.s:1:1: error: ',', expected a label, instruction or directive"},
+    {"SourceLineWithoutAFileName", ".loc 12", "main.s:1:6: error: '12', expected a quoted file name of 1 to 4096"},
+    {"SourceLineOfAnEmptyFileName", ".loc \"\", 3", "main.s:1:6: error: string \"\", expected a quoted file name"},
+    {"SourceLineWithoutALine", ".loc \"a.rchit\"", "main.s:1:15: error: end of line, expected ',' and a line number"},
+    {"SourceLineZero", ".loc \"a.rchit\", 0", "main.s:1:17: error: '0', expected a line number from 1 to"},
+    {"SourceLineAfterTheLine", ".loc \"a.rchit\", 3 4", "main.s:1:19: error: '4' after the line number, expected"},
 };
 
 INSTANTIATE_TEST_SUITE_P(Classes, AsmError, ::testing::ValuesIn(kCases),

@@ -26,13 +26,14 @@ Firmware small_firmware() {
   fw.symbols["go"] = {Symbol::Kind::kCode, 1};
   fw.symbols["K"] = {Symbol::Kind::kConstant, 0xdeadbeef};
   fw.symbols["d"] = {Symbol::Kind::kData, 0x50000002};
+  fw.lines.add(0, "a.s", 7);
   return fw;
 }
 
 // docs/assembler.md, written out by hand.
 const std::vector<std::uint8_t> kSmallFile{
     'R', 'F', 'W', '1',                              // magic
-    1, 0, 0, 0,                                      // version
+    2, 0, 0, 0,                                      // version
     1, 0, 0, 0,                                      // instructions
     2, 0, 0, 0,                                      // data bytes
     3, 0, 0, 0,                                      // symbols
@@ -41,6 +42,8 @@ const std::vector<std::uint8_t> kSmallFile{
     2, 0, 0, 0, 0xef, 0xbe, 0xad, 0xde, 1, 0, 0, 0, 'K',  // "K" < "d" < "go" byte-wise
     1, 0, 0, 0, 0x02, 0, 0, 0x50, 1, 0, 0, 0, 'd',
     0, 0, 0, 0, 1, 0, 0, 0, 2, 0, 0, 0, 'g', 'o',
+    1, 0, 0, 0, 3, 0, 0, 0, 'a', '.', 's',           // source files: "a.s"
+    1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 7, 0, 0, 0,  // runs: pc 0 from file 0, line 7
 };
 
 void expect_same(const Firmware& a, const Firmware& b) {
@@ -52,6 +55,7 @@ void expect_same(const Firmware& a, const Firmware& b) {
     EXPECT_EQ(b.symbols.at(name).kind, s.kind) << name;
     EXPECT_EQ(b.symbols.at(name).value, s.value) << name;
   }
+  EXPECT_EQ(a.lines, b.lines);
 }
 
 std::string load_error(const std::vector<std::uint8_t>& bytes) {
@@ -92,8 +96,8 @@ TEST(FirmwareFile, BadMagicIsNotFirmware) {
 
 TEST(FirmwareFile, OtherVersionIsRejected) {
   std::vector<std::uint8_t> bytes = kSmallFile;
-  bytes[4] = 2;
-  EXPECT_THAT(load_error(bytes), HasSubstr("t.rfw: offset 4: version 2, expected 1"));
+  bytes[4] = 1;  // a file from before the line table
+  EXPECT_THAT(load_error(bytes), HasSubstr("t.rfw: offset 4: version 1, expected 2 (re-assemble the source"));
 }
 
 TEST(FirmwareFile, HugeCountsFailBeforeAllocating) {
@@ -124,7 +128,38 @@ TEST(FirmwareFile, BadSymbolsAreRejectedAtTheirOffset) {
   EXPECT_THAT(load_error(bytes), HasSubstr("offset 47: data label 'd' at 0x50000003"));
   bytes = kSmallFile;
   bytes.push_back(0);
-  EXPECT_THAT(load_error(bytes), HasSubstr("offset 70: 1 bytes after the symbol table"));
+  EXPECT_THAT(load_error(bytes), HasSubstr("offset 97: 1 bytes after the line table"));
+}
+
+TEST(FirmwareFile, BadLineTablesAreRejectedAtTheirOffset) {
+  constexpr std::size_t kFiles = 70, kRun = 85;  // after the symbols; the first run after "a.s"
+  std::vector<std::uint8_t> bytes = kSmallFile;
+  bytes[kFiles + 4] = 0;
+  EXPECT_THAT(load_error(bytes), HasSubstr("offset 74: a source file name of 0 bytes, expected 1 to 4096"));
+  bytes = kSmallFile;
+  bytes[kFiles + 8] = '\n';
+  EXPECT_THAT(load_error(bytes), HasSubstr("offset 78: source file name"));
+  EXPECT_THAT(load_error(bytes), HasSubstr("holds a control character"));
+  bytes = kSmallFile;
+  bytes[kRun] = 1;
+  EXPECT_THAT(load_error(bytes), HasSubstr("offset 85: a run of source lines at pc 1, expected a pc after none and "
+                                           "below 1 (the code size)"));
+  bytes = kSmallFile;
+  bytes[kRun + 4] = 1;
+  EXPECT_THAT(load_error(bytes), HasSubstr("offset 89: a run at pc 0 names source file 1, expected one of the 0 "
+                                           "named before or the next, 0"));
+  bytes = kSmallFile;
+  bytes[kRun + 8] = 0;
+  EXPECT_THAT(load_error(bytes), HasSubstr("offset 93: a run at pc 0 with the line of the run before it (or none "
+                                           "first)"));
+  // Written by firmware_to_bytes, refused by the loader: tables that are not canonical.
+  Firmware fw = small_firmware();
+  fw.lines.files.push_back("b.s");
+  EXPECT_THAT(load_error(firmware_to_bytes(fw)), HasSubstr("offset 70: 2 source files, of which the runs name 1"));
+  fw = small_firmware();
+  fw.code.push_back(0);
+  fw.lines.runs.push_back({1, {0, 7}});
+  EXPECT_THAT(load_error(firmware_to_bytes(fw)), HasSubstr("a run at pc 1 with the line of the run before it"));
 }
 
 TEST(FirmwareFile, MissingFileNamesIt) {

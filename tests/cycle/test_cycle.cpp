@@ -548,7 +548,7 @@ hit_whitted:
   for (const std::string& fault : faults_on_every_backend(firmware, 100'000, 16, 16)) {
     EXPECT_EQ(fault,
               "shader fault in thread 1 (core 0, chunk 0, lane 1; pixel 1, 0) at pc 6 (ld r3, [r2 + 16]): load of 16 "
-              "bytes at address 0x30000010 is outside the device memory (at code label odd)");
+              "bytes at address 0x30000010 is outside the device memory (test.s:10; code label odd)");
   }
 }
 
@@ -582,7 +582,7 @@ TEST(CycleModel, ARunawayPixelIsReportedBeforeALaterPixelsEarlierFault) {
   for (const std::string& fault : faults_on_every_backend(firmware, 5'000, 8, 8)) {
     EXPECT_EQ(fault,
               "shader fault in thread 41 (core 1, chunk 2, lane 1; pixel 5, 4) at pc 6 (bra 5): watchdog: the thread "
-              "retired 5000 instructions for one pixel; a runaway shader? (code label spin + 1)");
+              "retired 5000 instructions for one pixel; a runaway shader? (test.s:10; code label spin + 1)");
   }
 }
 
@@ -594,7 +594,7 @@ TEST(CycleModel, ASpinningPixelIsStoppedAtOnceOnEveryBackend) {
     EXPECT_EQ(fault,
               "shader fault in thread 41 (core 1, chunk 2, lane 1; pixel 5, 4) at pc 5 (bra 5): spin: the thread "
               "loops without writing anything (10 branches in a row that wrote only the pc, as many as the code has "
-              "instructions), so it can never end; a runaway shader (at code label spin)");
+              "instructions), so it can never end; a runaway shader (test.s:9; code label spin)");
   }
 }
 

@@ -1,5 +1,6 @@
 // The listing of `rpu cc --listing` assembles (rpu asm) to the firmware the compiler
-// encoded: the listing prints, and link() encodes, the same machine instructions
+// encoded, line table and all: the listing prints, and link() encodes, the same machine
+// instructions
 // (docs/shaders.md "The pipeline"). Every program of tests/glsl/programs that compiles,
 // and the shader library, with and without spills.
 #include <gtest/gtest.h>
@@ -45,6 +46,12 @@ bool listing_assembles_to_the_firmware(const std::vector<cc::ShaderSource>& sour
   EXPECT_EQ(again.code, compiled.firmware.code);
   EXPECT_EQ(again.data, compiled.firmware.data);
   EXPECT_TRUE(again.symbols == compiled.firmware.symbols) << "the symbols differ";
+  EXPECT_TRUE(again.lines == compiled.firmware.lines) << "the line tables differ";
+  // Most instructions come from a line of the shaders (a check that the lines survive
+  // the optimiser and the back end; the trace routines and the ABI's moves have none).
+  std::size_t with_line = 0;
+  for (std::uint32_t pc = 0; pc < compiled.firmware.code.size(); ++pc) with_line += compiled.firmware.lines.where(pc) ? 1 : 0;
+  EXPECT_GT(with_line, 0u);
   return true;
 }
 

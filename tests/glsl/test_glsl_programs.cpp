@@ -11,7 +11,13 @@
 //   registers N            compile for N registers (default 16)
 //   fb X Y = r g b         the pixel's colour: numbers (a '.', exponent, inf, nan) or 0x raw bits
 //   fb X Y ~ r g b tol     the same within tol
-//   error "text"           compiling fails with a message containing text
+//   define NAME[=VALUE]    compile with -D NAME[=VALUE]
+//   include DIR            compile with -I DIR (relative to the program's directory)
+//   spec ID=VALUE          compile with --spec-constant ID=VALUE
+//   warning "text"         compiling warns with a message containing text (no warning
+//                          is allowed without one)
+//   error "text"           compiling fails with a message containing text (each of
+//                          several error lines)
 //   fault "text"           the run faults with a message containing text
 // A program without whitted.rchit gets an empty one (the test scenes' materials name it).
 #include <gtest/gtest.h>
@@ -26,6 +32,7 @@
 #include <sstream>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "cc/compiler.hpp"
 #include "common/error.hpp"
@@ -53,7 +60,9 @@ struct Expectation {
   std::string config = "default";
   int width = 1, height = 1, max_depth = 2, registers = 16;
   std::vector<PixelCheck> pixels;
-  std::optional<std::string> error, fault;
+  std::vector<std::string> defines, includes, specs;
+  std::vector<std::string> errors;
+  std::optional<std::string> warning, fault;
 };
 
 float parse_number(const std::string& token) {
@@ -89,8 +98,14 @@ Expectation parse_expectation(const fs::path& file) {
       words >> e.max_depth;
     } else if (key == "registers") {
       words >> e.registers;
+    } else if (key == "define" || key == "include" || key == "spec") {
+      std::string value;
+      words >> value;
+      (key == "define" ? e.defines : key == "include" ? e.includes : e.specs).push_back(value);
+    } else if (key == "warning") {
+      e.warning = quoted(line, where);
     } else if (key == "error") {
-      e.error = quoted(line, where);
+      e.errors.push_back(quoted(line, where));
     } else if (key == "fault") {
       e.fault = quoted(line, where);
     } else if (key == "fb") {
@@ -174,18 +189,31 @@ TEST_P(GlslProgram, MeetsItsExpectations) {
     cc::CompileOptions options;
     options.opt_level = level;
     options.registers = e.registers;
+    options.defines = e.defines;
+    for (const std::string& d : e.includes) options.include_dirs.push_back(dir / d);
     isa::Firmware firmware;
     try {
-      firmware = cc::compile(sources, options).firmware;
-      if (e.error) {
-        ADD_FAILURE() << dir.string() << ": expected a compile error containing \"" << *e.error
+      for (const std::string& s : e.specs) options.spec_constants.insert(cc::parse_spec_constant(s));
+      cc::Compiled compiled = cc::compile(sources, options);
+      firmware = std::move(compiled.firmware);
+      const std::string warnings = fmt::format("{}", fmt::join(compiled.warnings, "\n"));
+      if (e.warning) {
+        EXPECT_NE(warnings.find(*e.warning), std::string::npos)
+            << dir.string() << ": the warnings\n  " << warnings << "\ndo not contain\n  " << *e.warning;
+      } else {
+        EXPECT_EQ(warnings, "") << dir.string() << ": warnings no `warning` line expects";
+      }
+      if (!e.errors.empty()) {
+        ADD_FAILURE() << dir.string() << ": expected a compile error containing \"" << e.errors[0]
                       << "\", but it compiled";
         continue;
       }
     } catch (const Error& err) {
-      if (!e.error) throw;
-      EXPECT_NE(std::string(err.what()).find(*e.error), std::string::npos)
-          << dir.string() << ": the message\n  " << err.what() << "\ndoes not contain\n  " << *e.error;
+      if (e.errors.empty()) throw;
+      for (const std::string& text : e.errors) {
+        EXPECT_NE(std::string(err.what()).find(text), std::string::npos)
+            << dir.string() << ": the message\n  " << err.what() << "\ndoes not contain\n  " << text;
+      }
       continue;
     }
     RenderSettings settings;

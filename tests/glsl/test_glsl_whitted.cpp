@@ -83,7 +83,7 @@ TEST_P(GlslWhitted, RendersTheAssemblysImageWithin1_3xItsInstructions) {
   const Frame assembly = render(scene, isa::builtin_firmware("whitted.s"), format);
   const cc::Compiled& whitted = library("whitted", GetParam().opt_level, GetParam().registers);
   if (GetParam().registers != 16) {
-    EXPECT_NE(whitted.listing.find("; spill"), std::string::npos) << "nothing spilled: the case tests nothing";
+    EXPECT_NE(whitted.listing.find(": spill"), std::string::npos) << "nothing spilled: the case tests nothing";
   }
   const Frame compiled = render(scene, whitted.firmware, format);
   ASSERT_EQ(compiled.image.pixels.size(), assembly.image.pixels.size());
@@ -128,7 +128,7 @@ TEST_P(GlslSpills, RenderWhatSixteenRegistersRender) {
   for (Material& m : scene.materials) m.shader = GetParam().hit;
   const cc::Compiled& spilled = library(GetParam().hit, 2, GetParam().registers);
   std::size_t spills = 0;
-  for (std::size_t at = 0; (at = spilled.listing.find("; spill", at)) != std::string::npos; ++at) ++spills;
+  for (std::size_t at = 0; (at = spilled.listing.find(": spill", at)) != std::string::npos; ++at) ++spills;
   RecordProperty("spills", static_cast<int>(spills));
   EXPECT_GT(spills, 0u) << "nothing spilled: the case tests nothing";
   const Frame full = render(scene, library(GetParam().hit, 2, 16).firmware, fp::kFp32);
