@@ -1,7 +1,9 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -69,6 +71,10 @@ struct FunctionalOptions {
   int host_threads = 0;       // 0: all cores. The image never depends on it.
   bool fast_path = true;      // fp32 on host float (identical bits)
   std::uint64_t watchdog = 50'000'000;  // instructions per thread and pixel
+  // rpu render --pixel: the pixel (y * width + x) whose every instruction goes to
+  // `trace`, one ShaderCore::trace_line each.
+  std::optional<std::uint32_t> trace_pixel;
+  std::function<void(const std::string&)> trace;
 };
 
 std::unique_ptr<Device> make_functional_device(const spec::HardwareConfig& config, fp::Format format,

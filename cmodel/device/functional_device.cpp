@@ -84,7 +84,19 @@ class FunctionalDevice final : public DeviceBase {
           if (item + 1 > error_key.load()) break;
           map.lanes(item, lanes);
           try {
-            core.run_chunk(lanes, stats);
+            const auto traced = std::find_if(lanes.begin(), lanes.end(), [&](const auto& l) {
+              return options_.trace_pixel && l.pixel == *options_.trace_pixel;
+            });
+            if (traced == lanes.end()) {
+              core.run_chunk(lanes, stats);
+            } else {
+              const auto lane = static_cast<std::size_t>(traced - lanes.begin());
+              const functional::ShaderCore::StepObserver print = [&](const functional::StepRecord& r,
+                                                                     const functional::ShaderCore::Chunk& c) {
+                if (r.lanes >> lane & 1) options_.trace(core.trace_line(r, c.threads()[lane]));
+              };
+              core.run_chunk(lanes, stats, nullptr, &print);
+            }
             if (progress) progress(done.fetch_add(1) + 1, items);
           } catch (...) {
             keep(item + 1);

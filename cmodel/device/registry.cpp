@@ -54,17 +54,42 @@ void warn_past_the_end(const std::string& name, const std::vector<std::uint64_t>
   }
 }
 
-// The golden model (functional_device.cpp): no options of its own.
+// The golden model (functional_device.cpp); --pixel traces one pixel's instructions.
 class FunctionalBackend final : public Backend {
  public:
   std::string_view name() const override { return "functional"; }
+  void add_options(CLI::App& command) override {
+    command
+        .add_option("--pixel", pixel_,
+                    "functional backend: print every instruction pixel X,Y retires on stdout, with its source line and "
+                    "the register it writes (docs/shaders.md \"Debugging\")")
+        ->type_name("X,Y")
+        ->delimiter(',')
+        ->expected(2);
+  }
+  void check(const RenderSettings& settings, std::string_view) const override {
+    if (pixel_.empty()) return;
+    if (pixel_[0] >= static_cast<std::uint64_t>(settings.width) || pixel_[1] >= static_cast<std::uint64_t>(settings.height)) {
+      throw Error(fmt::format("--pixel {},{}: outside the {}x{} image", pixel_[0], pixel_[1], settings.width,
+                              settings.height));
+    }
+    width_ = static_cast<std::uint32_t>(settings.width);
+  }
   std::unique_ptr<Device> make(const spec::HardwareConfig& config, fp::Format format,
                                const DeviceOptions& options) override {
     FunctionalOptions o;
     o.host_threads = options.host_threads;
     o.watchdog = options.watchdog;
+    if (!pixel_.empty()) {
+      o.trace_pixel = static_cast<std::uint32_t>(pixel_[1]) * width_ + static_cast<std::uint32_t>(pixel_[0]);
+      o.trace = [](const std::string& line) { fmt::print("{}\n", line); };
+    }
     return make_functional_device(config, format, o);
   }
+
+ private:
+  std::vector<std::uint64_t> pixel_;
+  mutable std::uint32_t width_ = 0;  // the image's, from check()
 };
 
 // The per-pixel cycle cost: false colour over [0, max] in a PNG, the cycles themselves

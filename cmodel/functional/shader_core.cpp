@@ -120,6 +120,27 @@ void ShaderCore::fault(const Thread& t, spec::isa::FaultKind kind, const std::st
                     p, kind, t.pc, address);
 }
 
+std::string ShaderCore::trace_line(const StepRecord& record, const Thread& after) const {
+  const std::optional<std::string> line = firmware_.lines.where(record.pc);
+  std::string text = fmt::format("{:>6}  {:<28}  {:<36}", record.pc, line.value_or("-"),
+                                 record.insn ? isa::disassemble(*record.insn) : isa::disassemble(word(record.pc)));
+  const int dst = record.pc < uses_.size() ? uses_[record.pc].dst : -1;
+  if (dst < 0 || record.insn == nullptr || static_cast<std::size_t>(dst) >= after.regs.size()) return text;
+  std::string floats, bits;
+  for (int k = 0; k < 4; ++k) {
+    if (!(record.insn->wmask >> k & 1)) continue;
+    const std::uint32_t b = after.regs[static_cast<std::size_t>(dst)][static_cast<std::size_t>(k)];
+    // Bits with a zero exponent are a subnormal or zero as a float (which the chip
+    // flushes), so most likely an integer: shown as one.
+    const bool integer = (b & 0x7f800000u) == 0;
+    floats += fmt::format("{}{}", floats.empty() ? "" : ", ",
+                          integer ? fmt::format("{}", b) : fmt::format("{:g}", std::bit_cast<float>(b)));
+    bits += fmt::format("{}{:#010x}", bits.empty() ? "" : " ", b);
+  }
+  return fmt::format("{}  {} = ({}) [{}]", text, isa::destination_text(static_cast<std::uint8_t>(dst), record.insn->wmask),
+                     floats, bits);
+}
+
 ShaderCoreConfig ShaderCoreConfig::of(const spec::HardwareConfig& config, std::uint64_t watchdog) {
   ShaderCoreConfig c;
   c.registers = config.registers;
@@ -203,11 +224,15 @@ void ShaderCore::step_with(const Arith& ar, Chunk& chunk, ShaderStats& stats, St
 }
 
 void ShaderCore::run_chunk(std::span<const Lane> lanes, ShaderStats& stats,
-                           std::vector<std::vector<Vec>>* end_registers) {
+                           std::vector<std::vector<Vec>>* end_registers, const StepObserver* observe) {
   Chunk chunk;
   start(chunk, lanes, stats);
+  StepRecord record;
   const auto run = [&](const auto& ops) {
-    while (!chunk.done()) step_with(ops, chunk, stats, nullptr);
+    while (!chunk.done()) {
+      step_with(ops, chunk, stats, observe ? &record : nullptr);
+      if (observe) (*observe)(record, chunk);
+    }
   };
   if (fast_) {
     const fp::fast32::FlushScope flush;

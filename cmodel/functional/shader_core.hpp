@@ -2,6 +2,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <span>
 #include <string>
@@ -165,9 +166,16 @@ class ShaderCore {
   // Runs the chunk's lanes from raygen until every one halts or faults; then throws the
   // chunk's fault (ShaderFault), if any.
   // With `end_registers`, receives each lane's registers after its halt (for tests
-  // that check a program's end state).
+  // that check a program's end state); with `observe`, is called after every step.
+  using StepObserver = std::function<void(const StepRecord&, const Chunk&)>;
   void run_chunk(std::span<const Lane> lanes, ShaderStats& stats,
-                 std::vector<std::vector<std::array<std::uint32_t, 4>>>* end_registers = nullptr);
+                 std::vector<std::vector<std::array<std::uint32_t, 4>>>* end_registers = nullptr,
+                 const StepObserver* observe = nullptr);
+  // One line of a pixel's trace (rpu render --pixel): the pc, its source line, the
+  // instruction, and what it wrote to a register after `record`'s step, for the thread
+  // `after`: each lane as a float (as an integer where the exponent bits are 0), then
+  // the bits.
+  std::string trace_line(const StepRecord& record, const Thread& after) const;
 
  private:
   template <class Arith>
