@@ -37,6 +37,48 @@ struct Pointer {
   Id type = 0;                // pointee type
 };
 
+// What GLSL wrote for a SPIR-V instruction the back end refuses, where one spelling says
+// it (a refusal names the source line, which then tells the instruction apart), then the
+// opcode's own name.
+std::string glsl_spelling(spv::Op op) {
+  using spv::Op;
+  std::string_view glsl;
+  switch (op) {
+    case Op::OpImageSampleImplicitLod:
+    case Op::OpImageSampleExplicitLod: glsl = "texture()/textureLod() on a sampler"; break;
+    case Op::OpImageFetch: glsl = "texelFetch()"; break;
+    case Op::OpImage:
+    case Op::OpSampledImage: glsl = "a texture: texture() or texelFetch() on a sampler2D"; break;
+    case Op::OpImageRead: glsl = "imageLoad()"; break;
+    case Op::OpImageQuerySize:
+    case Op::OpImageQuerySizeLod: glsl = "textureSize()/imageSize()"; break;
+    case Op::OpExecuteCallableKHR: glsl = "executeCallableEXT()"; break;
+    case Op::OpTerminateRayKHR: glsl = "terminateRayEXT"; break;
+    case Op::OpIgnoreIntersectionKHR: glsl = "ignoreIntersectionEXT"; break;
+    case Op::OpReportIntersectionKHR: glsl = "reportIntersectionEXT()"; break;
+    case Op::OpKill: glsl = "discard"; break;
+    case Op::OpFMod: glsl = "mod() of floats"; break;
+    case Op::OpFRem: glsl = "a float remainder"; break;
+    case Op::OpConvertUToPtr:
+    case Op::OpConvertPtrToU: glsl = "a buffer_reference address (uint64_t)"; break;
+    case Op::OpBitCount: glsl = "bitCount()"; break;
+    case Op::OpBitReverse: glsl = "bitfieldReverse()"; break;
+    case Op::OpBitFieldInsert: glsl = "bitfieldInsert()"; break;
+    case Op::OpBitFieldSExtract:
+    case Op::OpBitFieldUExtract: glsl = "bitfieldExtract()"; break;
+    case Op::OpMatrixTimesVector: glsl = "a matrix times a vector"; break;
+    case Op::OpVectorTimesMatrix: glsl = "a vector times a matrix"; break;
+    case Op::OpMatrixTimesMatrix: glsl = "a matrix times a matrix"; break;
+    case Op::OpTranspose: glsl = "transpose()"; break;
+    case Op::OpOuterProduct: glsl = "outerProduct()"; break;
+    case Op::OpDPdx:
+    case Op::OpDPdy:
+    case Op::OpFwidth: glsl = "dFdx()/dFdy()/fwidth() (no derivatives in ray tracing)"; break;
+    default: return op_name(op);
+  }
+  return fmt::format("{} ({})", glsl, op_name(op));
+}
+
 // Thrown where an instruction reads, through a phi or a pointer, the result of one that
 // failed: it is skipped without an error of its own.
 struct UsesAFailure {};
@@ -1012,7 +1054,7 @@ void Lowerer::instruction(const Instruction& i) {
     case Op::OpReturnValue: b_.unsupported("a function returning a value outside the entry point");
     case Op::OpKill:
     case Op::OpTerminateRayKHR:
-    case Op::OpIgnoreIntersectionKHR: b_.unsupported(op_name(i.op));
+    case Op::OpIgnoreIntersectionKHR: b_.unsupported(glsl_spelling(i.op));
     // ---- composites
     case Op::OpCompositeExtract: composite_extract(i); return;
     case Op::OpCompositeInsert: composite_insert(i); return;
@@ -1038,7 +1080,7 @@ void Lowerer::instruction(const Instruction& i) {
     set(i, *s);
     return;
   }
-  b_.unsupported(op_name(i.op));
+  b_.unsupported(glsl_spelling(i.op));
 }
 
 // A function variable SPIRV-Tools did not turn into SSA values: kept in registers.

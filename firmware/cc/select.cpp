@@ -668,7 +668,8 @@ Src select_glsl_std_450(Builder& b, std::uint32_t instruction, int width, Operan
   const auto key = static_cast<GLSLstd450>(instruction);
   if (const Direct* d = find(kDirectStd450, key)) return direct(s, *d);
   if (const Expansion* e = find(kExpandedStd450, key)) return (*e)(s);
-  b.unsupported(glsl_std_450_name(instruction));
+  b.unsupported(fmt::format("{}() (GLSL.std.450 {})", glsl_std_450_function(instruction),
+                            glsl_std_450_name(instruction)));
 }
 
 }  // namespace rpu::cc

@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """Writes spirv_names.hpp: the names of SPIR-V opcodes and GLSL.std.450 instructions, from
-the grammar files of Debian's spirv-headers, for the compiler's messages."""
+the grammar files of Debian's spirv-headers, for the compiler's messages; for each
+GLSL.std.450 instruction also the GLSL function it comes from."""
 import json
 import pathlib
 import sys
@@ -20,6 +21,21 @@ lines += ['    default: return "Op" + std::to_string(static_cast<std::uint32_t>(
           "inline std::string glsl_std_450_name(std::uint32_t op) {", "  switch (op) {"]
 for i in glsl["instructions"]:
     lines.append(f'    case {i["opcode"]}: return "{i["opname"]}";')
+lines += ['    default: return "GLSL.std.450 instruction " + std::to_string(op);', "  }", "}"]
+# The GLSL built-in function of each GLSL.std.450 instruction: its name with a lower-case
+# first letter, but where GLSL spells it otherwise (the typed variants of one function,
+# and the names the GLSL specification writes in lower case or another way).
+GLSL_SPELLING = {
+    "FAbs": "abs", "SAbs": "abs", "FSign": "sign", "SSign": "sign", "FMin": "min", "UMin": "min", "SMin": "min",
+    "NMin": "min", "FMax": "max", "UMax": "max", "SMax": "max", "NMax": "max", "FClamp": "clamp", "UClamp": "clamp",
+    "SClamp": "clamp", "NClamp": "clamp", "FMix": "mix", "IMix": "mix", "InverseSqrt": "inversesqrt", "Atan2": "atan",
+    "SmoothStep": "smoothstep", "FaceForward": "faceforward", "MatrixInverse": "inverse", "ModfStruct": "modf",
+    "FrexpStruct": "frexp", "FindILsb": "findLSB", "FindSMsb": "findMSB", "FindUMsb": "findMSB",
+}
+lines += ["inline std::string glsl_std_450_function(std::uint32_t op) {", "  switch (op) {"]
+for i in glsl["instructions"]:
+    name = i["opname"]
+    lines.append(f'    case {i["opcode"]}: return "{GLSL_SPELLING.get(name, name[0].lower() + name[1:])}";')
 lines += ['    default: return "GLSL.std.450 instruction " + std::to_string(op);', "  }", "}"]
 for kind, fn in (("StorageClass", "storage_class_name"), ("BuiltIn", "builtin_name")):
     lines += [f"inline std::string {fn}(std::uint32_t value) {{", "  switch (value) {"]
