@@ -66,9 +66,6 @@ std::string glsl_spelling(spv::Op op) {
     case Op::OpBitFieldInsert: glsl = "bitfieldInsert()"; break;
     case Op::OpBitFieldSExtract:
     case Op::OpBitFieldUExtract: glsl = "bitfieldExtract()"; break;
-    case Op::OpMatrixTimesVector: glsl = "a matrix times a vector"; break;
-    case Op::OpVectorTimesMatrix: glsl = "a vector times a matrix"; break;
-    case Op::OpMatrixTimesMatrix: glsl = "a matrix times a matrix"; break;
     case Op::OpTranspose: glsl = "transpose()"; break;
     case Op::OpOuterProduct: glsl = "outerProduct()"; break;
     case Op::OpDPdx:
@@ -772,9 +769,34 @@ class Lowerer {
       case spv::BuiltIn::InstanceCustomIndexKHR: s = whole(need(entry_.material), 1); break;
       case spv::BuiltIn::InstanceId:
       case spv::BuiltIn::RayGeometryIndexKHR: s = b_.op(Opcode::kLi, 1, {}, Imm::integer(0)); break;
+      case spv::BuiltIn::ObjectToWorldKHR:
+      case spv::BuiltIn::WorldToObjectKHR: {
+        // The chip's scene is one object in world space (no instances): both are the
+        // identity, 4 columns of 3 (mat4x3).
+        Value m;
+        m.aggregate = true;
+        for (int c = 0; c < 4; ++c) {
+          const int d = b_.vreg(3);
+          b_.op_into(d, 0, Opcode::kLif, {}, Imm::fp32_bits(0), true);
+          if (c < 3) b_.op_into(d, static_cast<std::uint8_t>(1u << c), Opcode::kLif, {}, Imm::fp32_bits(0x3f800000u));
+          Value column;
+          column.leaf = whole(d, 3);
+          m.members.push_back(column);
+        }
+        for (const std::uint32_t k : p.path) {
+          if (m.aggregate) {
+            Value member = m.members.at(k);
+            m = std::move(member);
+          } else {
+            m.leaf = component(m.leaf, static_cast<int>(k));
+          }
+        }
+        return m;
+      }
       default:
-        b_.unsupported(fmt::format("the built-in {} (the chip provides launch id and size, world ray origin and "
-                                   "direction, t min and max, hit t, primitive id and instance custom index)",
+        b_.unsupported(fmt::format("the built-in {} (the chip provides launch id and size, world and object ray "
+                                   "origin and direction, t min and max, hit t, primitive id, instance id and custom "
+                                   "index, and the identity object-to-world and world-to-object matrices)",
                                    builtin_name(static_cast<std::uint32_t>(b))));
     }
     for (const std::uint32_t k : p.path) s = component(s, static_cast<int>(k));
@@ -876,6 +898,8 @@ class Lowerer {
   void vector_shuffle(const Instruction& i);
   void vector_extract_dynamic(const Instruction& i);
   void matrix_times_scalar(const Instruction& i);
+  Src matrix_times(const Value& matrix, const Src& vector);
+  void matrix_products(const Instruction& i);
   void same_bits(const Instruction& i);
   const Module& m_;
   const SpirvShader& shader_;
@@ -1062,6 +1086,9 @@ void Lowerer::instruction(const Instruction& i) {
     case Op::OpVectorShuffle: vector_shuffle(i); return;
     case Op::OpVectorExtractDynamic: vector_extract_dynamic(i); return;
     case Op::OpMatrixTimesScalar: matrix_times_scalar(i); return;
+    case Op::OpMatrixTimesVector:
+    case Op::OpVectorTimesMatrix:
+    case Op::OpMatrixTimesMatrix: matrix_products(i); return;
     case Op::OpCopyObject:
     case Op::OpCopyLogical:  // a buffer's struct as a plain one: the same values
     case Op::OpBitcast:
@@ -1351,6 +1378,51 @@ void Lowerer::matrix_times_scalar(const Instruction& i) {
     Value c;
     c.leaf = b_.op(Opcode::kMul, col.leaf.n, {col.leaf, broadcast(s, col.leaf.n)});
     r.members.push_back(c);
+  }
+  values_[i.result] = r;
+}
+
+// M v: the columns of M, each times its component of v, summed (mul, then mad in column
+// order: the rounding of GLSL's sum from the first column on).
+Src Lowerer::matrix_times(const Value& matrix, const Src& vector) {
+  Src sum;
+  for (std::size_t j = 0; j < matrix.members.size(); ++j) {
+    const Src column = concrete(matrix.members[j]).leaf;
+    const Src v = broadcast(component(vector, static_cast<int>(j)), column.n);
+    sum = j == 0 ? b_.op(Opcode::kMul, column.n, {column, v}) : b_.op(Opcode::kMad, column.n, {column, v, sum});
+  }
+  return sum;
+}
+
+// matrix * vector, vector * matrix (each result component a dot product of v with a
+// column) and matrix * matrix (M times each column of the right one).
+void Lowerer::matrix_products(const Instruction& i) {
+  const auto& o = i.operands;
+  Value r;
+  if (i.op == spv::Op::OpMatrixTimesVector) {
+    r.leaf = matrix_times(concrete(value(o[0])), scalar_or_vector(o[1]));
+  } else if (i.op == spv::Op::OpMatrixTimesMatrix) {
+    const Value left = concrete(value(o[0])), right = concrete(value(o[1]));
+    r.aggregate = true;
+    for (const Value& column : right.members) {
+      Value c;
+      c.leaf = matrix_times(left, concrete(column).leaf);
+      r.members.push_back(c);
+    }
+  } else {
+    const Src v = scalar_or_vector(o[0]);
+    const Value m = concrete(value(o[1]));
+    const int n = static_cast<int>(m.members.size());
+    const int d = b_.vreg(n);
+    for (int j = 0; j < n; ++j) {
+      const Src column = concrete(m.members[static_cast<std::size_t>(j)]).leaf;
+      Src dot = b_.op(Opcode::kMul, 1, {component(v, 0), component(column, 0)});
+      for (int k = 1; k < column.n; ++k) {
+        dot = b_.op(Opcode::kMad, 1, {component(v, k), component(column, k), dot});
+      }
+      b_.op_into(d, n == 1 ? 0 : static_cast<std::uint8_t>(1u << j), Opcode::kMov, {dot}, {}, j == 0);
+    }
+    r.leaf = whole(d, n);
   }
   values_[i.result] = r;
 }
