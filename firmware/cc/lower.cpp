@@ -49,7 +49,6 @@ std::string glsl_spelling(spv::Op op) {
     case Op::OpImageFetch: glsl = "texelFetch()"; break;
     case Op::OpImage:
     case Op::OpSampledImage: glsl = "a texture: texture() or texelFetch() on a sampler2D"; break;
-    case Op::OpImageRead: glsl = "imageLoad()"; break;
     case Op::OpImageQuerySize:
     case Op::OpImageQuerySizeLod: glsl = "textureSize()/imageSize()"; break;
     case Op::OpExecuteCallableKHR: glsl = "executeCallableEXT()"; break;
@@ -886,6 +885,8 @@ class Lowerer {
   void variable(const Instruction& i);
   void trace(const Instruction& i);
   void image_store(const Instruction& i);
+  void image_load(const Instruction& i);
+  Src framebuffer_address(Id image, Id coordinate, std::string_view what);
   void ray_query_initialize(const Instruction& i);
   void ray_query_proceed(const Instruction& i);
   void ray_query_type(const Instruction& i);
@@ -1000,18 +1001,17 @@ void Lowerer::trace(const Instruction& i) {
   call_trace_routine(b_, form, ray, widths, home, ctx_.registers);
 }
 
-void Lowerer::image_store(const Instruction& i) {
-  // OpImageWrite image coordinate texel: the framebuffer at (x, y).
-  const auto img = opaque_.find(i.operands[0]);
+// The framebuffer's address of the pixel at `coordinate` of `image`, which must be the
+// framebuffer: framebuffer + (y * width + x) * 16. The device faults on another pixel
+// than the thread's own, for loads and stores alike.
+Src Lowerer::framebuffer_address(Id image, Id coordinate, std::string_view what) {
+  const auto img = opaque_.find(image);
   const Id var = img == opaque_.end() ? 0 : img->second;
   if (m_.decoration(var).binding.value_or(~0u) != spec::kShaderFramebufferBinding) {
-    b_.fail(b_.where, fmt::format("imageStore to an image that is not the framebuffer (binding {})",
+    b_.fail(b_.where, fmt::format("{} of an image that is not the framebuffer (binding {})", what,
                                   spec::kShaderFramebufferBinding));
   }
-  const Src coord = scalar_or_vector(i.operands[1]);
-  Src texel = scalar_or_vector(i.operands[2]);
-  if (texel.n != 4) b_.unsupported("an imageStore of other than 4 components");
-  // address = framebuffer + (y * width + x) * 16; the device faults on another pixel.
+  const Src coord = scalar_or_vector(coordinate);
   const Src base = launch_base();
   MInst l;
   l.op = Opcode::kLd1;
@@ -1026,7 +1026,24 @@ void Lowerer::image_store(const Instruction& i) {
   Src index = b_.op(Opcode::kImul, 1, {component(coord, 1), component(whole(fbw, 2), 1)});
   index = b_.op(Opcode::kIadd, 1, {index, component(coord, 0)});
   index = b_.op(Opcode::kShli, 1, {index}, Imm::integer(std::countr_zero(mm::kFramebufferBytesPerPixel)));
-  const Src address = b_.op(Opcode::kIadd, 1, {index, component(whole(fbw, 2), 0)});
+  return b_.op(Opcode::kIadd, 1, {index, component(whole(fbw, 2), 0)});
+}
+
+// OpImageRead image coordinate: the thread's own framebuffer pixel as it is now (zero
+// before the frame's first imageStore to it).
+void Lowerer::image_load(const Instruction& i) {
+  if (width_of(i.type) != 4) b_.unsupported("an imageLoad of other than 4 components");
+  const Src address = framebuffer_address(i.operands[0], i.operands[1], "imageLoad");
+  Value v;
+  v.leaf = b_.op(Opcode::kLdf, 4, {address}, Imm::integer(0));
+  values_[i.result] = v;
+}
+
+void Lowerer::image_store(const Instruction& i) {
+  // OpImageWrite image coordinate texel.
+  Src texel = scalar_or_vector(i.operands[2]);
+  if (texel.n != 4) b_.unsupported("an imageStore of other than 4 components");
+  const Src address = framebuffer_address(i.operands[0], i.operands[1], "imageStore");
   // st stores lanes in place: the texel must sit in lanes x..w in order.
   if (texel.comp != std::array<std::uint8_t, 4>{0, 1, 2, 3} || texel.neg || texel.abs) {
     texel = b_.op(Opcode::kMov, 4, {texel});
@@ -1055,6 +1072,7 @@ void Lowerer::instruction(const Instruction& i) {
     case Op::OpAccessChain:
     case Op::OpInBoundsAccessChain: access_chain(i); return;
     case Op::OpImageWrite: image_store(i); return;
+    case Op::OpImageRead: image_load(i); return;
     // ---- rays
     case Op::OpTraceRayKHR: trace(i); return;
     case Op::OpRayQueryInitializeKHR: ray_query_initialize(i); return;
