@@ -40,39 +40,40 @@ struct Pointer {
 // What GLSL wrote for a SPIR-V instruction the back end refuses, where one spelling says
 // it (a refusal names the source line, which then tells the instruction apart), then the
 // opcode's own name.
+constexpr std::pair<spv::Op, std::string_view> kGlslSpellings[] = {
+    {spv::Op::OpImageSampleImplicitLod, "texture()/textureLod() on a sampler"},
+    {spv::Op::OpImageSampleExplicitLod, "texture()/textureLod() on a sampler"},
+    {spv::Op::OpImageFetch, "texelFetch()"},
+    {spv::Op::OpImage, "a texture: texture() or texelFetch() on a sampler2D"},
+    {spv::Op::OpSampledImage, "a texture: texture() or texelFetch() on a sampler2D"},
+    {spv::Op::OpImageQuerySize, "textureSize()/imageSize()"},
+    {spv::Op::OpImageQuerySizeLod, "textureSize()/imageSize()"},
+    {spv::Op::OpExecuteCallableKHR, "executeCallableEXT()"},
+    {spv::Op::OpTerminateRayKHR, "terminateRayEXT"},
+    {spv::Op::OpIgnoreIntersectionKHR, "ignoreIntersectionEXT"},
+    {spv::Op::OpReportIntersectionKHR, "reportIntersectionEXT()"},
+    {spv::Op::OpKill, "discard"},
+    {spv::Op::OpFMod, "mod() of floats"},
+    {spv::Op::OpFRem, "a float remainder"},
+    {spv::Op::OpConvertUToPtr, "a buffer_reference address (uint64_t)"},
+    {spv::Op::OpConvertPtrToU, "a buffer_reference address (uint64_t)"},
+    {spv::Op::OpBitCount, "bitCount()"},
+    {spv::Op::OpBitReverse, "bitfieldReverse()"},
+    {spv::Op::OpBitFieldInsert, "bitfieldInsert()"},
+    {spv::Op::OpBitFieldSExtract, "bitfieldExtract()"},
+    {spv::Op::OpBitFieldUExtract, "bitfieldExtract()"},
+    {spv::Op::OpTranspose, "transpose()"},
+    {spv::Op::OpOuterProduct, "outerProduct()"},
+    {spv::Op::OpDPdx, "dFdx()/dFdy()/fwidth() (no derivatives in ray tracing)"},
+    {spv::Op::OpDPdy, "dFdx()/dFdy()/fwidth() (no derivatives in ray tracing)"},
+    {spv::Op::OpFwidth, "dFdx()/dFdy()/fwidth() (no derivatives in ray tracing)"},
+};
+
 std::string glsl_spelling(spv::Op op) {
-  using spv::Op;
-  std::string_view glsl;
-  switch (op) {
-    case Op::OpImageSampleImplicitLod:
-    case Op::OpImageSampleExplicitLod: glsl = "texture()/textureLod() on a sampler"; break;
-    case Op::OpImageFetch: glsl = "texelFetch()"; break;
-    case Op::OpImage:
-    case Op::OpSampledImage: glsl = "a texture: texture() or texelFetch() on a sampler2D"; break;
-    case Op::OpImageQuerySize:
-    case Op::OpImageQuerySizeLod: glsl = "textureSize()/imageSize()"; break;
-    case Op::OpExecuteCallableKHR: glsl = "executeCallableEXT()"; break;
-    case Op::OpTerminateRayKHR: glsl = "terminateRayEXT"; break;
-    case Op::OpIgnoreIntersectionKHR: glsl = "ignoreIntersectionEXT"; break;
-    case Op::OpReportIntersectionKHR: glsl = "reportIntersectionEXT()"; break;
-    case Op::OpKill: glsl = "discard"; break;
-    case Op::OpFMod: glsl = "mod() of floats"; break;
-    case Op::OpFRem: glsl = "a float remainder"; break;
-    case Op::OpConvertUToPtr:
-    case Op::OpConvertPtrToU: glsl = "a buffer_reference address (uint64_t)"; break;
-    case Op::OpBitCount: glsl = "bitCount()"; break;
-    case Op::OpBitReverse: glsl = "bitfieldReverse()"; break;
-    case Op::OpBitFieldInsert: glsl = "bitfieldInsert()"; break;
-    case Op::OpBitFieldSExtract:
-    case Op::OpBitFieldUExtract: glsl = "bitfieldExtract()"; break;
-    case Op::OpTranspose: glsl = "transpose()"; break;
-    case Op::OpOuterProduct: glsl = "outerProduct()"; break;
-    case Op::OpDPdx:
-    case Op::OpDPdy:
-    case Op::OpFwidth: glsl = "dFdx()/dFdy()/fwidth() (no derivatives in ray tracing)"; break;
-    default: return op_name(op);
+  for (const auto& [o, glsl] : kGlslSpellings) {
+    if (o == op) return fmt::format("{} ({})", glsl, op_name(op));
   }
-  return fmt::format("{} ({})", glsl, op_name(op));
+  return op_name(op);
 }
 
 // Thrown where an instruction reads, through a phi or a pointer, the result of one that
