@@ -148,9 +148,16 @@ def estimate(config: str, resolved: dict[str, dict], records: list[dict], root=N
     w = then(chip)
     by_tag = "" if w["tu_by_tag"] == v["tu_by_tag"] else (
         f"{chip['config']}'s, whose ray units take their lines in order: the by-tag answers' wait entries not in it")
+    # A record from before write_back existed has write-through caches.
+    write_back = {c: (w.get(f"{c}.write_back", 0), v[f"{c}.write_back"]) for c in ("node_cache", "triangle_cache", "data_cache")}
     counts = {"node cache": v["ray_caches"], "triangle cache": v["ray_caches"], "data cache": v["shader_cores"]}
     for name, count in counts.items():
-        add(name, count, chip_unit(chip, name), f"{chip['config']} chip ({chip['commit']})", by_tag)
+        there, here = write_back[name.replace(" ", "_")]
+        policy = "" if there == here else (
+            f"{chip['config']}'s {'write-back' if there else 'write-through'} cache: "
+            f"{'without' if here else 'with'} the write-back's dirty bits and eviction buffer")
+        add(name, count, chip_unit(chip, name), f"{chip['config']} chip ({chip['commit']})",
+            "; ".join(n for n in (by_tag, policy) if n))
     if not v["tu_by_tag"]:
         add("in-order port", v["traversal_units"], chip_unit(chip, "in-order port"),
             f"{chip['config']} chip ({chip['commit']})")

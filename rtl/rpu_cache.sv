@@ -1,7 +1,7 @@
-// A set-associative, write-through cache of DramLineBytes lines between MemLineBytes
-// requesters (a cache port: cache_req/cache_rsp) and the chip's memory port
+// A set-associative cache of DramLineBytes lines, write-through or write-back, between
+// MemLineBytes requesters (a cache port: cache_req/cache_rsp) and the chip's memory port
 // (dram_req/dram_rsp), docs/memory-system.md. A named configuration's
-// {node,triangle,data}_cache.{bytes,ways,hit_latency,mshrs} are its parameters.
+// {node,triangle,data}_cache.{bytes,ways,hit_latency,mshrs,write_back} are its parameters.
 //
 // Every decision is made in the cycle a request is taken, against registers that
 // already hold everything taken before it, and one operation a cycle uses the lookup,
@@ -11,19 +11,27 @@
 //   2. an install: a line read from memory is written into its set's least recently
 //      used way (an invalid way first), its miss register freed and its waiting reads
 //      marked for replay; never while a replay is pending, so an install cannot evict
-//      the line a replay is about to read;
-//   3. a request from the port:
+//      the line a replay is about to read; a dirty victim (WriteBack) is read out in the
+//      same cycle into the eviction buffer, so the install waits while that is busy;
+//   3. a flush step (flush_i, WriteBack): the walk over every way of every set moves to
+//      the next way, reading a dirty line into the eviction buffer first;
+//   4. a request from the port (none is taken while flush_i is high):
 //      - a read of a present line (hit) reads the data array and is answered
 //        HitLatency cycles after it was taken, one a cycle;
 //      - a read of a line whose fill is in flight (merged) waits for that fill;
 //      - any other read (miss) takes a free miss register and queues one line read;
 //        with none free the port stalls;
-//      - a write updates the words of a present line and queues the write to memory
-//        (write-through, no allocation); a write to a line whose fill is in flight
-//        stalls the port until the fill is installed and its reads answered, so that
-//        the fill cannot overwrite newer data and those reads see the older data.
+//      - a write updates the words of a present line and, write-through, queues the
+//        write to memory, or, write-back, marks the line dirty; a write to an absent
+//        line is queued to memory either way (no allocation); a write to a line whose
+//        fill is in flight stalls the port until the fill is installed and its reads
+//        answered, so that the fill cannot overwrite newer data and those reads see
+//        the older data.
 // The memory requests leave through one FIFO in the order their requests were taken,
 // so a read that misses after a write to its line reads that write back from memory.
+// An evicted dirty line leaves from the eviction buffer, ahead of the FIFO: every
+// request the FIFO holds for its line was taken before the line's fill was installed,
+// and so has left already, and any taken after the eviction is behind it.
 // Reads waiting for a fill are kept per tag: a tag is in flight at most once (the
 // requesters guarantee it), so 2^CacheTagBits entries hold every one.
 module rpu_cache #(
@@ -31,11 +39,15 @@ module rpu_cache #(
   parameter int unsigned Ways       = rpu_pkg::ConfigTinyDataCacheWays,
   parameter int unsigned HitLatency = rpu_pkg::ConfigTinyDataCacheHitLatency,
   parameter int unsigned Mshrs      = rpu_pkg::ConfigTinyDataCacheMshrs,
+  parameter int unsigned WriteBack  = rpu_pkg::ConfigTinyDataCacheWriteBack,
   parameter int unsigned CacheId    = 0,  // the high bits of its memory-port tags (rpu_mem_arbiter's port)
   parameter int unsigned DramQueue  = rpu_pkg::CacheDramQueue  // memory requests queued towards the port
 ) (
   input  logic                     clk_i,
   input  logic                     rst_ni,
+
+  // Write every dirty line to memory (WriteBack); held until idle_o, and requests wait.
+  input  logic                     flush_i,
 
   input  logic                     req_valid_i,
   output logic                     req_ready_o,
@@ -52,7 +64,8 @@ module rpu_cache #(
   input  rpu_pkg::dram_rsp_t       dram_rsp_i,
 
   output rpu_pkg::cache_counters_t counters_o,
-  output logic                     idle_o  // nothing taken is still owed or in flight
+  output logic                     idle_o,  // nothing taken is still owed or in flight
+  output logic                     dirty_o  // a line is dirty (WriteBack): a flush has work
 );
 
   localparam int unsigned LineBytes     = rpu_pkg::DramLineBytes;
@@ -101,14 +114,26 @@ module rpu_cache #(
   logic [Tags*PieceAddrBits-1:0] wait_addr_d, wait_addr_q;
   logic [CreditBits-1:0]         credit_d, credit_q;
   rpu_pkg::cache_counters_t      counters_d, counters_q;
+  // Write-back: a dirty bit per way (flops, reset, beside the valid bits); the flush's
+  // walk, way by way, set by set; and the eviction buffer, which holds one dirty line
+  // from the cycle after its data-array read (ev_read_q: the words arrive) until the
+  // memory port takes it (ev_valid_q).
+  logic [Sets*Ways-1:0]          dirty_d, dirty_q;
+  logic [SetBits-1:0]            flush_set_d, flush_set_q;
+  logic [WayBits-1:0]            flush_way_d, flush_way_q;
+  logic                          flush_done_d, flush_done_q;
+  logic                          ev_read_d, ev_read_q, ev_valid_d, ev_valid_q;
+  logic [LineAddrBits-1:0]       ev_line_d, ev_line_q;
+  logic [32*LineWords-1:0]       ev_data_d, ev_data_q;
 
   // ---------------------------------------------------------------------------------
   // Which operation looks up this cycle.
   // ---------------------------------------------------------------------------------
   logic                            replay_pending, credit_ok;
   logic [rpu_pkg::CacheTagBits-1:0] replay_tag;
-  logic                            replay_go, install_go, front_free;
+  logic                            replay_go, install_go, front_free, flush_look, flush_go;
   logic [MshrBits-1:0]             fill_mshr;
+  logic                            ev_free, victim_dirty, flush_dirty;
 
   always_comb begin : pick_replay
     replay_pending = 1'b0;
@@ -124,8 +149,11 @@ module rpu_cache #(
   assign credit_ok  = credit_q != '0;
   assign fill_mshr  = dram_rsp_i.tag[MshrBits-1:0];
   assign replay_go  = replay_pending && credit_ok;
-  assign install_go = !replay_pending && dram_rsp_valid_i;
+  assign ev_free    = !ev_read_q && !ev_valid_q;
+  assign install_go = !replay_pending && dram_rsp_valid_i && (!victim_dirty || ev_free);
   assign front_free = !replay_pending && !dram_rsp_valid_i;
+  assign flush_look = front_free && flush_i && WriteBack != 0 && !flush_done_q;
+  assign flush_go   = flush_look && (!flush_dirty || ev_free);
   assign dram_rsp_ready_o = install_go;
 
   logic [31:0] look_addr;
@@ -134,6 +162,8 @@ module rpu_cache #(
       look_addr = {wait_addr_q[32'(replay_tag)*PieceAddrBits +: PieceAddrBits], 4'b0};
     end else if (dram_rsp_valid_i) begin
       look_addr = {mshr_line_q[32'(fill_mshr)*LineAddrBits +: LineAddrBits], OffsetBits'(0)};
+    end else if (flush_i && WriteBack != 0) begin
+      look_addr = 32'(flush_set_q) << OffsetBits;
     end else begin
       look_addr = req_i.addr;
     end
@@ -151,12 +181,13 @@ module rpu_cache #(
   assign look_line  = look_addr[31:OffsetBits];
   assign look_piece = look_addr[OffsetBits-1 -: PieceBits];
 
-  logic [Ways-1:0]        set_valid;
+  logic [Ways-1:0]        set_valid, set_dirty;
   logic [Ways*TagBits-1:0] set_tags;
   logic [Ways-1:0]        hit_ways;
   logic                   hit;
   logic [WayBits-1:0]     hit_way;
   assign set_valid = valid_q[EntryBits'(look_set) * EntryBits'(Ways) +: Ways];
+  assign set_dirty = dirty_q[EntryBits'(look_set) * EntryBits'(Ways) +: Ways];
   always_comb begin : match_ways
     hit     = 1'b0;
     hit_way = '0;
@@ -210,17 +241,20 @@ module rpu_cache #(
       if (!set_valid[w]) victim = WayBits'(w);
     end
   end
+  assign victim_dirty = WriteBack != 0 && set_valid[victim] && set_dirty[victim];
+  assign flush_dirty  = set_valid[flush_way_q] && set_dirty[flush_way_q];
 
   // ---------------------------------------------------------------------------------
   // The request at the port.
   // ---------------------------------------------------------------------------------
   logic dq_ready;  // the memory-request FIFO has room
-  logic take, take_read, hit_go, merge_go, miss_go, write_go, launch;
+  logic take, take_read, hit_go, merge_go, miss_go, write_go, launch, write_kept;
+  assign write_kept = WriteBack != 0 && hit;  // a write that stays in the cache
   always_comb begin : port_ready
-    if (!front_free) begin
+    if (!front_free || flush_i) begin
       req_ready_o = 1'b0;
     end else if (req_i.write) begin
-      req_ready_o = !pending && dq_ready;
+      req_ready_o = !pending && (dq_ready || write_kept);
     end else if (hit) begin
       req_ready_o = credit_ok;
     end else begin
@@ -275,11 +309,15 @@ module rpu_cache #(
   // The data array: one RAM per word of a line, so that a fill writes a line and a
   // write any words of a piece in one cycle. Word k of way w, set s is at w*Sets + s.
   // ---------------------------------------------------------------------------------
+  // A hit reads its way; an install reads its victim and a flush step its way, for the
+  // eviction buffer (the read returns the words from before the install's write).
   logic [RamAddrBits-1:0]  ram_waddr, ram_raddr;
   logic [LineWords-1:0]    ram_we;
   logic [32*LineWords-1:0] ram_wdata, ram_rdata;
+  logic [WayBits-1:0]      read_way;
+  assign read_way  = install_go ? victim : flush_look ? flush_way_q : hit_way;
   assign ram_waddr = RamAddrBits'(32'(touch_way) * Sets + 32'(look_set));
-  assign ram_raddr = RamAddrBits'(32'(hit_way) * Sets + 32'(look_set));
+  assign ram_raddr = RamAddrBits'(32'(read_way) * Sets + 32'(look_set));
   for (genvar k = 0; k < LineWords; k++) begin : g_word
     assign ram_we[k] = install_go
                        || (write_go && hit && 32'(look_piece) == k / PieceWords && req_i.wmask[k % PieceWords]);
@@ -356,12 +394,17 @@ module rpu_cache #(
   logic [32*PieceWords-1:0] dq_data;
   rpu_fifo #(.Width(DramEntryBits), .Depth(DramQueue)) u_dram_queue (
     .clk_i, .rst_ni,
-    .in_valid_i(miss_go || write_go), .in_ready_o(dq_ready),
+    .in_valid_i(miss_go || (write_go && !write_kept)), .in_ready_o(dq_ready),
     .in_data_i({write_go, look_line, free_mshr, look_piece, req_i.wmask, req_i.data}),
-    .out_valid_o(dq_valid), .out_ready_i(dram_req_ready_i), .out_data_o(dq_entry)
+    .out_valid_o(dq_valid), .out_ready_i(dram_req_ready_i && !send_ev), .out_data_o(dq_entry)
   );
   assign {dq_write, dq_line, dq_mshr, dq_piece, dq_wmask, dq_data} = dq_entry;
-  assign dram_req_valid_o = dq_valid;
+  // The eviction buffer goes first, unless the queue's head is already offered: an
+  // offered request stays until the port takes it (valid/ready).
+  logic send_ev, dq_held_d, dq_held_q;
+  assign send_ev          = ev_valid_q && !dq_held_q;
+  assign dram_req_valid_o = ev_valid_q || dq_valid;
+  assign dq_held_d        = dq_valid && !send_ev && !dram_req_ready_i;
   // A write's tag names the cache alone (writes are not answered).
   logic [MshrBits-1:0] dq_read_mshr;
   assign dq_read_mshr = dq_write ? '0 : dq_mshr;
@@ -370,9 +413,60 @@ module rpu_cache #(
     dram_req_o.tag   = {CacheIdBits'(CacheId), rpu_pkg::DramMshrBits'(dq_read_mshr)};
     dram_req_o.addr  = {dq_line, OffsetBits'(0)};
     dram_req_o.write = dq_write;
-    if (dq_write) begin
+    if (send_ev) begin
+      dram_req_o.tag   = {CacheIdBits'(CacheId), rpu_pkg::DramMshrBits'(0)};
+      dram_req_o.addr  = {ev_line_q, OffsetBits'(0)};
+      dram_req_o.write = 1'b1;
+      dram_req_o.wmask = '1;
+      dram_req_o.data  = ev_data_q;
+    end else if (dq_write) begin
       dram_req_o.wmask = LineWords'(dq_wmask) << (PieceWords * 32'(dq_piece));
       dram_req_o.data  = (32*LineWords)'(dq_data) << (32 * PieceWords * 32'(dq_piece));
+    end
+  end
+
+  // ---------------------------------------------------------------------------------
+  // Write-back: evictions and the flush's walk.
+  // ---------------------------------------------------------------------------------
+  logic               ev_take;  // a dirty line is read into the eviction buffer
+  logic [WayBits-1:0] ev_way;
+  assign ev_take = (install_go && victim_dirty) || (flush_go && flush_dirty);
+  assign ev_way  = install_go ? victim : flush_way_q;
+  always_comb begin : next_eviction
+    ev_read_d  = ev_take;
+    ev_line_d  = ev_line_q;
+    ev_data_d  = ev_data_q;
+    ev_valid_d = ev_valid_q;
+    if (ev_take) begin
+      ev_line_d = (LineAddrBits'(set_tags[32'(ev_way)*TagBits +: TagBits]) << IndexBits) | LineAddrBits'(look_set);
+    end
+    if (ev_read_q) begin
+      ev_data_d  = ram_rdata;
+      ev_valid_d = 1'b1;
+    end else if (send_ev && dram_req_ready_i) begin
+      ev_valid_d = 1'b0;
+    end
+  end
+
+  always_comb begin : next_flush
+    flush_set_d  = flush_set_q;
+    flush_way_d  = flush_way_q;
+    flush_done_d = flush_done_q;
+    if (!flush_i) begin
+      flush_set_d  = '0;
+      flush_way_d  = '0;
+      flush_done_d = 1'b0;
+    end else if (flush_go) begin
+      if (32'(flush_way_q) == Ways - 1) begin
+        flush_way_d = '0;
+        if (32'(flush_set_q) == Sets - 1) begin
+          flush_done_d = 1'b1;
+        end else begin
+          flush_set_d = flush_set_q + SetBits'(1);
+        end
+      end else begin
+        flush_way_d = flush_way_q + WayBits'(1);
+      end
     end
   end
 
@@ -387,9 +481,11 @@ module rpu_cache #(
     replay_d     = replay_q;
     wait_mshr_d  = wait_mshr_q;
     wait_addr_d  = wait_addr_q;
+    dirty_d      = dirty_q;
 
     if (install_go) begin
       valid_d[EntryBits'(look_set) * EntryBits'(Ways) + EntryBits'(victim)] = 1'b1;
+      dirty_d[EntryBits'(look_set) * EntryBits'(Ways) + EntryBits'(victim)] = 1'b0;
       mshr_valid_d[fill_mshr] = 1'b0;
       for (int t = 0; t < Tags; t++) begin
         if (wait_q[t] && wait_mshr_q[t*MshrBits +: MshrBits] == fill_mshr) begin
@@ -400,6 +496,8 @@ module rpu_cache #(
     end
 
     if (replay_go) replay_d[replay_tag] = 1'b0;
+    if (write_go && write_kept) dirty_d[EntryBits'(look_set) * EntryBits'(Ways) + EntryBits'(hit_way)] = 1'b1;
+    if (flush_go && flush_dirty) dirty_d[EntryBits'(look_set) * EntryBits'(Ways) + EntryBits'(flush_way_q)] = 1'b0;
 
     if (miss_go) begin
       mshr_valid_d[free_mshr]                                 = 1'b1;
@@ -419,6 +517,7 @@ module rpu_cache #(
     if (merge_go) counters_d.merged = counters_q.merged + 32'd1;
     if (miss_go) counters_d.misses = counters_q.misses + 32'd1;
     if (write_go) counters_d.writes = counters_q.writes + 32'd1;
+    if (ev_take) counters_d.write_backs = counters_q.write_backs + 32'd1;
     // A read miss the port could take but for a miss register (the lookup is the
     // port's only when no replay or install has it).
     if (front_free && req_valid_i && !req_i.write && !hit && !pending && !mshr_free) begin
@@ -440,6 +539,14 @@ module rpu_cache #(
       rd_valid_q   <= 1'b0;
       rd_tag_q     <= '0;
       rd_piece_q   <= '0;
+      dirty_q      <= '0;
+      flush_set_q  <= '0;
+      flush_way_q  <= '0;
+      flush_done_q <= 1'b0;
+      ev_read_q    <= 1'b0;
+      ev_valid_q   <= 1'b0;
+      ev_line_q    <= '0;
+      dq_held_q    <= 1'b0;
     end else begin
       valid_q      <= valid_d;
       mshr_valid_q <= mshr_valid_d;
@@ -453,12 +560,26 @@ module rpu_cache #(
       rd_valid_q   <= rd_valid_d;
       rd_tag_q     <= rd_tag_d;
       rd_piece_q   <= rd_piece_d;
+      dirty_q      <= dirty_d;
+      flush_set_q  <= flush_set_d;
+      flush_way_q  <= flush_way_d;
+      flush_done_q <= flush_done_d;
+      ev_read_q    <= ev_read_d;
+      ev_valid_q   <= ev_valid_d;
+      ev_line_q    <= ev_line_d;
+      dq_held_q    <= dq_held_d;
     end
+  end
+
+  // The eviction buffer's words have no reset: they are sent only behind ev_valid_q.
+  always_ff @(posedge clk_i) begin : eviction_data
+    ev_data_q <= ev_data_d;
   end
 
   assign counters_o = counters_q;
   assign idle_o = mshr_valid_q == '0 && wait_q == '0 && replay_q == '0 && credit_q == CreditBits'(RspDepth)
-                  && !dq_valid;
+                  && !dq_valid && !ev_read_q && !ev_valid_q;
+  assign dirty_o = (dirty_q & valid_q) != '0;
 
   // Requests are MemLineBytes-aligned; a fill's tag names this cache, which the
   // arbiter has already routed by (checked below).
@@ -470,6 +591,7 @@ module rpu_cache #(
     assert (HitLatency >= 2) else $fatal(1, "rpu_cache: HitLatency %0d; the data array's read takes 2", HitLatency);
     assert (Sets * Ways * LineBytes == Bytes && (Sets & (Sets - 1)) == 0)
       else $fatal(1, "rpu_cache: %0d bytes are not a power-of-two number of sets of %0d ways", Bytes, Ways);
+    assert (WriteBack <= 1) else $fatal(1, "rpu_cache: WriteBack %0d is not 0 or 1", WriteBack);
     assert (Mshrs <= (1 << rpu_pkg::DramMshrBits) && CacheId < (1 << CacheIdBits))
       else $fatal(1, "rpu_cache: %0d miss registers or cache id %0d do not fit a memory tag", Mshrs, CacheId);
   end
@@ -492,6 +614,8 @@ module rpu_cache #(
           else $error("rpu_cache %0d: a line read answer with tag %h for no miss register", CacheId, dram_rsp_i.tag);
       end
       assert (!replay_go || hit) else $error("rpu_cache: a replay missed its line");
+      assert (WriteBack != 0 || dirty_q == '0) else $error("rpu_cache: a dirty line in a write-through cache");
+      assert (!(ev_read_q && ev_valid_q)) else $error("rpu_cache: two lines in the eviction buffer");
       assert (!(hit && pending)) else $error("rpu_cache: a line both present and being filled");
       assert ($onehot0(hit_ways)) else $error("rpu_cache: a line in two ways of set %0d", look_set);
       assert (!answer_valid || rsp_fifo_ready) else $error("rpu_cache: the answer FIFO overflowed");

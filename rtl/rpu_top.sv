@@ -8,7 +8,8 @@
 //
 // The host writes the firmware into every core's code memory, holds the launch and the
 // scene's traversal configuration, and pulses start_i; done_o rises when every core has
-// run its rounds of pixels and nothing is in flight. A fault anywhere stops every round
+// run its rounds of pixels, the write-back caches have written their dirty lines, and
+// nothing is in flight. A fault anywhere stops every round
 // past the first faulting pixel (stop logic below). The trace ports repeat each core's
 // issue, retire, writeback and fault records for the lockstep checker; the counters
 // count the cycles from the one after start_i to the one before done_o.
@@ -35,14 +36,17 @@ module rpu_top #(
   parameter int unsigned NodeWays       = rpu_pkg::ConfigTinyNodeCacheWays,
   parameter int unsigned NodeHitLatency = rpu_pkg::ConfigTinyNodeCacheHitLatency,
   parameter int unsigned NodeMshrs      = rpu_pkg::ConfigTinyNodeCacheMshrs,
+  parameter int unsigned NodeWriteBack  = rpu_pkg::ConfigTinyNodeCacheWriteBack,
   parameter int unsigned TriangleBytes      = rpu_pkg::ConfigTinyTriangleCacheBytes,
   parameter int unsigned TriangleWays       = rpu_pkg::ConfigTinyTriangleCacheWays,
   parameter int unsigned TriangleHitLatency = rpu_pkg::ConfigTinyTriangleCacheHitLatency,
   parameter int unsigned TriangleMshrs      = rpu_pkg::ConfigTinyTriangleCacheMshrs,
+  parameter int unsigned TriangleWriteBack  = rpu_pkg::ConfigTinyTriangleCacheWriteBack,
   parameter int unsigned DataBytes      = rpu_pkg::ConfigTinyDataCacheBytes,
   parameter int unsigned DataWays       = rpu_pkg::ConfigTinyDataCacheWays,
   parameter int unsigned DataHitLatency = rpu_pkg::ConfigTinyDataCacheHitLatency,
   parameter int unsigned DataMshrs      = rpu_pkg::ConfigTinyDataCacheMshrs,
+  parameter int unsigned DataWriteBack  = rpu_pkg::ConfigTinyDataCacheWriteBack,
   parameter int unsigned CodeWords           = 4096,
   parameter int unsigned ExpBits             = rpu_pkg::FormatFp32ExponentBits,
   parameter int unsigned FracBits            = rpu_pkg::FormatFp32FractionBits,
@@ -113,7 +117,7 @@ module rpu_top #(
   logic [Caches-1:0]                      c_dram_req_valid, c_dram_req_ready, c_dram_rsp_valid, c_dram_rsp_ready;
   logic [Caches*rpu_pkg::DramReqBits-1:0] c_dram_req;
   logic [Caches*rpu_pkg::DramRspBits-1:0] c_dram_rsp;
-  logic [Caches-1:0]                      cache_idle;
+  logic [Caches-1:0]                      cache_idle, cache_dirty;
 
   // The frame: counters count from the cycle after start_i until done_o.
   logic frame_d, frame_q, count;
@@ -161,6 +165,10 @@ module rpu_top #(
   // Shader cores, each with its data cache.
   // ---------------------------------------------------------------------------------
   logic [Cores-1:0]                      core_done;
+  // Once every core is done, the write-back caches write their dirty lines to memory
+  // (rpu_cache flush_i), and done_o waits for them (dirty_o, idle_o).
+  logic                                  flush;
+  assign flush = &core_done && !start_q;
   logic [Cores-1:0]                      t_req_valid, t_req_ready, t_rsp_valid, t_rsp_ready;
   logic [Cores*rpu_pkg::TraceReqBits-1:0] t_req;
   logic [Cores*rpu_pkg::TraceRspBits-1:0] t_rsp;
@@ -197,9 +205,9 @@ module rpu_top #(
 
     rpu_cache #(
       .Bytes(DataBytes), .Ways(DataWays), .HitLatency(DataHitLatency), .Mshrs(DataMshrs),
-      .CacheId(RayCaches2 + c)
+      .WriteBack(DataWriteBack), .CacheId(RayCaches2 + c)
     ) u_data_cache (
-      .clk_i, .rst_ni,
+      .clk_i, .rst_ni, .flush_i(flush),
       .req_valid_i(req_valid), .req_ready_o(req_ready), .req_i(req),
       .rsp_valid_o(rsp_valid), .rsp_ready_i(rsp_ready), .rsp_o(rsp),
       .dram_req_valid_o(c_dram_req_valid[RayCaches2 + c]), .dram_req_ready_i(c_dram_req_ready[RayCaches2 + c]),
@@ -207,7 +215,7 @@ module rpu_top #(
       .dram_rsp_valid_i(c_dram_rsp_valid[RayCaches2 + c]), .dram_rsp_ready_o(c_dram_rsp_ready[RayCaches2 + c]),
       .dram_rsp_i(c_dram_rsp[rpu_pkg::DramRspBits*(RayCaches2 + c) +: rpu_pkg::DramRspBits]),
       .counters_o(cache_counters_o[rpu_pkg::CacheCountersBits*(RayCaches2 + c) +: rpu_pkg::CacheCountersBits]),
-      .idle_o(cache_idle[RayCaches2 + c])
+      .idle_o(cache_idle[RayCaches2 + c]), .dirty_o(cache_dirty[RayCaches2 + c])
     );
   end
 
@@ -373,9 +381,10 @@ module rpu_top #(
         .Ways(k == NodeCache ? NodeWays : TriangleWays),
         .HitLatency(k == NodeCache ? NodeHitLatency : TriangleHitLatency),
         .Mshrs(k == NodeCache ? NodeMshrs : TriangleMshrs),
+        .WriteBack(k == NodeCache ? NodeWriteBack : TriangleWriteBack),
         .CacheId(I)
       ) u_cache (
-        .clk_i, .rst_ni,
+        .clk_i, .rst_ni, .flush_i(flush),
         .req_valid_i(req_valid), .req_ready_o(req_ready), .req_i(req),
         .rsp_valid_o(rsp_valid), .rsp_ready_i(rsp_ready), .rsp_o(rsp),
         .dram_req_valid_o(c_dram_req_valid[I]), .dram_req_ready_i(c_dram_req_ready[I]),
@@ -383,7 +392,7 @@ module rpu_top #(
         .dram_rsp_valid_i(c_dram_rsp_valid[I]), .dram_rsp_ready_o(c_dram_rsp_ready[I]),
         .dram_rsp_i(c_dram_rsp[rpu_pkg::DramRspBits*I +: rpu_pkg::DramRspBits]),
         .counters_o(cache_counters_o[rpu_pkg::CacheCountersBits*I +: rpu_pkg::CacheCountersBits]),
-        .idle_o(cache_idle[I])
+        .idle_o(cache_idle[I]), .dirty_o(cache_dirty[I])
       );
     end
   end
@@ -404,7 +413,7 @@ module rpu_top #(
   assign unused_fault = ^{fault.kind, fault.core, fault.thread, fault.pc, fault.addr};
 
   // Not in the cycle start_q reaches the cores: they are still idle from the last frame.
-  assign done_o = &core_done && !start_q && dispatch_idle && &port_idle && &cache_idle
+  assign done_o = &core_done && !start_q && dispatch_idle && &port_idle && &cache_idle && !(|cache_dirty)
                   && !dram_req_valid_o && !port_rsp_valid;
 
   always_ff @(posedge clk_i or negedge rst_ni) begin : regs

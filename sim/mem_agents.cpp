@@ -70,6 +70,7 @@ void DramServer::take(const streams::DramReq& req, std::uint64_t cycle) {
     }
     dram_.access(cycle, req.addr, 4 * static_cast<std::uint32_t>(std::popcount(req.wmask)), true);
     ++counts_[cache].writes;
+    if (std::popcount(req.wmask) == static_cast<int>(words)) ++counts_[cache].line_writes;
     return;
   }
   if (req.wmask != 0) {

@@ -86,6 +86,7 @@ class DramServer {
 
   struct CacheCounts {
     std::uint64_t reads = 0, writes = 0, refetches = 0;  // refetch: a line read before
+    std::uint64_t line_writes = 0;  // writes of a whole line (a write-back cache's evictions)
   };
   const std::array<CacheCounts, kMemCaches>& counts() const { return counts_; }
   const cycle::Dram& dram() const { return dram_; }

@@ -11,7 +11,12 @@
 // unasked, a hit never answers earlier than its hit latency; at the end nothing is
 // left over, every cache is idle, its counters add up (hits + merged + misses =
 // accesses = the reads it took, misses = its line reads, writes = its writes at the
-// memory port) and the memory holds every write. --serial sends one request at a time
+// memory port for a write-through cache; for a write-back one, write_backs = its line
+// writes and the rest of its writes at most its writes taken) and the memory holds
+// every write. A write-back cache is flushed twice: halfway through its requests
+// (flush_i held until it has no dirty line and is idle, the requests waiting
+// meanwhile) and once every request to it is sent (some reads still in flight), so it
+// writes its dirty lines, beside its last fills, before it is idle. --serial sends one request at a time
 // and holds each read's hit or miss to an LRU reference of the tag array, and each
 // hit's latency to the cache's hit latency exactly.
 //
@@ -81,6 +86,11 @@ struct CacheRun {
   bool active = false;
   std::optional<AddressPicker> picker;
   std::uint64_t budget = 0;  // requests still to send
+  // Write-back: a flush halfway through its requests (held until no line is dirty and
+  // the cache is idle), then one after the last; the flushes that began with a dirty
+  // line, and the whole lines written to memory while flush_i was high.
+  bool flushed_halfway = false, flushing_halfway = false;
+  std::uint64_t flushes_of_dirty_lines = 0, line_writes_flushing = 0;
   std::uint64_t reads = 0, writes = 0;
   std::uint64_t writes_on_fill = 0;  // writes presented while their line was being read
   std::optional<LruReference> lru;
@@ -137,6 +147,7 @@ class Harness {
   void check_serial_answer(std::size_t cache, const ExpectedRead& e, std::uint64_t now, const char* where);
   void finish();
   bool traffic_left() const;
+  bool requests_left(std::size_t cache) const;
   bool may_start(std::size_t cache) const { return caches_[cache].budget > 0; }
 
   const Options& o_;
@@ -259,21 +270,32 @@ void Harness::answer_raw(RawPort& port, const streams::CacheRsp& rsp, std::uint6
   port.free_tags.push_back(rsp.tag);
 }
 
-bool Harness::traffic_left() const {
-  for (const CacheRun& c : caches_) {
-    if (c.budget > 0) return true;
-  }
+bool Harness::requests_left(std::size_t cache) const {
+  if (caches_[cache].budget > 0) return true;
   for (const RawPort& p : raw_) {
-    if (p.presented || !p.reads.empty()) return true;
+    if (p.cache == cache && p.presented) return true;
   }
   for (const InOrderPort& p : inorder_) {
-    if (p.presented || !p.reads.empty()) return true;
+    if (p.cache == cache && p.presented) return true;
   }
-  // Writes are not answered: the caches' idle_o says when they have left, from the
-  // cycle after they were taken.
+  return false;
+}
+
+bool Harness::traffic_left() const {
+  for (std::size_t c = 0; c < kMemCaches; ++c) {
+    if (requests_left(c)) return true;
+  }
+  for (const RawPort& p : raw_) {
+    if (!p.reads.empty()) return true;
+  }
+  for (const InOrderPort& p : inorder_) {
+    if (!p.reads.empty()) return true;
+  }
+  // Writes are not answered: the caches' idle_o says when they have left (and, with
+  // write-back, their dirty lines), from the cycle after they were taken.
   if (took_) return true;
-  for (const bool idle : out_.idle) {
-    if (!idle) return true;
+  for (std::size_t c = 0; c < kMemCaches; ++c) {
+    if (!out_.idle[c] || out_.dirty[c]) return true;
   }
   return !dram_.idle();
 }
@@ -302,6 +324,16 @@ void Harness::run(MemRecorder* recorder) {
       in_.mem_req_valid[k] = p.presented.has_value();
       if (p.presented) in_.mem_req[k] = *p.presented;
       in_.mem_rsp_ready[k] = !stalls_();
+    }
+    for (std::size_t c = 0; c < kMemCaches; ++c) {
+      CacheRun& cr = caches_[c];
+      if (cr.geometry.write_back && !cr.flushed_halfway && cr.budget <= o_.requests / 2) {
+        cr.flushed_halfway = cr.flushing_halfway = true;
+      }
+      if (cr.flushing_halfway && in_.flush[c] && !out_.dirty[c] && out_.idle[c]) cr.flushing_halfway = false;
+      const bool flush = cr.flushing_halfway || !requests_left(c);
+      if (flush && !in_.flush[c] && out_.dirty[c]) ++cr.flushes_of_dirty_lines;
+      in_.flush[c] = flush;
     }
     in_.dram_req_ready = !stalls_();
     const streams::DramRsp* dram_rsp = dram_.offer(now, !stalls_());
@@ -364,6 +396,11 @@ void Harness::run(MemRecorder* recorder) {
       }
     }
     if (out_.dram_req_valid && in_.dram_req_ready) {
+      const std::size_t cache = out_.dram_req.tag >> streams::kDramMshrBits;
+      if (out_.dram_req.write && cache < kMemCaches && in_.flush[cache] &&
+          std::popcount(out_.dram_req.wmask) == static_cast<int>(streams::kDramLineBytes / 4)) {
+        ++caches_[cache].line_writes_flushing;
+      }
       dram_.take(out_.dram_req, now);
       if (!out_.dram_req.write) dram_taken_ = now;
       progress = true;
@@ -422,6 +459,7 @@ void Harness::finish() {
     const DramServer::CacheCounts& d = dram_.counts()[c];
     const char* name = kCacheNames[c];
     if (!out_.idle[c]) throw CosimFailure(fmt::format("the {} cache is not idle after every answer", name));
+    if (out_.dirty[c]) throw CosimFailure(fmt::format("the {} cache holds a dirty line after its flush", name));
     const auto check = [&](const char* what, std::uint64_t got, std::uint64_t want, const char* source) {
       if (got != want) {
         throw CosimFailure(fmt::format("{} cache: counter {} is {}, {} is {}", name, what, got, source, want));
@@ -431,7 +469,16 @@ void Harness::finish() {
     check("hits + merged + misses", std::uint64_t{k.hits} + k.merged + k.misses, k.accesses, "accesses");
     check("misses", k.misses, d.reads, "its line reads at the memory port");
     check("writes", k.writes, cr.writes, "the writes its ports took");
-    check("writes", k.writes, d.writes, "its writes at the memory port");
+    if (cr.geometry.write_back == 0) {
+      check("writes", k.writes, d.writes, "its writes at the memory port");
+      check("write_backs", k.write_backs, 0, "a write-through cache's");
+    } else {
+      check("write_backs", k.write_backs, d.line_writes, "its whole-line writes at the memory port");
+      if (d.writes - d.line_writes > k.writes) {
+        throw CosimFailure(fmt::format("{} cache: {} writes of pieces at the memory port, more than the {} writes it took",
+                                       name, d.writes - d.line_writes, k.writes));
+      }
+    }
     if (o_.coverage && cr.active) {
       // The traffic must have exercised what the checks are about.
       const std::uint64_t in_flight = (kRawPorts + kInOrderPorts) << kOwnTagBits;
@@ -443,6 +490,13 @@ void Harness::finish() {
       need("miss", k.misses);
       need("eviction (a line read twice)", d.refetches);
       need("write to a line being filled", cr.writes_on_fill);
+      if (cr.geometry.write_back != 0) {
+        need("write kept in the cache (a write to a present line)", k.writes - (d.writes - d.line_writes));
+        need("dirty line evicted by a fill (a whole line written while not flushing)",
+             d.line_writes - cr.line_writes_flushing);
+        need("flush that began with a dirty line", cr.flushes_of_dirty_lines);
+        need("dirty line written while flushing", cr.line_writes_flushing);
+      }
       // The miss registers fill when more distinct lines miss at once than there are
       // registers: reads in flight and hot lines both must outnumber them (a cold line,
       // a tenth of the reads, only rarely adds the one more).
@@ -451,7 +505,7 @@ void Harness::finish() {
       }
     }
   }
-  // Write-through: the memory holds every word the reference does.
+  // After the flush: the memory holds every word the reference does.
   for (const std::uint32_t a : reference_.written()) {
     if (dram_.memory().load(a) != reference_.load(a)) {
       throw CosimFailure(fmt::format("after the run the memory holds {:08x} at {:#010x}; the last write was {:08x}",
@@ -469,12 +523,13 @@ void Harness::report(double seconds) const {
     if (!cr.active) continue;
     const streams::CacheCounters& k = out_.counters[c];
     const DramServer::CacheCounts& d = dram_.counts()[c];
-    fmt::print("  {} ({} B, {} ways, {} sets, hit latency {}, {} MSHRs): {} reads, {} writes; accesses {}, hits {}, "
-               "merged {}, misses {}, writes {}, mshr_wait {}; line reads {} ({} refetched), writes to a filling "
-               "line {}\n",
+    fmt::print("  {} ({} B, {} ways, {} sets, hit latency {}, {} MSHRs, {}): {} reads, {} writes; accesses {}, "
+               "hits {}, merged {}, misses {}, writes {}, write_backs {}, mshr_wait {}; line reads {} ({} refetched), "
+               "writes {} ({} of whole lines), writes to a filling line {}\n",
                kCacheNames[c], cr.geometry.bytes, cr.geometry.ways, cache_sets(cr.geometry), cr.geometry.hit_latency,
-               cr.geometry.mshrs, cr.reads, cr.writes, k.accesses, k.hits, k.merged, k.misses, k.writes, k.mshr_wait,
-               d.reads, d.refetches, cr.writes_on_fill);
+               cr.geometry.mshrs, cr.geometry.write_back ? "write-back" : "write-through", cr.reads, cr.writes,
+               k.accesses, k.hits, k.merged, k.misses, k.writes, k.write_backs, k.mshr_wait, d.reads, d.refetches,
+               d.writes, d.line_writes, cr.writes_on_fill);
   }
   const cycle::DramStats& s = dram_.dram().stats();
   fmt::print("  DRAM: {} reads, {} writes, bus busy {:.1f}% of cycles\n", s.reads, s.writes,
@@ -517,7 +572,7 @@ int run(const Options& o, std::unique_ptr<MemModel>& model, std::unique_ptr<Outp
       const spec::CacheConfig& w = *want[c];
       if (g.bytes != static_cast<std::uint32_t>(w.bytes) || g.ways != static_cast<std::uint32_t>(w.ways) ||
           g.hit_latency != static_cast<std::uint32_t>(w.hit_latency) ||
-          g.mshrs != static_cast<std::uint32_t>(w.mshrs)) {
+          g.mshrs != static_cast<std::uint32_t>(w.mshrs) || g.write_back != static_cast<std::uint32_t>(w.write_back)) {
         throw Error(fmt::format("model '{}': its {} cache differs from spec/configs.toml's (rebuild)", o.model,
                                 kCacheNames[c]));
       }

@@ -38,7 +38,8 @@ module rpu_mem_netlist_tb #(
   localparam integer WGeo   = (Caches * GeometryBits + 31) / 32;
 
   localparam integer IRst      = 0;
-  localparam integer IReqValid = IRst + 1;
+  localparam integer IFlush    = IRst + 1;  // one word: Caches <= 32
+  localparam integer IReqValid = IFlush + 1;
   localparam integer IReq      = IReqValid + WRawV;
   localparam integer IRspReady = IReq + WReq;
   localparam integer IMReqValid = IRspReady + WRawV;
@@ -60,7 +61,8 @@ module rpu_mem_netlist_tb #(
   localparam integer ODRspReady = ODReq + WDReq;
   localparam integer OCnt       = ODRspReady + 1;
   localparam integer OIdle      = OCnt + WCnt;
-  localparam integer OGeo       = OIdle + WIdle;
+  localparam integer ODirty     = OIdle + WIdle;
+  localparam integer OGeo       = ODirty + WIdle;
   localparam integer OutWords   = OGeo + WGeo;
 
   reg clk = 1'b0;
@@ -80,7 +82,7 @@ module rpu_mem_netlist_tb #(
   wire                           dram_req_valid, dram_rsp_ready;
   wire [DramReqBits-1:0]         dram_req;
   wire [Caches*CounterBits-1:0]  counters;
-  wire [Caches-1:0]              idle;
+  wire [Caches-1:0]              idle, dirty;
   wire [Caches*GeometryBits-1:0] geometry;
   assign got[OReqReady*32 +: WRawV*32]  = req_ready;
   assign got[ORspValid*32 +: WRawV*32]  = rsp_valid;
@@ -93,10 +95,11 @@ module rpu_mem_netlist_tb #(
   assign got[ODRspReady*32 +: 32]       = dram_rsp_ready;
   assign got[OCnt*32 +: WCnt*32]        = counters;
   assign got[OIdle*32 +: WIdle*32]      = idle;
+  assign got[ODirty*32 +: WIdle*32]     = dirty;
   assign got[OGeo*32 +: WGeo*32]        = geometry;
 
   rpu_mem_cosim_top dut (
-    .clk_i(clk), .rst_ni(rst_n),
+    .clk_i(clk), .rst_ni(rst_n), .flush_i(in_now[IFlush*32 +: Caches]),
     .req_valid_i(in_now[IReqValid*32 +: Raw]), .req_ready_o(req_ready),
     .req_i(in_now[IReq*32 +: Raw*ReqBits]),
     .rsp_valid_o(rsp_valid), .rsp_ready_i(in_now[IRspReady*32 +: Raw]), .rsp_o(rsp),
@@ -106,7 +109,7 @@ module rpu_mem_netlist_tb #(
     .dram_req_valid_o(dram_req_valid), .dram_req_ready_i(in_now[IDReqReady*32]), .dram_req_o(dram_req),
     .dram_rsp_valid_i(in_now[IDRspValid*32]), .dram_rsp_ready_o(dram_rsp_ready),
     .dram_rsp_i(in_now[IDRsp*32 +: DramRspBits]),
-    .counters_o(counters), .idle_o(idle), .geometry_o(geometry)
+    .counters_o(counters), .idle_o(idle), .dirty_o(dirty), .geometry_o(geometry)
   );
 
   reg [1023:0] path;

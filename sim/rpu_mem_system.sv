@@ -6,22 +6,26 @@
 // r of cache c being p = c*RawPorts + r. Only wiring, and geometry_o: the parameters
 // the model was built with, which the harness reads instead of being told them.
 //
-// The defaults are corner cases (a fully associative cache with one miss register, a
-// direct-mapped one with a 4-cycle hit, a 2-way one with 16 miss registers); each
+// The defaults are corner cases (a fully associative write-back cache with one miss
+// register, a direct-mapped write-through one with a 4-cycle hit, a 2-way write-back one
+// with 16 miss registers); each
 // named configuration's come from spec/configs.toml (gen.py --list rtl-configs).
 module rpu_mem_system #(
   parameter int unsigned NodeBytes          = 256,
   parameter int unsigned NodeWays           = 4,
   parameter int unsigned NodeHitLatency     = 3,
   parameter int unsigned NodeMshrs          = 1,
+  parameter int unsigned NodeWriteBack      = 1,
   parameter int unsigned TriangleBytes      = 128,
   parameter int unsigned TriangleWays       = 1,
   parameter int unsigned TriangleHitLatency = 4,
   parameter int unsigned TriangleMshrs      = 3,
+  parameter int unsigned TriangleWriteBack  = 0,
   parameter int unsigned DataBytes          = 512,
   parameter int unsigned DataWays           = 2,
   parameter int unsigned DataHitLatency     = 2,
   parameter int unsigned DataMshrs          = 16,
+  parameter int unsigned DataWriteBack      = 1,
   localparam int unsigned Caches       = 3,
   localparam int unsigned RawPorts     = 2,
   localparam int unsigned InOrderPorts = 1,
@@ -30,6 +34,8 @@ module rpu_mem_system #(
 ) (
   input  logic                                          clk_i,
   input  logic                                          rst_ni,
+
+  input  logic [Caches-1:0]                             flush_i,     // each cache's (rpu_cache)
 
   input  logic [Raw-1:0]                                req_valid_i,
   output logic [Raw-1:0]                                req_ready_o,
@@ -54,6 +60,7 @@ module rpu_mem_system #(
 
   output logic [Caches*rpu_pkg::CacheCountersBits-1:0]  counters_o,
   output logic [Caches-1:0]                             idle_o,      // the cache and its in-order ports
+  output logic [Caches-1:0]                             dirty_o,     // the cache's (rpu_cache)
   output logic [Caches*rpu_pkg::CacheGeometryBits-1:0]  geometry_o  // the caches' parameters
 );
 
@@ -71,6 +78,7 @@ module rpu_mem_system #(
     localparam int unsigned Ways       = c == 0 ? NodeWays : c == 1 ? TriangleWays : DataWays;
     localparam int unsigned HitLatency = c == 0 ? NodeHitLatency : c == 1 ? TriangleHitLatency : DataHitLatency;
     localparam int unsigned Mshrs      = c == 0 ? NodeMshrs : c == 1 ? TriangleMshrs : DataMshrs;
+    localparam int unsigned WriteBack  = c == 0 ? NodeWriteBack : c == 1 ? TriangleWriteBack : DataWriteBack;
 
     // The arbiter's ports: the raw ports first, then the in-order ports.
     logic [Ports-1:0]          p_req_valid, p_req_ready, p_rsp_valid, p_rsp_ready;
@@ -115,9 +123,9 @@ module rpu_mem_system #(
     logic cache_idle;
     assign idle_o[c] = cache_idle && &io_idle;
     rpu_cache #(
-      .Bytes(Bytes), .Ways(Ways), .HitLatency(HitLatency), .Mshrs(Mshrs), .CacheId(c)
+      .Bytes(Bytes), .Ways(Ways), .HitLatency(HitLatency), .Mshrs(Mshrs), .WriteBack(WriteBack), .CacheId(c)
     ) u_cache (
-      .clk_i, .rst_ni,
+      .clk_i, .rst_ni, .flush_i(flush_i[c]),
       .req_valid_i(c_req_valid), .req_ready_o(c_req_ready), .req_i(c_req),
       .rsp_valid_o(c_rsp_valid), .rsp_ready_i(c_rsp_ready), .rsp_o(c_rsp),
       .dram_req_valid_o(dq_valid[c]), .dram_req_ready_i(dq_ready[c]),
@@ -125,11 +133,11 @@ module rpu_mem_system #(
       .dram_rsp_valid_i(dr_valid[c]), .dram_rsp_ready_o(dr_ready[c]),
       .dram_rsp_i(dr[c*rpu_pkg::DramRspBits +: rpu_pkg::DramRspBits]),
       .counters_o(counters_o[c*rpu_pkg::CacheCountersBits +: rpu_pkg::CacheCountersBits]),
-      .idle_o(cache_idle)
+      .idle_o(cache_idle), .dirty_o(dirty_o[c])
     );
 
     assign geometry_o[c*rpu_pkg::CacheGeometryBits +: rpu_pkg::CacheGeometryBits] =
-        {32'(Bytes), 32'(Ways), 32'(HitLatency), 32'(Mshrs)};
+        {32'(Bytes), 32'(Ways), 32'(HitLatency), 32'(Mshrs), 32'(WriteBack)};
   end
 
   rpu_mem_arbiter #(.Caches(Caches)) u_mem_arbiter (

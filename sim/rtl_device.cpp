@@ -95,6 +95,7 @@ cycle::CycleStats RtlDevice::cycle_stats(const ChipRunResult& r) const {
     c.merged = k.merged;
     c.misses = k.misses;
     c.writes = k.writes;
+    c.write_backs = k.write_backs;
     c.mshr_wait_cycles = k.mshr_wait;
     return c;
   };

@@ -493,7 +493,8 @@ def doc_tables(schema: Schema, resolved: list[dict]) -> dict[str, str]:
     row("format", lambda v: v["format"])
     for cache in ("node_cache", "triangle_cache", "data_cache"):
         row(cache.replace("_", " "), lambda v, c=cache: f"{_size(v[c + '.bytes'])}, {v[c + '.ways']}-way, "
-            f"{v[c + '.line_bytes']} B lines, {v[c + '.mshrs']} MSHRs")
+            f"{v[c + '.line_bytes']} B lines, {v[c + '.mshrs']} MSHRs"
+            + (", write-back" if c == "data_cache" and v[c + ".write_back"] else ""))
     row("DRAM latency, bytes/cycle, banks, bank busy",
         lambda v: f"{v['dram.latency']}, {v['dram.bytes_per_cycle']}, {v['dram.banks']}, {v['dram.bank_busy']}")
     named.append("")

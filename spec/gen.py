@@ -479,7 +479,8 @@ def gen_sv(spec: dict) -> str:
 # VX_config.toml). Each cache's are {Node,Triangle,Data}{Bytes,Ways,HitLatency,Mshrs}
 # (rtl/rpu_cache.sv; line_bytes is the memory port's DramLineBytes).
 RTL_CACHES = (("Node", "node_cache"), ("Triangle", "triangle_cache"), ("Data", "data_cache"))
-RTL_CACHE_PARAMETERS = (("Bytes", "bytes"), ("Ways", "ways"), ("HitLatency", "hit_latency"), ("Mshrs", "mshrs"))
+RTL_CACHE_PARAMETERS = (("Bytes", "bytes"), ("Ways", "ways"), ("HitLatency", "hit_latency"), ("Mshrs", "mshrs"),
+                        ("WriteBack", "write_back"))
 RTL_PARAMETERS = {"Cores": "shader_cores", "Threads": "threads_per_core", "ChunkSize": "chunk_size", "IssueLanes": "issue_lanes",
                   "Registers": "registers", "CallDepth": "call_depth", "StackBytes": "stack_bytes",
                   "SfuUnits": "sfu_units", "SfuThreads": "sfu_threads", "StackDepth": "stack_depth", "RayUnits": "traversal_units", "RayCaches": "ray_caches",

@@ -77,6 +77,8 @@ class CoreTiming {
   // event).
   Cycle accounted() const { return accounted_; }
   const CacheStats& data_cache_stats() const { return data_cache_.stats(); }
+  // The data cache's end-of-frame flush from cycle `at` (write-back): the cycle it is idle.
+  Cycle flush_data_cache(Cycle at) { return data_cache_.flush(at); }
   // The fault of the chunk that faulted at `pixel`, or null.
   const functional::ShaderFault* fault_at(std::uint32_t pixel) const;
   // A chunk with pixels left to run, counted over the chip.

@@ -320,6 +320,11 @@ void CycleDevice::finish(Cycle end) {
   out_.timeline_cut_at = timeline_.cut_at();
   // The last lanes to enter a pipeline may do so after the last event.
   for (const CoreTiming& core : cores_) end = std::max(end, core.accounted());
+  // Then write-back data caches write their dirty lines, all at once (rpu_top's done_o
+  // waits for them).
+  Cycle flushed = end;
+  for (CoreTiming& core : cores_) flushed = std::max(flushed, core.flush_data_cache(end));
+  end = flushed;
   out_.cycles = end;
   for (CoreTiming& core : cores_) {
     out_.cores.push_back(core.finish(end));

@@ -14,7 +14,8 @@ double ratio(double a, double b) { return b > 0 ? a / b : 0.0; }
 
 void add_cache(StatsTree& t, const CacheStats& c) {
   t.set("accesses", c.accesses).set("hits", c.hits).set("merged", c.merged).set("misses", c.misses);
-  t.set("writes", c.writes).set("hit_rate", c.hit_rate()).set("mshr_wait_cycles", c.mshr_wait_cycles);
+  t.set("writes", c.writes).set("write_backs", c.write_backs).set("hit_rate", c.hit_rate());
+  t.set("mshr_wait_cycles", c.mshr_wait_cycles);
 }
 
 }  // namespace

@@ -63,6 +63,7 @@ CacheStats& CacheStats::operator+=(const CacheStats& o) {
   merged += o.merged;
   misses += o.misses;
   writes += o.writes;
+  write_backs += o.write_backs;
   mshr_wait_cycles += o.mshr_wait_cycles;
   return *this;
 }
@@ -118,8 +119,35 @@ Cycle Cache::read_line(Cycle at, std::uint32_t line) {
   const auto line_bytes = static_cast<std::uint32_t>(config_.line_bytes);
   const Cycle filled = dram_.access(queue_request(request).passed, line * line_bytes, line_bytes, false) + line_wait_;
   in_flight_.push_back(filled);
-  *victim = {line, true, at, filled, 0};
+  // The fill's install reads a dirty victim out (the model picks the victim at the miss).
+  if (victim->valid && victim->dirty) write_back(filled - line_wait_ + 1, victim->line);
+  *victim = {line, true, at, filled, 0, false};
   return filled;
+}
+
+void Cache::write_back(Cycle at, std::uint32_t line) {
+  const Cycle read = std::max(at, buffer_free_);
+  const Cycle passed = dram_.pass_port(read + 2);
+  buffer_free_ = passed + 1;
+  const auto line_bytes = static_cast<std::uint32_t>(config_.line_bytes);
+  dram_.access(passed, line * line_bytes, line_bytes, true);
+  ++stats_.write_backs;
+}
+
+Cycle Cache::flush(Cycle at) {
+  // Idle once no line is dirty and the eviction buffer is empty: the walk past the last
+  // dirty line does not count.
+  Cycle t = at, idle = at;
+  for (Way& way : ways_) {  // set by set, a way a cycle (ways_ is set-major)
+    if (way.valid && way.dirty) {
+      t = std::max(t, buffer_free_);
+      write_back(t, way.line);
+      way.dirty = false;
+      idle = buffer_free_;
+    }
+    ++t;
+  }
+  return idle;
 }
 
 Cycle Cache::write(Cycle at, std::uint32_t address, std::uint32_t bytes) {
@@ -128,6 +156,18 @@ Cycle Cache::write(Cycle at, std::uint32_t address, std::uint32_t bytes) {
   for (std::uint32_t piece = address / streams::kMemLineBytes * streams::kMemLineBytes; piece < end;
        piece += streams::kMemLineBytes) {
     ++stats_.writes;
+    if (config_.write_back) {
+      const std::uint32_t line = piece / static_cast<std::uint32_t>(config_.line_bytes);
+      const auto ways = static_cast<std::ptrdiff_t>(config_.ways);
+      Way* set = &ways_[static_cast<std::size_t>(line % sets_) * static_cast<std::size_t>(ways)];
+      Way* present = std::find_if(set, set + ways, [&](const Way& w) { return w.valid && w.line == line; });
+      if (present != set + ways) {
+        present->dirty = true;
+        taken = next;
+        ++next;
+        continue;
+      }
+    }
     const std::uint32_t from = std::max(address, piece);
     const std::uint32_t to = std::min(end, piece + streams::kMemLineBytes);
     const Queued q = queue_request(next);

@@ -83,7 +83,8 @@ struct CacheStats {
   std::uint64_t hits = 0;
   std::uint64_t merged = 0;    // misses to a line already being filled (no new DRAM read)
   std::uint64_t misses = 0;    // DRAM reads
-  std::uint64_t writes = 0;    // write-through stores (no allocation)
+  std::uint64_t writes = 0;    // stores taken (no allocation; with write_back, one to a present line stays)
+  std::uint64_t write_backs = 0;  // dirty lines written to DRAM (an eviction or the flush)
   std::uint64_t mshr_wait_cycles = 0;  // misses waiting for a free miss register
 
   double hit_rate() const { return accesses ? static_cast<double>(hits) / static_cast<double>(accesses) : 0.0; }
@@ -104,11 +105,16 @@ class Cache {
   // (streams::kMemLineBytes, aligned) a cycle, each a lookup, one a cycle for all its
   // requesters (rpu_cache_arbiter); the cycle all are there.
   Cycle read(Cycle at, std::uint32_t address, std::uint32_t bytes);
-  // A store from cycle `at`: written through to DRAM, not allocated; a present line
-  // stays valid (the model keeps no data, only tags). The port takes one piece a cycle,
-  // each a request to memory that waits for room in the cache's queue to the memory
-  // port; returns the cycle the last piece is taken.
+  // A store from cycle `at`, not allocated; a present line stays valid (the model keeps
+  // no data, only tags). The port takes one piece a cycle: a piece of a present line in
+  // a write-back cache marks the line dirty; any other is a request to memory that
+  // waits for room in the cache's queue to the memory port. Returns the cycle the last
+  // piece is taken.
   Cycle write(Cycle at, std::uint32_t address, std::uint32_t bytes);
+  // Write-back: the end-of-frame flush from cycle `at`, the walk over every way of every
+  // set (set by set, a way a cycle), each dirty line through the eviction buffer to
+  // DRAM; the cycle the cache is idle (rpu_cache flush_i, idle_o).
+  Cycle flush(Cycle at);
   const CacheStats& stats() const { return stats_; }
 
  private:
@@ -118,6 +124,7 @@ class Cache {
     Cycle last_use = 0;
     Cycle filled = 0;  // the cycle its fill arrives
     std::uint32_t replays = 0;  // reads merged into that fill, answered one a cycle after it
+    bool dirty = false;
   };
   Cycle read_line(Cycle at, std::uint32_t line);
   // A request to memory that could enter the cache's queue at `at`: the cycle it enters
@@ -126,6 +133,9 @@ class Cache {
     Cycle entered, passed;
   };
   Queued queue_request(Cycle at);
+  // A dirty line read into the eviction buffer at cycle `at` (its data-array read): the
+  // buffer holds it from `at + 2` until the memory port passes it, ahead of the queue.
+  void write_back(Cycle at, std::uint32_t line);
 
   spec::CacheConfig config_;
   Dram& dram_;
@@ -136,6 +146,7 @@ class Cache {
   // The cycles the last streams::kCacheDramQueue requests passed the port, oldest first.
   std::deque<Cycle> queue_passed_;
   Bookings port_;  // the lookups, one a cycle
+  Cycle buffer_free_ = 0;  // the first cycle the eviction buffer can take a line
   CacheStats stats_;
 };
 

@@ -1,7 +1,8 @@
 // The cycle model's DRAM and memory port (cycle/memory_system.hpp): accesses booked on
 // its banks and its data bus, requests on the chip's one memory port and in a cache's
-// queue to it, against cycles counted by hand from latency, bank_busy, bytes_per_cycle
-// and CacheDramQueue (docs/cycle-model.md "Memory").
+// queue to it, and a write-back cache's evictions and flush, against cycles counted by
+// hand from latency, bank_busy, bytes_per_cycle and CacheDramQueue (docs/cycle-model.md
+// "Memory").
 #include <gtest/gtest.h>
 
 #include "cycle/memory_system.hpp"
@@ -81,7 +82,7 @@ TEST(Dram, ThePortPassesOneRequestACycle) {
 }
 
 constexpr spec::CacheConfig kCache{
-    .bytes = 1024, .line_bytes = 64, .ways = 2, .hit_latency = 2, .mshrs = 2, .sets = 8, .index_bits = 3};
+    .bytes = 1024, .line_bytes = 64, .ways = 2, .hit_latency = 2, .mshrs = 2, .write_back = 0, .sets = 8, .index_bits = 3};
 static_assert(streams::kCacheDramQueue == 2, "the hand counts below queue two requests");
 
 // Another cache holds the port over 0..99: a cache's stores queue in front of it, two at
@@ -112,6 +113,69 @@ TEST(Cache, AStoreAcrossAPieceIsTwoRequests) {
   // starts it then; its data would take the bus over 13..17, but the second store's
   // (bank 0, busy until 4) holds it at 14, so they take 15..19; then line_wait.
   EXPECT_EQ(cache.read(1, kBank1, 16), 19u + 3);
+}
+
+constexpr spec::CacheConfig kWriteBackCache{.bytes = 1024, .line_bytes = 64, .ways = 2, .hit_latency = 2, .mshrs = 2,
+                                            .write_back = 1, .sets = 8, .index_bits = 3};
+
+// Line 0 read at 0: looked up at 2, passes the port at 2, bank 0 gives its data over
+// 12..16, installed with line_wait 3 at 19.
+TEST(WriteBackCache, AStoreToAPresentLineStaysInTheCache) {
+  Dram dram(kDram);
+  Cache cache(kWriteBackCache, dram, 3);
+  EXPECT_EQ(cache.read(0, 0, 16), 19u);
+  EXPECT_EQ(cache.write(20, 0, 4), 20u);
+  EXPECT_EQ(dram.stats().writes, 0u);
+  // An absent line is written to memory as in a write-through cache (no allocation).
+  EXPECT_EQ(cache.write(21, 128, 4), 21u);
+  EXPECT_EQ(dram.stats().writes, 1u);
+  EXPECT_EQ(cache.stats().writes, 2u);
+  EXPECT_EQ(cache.stats().write_backs, 0u);
+}
+
+// Lines 0, 8 and 16 share set 0 of two ways. Line 0 is dirty when line 16's fill evicts
+// it (the least recently read: writes leave the LRU order as it is): its DRAM answer
+// comes at 66, the install one cycle later reads the victim into the eviction buffer,
+// which offers it to the port two cycles after that, at 69: one write of the whole line.
+TEST(WriteBackCache, AFillThatEvictsADirtyLineWritesItBack) {
+  Dram dram(kDram);
+  Cache cache(kWriteBackCache, dram, 3);
+  EXPECT_EQ(cache.read(0, 0, 16), 19u);
+  cache.write(20, 0, 4);
+  EXPECT_EQ(cache.read(30, 8 * kLine, 16), 49u);  // into the invalid way: nothing evicted
+  EXPECT_EQ(cache.stats().write_backs, 0u);
+  EXPECT_EQ(cache.read(50, 16 * kLine, 16), 69u);
+  EXPECT_EQ(cache.stats().write_backs, 1u);
+  EXPECT_EQ(dram.stats().writes, 1u);
+  EXPECT_EQ(dram.stats().bytes_written, kLine);
+  EXPECT_EQ(dram.pass_port(69), 70u);  // the write-back holds the port at 69
+}
+
+// The flush walks set by set, a way a cycle, from 100: line 0 (set 0, way 0) is read at
+// 100 and passes the port at 102, so the buffer is free again at 103; line 1 (set 1,
+// way 0), reached at 102, waits for it, passes at 105, and the cache is idle at 106.
+TEST(WriteBackCache, TheFlushWritesEveryDirtyLineThroughTheEvictionBuffer) {
+  Dram dram(kDram);
+  Cache cache(kWriteBackCache, dram, 3);
+  cache.read(0, 0, 16);
+  cache.read(1, kLine, 16);
+  cache.read(2, 2 * kLine, 16);  // stays clean
+  cache.write(30, 0, 4);
+  cache.write(31, kLine + 16, 4);
+  EXPECT_EQ(cache.flush(100), 106u);
+  EXPECT_EQ(cache.stats().write_backs, 2u);
+  EXPECT_EQ(dram.stats().writes, 2u);
+  EXPECT_EQ(cache.flush(200), 200u);  // nothing dirty is left
+}
+
+TEST(WriteBackCache, AWriteThroughCacheHasNothingToFlush) {
+  Dram dram(kDram);
+  Cache cache(kCache, dram, 3);
+  cache.read(0, 0, 16);
+  cache.write(30, 0, 4);
+  EXPECT_EQ(dram.stats().writes, 1u);
+  EXPECT_EQ(cache.flush(100), 100u);
+  EXPECT_EQ(dram.stats().writes, 1u);
 }
 
 }  // namespace
