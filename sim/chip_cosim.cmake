@@ -108,6 +108,18 @@ if(RPU_IDIFF)
                      --firmware ${glsl}/whitted.rgen ${glsl}/whitted.rchit ${glsl}/background.rmiss)
     set_tests_properties(cosim.${name} PROPERTIES LABELS cosim TIMEOUT 900
                          ENVIRONMENT RPU_CACHE_DIR=${CMAKE_CURRENT_BINARY_DIR}/cc-cache)
+    # A raygen that reads its pixel back (imageLoad) before each imageStore: the stores
+    # hit the line the load brought into the data cache, so with write-back the image
+    # reaches memory only through the end-of-frame flush.
+    set(name frame_image_load.${config}.${isect})
+    add_test(NAME cosim.${name}
+             COMMAND Python3::Interpreter ${CMAKE_CURRENT_SOURCE_DIR}/rtl_frames.py ${CMAKE_CURRENT_BINARY_DIR}/${name}
+                     ${RPU_IDIFF} -- $<TARGET_FILE:rpu> cornell --config ${config} --isect ${isect}
+                     --width 8 --height 6 --spp 1 --max-depth 1
+                     --firmware ${PROJECT_SOURCE_DIR}/tests/glsl/programs/image_load/raygen.rgen ${glsl}/whitted.rchit
+                     ${glsl}/background.rmiss)
+    set_tests_properties(cosim.${name} PROPERTIES LABELS cosim TIMEOUT 900
+                         ENVIRONMENT RPU_CACHE_DIR=${CMAKE_CURRENT_BINARY_DIR}/cc-cache)
     # The library's distributed effects (thin lens, glossy lobe): the camera record and
     # the material's roughness as the chip reads them.
     set(name frame_glsl_distributed.${config}.${isect})
