@@ -225,12 +225,16 @@ void CoreTiming::enter_lanes(const ChunkSlot& s, std::uint32_t pc, Cycle now) {
   const std::vector<functional::ShaderCore::Thread>& threads = s.chunk.threads();
   for (std::size_t l = 0; l < threads.size(); ++l) {
     if (threads[l].done || threads[l].pc != pc) continue;
-    if (l / group != last_group) next_free();
+    if (l / group != last_group) {
+      next_free();
+      ++time_.issue_slots;
+    }
     last_group = l / group;
     lane_slots_.push_back(at);
   }
   if (lane_slots_.empty()) {
     next_free();
+    ++time_.issue_slots;
     lane_slots_.push_back(at);
   }
 }

@@ -23,6 +23,10 @@ struct ShaderCoreTime {
   // The cycles its busiest sfu held threads, each from its start until its value left S0
   // (the cycle model's; the RTL has no counter for it).
   std::uint64_t sfu_busy = 0;
+  // The S0 cycles its chunk instructions' lanes needed: one per group of issue_lanes
+  // lanes for an instruction of spec/isa.toml [issue], one per lane for the others
+  // (the cycle model's: the issue bound).
+  std::uint64_t issue_slots = 0;
 };
 
 struct TraversalUnitTime {

@@ -30,13 +30,16 @@ std::vector<Bound> speed_of_light(const CycleStats& stats, const spec::HardwareC
                              static_cast<double>(tu_work.tests) *
                                  (tri_hit + static_cast<double>(walk.iu_latency + walk.iu_wait)) +
                              static_cast<double>(tu_work.pops) * tc.pop;
-  // A core's sfu takes one thread at a time: the busiest core's sfu bounds.
-  std::uint64_t sfu_busy = 0;
-  for (const ShaderCoreTime& t : stats.cores) sfu_busy = std::max(sfu_busy, t.sfu_busy);
+  // A core's sfu takes one thread at a time, and its lanes enter S0 a group of
+  // issue_lanes a cycle or one a cycle (loads, stores, sfu, trace and special
+  // instructions): the busiest core's sfu and S0 bound.
+  std::uint64_t sfu_busy = 0, issue_slots = 0;
+  for (const ShaderCoreTime& t : stats.cores) {
+    sfu_busy = std::max(sfu_busy, t.sfu_busy);
+    issue_slots = std::max(issue_slots, t.issue_slots);
+  }
   std::vector<Bound> bounds = {
-      // At most issue_lanes lanes a cycle enter a core's pipeline.
-      {"shader cores (issue)",
-       static_cast<double>(stats.thread_instructions) / (config.shader_cores * config.issue_lanes)},
+      {"shader cores (issue)", static_cast<double>(issue_slots)},
       {"sfu (busiest core)", static_cast<double>(sfu_busy)},
       {"traversal units", config.tu_pipe ? pipe_cycles / config.traversal_units
                                          : walk_cycles / (config.traversal_units * config.tu_slots)},

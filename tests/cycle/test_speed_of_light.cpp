@@ -17,14 +17,13 @@ std::vector<std::string> units(const std::vector<Bound>& bounds) {
   return out;
 }
 
-// `default` (4 shader cores, 4 IUs) issuing one lane a cycle: one lane a cycle enters a
-// core; a core's sfu holds one thread at a time, and the busiest core's bounds; each
+// `default` (4 shader cores, 4 IUs): the busiest core's S0 cycles (its lanes' groups)
+// and its sfu, which holds one thread at a time, bound; each
 // DRAM access holds its bank bank_busy cycles; an IU takes a test every initiation interval; the DRAM bus is one, and so are
 // the busiest node and triangle caches' ports, one lookup a cycle for the traversal units
 // each serves (the caches' totals, all ray_caches pairs', do not bound).
 TEST(SpeedOfLight, EachResourcesWorkOverItsUnitsLargestFirst) {
   spec::HardwareConfig config = hardware_config("default");
-  config.issue_lanes = 1;
   CycleStats s;
   s.thread_instructions = 4000;
   s.ius = {{.tests = 200, .busy = 0}, {.tests = 100, .busy = 0}};
@@ -33,14 +32,17 @@ TEST(SpeedOfLight, EachResourcesWorkOverItsUnitsLargestFirst) {
   s.triangle_cache.accesses = 200;
   s.node_port_lookups = 700;
   s.triangle_port_lookups = 50;
-  s.cores = {{.sfu_busy = 120}, {.sfu_busy = 600}, {.sfu_busy = 0}, {.sfu_busy = 30}};
+  s.cores = {{.sfu_busy = 120, .issue_slots = 1000},
+             {.sfu_busy = 600, .issue_slots = 400},
+             {.sfu_busy = 0, .issue_slots = 0},
+             {.sfu_busy = 30, .issue_slots = 999}};
   s.dram.reads = 10;
   s.dram.writes = 6;
   const std::vector<Bound> b = speed_of_light(s, config, IsectMode::kWoop);
   EXPECT_EQ(units(b), (std::vector<std::string>{"shader cores (issue)", "node cache port", "sfu (busiest core)",
                                                 "DRAM bus", "intersection units", "triangle cache port",
                                                 "DRAM banks", "traversal units"}));
-  EXPECT_EQ(b[0].cycles, 4000.0 / 4);
+  EXPECT_EQ(b[0].cycles, 1000.0);
   EXPECT_EQ(b[1].cycles, 700.0);
   EXPECT_EQ(b[2].cycles, 600.0);
   EXPECT_EQ(b[3].cycles, 500.0);
