@@ -88,7 +88,7 @@ Cycle Cache::read(Cycle at, std::uint32_t address, std::uint32_t bytes) {
 Cycle Cache::read_line(Cycle at, std::uint32_t line) {
   ++stats_.accesses;
   const auto ways = static_cast<std::size_t>(config_.ways);
-  Way* set = &ways_[static_cast<std::size_t>(line % sets_) * ways];
+  Way* set = set_of(line);
   const Cycle looked_up = at + static_cast<Cycle>(config_.hit_latency);
   Way* victim = set;
   for (std::size_t w = 0; w < ways; ++w) {
@@ -158,10 +158,10 @@ Cycle Cache::write(Cycle at, std::uint32_t address, std::uint32_t bytes) {
     ++stats_.writes;
     if (config_.write_back) {
       const std::uint32_t line = piece / static_cast<std::uint32_t>(config_.line_bytes);
-      const auto ways = static_cast<std::ptrdiff_t>(config_.ways);
-      Way* set = &ways_[static_cast<std::size_t>(line % sets_) * static_cast<std::size_t>(ways)];
-      Way* present = std::find_if(set, set + ways, [&](const Way& w) { return w.valid && w.line == line; });
-      if (present != set + ways) {
+      Way* set = set_of(line);
+      Way* end_of_set = set + config_.ways;
+      Way* present = std::find_if(set, end_of_set, [&](const Way& w) { return w.valid && w.line == line; });
+      if (present != end_of_set) {
         present->dirty = true;
         taken = next;
         ++next;

@@ -127,6 +127,10 @@ class Cache {
     bool dirty = false;
   };
   Cycle read_line(Cycle at, std::uint32_t line);
+  // The ways of the set `line` maps to, config_.ways of them.
+  Way* set_of(std::uint32_t line) {
+    return &ways_[static_cast<std::size_t>(line % sets_) * static_cast<std::size_t>(config_.ways)];
+  }
   // A request to memory that could enter the cache's queue at `at`: the cycle it enters
   // (a full queue holds it back) and the cycle it passes the memory port.
   struct Queued {
