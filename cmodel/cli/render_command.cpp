@@ -2,6 +2,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstddef>
+#include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <memory>
@@ -156,16 +158,26 @@ Image read_compare_image(const RenderOptions& o) {
   return reference;
 }
 
-// The image against the --compare image: PSNR as psnr_srgb measures it, and the largest
-// difference of one channel of one pixel in linear values.
+// The image against the --compare image: PSNR as psnr_srgb measures it, the largest
+// difference of one channel of one pixel in linear values, and the dark dots.
 struct Comparison {
   double psnr_db = 0.0;
   double max_error = 0.0;
+  std::size_t dark_dots = 0;
 };
+
+void record_comparison(StatsTree& report, const std::filesystem::path& image, const Comparison& c) {
+  report.group("compare")
+      .set("image", image.string())
+      .set("psnr_db", c.psnr_db)
+      .set("max_error", c.max_error)
+      .set("dark_dots", static_cast<std::uint64_t>(c.dark_dots));
+}
 
 Comparison compare_images(const Image& reference, const Image& image) {
   Comparison c;
   c.psnr_db = psnr_srgb(reference, image);
+  c.dark_dots = dark_dots(reference, image);
   for (std::size_t i = 0; i < image.pixels.size(); ++i) {
     for (int k = 0; k < 3; ++k) {
       const double d = std::abs(static_cast<double>(image.pixels[i][k]) - reference.pixels[i][k]);
@@ -223,10 +235,7 @@ Image render_device(const Scene& world, device::Backend& backend, const RenderOp
   backend.finish(st);
   if (reference) {
     comparison = compare_images(*reference, image);
-    st.report.group("compare")
-        .set("image", o.compare.string())
-        .set("psnr_db", comparison->psnr_db)
-        .set("max_error", comparison->max_error);
+    record_comparison(st.report, o.compare, *comparison);
   }
   if (!o.stats.empty()) {
     record_run(st.report, o, world.source, st.host_threads);
@@ -323,8 +332,9 @@ int run_render(const RenderOptions& options, const CLI::App& command) {
   }
   if (reference) {
     if (!comparison) comparison = compare_images(*reference, image);
-    fmt::print(stderr, "rpu: against {}: PSNR {:.2f} dB, max error {:.6g}\n", options.compare.string(),
-               comparison->psnr_db, comparison->max_error);
+    fmt::print(stderr, "rpu: against {}: PSNR {:.2f} dB, max error {:.6g}, {} dark dots ({:.3f}% of the image)\n",
+               options.compare.string(), comparison->psnr_db, comparison->max_error, comparison->dark_dots,
+               100.0 * static_cast<double>(comparison->dark_dots) / static_cast<double>(image.pixels.size()));
   }
   if (!backend && !options.stats.empty()) {
     // The reference keeps only its rays by type and the facts of the run.
@@ -335,12 +345,7 @@ int run_render(const RenderOptions& options, const CLI::App& command) {
         .set("shadow", counts.shadow)
         .set("reflection", counts.reflection)
         .set("refraction", counts.refraction);
-    if (comparison) {
-      report.group("compare")
-          .set("image", options.compare.string())
-          .set("psnr_db", comparison->psnr_db)
-          .set("max_error", comparison->max_error);
-    }
+    if (comparison) record_comparison(report, options.compare, *comparison);
     record_run(report, options, scene.source, options.settings.threads);
     for (const std::filesystem::path& f : options.stats) write_stats(report, f);
   }
@@ -435,8 +440,9 @@ Command add_render_command(CLI::App& app) {
       ->capture_default_str();
   render_cmd->add_option("--compare", render->compare,
                          "Measure the image against this linear .exr of the same size (e.g. the reference "
-                         "backend's): PSNR (sRGB, peak 1) and the largest linear difference, printed and in --stats "
-                         "as compare.psnr_db and compare.max_error");
+                         "backend's): PSNR (sRGB, peak 1), the largest linear difference and the dark dots (isolated "
+                         "pixels under 0.6 of its luminance: secondary rays that hit their own surface), printed "
+                         "and in --stats as compare.psnr_db, compare.max_error and compare.dark_dots");
   render_cmd->add_option("--stats", render->stats,
                          "statistics and the facts of the run, .json and/or .csv (one wide row under a header of "
                          "metric names); the reference backend records its rays by type");

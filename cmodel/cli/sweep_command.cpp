@@ -52,7 +52,7 @@ using nlohmann::json;
 constexpr const char* kColumns[] = {
     "id",           "scene",           "triangles",      "transform",    "fidelity",       "config",
     "set",          "format",          "isect",          "firmware",     "select",         "width",
-    "height",       "spp",             "psnr_db",        "max_error",    "primary_rays",   "hit_mismatches",
+    "height",       "spp",             "psnr_db",        "max_error",    "dark_dots",      "primary_rays",   "hit_mismatches",
     "closed_meshes", "leak_rays",      "leaks",          "axis_rays",    "axis_mismatches", "grazing_rays",
     "grazing_mismatches", "surface_rays", "surface_mismatches", "cycles", "fps",           "rays",
     "rays_per_second", "host_seconds", "datapath_cells", "chip_cells",   "error"};
@@ -330,6 +330,7 @@ int run_sweep_point(const PointOptions& o) {
               {"spp", p.spp},
               {"psnr_db", value_at(render, "compare.psnr_db")},
               {"max_error", value_at(render, "compare.max_error")},
+              {"dark_dots", value_at(render, "compare.dark_dots")},
               {"cycles", value_at(render, "cycles")},
               {"fps", value_at(render, "fps")},
               {"rays", value_at(render, "rays.total")},

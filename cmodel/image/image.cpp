@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <limits>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
@@ -130,6 +132,35 @@ double psnr_srgb(const Image& reference, const Image& test) {
   const OIIO::ImageBufAlgo::CompareResults r = OIIO::ImageBufAlgo::compare(a, b, 2.0f, 2.0f);
   if (r.error) throw Error(fmt::format("psnr: OpenImageIO could not compare the images: {}{}", a.geterror(), b.geterror()));
   return r.meanerror == 0.0 ? std::numeric_limits<double>::infinity() : r.PSNR;
+}
+
+std::size_t dark_dots(const Image& reference, const Image& test) {
+  if (reference.width != test.width || reference.height != test.height) {
+    throw Error(fmt::format("dark dots: images of {}x{} and {}x{} pixels", reference.width, reference.height,
+                            test.width, test.height));
+  }
+  // Rec. 709 luminance of linear values; a NaN is not dark (the PSNR reports it).
+  const auto luminance = [](const glm::vec3& p) { return 0.2126 * p.r + 0.7152 * p.g + 0.0722 * p.b; };
+  std::vector<char> dark(test.pixels.size());
+  for (std::size_t i = 0; i < dark.size(); ++i) {
+    dark[i] = luminance(test.pixels[i]) < kDarkDotRatio * luminance(reference.pixels[i]);
+  }
+  std::size_t dots = 0;
+  for (int y = 0; y < test.height; ++y) {
+    for (int x = 0; x < test.width; ++x) {
+      if (!dark[static_cast<std::size_t>(y) * test.width + x]) continue;
+      int neighbours = 0, dark_neighbours = 0;
+      for (int ny = std::max(0, y - 1); ny <= std::min(test.height - 1, y + 1); ++ny) {
+        for (int nx = std::max(0, x - 1); nx <= std::min(test.width - 1, x + 1); ++nx) {
+          if (nx == x && ny == y) continue;
+          ++neighbours;
+          dark_neighbours += dark[static_cast<std::size_t>(ny) * test.width + nx];
+        }
+      }
+      if (2 * dark_neighbours < neighbours) ++dots;
+    }
+  }
+  return dots;
 }
 
 }  // namespace rpu

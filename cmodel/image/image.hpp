@@ -44,6 +44,14 @@ void write_image(const Image& image, const std::filesystem::path& file);
 // +infinity.
 double psnr_srgb(const Image& reference, const Image& test);
 
+// Dark dots of `test` against `reference` (same size): pixels whose luminance is under
+// kDarkDotRatio of the reference's while fewer than half of their neighbours (of the
+// eight, those inside the image) are that dark. They are what a secondary ray that hits
+// the surface it leaves draws (docs/accuracy.md "Dark dots"): isolated, where a shadow
+// the reference has too, or any other difference of a region, is not.
+inline constexpr double kDarkDotRatio = 0.6;
+std::size_t dark_dots(const Image& reference, const Image& test);
+
 // Reads any format OpenImageIO knows; PNG/JPEG come back as stored code values / 255
 // (no sRGB decoding), EXR as stored linear values.
 Image read_image(const std::filesystem::path& file);

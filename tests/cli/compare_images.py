@@ -4,7 +4,7 @@
     compare_images.py RPU OUT_DIR
 
 Renders tetra:1 with the reference backend to an EXR, then with the functional backend
-against it (PSNR and max error printed and in --stats), then the reference again against
+against it (PSNR, max error and dark dots printed and in --stats), then the reference again against
 itself and the functional image against its own EXR (identical: infinite PSNR, null in
 the stats, error 0), and checks the refusals: a PNG, another size.
 """
@@ -37,7 +37,8 @@ check(r.returncode == 0, f"reference render: exit {r.returncode}: {r.stderr}")
 r = run("--backend", "functional", "--compare", str(reference), "--stats", str(out / "functional.json"),
         str(out / "functional.csv"), "-o", str(out / "functional.png"))
 check(r.returncode == 0, f"functional --compare: exit {r.returncode}: {r.stderr}")
-m = re.search(r"against .*reference.exr: PSNR ([0-9.]+) dB, max error ([0-9.e+-]+)", r.stderr)
+m = re.search(r"against .*reference.exr: PSNR ([0-9.]+) dB, max error ([0-9.e+-]+), ([0-9]+) dark dots "
+              r"\(([0-9.]+)% of the image\)", r.stderr)
 check(m is not None, f"no comparison printed: {r.stderr}")
 if r.returncode == 0 and m:
     stats = json.loads((out / "functional.json").read_text())
@@ -46,12 +47,15 @@ if r.returncode == 0 and m:
     check(abs(compare.get("psnr_db", -1) - float(m.group(1))) < 0.01, f"compare.psnr_db {compare.get('psnr_db')}")
     check(20 < compare.get("psnr_db", 0) < 200, f"fp32 against double: PSNR {compare.get('psnr_db')}")
     check(0 < compare.get("max_error", 0) < 0.1, f"compare.max_error {compare.get('max_error')}")
+    check(compare.get("dark_dots") == int(m.group(3)), f"compare.dark_dots {compare.get('dark_dots')}")
+    check(abs(float(m.group(4)) - 100 * int(m.group(3)) / (16 * 12)) < 0.001, f"dark dots' share {m.group(4)}%")
     with open(out / "functional.csv", newline="") as f:
         header, row = list(csv.reader(f))
-    check("compare.psnr_db" in header and "compare.max_error" in header, f"CSV header {header}")
+    check(all(f"compare.{k}" in header for k in ("psnr_db", "max_error", "dark_dots")), f"CSV header {header}")
 
 r = run("--compare", str(reference), "-o", str(out / "again.png"))
-check(r.returncode == 0 and "PSNR inf dB, max error 0" in r.stderr, f"the reference against itself: {r.stderr}")
+check(r.returncode == 0 and "PSNR inf dB, max error 0, 0 dark dots" in r.stderr,
+      f"the reference against itself: {r.stderr}")
 r = run("--backend", "functional", "-o", str(out / "functional.exr"))
 check(r.returncode == 0, f"functional EXR: {r.stderr}")
 same = out / "same.json"

@@ -3,6 +3,7 @@
 
 #include <filesystem>
 #include <string>
+#include <utility>
 
 #include <unistd.h>
 
@@ -20,6 +21,37 @@ TEST(Image, SrgbEncodingMatchesIec61966) {
   EXPECT_EQ(srgb_encode_8bit(0.5), 188);   // 1.055 * 0.5^(1/2.4) - 0.055 = 0.7354
   EXPECT_EQ(srgb_encode_8bit(0.18), 118);  // middle grey: 0.4614
   EXPECT_NEAR(srgb_encode(0.0031308), 12.92 * 0.0031308, 1e-12);  // the linear segment
+}
+
+// A lit 6x5 image and the same with some pixels dark: a lone dark pixel is a dot, a pixel
+// just above the ratio is not dark, a corner counts its three neighbours, and a dark band
+// (a shadow, or a surface the reference lacks) has no dots.
+TEST(Image, DarkDotsAreIsolatedPixelsUnderTheRatio) {
+  Image reference(6, 5);
+  for (glm::vec3& p : reference.pixels) p = glm::vec3(0.5f);
+  Image test = reference;
+  EXPECT_EQ(dark_dots(reference, test), 0u);
+  test.at(1, 1) = glm::vec3(0.0f);
+  test.at(4, 1) = glm::vec3(static_cast<float>(0.5 * kDarkDotRatio) + 0.01f);
+  EXPECT_EQ(dark_dots(reference, test), 1u);
+  test.at(5, 0) = glm::vec3(0.1f);  // none of its 3 neighbours dark
+  EXPECT_EQ(dark_dots(reference, test), 2u);
+  for (int x = 0; x < 6; ++x) {  // rows 3 and 4: each pixel has 3 of 5 or 5 of 8 dark
+    test.at(x, 3) = glm::vec3(0.0f);
+    test.at(x, 4) = glm::vec3(0.0f);
+  }
+  EXPECT_EQ(dark_dots(reference, test), 2u);
+  reference.at(1, 1) = glm::vec3(0.0f);  // nothing is under 0.6 of black
+  EXPECT_EQ(dark_dots(reference, test), 1u);
+  EXPECT_THROW(dark_dots(reference, Image(5, 5)), Error);
+
+  // A dark plus in a 3x3 image: its centre has 4 of 8 neighbours dark, which is not
+  // fewer than half, its arms 3 of 5: no dots.
+  Image lit(3, 3);
+  for (glm::vec3& p : lit.pixels) p = glm::vec3(0.5f);
+  Image plus = lit;
+  for (const auto& [x, y] : {std::pair{1, 1}, {0, 1}, {2, 1}, {1, 0}, {1, 2}}) plus.at(x, y) = glm::vec3(0.0f);
+  EXPECT_EQ(dark_dots(lit, plus), 0u);
 }
 
 class ImageFiles : public ::testing::Test {
