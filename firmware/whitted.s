@@ -297,10 +297,9 @@ miss:
 
 ; ---------------------------------------------------------------------------------
 ; hit_whitted: docs/shading.md sections 3 and 4.
-; Live: r1 = d, r3 = colour, r4 = (material, entering mask), r6 = P, r7 = (P + eps Ng, 0),
-; r12 = Ng, r13 = N.
+; Live: r1 = d, r3 = colour, r4 = (material, entering mask), r6 = P, r7 = (P off the
+; surface on Ng's side, 0), r12 = Ng, r13 = N.
 hit_whitted:
-        mad     r6.xyz, r1, r2.x, r0    ; P = o + t d
         ld1     r7.x, [r15 + LAUNCH_POSITIONS_AT]
         shli    r8.xyz, r5, 4           ; VERTEX_POSITION_BYTES = 16
         iadd    r8.xyz, r8, r7.x
@@ -309,6 +308,8 @@ hit_whitted:
         ldf     r11.xyz, [r8.z]
         add     r10.xyz, r10, -r9       ; p1 - p0
         add     r11.xyz, r11, -r9       ; p2 - p0
+        mad     r6.xyz, r10, r2.y, r9   ; P = p0 + u (p1 - p0) + v (p2 - p0): on the
+        mad     r6.xyz, r11, r2.z, r6   ; triangle's plane to rounding, however far the ray came
         max     r12.x, |r10|.x, |r10|.y ; each edge over its largest component, so that
         max     r12.x, r12.x, |r10|.z   ; the cross product cannot overflow a narrow format
         rcp     r12.x, r12.x
@@ -351,7 +352,9 @@ normals_done:
         mov     r12.xyz, -r12           ; leaving: both normals face the viewer
         mov     r13.xyz, -r13
 facing:
-        mad     r7.xyz, r12, r15.y, r6  ; P + eps Ng
+        mov     r8.xyz, r12
+        call    offset
+        mov     r7.xyz, r8              ; P off the surface on Ng's side
         mov     r7.w, r15.w
         ldf     r3.xyz, [r4 + MATERIAL_AMBIENT_AT]
 
@@ -466,7 +469,7 @@ no_reflection:
         dp3     r10.x, r1, r13              ; total internal reflection: kt goes to the mirror ray
         add     r10.x, r10.x, r10.x
         mul     r11.xyz, r13, r10.x
-        add     r11.xyz, r1, -r11
+        add     r1.xyz, r1, -r11
         mov     r0, r7
         bra     transmitted
 refract:
@@ -477,13 +480,14 @@ refract:
         mad     r8.xyz, r1, r10.z, r8       ; eta d + (eta cos_i - sqrt(k)) N
         dp3     r11.x, r8, r8
         rsq     r11.x, r11.x
-        mul     r11.xyz, r8, r11.x
-        mad     r0.xyz, r12, -r15.y, r6     ; from P - eps Ng
+        mul     r1.xyz, r8, r11.x
+        mov     r8.xyz, -r12
+        call    offset
+        mov     r0.xyz, r8                  ; from P off the surface on the far side
         mov     r0.w, r15.w
 transmitted:
         push    r3
         push    r9
-        mov     r1.xyz, r11
         lif     r1.w, inf
         iaddi   r14.y, r14.y, 1
         call    shade_ray
@@ -495,6 +499,38 @@ secondary_done:
         mtra    r9.z
 whitted_done:
         mov     r0.xyz, r3
+        ret
+
+; ---------------------------------------------------------------------------------
+; offset: r8.xyz = P (r6.xyz) moved off its surface along the unit normal r8.xyz, robust
+; in the configured format (docs/shading.md "Leaving a surface", spec/memory_map.toml
+; [ray_offset]): each coordinate by RAY_OFFSET_ULPS of the format's ulps there times the
+; normal's component, an integer add on its bits (one ulp is bit s = 23 - M of the fp32
+; pattern); a coordinate under ray_epsilon x 2^M / RAY_OFFSET_ULPS, where that would move
+; it less, by ray_epsilon times the component. Clobbers r10, r11.
+offset:
+        ld1     r11.w, [r15 + LAUNCH_SCENE_AT]
+        ld1     r11.w, [r11.w + SCENE_RECORD_RAY_OFFSET_SHIFT_AT]
+        li      r10.w, RAY_OFFSET_ULPS
+        i2f     r10.w, r10.w
+        mul     r11.xyz, r8, r10.w      ; n ulps
+        f2i     r11.xyz, r11            ; whole ulps, toward zero
+        shl     r11.xyz, r11, r11.w     ; as steps of the fp32 pattern
+        srai    r10.xyz, r6, 31         ; -1 where P < 0, where a step up the pattern
+        xor     r11.xyz, r11, r10       ; moves it down: the steps negated there
+        isub    r11.xyz, r11, r10
+        iadd    r11.xyz, r6, r11
+        mad     r8.xyz, r8, r15.y, r6   ; P + ray_epsilon n
+        li      r10.x, 23
+        isub    r10.x, r10.x, r11.w
+        li      r10.y, 1
+        shl     r10.x, r10.y, r10.x
+        i2f     r10.x, r10.x            ; 2^M
+        rcp     r10.w, r10.w
+        mul     r10.x, r10.x, r10.w
+        mul     r10.x, r10.x, r15.y     ; ray_epsilon 2^M / ulps
+        flt     r10.xyz, |r6|, r10.x
+        sel     r8.xyz, r10, r8, r11
         ret
 
 ; ---------------------------------------------------------------------------------

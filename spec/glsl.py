@@ -86,6 +86,8 @@ def gen_glsl(spec: dict, memory_map_text: str, banner: str) -> str:
             "uniform accelerationStructureEXT scene_bvh;", ""]
     out += [f"const uint {section.upper()}_{k.upper()} = {v}u;" for section in ("light_kind",)
             for k, v in mm[section].items()]
+    out += [f"const int RPU_{section.upper()}_{k.upper()} = {v};" for section in ("ray_offset",)
+            for k, v in mm[section].items()]
     return "\n".join(out) + "\n"
 
 

@@ -950,6 +950,7 @@ KdTree build_kdtree(const Scene& scene, const KdBuildConfig& config) {
   check_config(scene, config);
   const auto start = std::chrono::steady_clock::now();
   KdTree tree;
+  tree.format = config.format;
   Builder builder(scene, config, tree);
   const Bounds32 root = builder.root();
   tree.bounds_lo = glm::vec3(root.lo[0], root.lo[1], root.lo[2]);

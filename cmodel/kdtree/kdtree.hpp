@@ -107,6 +107,7 @@ struct KdTree {
   std::vector<std::uint32_t> prim_refs;
   glm::vec3 bounds_lo{0.0f}, bounds_hi{0.0f};  // the root box (the scene's bounds in kd space)
   int scale_exponent = 0;                      // s of kd space = world x 2^-s
+  fp::Format format = fp::kFp32;               // the format it was built for (config.format)
   KdTreeStats stats;
 };
 

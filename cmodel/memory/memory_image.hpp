@@ -47,6 +47,7 @@ struct ImageLayout {
   IsectMode isect_mode = IsectMode::kWoop;
   std::uint32_t triangle_count = 0;
   float ray_epsilon = 0.0f;
+  std::uint32_t ray_offset_shift = 0;  // 23 - the format's fraction bits (spec/memory_map.toml [ray_offset])
   // The rest of the scene record, so that a reader needs nothing but the layout.
   std::uint32_t vertex_count = 0;  // = vertex_positions; vertex_normals / vertex_uvs hold 0 or this many
   std::uint32_t material_count = 0;

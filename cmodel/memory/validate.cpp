@@ -189,6 +189,11 @@ void Validator::read_scene() {
     fail("scene", "ray_epsilon", o + mm::kSceneRecordRayEpsilonAt,
          fmt::format("{} is not a finite number >= 0", layout_.ray_epsilon));
   }
+  layout_.ray_offset_shift = u32(o + mm::kSceneRecordRayOffsetShiftAt);
+  if (layout_.ray_offset_shift > 22) {  // a format keeps 1 to 23 fraction bits
+    fail("scene", "ray_offset_shift", o + mm::kSceneRecordRayOffsetShiftAt,
+         fmt::format("{} is outside [0, 22] (23 - the format's fraction bits)", layout_.ray_offset_shift));
+  }
   const auto count_matches = [&](const ImageSection& section, std::string_view name, std::uint32_t want,
                                  std::string_view what, std::uint32_t field_at) {
     if (section.count != want) {

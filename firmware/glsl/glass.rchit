@@ -23,7 +23,7 @@ void main() {
       const float c2 = c * c;
       reflect_weight = fma(1.0 - r0 * r0, c2 * c2 * c, r0 * r0);
       const vec3 t = normalize(fma(h.d, vec3(eta), h.n * (eta * cos_i - cos_t)));
-      refracted = trace_secondary(fma(h.ng, vec3(-h.eps), h.p), t);
+      refracted = trace_secondary(h.inside, t);
     }
     const vec3 reflected = trace_secondary(h.outside, mirror_direction(h));
     color += m.diffuse.xyz * (reflect_weight * reflected + (1.0 - reflect_weight) * refracted);

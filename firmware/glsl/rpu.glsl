@@ -34,4 +34,30 @@ uint rpu_sample_stream(uint pixel, uint sample_index) {
   return rpu_hash(launch_record.seed ^ rpu_hash(pixel ^ rpu_hash(sample_index)));
 }
 
+// p, a point of a surface, moved off it along the unit normal n, robustly in the chip's
+// number format: `outside` the origin of a ray that leaves p on n's side, `inside` on the
+// other (docs/shading.md "Leaving a surface"). Each coordinate moves RPU_RAY_OFFSET_ULPS
+// of the format's ulps there times n's component, an integer add on its bits (one ulp of
+// the format is bit 23 - M of the fp32 pattern); a coordinate under
+// ray_epsilon x 2^M / RPU_RAY_OFFSET_ULPS, where that would move it less, moves by
+// ray_epsilon times the component.
+void rpu_offset_rays(vec3 p, vec3 n, out vec3 outside, out vec3 inside) {
+  const int shift = int(scene_record.ray_offset_shift);
+  const float eps = scene_record.ray_epsilon;
+  const float below = float(1 << (23 - shift)) * (1.0 / float(RPU_RAY_OFFSET_ULPS)) * eps;
+  const bvec3 small = lessThan(abs(p), vec3(below));
+  const ivec3 steps = ivec3(n * float(RPU_RAY_OFFSET_ULPS)) << shift;
+  // where p < 0 (its sign bit set) a step up the bit pattern moves it down
+  const bvec3 negative = lessThan(floatBitsToInt(p), ivec3(0));
+  outside = mix(intBitsToFloat(floatBitsToInt(p) + mix(steps, -steps, negative)), fma(n, vec3(eps), p), small);
+  inside = mix(intBitsToFloat(floatBitsToInt(p) + mix(-steps, steps, negative)), fma(-n, vec3(eps), p), small);
+}
+
+// The origin of a ray that leaves p on n's side (rpu_offset_rays).
+vec3 rpu_offset_ray(vec3 p, vec3 n) {
+  vec3 outside, inside;
+  rpu_offset_rays(p, n, outside, inside);
+  return outside;
+}
+
 #endif

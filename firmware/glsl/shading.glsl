@@ -31,8 +31,8 @@ vec3 trace_secondary(vec3 origin, vec3 direction) {
 }
 
 // The hit point: P, the geometric normal Ng and the shading normal N (both turned to
-// face the viewer), whether the ray enters the object, and the points eps off the
-// surface on either side.
+// face the viewer), whether the ray enters the object, the points off the surface on
+// either side (rpu_offset_rays) and the scene's ray epsilon.
 struct Hit {
   vec3 d;
   vec3 p;
@@ -40,6 +40,7 @@ struct Hit {
   vec3 n;
   bool entering;
   vec3 outside;
+  vec3 inside;
   float eps;
 };
 
@@ -47,11 +48,13 @@ Hit hit_point() {
   Hit h;
   h.d = gl_WorldRayDirectionEXT;
   h.eps = scene_record.ray_epsilon;
-  h.p = fma(h.d, vec3(gl_HitTEXT), gl_WorldRayOriginEXT);
   const Triangle tri = triangles[gl_PrimitiveID];
   const vec3 p0 = positions[tri.a].xyz;
   vec3 e1 = positions[tri.b].xyz - p0;
   vec3 e2 = positions[tri.c].xyz - p0;
+  // P = p0 + u (p1 - p0) + v (p2 - p0): on the triangle's plane to rounding, however far
+  // the ray came.
+  h.p = fma(e2, vec3(barycentrics.y), fma(e1, vec3(barycentrics.x), p0));
   e1 = e1 * (1.0 / max(max(abs(e1.x), abs(e1.y)), abs(e1.z)));
   e2 = e2 * (1.0 / max(max(abs(e2.x), abs(e2.y)), abs(e2.z)));
   float len;
@@ -74,7 +77,7 @@ Hit hit_point() {
     h.ng = -h.ng;
     h.n = -h.n;
   }
-  h.outside = fma(h.ng, vec3(h.eps), h.p);
+  rpu_offset_rays(h.p, h.ng, h.outside, h.inside);
   return h;
 }
 

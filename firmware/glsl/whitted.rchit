@@ -27,7 +27,7 @@ void main() {
         precise const float a = eta * cos_i - sqrt(k);
         const vec3 t = fma(h.d, vec3(eta), h.n * a);
         direction = t * inversesqrt(dot(t, t));
-        origin = fma(h.ng, vec3(-h.eps), h.p);
+        origin = h.inside;
       }
       color = fma(trace_secondary(origin, direction), vec3(kt), color);
     }

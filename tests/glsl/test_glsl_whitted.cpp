@@ -104,7 +104,7 @@ INSTANTIATE_TEST_SUITE_P(Scenes, GlslWhitted,
                          testing::Values(Case{"cornell", "fp32"}, Case{"balls:2", "fp32"}, Case{"scenes/bunny.json", "fp32"},
                                          Case{"tetra:2", "fp32"}, Case{"cornell", "rpu24"}, Case{"balls:2", "rpu24"},
                                          Case{"cornell", "fp32", 0}, Case{"balls:2", "fp32", 0},
-                                         Case{"cornell", "fp32", 2, 11}, Case{"balls:2", "fp32", 2, 11}),
+                                         Case{"cornell", "fp32", 2, 12}, Case{"balls:2", "fp32", 2, 12}),
                          [](const testing::TestParamInfo<Case>& i) {
                            std::string s = i.param.scene == "scenes/bunny.json" ? "bunny" : i.param.scene;
                            s = s.substr(0, s.find(':'));

@@ -3,6 +3,8 @@
 // broken image with a message naming the file, section and offset.
 #include <gtest/gtest.h>
 
+#include <utility>
+
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -86,6 +88,7 @@ TEST_F(MemoryImageRoundTrip, SaveLoadValidateAndReadBackEveryField) {
   // The scene's vertices span (-0.7, -0.9, -0.3) .. (1.5, 1.2, 2.5).
   const double diagonal = std::sqrt(2.2 * 2.2 + 2.1 * 2.1 + 2.8 * 2.8);
   EXPECT_NEAR(l.ray_epsilon, 1e-4 * diagonal, 1e-10);
+  EXPECT_EQ(l.ray_offset_shift, 0u);  // fp32: an ulp is bit 0 of the pattern
   for (const ImageSection* s : {&l.scene, &l.kd_nodes, &l.prim_refs, &l.isect_records, &l.vertex_normals,
                                 &l.vertex_uvs, &l.triangles, &l.materials, &l.lights, &l.camera,
                                 &l.vertex_positions}) {
@@ -208,6 +211,18 @@ TEST(MemoryImage, WatertightRecordsHoldTheVerticesAndTheUnitNormal) {
     EXPECT_NEAR(glm::dot(n, glm::dvec3(b - a)), 0.0, 1e-6) << "triangle " << i;
     EXPECT_NEAR(glm::dot(n, glm::dvec3(c - a)), 0.0, 1e-6) << "triangle " << i;
     EXPECT_GT(glm::dot(n, glm::cross(glm::dvec3(b - a), glm::dvec3(c - a))), 0.0) << "triangle " << i;
+  }
+}
+
+// The scene record holds where one ulp of the tree's format sits in an fp32 pattern.
+TEST(MemoryImage, RayOffsetShiftIsTheFormatsUlp) {
+  const Scene scene = test::tiny_scene();
+  KdTree tree = test::single_leaf_tree(4);
+  for (const auto& [format, shift] : {std::pair{fp::Format{7, 16}, 7u}, {fp::Format{8, 7}, 16u},
+                                       {fp::Format{5, 10}, 13u}, {fp::Format{5, 1}, 22u}}) {
+    tree.format = format;
+    const ImageLayout l = validate_memory_image(build_memory_image(scene, tree, IsectMode::kWoop).bytes, "f.rpu");
+    EXPECT_EQ(l.ray_offset_shift, shift) << "E" << format.exponent_bits << "M" << format.fraction_bits;
   }
 }
 
@@ -425,6 +440,12 @@ TEST_F(BadImage, KdScaleExponentOutOfRange) {
   expect_rejected(bytes, {fmt::format("bad.rpu: scene: kd_scale_exponent at offset {:#x}: -127 is outside "
                                       "[-126, 127]",
                                       layout.scene.offset + mm::kSceneRecordKdScaleExponentAt)});
+}
+
+TEST_F(BadImage, RayOffsetShiftBeyondAnyFormat) {
+  store_u32(out(), layout.scene.offset + mm::kSceneRecordRayOffsetShiftAt, 23);
+  expect_rejected(bytes, {fmt::format("bad.rpu: scene: ray_offset_shift at offset {:#x}: 23 is outside [0, 22]",
+                                      layout.scene.offset + mm::kSceneRecordRayOffsetShiftAt)});
 }
 
 TEST_F(BadImage, UnknownIsectMode) {
