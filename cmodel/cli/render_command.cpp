@@ -233,6 +233,15 @@ Image render_device(const Scene& world, device::Backend& backend, const RenderOp
                         millions(sh.closest_rays), millions(sh.any_rays), millions(sh.nodes), millions(sh.leaves),
                         millions(sh.tests));
   backend.finish(st);
+  // The tree the frame walked: a narrow format that cannot place the planes a scene
+  // needs builds few nodes and tests many triangles a ray (docs/kdtree.md).
+  st.report.group("tree")
+      .set("nodes", si.tree_stats.nodes)
+      .set("leaves", si.tree_stats.leaves)
+      .set("max_depth", si.tree_stats.max_depth)
+      .set("mean_prims_per_leaf", si.tree_stats.mean_prims_per_leaf)
+      .set("prim_refs", si.tree_stats.prim_refs)
+      .set("sah_cost", si.tree_stats.sah_cost);
   if (reference) {
     comparison = compare_images(*reference, image);
     record_comparison(st.report, o.compare, *comparison);

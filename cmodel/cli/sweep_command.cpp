@@ -52,7 +52,8 @@ using nlohmann::json;
 constexpr const char* kColumns[] = {
     "id",           "scene",           "triangles",      "transform",    "fidelity",       "config",
     "set",          "format",          "isect",          "firmware",     "select",         "width",
-    "height",       "spp",             "psnr_db",        "max_error",    "dark_dots",      "primary_rays",   "hit_mismatches",
+    "height",       "spp",             "psnr_db",        "max_error",    "dark_dots",      "tree_nodes",
+    "nodes_per_ray", "tests_per_ray",  "primary_rays",   "hit_mismatches",
     "closed_meshes", "leak_rays",      "leaks",          "axis_rays",    "axis_mismatches", "grazing_rays",
     "grazing_mismatches", "surface_rays", "surface_mismatches", "cycles", "fps",           "rays",
     "rays_per_second", "host_seconds", "datapath_cells", "chip_cells",   "error"};
@@ -224,6 +225,14 @@ json value_at(const json& tree, std::string_view dotted) {
   return *node;
 }
 
+// A count of the render's statistics per ray it traced; null where either is missing or
+// no ray was traced.
+json per_ray(const json& render, std::string_view dotted) {
+  const json count = value_at(render, dotted), rays = value_at(render, "rays.total");
+  if (!count.is_number() || !rays.is_number() || rays.get<double>() <= 0.0) return nullptr;
+  return count.get<double>() / rays.get<double>();
+}
+
 std::string csv_cell(const json& v) {
   if (v.is_null()) return "";
   if (v.is_string()) return csv_field(v.get<std::string>());
@@ -331,6 +340,9 @@ int run_sweep_point(const PointOptions& o) {
               {"psnr_db", value_at(render, "compare.psnr_db")},
               {"max_error", value_at(render, "compare.max_error")},
               {"dark_dots", value_at(render, "compare.dark_dots")},
+              {"tree_nodes", value_at(render, "tree.nodes")},
+              {"nodes_per_ray", per_ray(render, "traversal.nodes")},
+              {"tests_per_ray", per_ray(render, "traversal.tests")},
               {"cycles", value_at(render, "cycles")},
               {"fps", value_at(render, "fps")},
               {"rays", value_at(render, "rays.total")},

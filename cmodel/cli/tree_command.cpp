@@ -1,11 +1,13 @@
 // rpu tree: build the kd-tree of a scene and print its statistics.
 #include <memory>
+#include <string>
 
 #include <fmt/format.h>
 
 #include "cli/chip_options.hpp"
 #include "cli/commands.hpp"
 #include "kdtree/kdtree.hpp"
+#include "rpu/spec.hpp"
 #include "scene/resolve.hpp"
 
 namespace rpu::cli {
@@ -22,8 +24,21 @@ Command add_tree_command(CLI::App& app) {
   return {cmd, [o] {
             const Scene scene = resolve_scene(o->scene);
             for (const std::string& w : scene.warnings) fmt::print(stderr, "rpu: warning: {}\n", w);
-            const KdTree tree = build_kdtree(scene, o->chip.build_config());
+            const KdBuildConfig build = o->chip.build_config();
+            const KdTree tree = build_kdtree(scene, build);
             fmt::print("{}: {} triangles\n{}\n", scene.source, scene.triangles.size(), format_kd_stats(tree.stats));
+            if (build.format != fp::kFp32) {
+              KdBuildConfig fp32 = build;
+              fp32.format = fp::kFp32;
+              std::string name = build.format.name();  // E<e>M<m>, or the spec's name for it
+              for (const spec::FormatSpec& f : spec::kFormats) {
+                if (f.exponent_bits == build.format.exponent_bits && f.fraction_bits == build.format.fraction_bits) {
+                  name = f.name;
+                }
+              }
+              const std::string note = lost_planes_note(name, tree.stats, build_kdtree(scene, fp32).stats);
+              if (!note.empty()) fmt::print("note: {}\n", note);
+            }
             return 0;
           }};
 }

@@ -977,4 +977,15 @@ std::string format_kd_stats(const KdTreeStats& s) {
       s.build_seconds);
 }
 
+std::string lost_planes_note(const std::string& format_name, const KdTreeStats& tree, const KdTreeStats& fp32_tree) {
+  if (!(tree.sah_cost > kLostPlanesRatio * fp32_tree.sah_cost)) return {};
+  return fmt::format(
+      "{} cannot place the planes this scene needs: its tree has {} nodes, {:.1f} triangles a non-empty leaf and "
+      "SAH cost {:.1f}, against fp32's {} nodes, {:.1f} and {:.1f}; its planes lie on the format's grid and each "
+      "triangle is widened by its rounding margin, coarser here than the triangles: the SAH's expected work "
+      "of a ray is {:.1f} times fp32's (docs/kdtree.md \"Conservative splits in any format\")",
+      format_name, tree.nodes, tree.mean_prims_per_leaf, tree.sah_cost, fp32_tree.nodes, fp32_tree.mean_prims_per_leaf,
+      fp32_tree.sah_cost, tree.sah_cost / fp32_tree.sah_cost);
+}
+
 }  // namespace rpu

@@ -127,4 +127,13 @@ KdTree build_kdtree(const Scene& scene, const KdBuildConfig& config);
 // The statistics as a few aligned lines for `rpu tree`, each ending in a newline.
 std::string format_kd_stats(const KdTreeStats& stats);
 
+// Where a format cannot place the planes a scene needs: its planes lie on the format's
+// grid and every triangle is widened by the format's rounding margin, so when both are
+// coarser than the scene's triangles the SAH finds few splits worth making. The tree
+// of the format, against the fp32 tree of the same scene, is said to have lost planes
+// when its SAH cost is more than kLostPlanesRatio times fp32's; then a note for the
+// user, naming the format and both trees (nothing otherwise).
+inline constexpr double kLostPlanesRatio = 1.5;
+std::string lost_planes_note(const std::string& format_name, const KdTreeStats& tree, const KdTreeStats& fp32_tree);
+
 }  // namespace rpu

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include "common/error.hpp"
@@ -293,6 +294,22 @@ void check_scene(const Scene& scene, bool perfect, int random_points, fp::Format
 TEST(KdTree, CornellBoxIsValidAndCovered) {
   check_scene(make_cornell_box(), false, 32);
   check_scene(make_cornell_box(), true, 32);
+}
+
+// A format whose grid and rounding margin are coarser than the scene's triangles builds a
+// tree of far higher SAH cost than fp32's, and the note says so, naming both trees; one
+// that keeps the planes gets no note.
+TEST(KdTree, LostPlanesAreNamed) {
+  const Scene scene = make_sphereflake(2);
+  const KdTreeStats fp32 = build_kdtree(scene, config(false)).stats;
+  const KdTreeStats bf16 = build_kdtree(scene, config(false, fp::Format{8, 7})).stats;
+  const KdTreeStats rpu24 = build_kdtree(scene, config(false, fp::Format{7, 16})).stats;
+  EXPECT_GT(bf16.sah_cost, kLostPlanesRatio * fp32.sah_cost);
+  const std::string note = lost_planes_note("bf16", bf16, fp32);
+  EXPECT_NE(note.find("bf16 cannot place the planes"), std::string::npos) << note;
+  EXPECT_NE(note.find(fmt::format("{} nodes", bf16.nodes)), std::string::npos) << note;
+  EXPECT_NE(note.find(fmt::format("fp32's {} nodes", fp32.nodes)), std::string::npos) << note;
+  EXPECT_EQ(lost_planes_note("rpu24", rpu24, fp32), "") << "rpu24's SAH cost " << rpu24.sah_cost;
 }
 
 TEST(KdTree, SphereflakeIsValidAndCovered) {
