@@ -22,6 +22,7 @@
 #include "device/registry.hpp"
 #include "functional/scene_image.hpp"
 #include "image/image.hpp"
+#include "kdtree/kdtree.hpp"
 #include "reference/renderer.hpp"
 #include "rpu/spec.hpp"
 #include "scene/resolve.hpp"
@@ -56,6 +57,7 @@ struct Outcome {
   std::string error;  // non-empty: it could not render the scene
   double psnr = 0.0;
   double cycles = 0.0;
+  double sah_cost = 0.0;                   // of the kd-tree its format built
   std::map<std::string, double> hit_rate;  // by cache
   std::uint64_t leaks = 0, leak_rays = 0;
 };
@@ -92,7 +94,16 @@ class Fitter {
       why.push_back(fmt::format("{} of {} rays leak > {}", out.leaks, out.leak_rays, *o_.max_leaks));
     }
     const double budget = (1.0 + o_.max_slowdown) * base_.cycles;
-    if (out.cycles > budget) why.push_back(fmt::format("{:.0f} cycles > {:.0f}", out.cycles, budget));
+    if (out.cycles > budget) {
+      // A format that cannot place the scene's planes spends its cycles in the triangle
+      // tests of coarse leaves (docs/kdtree.md "Conservative splits in any format").
+      const bool lost_planes = out.sah_cost > kLostPlanesRatio * base_.sah_cost;
+      why.push_back(fmt::format("{:.0f} cycles > {:.0f}{}", out.cycles, budget,
+                                lost_planes ? fmt::format(" (its kd-tree's SAH cost is {:.1f} times the base's: the "
+                                                          "format cannot place the planes the scene needs)",
+                                                          out.sah_cost / base_.sah_cost)
+                                            : ""));
+    }
     for (const auto& [cache, rate] : out.hit_rate) {
       const double floor = base_.hit_rate.at(cache) - o_.hit_rate_drop;
       if (rate < floor) why.push_back(fmt::format("{} hit rate {:.4f} < {:.4f}", cache, rate, floor));
@@ -116,6 +127,7 @@ class Fitter {
       const Image image = device::render_frame(*dev, scene, si.image, firmware_, o_.settings);
       const device::DeviceStats st = dev->stats();
       out.psnr = psnr_srgb(reference_, image);
+      out.sah_cost = si.tree_stats.sah_cost;
       out.cycles = st.report.number("cycles");
       for (const char* cache : kCaches) {
         const std::string name = std::string(cache).substr(0, std::string(cache).find('_'));
