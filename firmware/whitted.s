@@ -297,8 +297,9 @@ miss:
 
 ; ---------------------------------------------------------------------------------
 ; hit_whitted: docs/shading.md sections 3 and 4.
-; Live: r1 = d, r3 = colour, r4 = (material, entering mask), r6 = P, r7 = (P off the
-; surface on Ng's side, 0), r12 = Ng, r13 = N.
+; Live: r1 = d, r3 = colour, r4 = (material, entering mask), r6 = (P, where a shadow
+; ray ends per unit of distance), r7 = (P off the surface on Ng's side, 0), r12 = Ng,
+; r13 = N.
 hit_whitted:
         ld1     r7.x, [r15 + LAUNCH_POSITIONS_AT]
         shli    r8.xyz, r5, 4           ; VERTEX_POSITION_BYTES = 16
@@ -356,6 +357,14 @@ facing:
         call    offset
         mov     r7.xyz, r8              ; P off the surface on Ng's side
         mov     r7.w, r15.w
+        ld1     r9.x, [r15 + LAUNCH_SCENE_AT]
+        ld1     r9.x, [r9.x + SCENE_RECORD_RAY_OFFSET_SHIFT_AT]
+        iaddi   r9.x, r9.x, 104         ; 127 - 23 + (23 - M): the fp32 exponent of 2^-M
+        shli    r9.x, r9.x, 23          ; 2^-M, the format's relative precision
+        li      r9.y, RAY_OFFSET_ULPS
+        i2f     r9.y, r9.y
+        lif     r6.w, 1.0
+        mad     r6.w, r9.x, -r9.y, r6.w ; 1 - ulps 2^-M: where a shadow ray ends, per unit of distance
         ldf     r3.xyz, [r4 + MATERIAL_AMBIENT_AT]
 
         ; lights: r5 = (lights left, light address)
@@ -391,7 +400,9 @@ have_l:
         dp3     r9.y, r12, r8           ; Ng . L
         fle     r0.y, r9.y, r15.w
         bnz     r0.y, next_light
-        add     r8.w, r8.w, -r15.y      ; shadow ray over (0, distance - eps)
+        mul     r0.y, r8.w, r6.w
+        add     r8.w, r8.w, -r15.y
+        min     r8.w, r8.w, r0.y        ; shadow ray over (0, the nearer of distance - eps and that)
         tracea  r0, r7, r8
         iaddi   r0.w, r0.w, 1
         bnz     r0.w, next_light        ; blocked

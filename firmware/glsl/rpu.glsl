@@ -53,6 +53,15 @@ void rpu_offset_rays(vec3 p, vec3 n, out vec3 outside, out vec3 inside) {
   inside = mix(intBitsToFloat(floatBitsToInt(p) + mix(-steps, steps, negative)), fma(-n, vec3(eps), p), small);
 }
 
+// Where a ray from a surface point toward a light `distance` away ends: short of it by
+// the scene's ray_epsilon or by RPU_RAY_OFFSET_ULPS of the format's relative precision
+// 2^-M, whichever is more (docs/shading.md "Leaving a surface"), so that the surface the
+// light lies on does not shadow it.
+float rpu_ray_end(float distance) {
+  const float relative = uintBitsToFloat((104u + scene_record.ray_offset_shift) << 23);  // 2^-M
+  return min(distance - scene_record.ray_epsilon, distance * fma(relative, -float(RPU_RAY_OFFSET_ULPS), 1.0));
+}
+
 // The origin of a ray that leaves p on n's side (rpu_offset_rays).
 vec3 rpu_offset_ray(vec3 p, vec3 n) {
   vec3 outside, inside;

@@ -103,10 +103,10 @@ vec3 direct_light(Hit h, vec3 ka, vec3 kd, vec3 ks, float shininess) {
     const float n_dot_l = dot(h.n, l);
     if (n_dot_l <= 0.0) continue;
     if (dot(h.ng, l) <= 0.0) continue;
-    // the shadow ray: any hit over (0, distance - eps)
+    // the shadow ray: any hit over (0, rpu_ray_end(distance))
     rayQueryEXT shadow;
     rayQueryInitializeEXT(shadow, scene_bvh, gl_RayFlagsTerminateOnFirstHitEXT, 0xff, h.outside, 0.0, l,
-                          distance - h.eps);
+                          rpu_ray_end(distance));
     rayQueryProceedEXT(shadow);
     if (rayQueryGetIntersectionTypeEXT(shadow, true) != gl_RayQueryCommittedIntersectionNoneEXT) continue;
     const vec3 r = h.n * (n_dot_l + n_dot_l) - l;  // the mirror of L about N
