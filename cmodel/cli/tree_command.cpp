@@ -7,7 +7,6 @@
 #include "cli/chip_options.hpp"
 #include "cli/commands.hpp"
 #include "kdtree/kdtree.hpp"
-#include "rpu/spec.hpp"
 #include "scene/resolve.hpp"
 
 namespace rpu::cli {
@@ -30,13 +29,8 @@ Command add_tree_command(CLI::App& app) {
             if (build.format != fp::kFp32) {
               KdBuildConfig fp32 = build;
               fp32.format = fp::kFp32;
-              std::string name = build.format.name();  // E<e>M<m>, or the spec's name for it
-              for (const spec::FormatSpec& f : spec::kFormats) {
-                if (f.exponent_bits == build.format.exponent_bits && f.fraction_bits == build.format.fraction_bits) {
-                  name = f.name;
-                }
-              }
-              const std::string note = lost_planes_note(name, tree.stats, build_kdtree(scene, fp32).stats);
+              const std::string note =
+                  lost_planes_note(fp::format_label(build.format), tree.stats, build_kdtree(scene, fp32).stats);
               if (!note.empty()) fmt::print("note: {}\n", note);
             }
             return 0;

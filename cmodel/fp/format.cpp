@@ -51,4 +51,11 @@ Format format_by_name(std::string_view name) {
   throw Error(message);
 }
 
+std::string format_label(const Format& f) {
+  for (const spec::FormatSpec& s : spec::kFormats) {
+    if (s.exponent_bits == f.exponent_bits && s.fraction_bits == f.fraction_bits) return std::string(s.name);
+  }
+  return f.name();
+}
+
 }  // namespace rpu::fp

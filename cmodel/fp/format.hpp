@@ -83,5 +83,7 @@ constexpr std::uint32_t scale_fp32(std::uint32_t bits, int e) {
 // A format by spec name (rpu::spec::kFormats: "fp32", "rpu24", ...) or as "E<e>M<m>"
 // with 2 <= e <= 8 and 1 <= m <= 23. Throws rpu::Error listing the known names.
 Format format_by_name(std::string_view name);
+// The name format_by_name takes for f: its spec name if it has one, else "E<e>M<m>".
+std::string format_label(const Format& f);
 
 }  // namespace rpu::fp

@@ -189,7 +189,7 @@ MemoryImage build_memory_image(const Scene& scene, const KdTree& tree, IsectMode
     store_u32(out, o + mm::kSceneRecordMaterialCountAt, static_cast<std::uint32_t>(scene.materials.size()));
     store_u32(out, o + mm::kSceneRecordLightCountAt, static_cast<std::uint32_t>(scene.lights.size()));
     store_u32(out, o + mm::kSceneRecordKdScaleExponentAt, static_cast<std::uint32_t>(tree.scale_exponent));
-    store_u32(out, o + mm::kSceneRecordRayOffsetShiftAt, static_cast<std::uint32_t>(23 - tree.format.fraction_bits));
+    store_u32(out, o + mm::kSceneRecordRayOffsetShiftAt, static_cast<std::uint32_t>(fp::kFp32.fraction_bits - tree.format.fraction_bits));
   }
   for (std::size_t i = 0, o = at(mm::kSectionIdKdNodes); i < tree.nodes.size(); ++i, o += mm::kKdNodeBytes) {
     store_u32(out, o + mm::kKdNodeWord0At, tree.nodes[i].word0);

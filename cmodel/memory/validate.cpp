@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "common/error.hpp"
+#include "fp/format.hpp"
 #include "kdtree/kdtree.hpp"
 #include "memory/image_sections.hpp"
 #include "memory/little_endian.hpp"
@@ -190,9 +191,11 @@ void Validator::read_scene() {
          fmt::format("{} is not a finite number >= 0", layout_.ray_epsilon));
   }
   layout_.ray_offset_shift = u32(o + mm::kSceneRecordRayOffsetShiftAt);
-  if (layout_.ray_offset_shift > 22) {  // a format keeps 1 to 23 fraction bits
+  // fp32's fraction bits less the format's, which keeps at least one
+  constexpr std::uint32_t kMostShift = fp::kFp32.fraction_bits - 1;
+  if (layout_.ray_offset_shift > kMostShift) {
     fail("scene", "ray_offset_shift", o + mm::kSceneRecordRayOffsetShiftAt,
-         fmt::format("{} is outside [0, 22] (23 - the format's fraction bits)", layout_.ray_offset_shift));
+         fmt::format("{} is outside [0, {}] (23 - the format's fraction bits)", layout_.ray_offset_shift, kMostShift));
   }
   const auto count_matches = [&](const ImageSection& section, std::string_view name, std::uint32_t want,
                                  std::string_view what, std::uint32_t field_at) {

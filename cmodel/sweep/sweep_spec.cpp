@@ -112,13 +112,6 @@ std::vector<Value> alternatives(const toml::node& node, std::string_view axis, c
   return {one(node)};
 }
 
-std::string format_label(const fp::Format& f) {
-  for (const spec::FormatSpec& s : spec::kFormats) {
-    if (s.exponent_bits == f.exponent_bits && s.fraction_bits == f.fraction_bits) return std::string(s.name);
-  }
-  return f.name();
-}
-
 // A path of the sweep file, made absolute against its directory; it must exist.
 std::string existing_path(const std::string& text, const fs::path& base_dir, const std::string& at,
                           std::string_view what) {
@@ -246,7 +239,7 @@ class Expander {
     } else if (axis == "format") {
       if (!text.empty()) {
         try {
-          p.format = format_label(fp::format_by_name(text));
+          p.format = fp::format_label(fp::format_by_name(text));
         } catch (const Error& e) {
           throw Error(fmt::format("{}: {}", v.where, e.what()));
         }
@@ -290,7 +283,7 @@ class Expander {
     if (found == resolved_.end()) {
       try {
         const spec::HardwareConfig c = config::resolve(p.config, sets);
-        found = resolved_.emplace(key, format_label(fp::format_by_name(c.format))).first;
+        found = resolved_.emplace(key, fp::format_label(fp::format_by_name(c.format))).first;
       } catch (const Error& e) {
         throw Error(fmt::format("{}: config '{}'{}: {}", p.sets.empty() ? config_where_ : sets_where_, p.config,
                                 p.sets.empty() ? "" : fmt::format(" with set {}", fmt::join(p.sets, ", ")), e.what()));
