@@ -43,14 +43,17 @@ raygen:
         call    select                  ; returns if this pixel is traced
 every_pixel:
         li      r12, 0
+        li      r12.w, 1                ; n = 1 for one sample, without the sfu
+        li      r13, 0
         ld1     r0.x, [r15 + LAUNCH_SPP_AT]
+        ilti    r0.y, r0.x, 2
+        bnz     r0.y, sample_loop
         i2f     r0.y, r0.x
         sqrt    r0.y, r0.y
         lif     r0.z, 0.5
         add     r0.y, r0.y, r0.z
         flr     r0.y, r0.y
         f2i     r12.w, r0.y
-        li      r13, 0
 sample_loop:
         ; the sample's stream, seeded at its first draw (rand)
         mov     r14.x, r12.x
@@ -128,9 +131,12 @@ same_row:
         ld1     r0.x, [r15 + LAUNCH_SPP_AT]
         ilt     r0.y, r12.x, r0.x
         bnz     r0.y, sample_loop
+        ilti    r0.y, r0.x, 2
+        bnz     r0.y, mean_done         ; one sample is its own mean
         i2f     r0.x, r0.x
         rcp     r0.x, r0.x
         mul     r13.xyz, r13, r0.x
+mean_done:
         ld1     r0.x, [r15 + LAUNCH_SELECT_BLOCK_AT]
         ilti    r0.x, r0.x, 2
         ld1     r0.y, [r15 + LAUNCH_SELECT_PASS_AT]
@@ -311,14 +317,15 @@ hit_whitted:
         add     r11.xyz, r11, -r9       ; p2 - p0
         mad     r6.xyz, r10, r2.y, r9   ; P = p0 + u (p1 - p0) + v (p2 - p0): on the
         mad     r6.xyz, r11, r2.z, r6   ; triangle's plane to rounding, however far the ray came
-        max     r12.x, |r10|.x, |r10|.y ; each edge over its largest component, so that
-        max     r12.x, r12.x, |r10|.z   ; the cross product cannot overflow a narrow format
-        rcp     r12.x, r12.x
+        max     r12.x, |r10|.x, |r10|.y ; each edge scaled by the power of two that brings
+        max     r12.x, r12.x, |r10|.z   ; its largest component into [1, 2), so that the
+        max     r12.y, |r11|.x, |r11|.y ; cross product cannot overflow a narrow format
+        max     r12.y, r12.y, |r11|.z
+        andi    r12.xy, r12, 0x7f800000 ; 2^e: the largest component's exponent
+        li      r12.z, 0x7f000000
+        isub    r12.xy, r12.z, r12      ; 2^-e: exact, without the sfu
         mul     r10.xyz, r10, r12.x
-        max     r12.x, |r11|.x, |r11|.y
-        max     r12.x, r12.x, |r11|.z
-        rcp     r12.x, r12.x
-        mul     r11.xyz, r11, r12.x
+        mul     r11.xyz, r11, r12.y
         mul     r12.xyz, r10.zxy, r11.yzx
         mad     r8.xyz, r10.yzx, r11.zxy, -r12
         call    unit
@@ -532,32 +539,32 @@ offset:
         isub    r11.xyz, r11, r10
         iadd    r11.xyz, r6, r11
         mad     r8.xyz, r8, r15.y, r6   ; P + ray_epsilon n
-        li      r10.x, 23
-        isub    r10.x, r10.x, r11.w
-        li      r10.y, 1
-        shl     r10.x, r10.y, r10.x
-        i2f     r10.x, r10.x            ; 2^M
-        rcp     r10.w, r10.w
-        mul     r10.x, r10.x, r10.w
-        mul     r10.x, r10.x, r15.y     ; ray_epsilon 2^M / ulps
-        flt     r10.xyz, |r6|, r10.x
+        mul     r10.xyz, |r6|, r10.w    ; |P| ulps
+        li      r10.w, 150              ; 127 + 23: the fp32 exponent of 2^M is 150 - (23 - M)
+        isub    r10.w, r10.w, r11.w
+        shli    r10.w, r10.w, 23        ; 2^M, exact
+        mul     r10.w, r10.w, r15.y     ; ray_epsilon 2^M
+        flt     r10.xyz, r10, r10.w     ; |P| < ray_epsilon 2^M / ulps
         sel     r8.xyz, r10, r8, r11
         ret
 
 ; ---------------------------------------------------------------------------------
-; unit: r8.xyz = r8.xyz / |r8.xyz| and r8.w = |r8.xyz|. The vector is first divided by
-; its largest component, so that its squared length neither overflows nor flushes in a
-; narrow format (fp16 squares overflow at 256). Clobbers r9.
+; unit: r8.xyz = r8.xyz / |r8.xyz| and r8.w = |r8.xyz|. The vector is first scaled by
+; the power of two that brings its largest component into [1, 2) (exact, built from the
+; exponent bits), so that its squared length neither overflows nor flushes in a narrow
+; format (fp16 squares overflow at 256); one rsq then gives both results. Clobbers r9.
 unit:
         max     r9.x, |r8|.x, |r8|.y
         max     r9.x, r9.x, |r8|.z
-        rcp     r9.y, r9.x
+        andi    r9.x, r9.x, 0x7f800000  ; 2^e: the largest component's exponent
+        li      r9.y, 0x7f000000
+        isub    r9.y, r9.y, r9.x        ; 2^-e: exact, without the sfu
         mul     r8.xyz, r8, r9.y
-        dp3     r9.z, r8, r8
-        sqrt    r8.w, r9.z
-        mul     r8.w, r8.w, r9.x
-        rsq     r9.z, r9.z
-        mul     r8.xyz, r8, r9.z
+        dp3     r9.z, r8, r8            ; in [1, 12)
+        rsq     r9.w, r9.z
+        mul     r8.xyz, r8, r9.w
+        mul     r9.z, r9.z, r9.w        ; |v| 2^-e = (v . v) / sqrt(v . v)
+        mul     r8.w, r9.z, r9.x
         ret
 
 ; ---------------------------------------------------------------------------------

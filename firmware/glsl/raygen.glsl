@@ -13,7 +13,8 @@ void main() {
   const uvec2 pixel = gl_LaunchIDEXT.xy;
   const uint pixel_index = pixel.y * gl_LaunchSizeEXT.x + pixel.x;
   const int spp = int(launch_record.spp);
-  const int n = int(floor(sqrt(float(spp)) + 0.5));
+  int n = 1;  // one sample: no sqrt on the sfu
+  if (spp >= 2) n = int(floor(sqrt(float(spp)) + 0.5));
 #ifdef RPU_THIN_LENS
   // the lens disk is spanned by the unit right and up vectors; the focal plane is at
   // focus_distance along the view (0: the distance to look_at)
@@ -71,7 +72,7 @@ void main() {
       ++row;
     }
   }
-  sum = sum * (1.0 / float(spp));
+  if (spp >= 2) sum = sum * (1.0 / float(spp));  // one sample is its own mean
   imageStore(framebuffer, ivec2(pixel), vec4(sum, 1.0));
 }
 

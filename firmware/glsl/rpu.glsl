@@ -34,6 +34,13 @@ uint rpu_sample_stream(uint pixel, uint sample_index) {
   return rpu_hash(launch_record.seed ^ rpu_hash(pixel ^ rpu_hash(sample_index)));
 }
 
+// 2^e, the power of two of x's binade (x = m 2^e, m in [1, 2)), and 2^-e: exact, from
+// x's exponent bits, without the sfu (rcp takes it a thread at a time). Scaling a vector
+// by rpu_binade_down of its largest component brings that into [1, 2), so that its
+// squared length neither overflows nor flushes in a narrow format. For finite x > 0.
+float rpu_binade(float x) { return uintBitsToFloat(floatBitsToUint(x) & 0x7f800000u); }
+float rpu_binade_down(float x) { return uintBitsToFloat(0x7f000000u - (floatBitsToUint(x) & 0x7f800000u)); }
+
 // p, a point of a surface, moved off it along the unit normal n, robustly in the chip's
 // number format: `outside` the origin of a ray that leaves p on n's side, `inside` on the
 // other (docs/shading.md "Leaving a surface"). Each coordinate moves RPU_RAY_OFFSET_ULPS
@@ -44,8 +51,9 @@ uint rpu_sample_stream(uint pixel, uint sample_index) {
 void rpu_offset_rays(vec3 p, vec3 n, out vec3 outside, out vec3 inside) {
   const int shift = int(scene_record.ray_offset_shift);
   const float eps = scene_record.ray_epsilon;
-  const float below = float(1 << (23 - shift)) * (1.0 / float(RPU_RAY_OFFSET_ULPS)) * eps;
-  const bvec3 small = lessThan(abs(p), vec3(below));
+  // |p| < eps 2^M / ulps as |p| ulps < eps 2^M: 2^M from its exponent bits, no division
+  const float two_to_m = uintBitsToFloat(uint(150 - shift) << 23);
+  const bvec3 small = lessThan(abs(p) * float(RPU_RAY_OFFSET_ULPS), vec3(two_to_m * eps));
   const ivec3 steps = ivec3(n * float(RPU_RAY_OFFSET_ULPS)) << shift;
   // where p < 0 (its sign bit set) a step up the bit pattern moves it down
   const bvec3 negative = lessThan(floatBitsToInt(p), ivec3(0));

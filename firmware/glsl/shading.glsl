@@ -10,14 +10,16 @@ layout(location = 0) rayPayloadInEXT RpuRay ray;
 layout(location = 1) rayPayloadEXT RpuRay secondary;
 hitAttributeEXT vec2 barycentrics;
 
-// v / |v| and |v|, the vector first divided by its largest component, so that its
-// squared length neither overflows nor flushes in a narrow format.
+// v / |v| and |v|, the vector first scaled by the power of two that brings its largest
+// component into [1, 2) (rpu_binade_down), so that its squared length neither overflows
+// nor flushes in a narrow format; one inversesqrt gives both.
 vec3 unit(vec3 v, out float len) {
   const float m = max(max(abs(v.x), abs(v.y)), abs(v.z));
-  v = v * (1.0 / m);
+  v = v * rpu_binade_down(m);
   const float len2 = dot(v, v);
-  len = sqrt(len2) * m;
-  return v * inversesqrt(len2);
+  const float r = inversesqrt(len2);
+  len = (len2 * r) * rpu_binade(m);
+  return v * r;
 }
 
 // The colour a ray from `origin` along `direction` brings back: one bounce deeper, on the
@@ -55,8 +57,8 @@ Hit hit_point() {
   // P = p0 + u (p1 - p0) + v (p2 - p0): on the triangle's plane to rounding, however far
   // the ray came.
   h.p = fma(e2, vec3(barycentrics.y), fma(e1, vec3(barycentrics.x), p0));
-  e1 = e1 * (1.0 / max(max(abs(e1.x), abs(e1.y)), abs(e1.z)));
-  e2 = e2 * (1.0 / max(max(abs(e2.x), abs(e2.y)), abs(e2.z)));
+  e1 = e1 * rpu_binade_down(max(max(abs(e1.x), abs(e1.y)), abs(e1.z)));
+  e2 = e2 * rpu_binade_down(max(max(abs(e2.x), abs(e2.y)), abs(e2.z)));
   float len;
   h.ng = unit(fma(e1.yzx, e2.zxy, -(e1.zxy * e2.yzx)), len);
   h.n = h.ng;

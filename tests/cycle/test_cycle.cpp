@@ -295,17 +295,24 @@ TEST(CycleModel, APipelinedUnitWalksTheSameRaysFasterThanItsWalkers) {
   }
 }
 
-// More DRAM bandwidth never costs cycles on a fixed frame.
-TEST(CycleModel, MoreDramBandwidthNeverCostsCycles) {
+// More DRAM bandwidth buys cycles on a fixed frame: the widest bus is faster than the
+// narrowest, and no doubling costs more than 2%. Not none: threads that meet their data
+// sooner can interleave worse on the other units (a scheduling anomaly, as in Graham's
+// list scheduling), so one doubling on tiny's Cornell box costs 0.9%.
+TEST(CycleModel, MoreDramBandwidthBuysCycles) {
   const Cornell c;
   spec::HardwareConfig config = hardware_config("tiny");
-  std::uint64_t previous = std::numeric_limits<std::uint64_t>::max();
+  std::vector<std::uint64_t> cycles;
   for (int bytes = 1; bytes <= 64; bytes *= 2) {
     config.dram.bytes_per_cycle = bytes;
-    const Frame f = render_cycle(config, c.scene, c.si.image, c.firmware, settings(16, 12));
-    EXPECT_LE(f.cycle.cycles, previous) << bytes << " bytes/cycle";
-    previous = f.cycle.cycles;
+    cycles.push_back(render_cycle(config, c.scene, c.si.image, c.firmware, settings(16, 12)).cycle.cycles);
+    if (cycles.size() > 1) {
+      EXPECT_LE(static_cast<double>(cycles.back()), 1.02 * static_cast<double>(cycles[cycles.size() - 2]))
+          << bytes << " bytes/cycle against half as many";
+    }
   }
+  EXPECT_LT(1.1 * static_cast<double>(cycles.back()), static_cast<double>(cycles.front()))
+      << "64 bytes/cycle against 1";
 }
 
 // Configurations changed at run time (rpu::config, --set) move a frame the way the
