@@ -225,13 +225,15 @@ Image render_device(const Scene& world, device::Backend& backend, const RenderOp
   for (std::size_t i = 0; i < sh.retired.size(); ++i) {
     classes += fmt::format("{}{} {}", i ? ", " : "", spec::isa::kClassNames[i], millions(sh.retired[i]));
   }
-  summary = fmt::format("{} instructions ({}), SIMD efficiency {:.1f}% (chunk {}); {} rays ({} closest-hit, {} any-hit); "
+  // Rays that met the triangle they leave: docs/accuracy.md "Self-hits".
+  const std::string self_hits = sh.self_hits_counted ? fmt::format(", {} self-hits", sh.self_hits) : "";
+  summary = fmt::format("{} instructions ({}), SIMD efficiency {:.1f}% (chunk {}); {} rays ({} closest-hit, {} any-hit{}); "
                         "traversal {} nodes, {} leaves, {} triangle tests",
                         millions(sh.instructions()), classes,
                         100.0 * static_cast<double>(sh.instructions()) / static_cast<double>(std::max<std::uint64_t>(1, sh.lanes_issued)),
                         o.chip.hardware_config().chunk_size, millions(sh.closest_rays + sh.any_rays),
-                        millions(sh.closest_rays), millions(sh.any_rays), millions(sh.nodes), millions(sh.leaves),
-                        millions(sh.tests));
+                        millions(sh.closest_rays), millions(sh.any_rays), self_hits, millions(sh.nodes),
+                        millions(sh.leaves), millions(sh.tests));
   backend.finish(st);
   // The tree the frame walked: a narrow format that cannot place the planes a scene
   // needs builds few nodes and tests many triangles a ray (docs/kdtree.md).

@@ -52,7 +52,8 @@ using nlohmann::json;
 constexpr const char* kColumns[] = {
     "id",           "scene",           "triangles",      "transform",    "fidelity",       "config",
     "set",          "format",          "isect",          "firmware",     "select",         "width",
-    "height",       "spp",             "psnr_db",        "max_error",    "dark_dots",      "tree_nodes",
+    "height",       "spp",             "psnr_db",        "max_error",    "dark_dots",      "self_hits",
+    "tree_nodes",
     "nodes_per_ray", "tests_per_ray",  "primary_rays",   "hit_mismatches",
     "closed_meshes", "leak_rays",      "leaks",          "axis_rays",    "axis_mismatches", "grazing_rays",
     "grazing_mismatches", "surface_rays", "surface_mismatches", "cycles", "fps",           "rays",
@@ -340,6 +341,7 @@ int run_sweep_point(const PointOptions& o) {
               {"psnr_db", value_at(render, "compare.psnr_db")},
               {"max_error", value_at(render, "compare.max_error")},
               {"dark_dots", value_at(render, "compare.dark_dots")},
+              {"self_hits", value_at(render, "rays.self_hits")},
               {"tree_nodes", value_at(render, "tree.nodes")},
               {"nodes_per_ray", per_ray(render, "traversal.nodes")},
               {"tests_per_ray", per_ray(render, "traversal.tests")},

@@ -81,7 +81,9 @@ StatsTree report(const CycleStats& s, const functional::ShaderStats& shader) {
   r.set("clock_mhz", s.clock_mhz).set("cycles", s.cycles);
   r.set("frame_seconds", s.frame_seconds()).set("fps", ratio(1.0, s.frame_seconds()));
   r.set("host_seconds", s.host_seconds).set("simulated_cycles_per_host_second", ratio(cycles, s.host_seconds));
-  r.group("rays").set("closest", s.closest_rays).set("any", s.any_rays).set("total", s.closest_rays + s.any_rays);
+  StatsTree& rays_group = r.group("rays");
+  rays_group.set("closest", s.closest_rays).set("any", s.any_rays).set("total", s.closest_rays + s.any_rays);
+  if (shader.self_hits_counted) rays_group.set("self_hits", shader.self_hits);
   const auto rays = static_cast<double>(s.closest_rays + s.any_rays);
   if (s.closest_latency.rays + s.any_latency.rays > 0) {
     StatsTree& latency = r.group("ray_latency");

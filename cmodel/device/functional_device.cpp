@@ -25,7 +25,9 @@ namespace {
 StatsTree report(const functional::ShaderStats& s, double host_seconds, int host_threads) {
   StatsTree r;
   r.set("host_seconds", host_seconds).set("host_threads", host_threads).set("pixels", s.pixels);
-  r.group("rays").set("closest", s.closest_rays).set("any", s.any_rays).set("total", s.closest_rays + s.any_rays);
+  StatsTree& rays = r.group("rays");
+  rays.set("closest", s.closest_rays).set("any", s.any_rays).set("total", s.closest_rays + s.any_rays);
+  if (s.self_hits_counted) rays.set("self_hits", s.self_hits);
   StatsTree& instructions = r.group("instructions");
   instructions.set("thread", s.instructions()).set("chunk_issues", s.chunk_issues);
   instructions.set("simd_efficiency", s.lanes_issued ? static_cast<double>(s.instructions()) /

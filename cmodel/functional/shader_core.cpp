@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <cmath>
 #include <limits>
 
 #include <fmt/format.h>
@@ -33,6 +34,8 @@ ShaderStats& ShaderStats::operator+=(const ShaderStats& o) {
   nodes += o.nodes;
   leaves += o.leaves;
   tests += o.tests;
+  self_hits += o.self_hits;
+  self_hits_counted = self_hits_counted || o.self_hits_counted;
   return *this;
 }
 
@@ -48,6 +51,25 @@ constexpr SoftArith kFp32Bits{fp::kFp32};
 
 constexpr std::uint32_t kTrue = 0xffffffffu;
 constexpr std::uint32_t kMissPrim = 0xffffffffu;
+
+// A ray meets the triangle it leaves when it hits the triangle of its thread's latest
+// closest hit (the surface shaders spawn shadow, reflected and refracted rays from; a
+// ray that leaves a planar triangle cannot meet it again but by rounding) near its
+// origin: within 16 ulps of the format at its largest coordinate, or a thousandth of
+// that coordinate, whichever is farther (an fp32 offset of the scene's ray_epsilon).
+// Near, so that a pixel's next camera ray that meets the same triangle from afar is
+// not one.
+bool self_hit(const TraceRay& ray, const TraceHit& hit, std::uint32_t last_hit, fp::Format format) {
+  if (!hit.hit || hit.prim != last_hit) return false;
+  float origin = 0.0f, direction = 0.0f;
+  for (int i = 0; i < 3; ++i) {
+    origin = std::max(origin, std::fabs(ray.origin[i]));
+    direction = std::max(direction, std::fabs(ray.direction[i]));
+  }
+  const double ulp = std::ldexp(1.0, std::ilogb(origin) - format.fraction_bits);
+  const double near = std::max(16.0 * ulp, std::ldexp(static_cast<double>(origin), -10));
+  return static_cast<double>(hit.t) * static_cast<double>(direction) <= near;
+}
 
 Vec swizzle(const Vec& r, std::uint8_t swz) {
   return {r[swz & 3], r[(swz >> 2) & 3], r[(swz >> 4) & 3], r[(swz >> 6) & 3]};
@@ -174,6 +196,7 @@ void ShaderCore::start(Chunk& chunk, std::span<const Lane> lanes, ShaderStats& s
     t.regs.assign(static_cast<std::size_t>(config_.registers), Vec{});
     t.returns.clear();
     t.stack.clear();
+    t.last_hit = kMissPrim;
   }
   chunk.fault_.reset();
   chunk.update_next_pc();
@@ -589,6 +612,9 @@ void ShaderCore::execute(const Arith& ar, Thread& t, ShaderStats& stats, StepRec
         fault(t, si::FaultKind::kTraversal, e.what());
       }
       ++(any ? stats.any_rays : stats.closest_rays);
+      stats.self_hits += self_hit(ray, hit, t.last_hit, format_) ? 1 : 0;
+      stats.self_hits_counted = true;
+      if (!any) t.last_hit = hit.hit ? hit.prim : kMissPrim;
       stats.nodes += hit.counters.nodes;
       stats.leaves += hit.counters.leaves;
       stats.tests += hit.counters.tests;

@@ -48,6 +48,10 @@ struct ShaderStats {
   std::uint64_t closest_rays = 0;    // trace
   std::uint64_t any_rays = 0;        // tracea
   std::uint64_t nodes = 0, leaves = 0, tests = 0;  // traversal and intersection work
+  // Rays that met the triangle they leave (self_hit in shader_core.cpp; docs/accuracy.md
+  // "Self-hits"): the offset of secondary rays failing in the number format.
+  std::uint64_t self_hits = 0;
+  bool self_hits_counted = false;  // by the functional core's trace; the RTL's units do not know
 
   std::uint64_t instructions() const;
   ShaderStats& operator+=(const ShaderStats& o);
@@ -125,6 +129,7 @@ class ShaderCore {
     std::vector<std::array<std::uint32_t, 4>> regs;
     std::vector<std::uint32_t> returns;                // the return-address stack
     std::vector<std::array<std::uint32_t, 4>> stack;   // push/pop memory stack (its contents)
+    std::uint32_t last_hit = 0xffffffffu;  // the triangle of its latest closest hit: the surface its next rays leave
   };
 
   // A chunk's threads between steps.

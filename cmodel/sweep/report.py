@@ -296,7 +296,7 @@ def figure_images(directory, scene, rows, references, formats, selected):
 
 
 def table(rows):
-    head = ["scene", "triangles", "size", "transform", "fidelity", "config", "format", "isect", "select", "PSNR dB", "max error", "dark dots", "tree nodes",
+    head = ["scene", "triangles", "size", "transform", "fidelity", "config", "format", "isect", "select", "PSNR dB", "max error", "dark dots", "self-hits", "tree nodes",
             "nodes / ray", "tests / ray", "hit mismatches", "leaks", "cycles", "fps", "datapath cells", "host s"]
     out = [head]
     for r in rows:
@@ -307,7 +307,8 @@ def table(rows):
                 else number(r["psnr_db"]))
         out.append([scene_name(r["scene"]), number(r["triangles"]), size(r), r["transform"] or "—", r["fidelity"], config,
                     r["format"], r["isect"], "—" if r["select"] == "1" else r["select"], psnr,
-                    number(r["max_error"], 4), number(r.get("dark_dots")), number(r.get("tree_nodes")),
+                    number(r["max_error"], 4), number(r.get("dark_dots")), number(r.get("self_hits")),
+                    number(r.get("tree_nodes")),
                     number(r.get("nodes_per_ray")), number(r.get("tests_per_ray")),
                     hits, leaks, number(r["cycles"]), number(r["fps"]), number(r["datapath_cells"]),
                     number(r["host_seconds"], 2)])
