@@ -36,8 +36,13 @@ RenderSettings small_settings() {
   return s;
 }
 
-Image render_functional(const Scene& scene, const RenderSettings& settings, std::string_view config_name,
-                        fp::Format format, int host_threads, IsectMode isect = IsectMode::kWoop) {
+struct Rendered {
+  Image image;
+  device::DeviceStats stats;
+};
+
+Rendered render_functional_with(const Scene& scene, const RenderSettings& settings, std::string_view config_name,
+                                fp::Format format, int host_threads, IsectMode isect, const isa::Firmware& firmware) {
   const spec::HardwareConfig& config = hardware_config(config_name);
   KdBuildConfig build = kd_build_config_for(std::string(config.name));
   build.format = format;
@@ -45,24 +50,24 @@ Image render_functional(const Scene& scene, const RenderSettings& settings, std:
   device::FunctionalOptions options;
   options.host_threads = host_threads;
   const auto dev = device::make_functional_device(config, format, options);
-  return device::render_frame(*dev, scene, si.image, isa::builtin_firmware("whitted.s"), settings);
+  Image image = device::render_frame(*dev, scene, si.image, firmware, settings);
+  return {std::move(image), dev->stats()};
+}
+
+Image render_functional(const Scene& scene, const RenderSettings& settings, std::string_view config_name,
+                        fp::Format format, int host_threads, IsectMode isect = IsectMode::kWoop) {
+  return render_functional_with(scene, settings, config_name, format, host_threads, isect,
+                                isa::builtin_firmware("whitted.s"))
+      .image;
 }
 
 // The rays of a frame that met the triangle they leave (docs/accuracy.md "Self-hits"), on
 // the functional backend with the watertight test.
 std::uint64_t self_hits(const Scene& scene, const RenderSettings& settings, fp::Format format,
                         const isa::Firmware& firmware) {
-  const spec::HardwareConfig& config = hardware_config("default");
-  KdBuildConfig build = kd_build_config_for(std::string(config.name));
-  build.format = format;
-  const functional::SceneImage si = functional::make_scene_image(scene, build, IsectMode::kWatertight);
-  device::FunctionalOptions options;
-  options.host_threads = 2;
-  const auto dev = device::make_functional_device(config, format, options);
-  device::render_frame(*dev, scene, si.image, firmware, settings);
-  const device::DeviceStats stats = dev->stats();
-  EXPECT_TRUE(stats.shader.self_hits_counted);
-  return stats.shader.self_hits;
+  const Rendered r = render_functional_with(scene, settings, "default", format, 2, IsectMode::kWatertight, firmware);
+  EXPECT_TRUE(r.stats.shader.self_hits_counted);
+  return r.stats.shader.self_hits;
 }
 
 // whitted.s with its secondary rays leaving from the hit point itself, not moved off the
