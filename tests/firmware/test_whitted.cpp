@@ -139,6 +139,15 @@ TEST(Whitted, NarrowFormatsRender) {
   }
 }
 
+RenderSettings one_sample(int width, int height) {
+  RenderSettings s;
+  s.width = width;
+  s.height = height;
+  s.spp = 1;
+  s.max_depth = 5;
+  return s;
+}
+
 // Secondary rays leave their surface robustly in the format (docs/shading.md "Leaving a
 // surface"): the bunny, 1 spp, with the watertight test (Woop's cracks draw dark dots of
 // their own, docs/accuracy.md "Dark dots"), has dark dots in at most 0.1% of its pixels
@@ -148,11 +157,7 @@ TEST(Whitted, NarrowFormatsRender) {
 // ulps is what brings it to 0.56%), and none in rpu24 and e8m15.
 TEST(Whitted, SecondaryRaysDoNotHitTheSurfaceTheyLeave) {
   const Scene scene = resolve_scene("scenes/bunny.json");
-  RenderSettings settings;
-  settings.width = 128;
-  settings.height = 128;
-  settings.spp = 1;
-  settings.max_depth = 5;
+  const RenderSettings settings = one_sample(128, 128);
   const Image reference = ReferenceRenderer(scene).render(settings);
   for (const auto& [name, most] : {std::pair{"fp16", 16u}, {"bf16", 164u}, {"rpu24", 0u}, {"e8m15", 0u}}) {
     const Image image =
@@ -169,11 +174,7 @@ TEST(Whitted, SecondaryRaysDoNotHitTheSurfaceTheyLeave) {
 // every format but fp32 (bf16 thousands), so the count sees what it counts.
 TEST(Whitted, NoRayMeetsTheTriangleItLeaves) {
   const Scene scene = resolve_scene("scenes/bunny.json");
-  RenderSettings settings;
-  settings.width = 128;
-  settings.height = 128;
-  settings.spp = 1;
-  settings.max_depth = 5;
+  const RenderSettings settings = one_sample(128, 128);
   const isa::Firmware whitted = isa::builtin_firmware("whitted.s");
   const isa::Firmware unmoved = whitted_without_offset();
   for (const auto& [name, most] : {std::pair{"fp32", 0u}, {"e8m15", 0u}, {"rpu24", 0u}, {"fp16", 16u}, {"bf16", 16u}}) {
