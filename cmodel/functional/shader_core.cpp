@@ -66,7 +66,8 @@ bool self_hit(const TraceRay& ray, const TraceHit& hit, std::uint32_t last_hit, 
     origin = std::max(origin, std::fabs(ray.origin[i]));
     direction = std::max(direction, std::fabs(ray.direction[i]));
   }
-  const double ulp = std::ldexp(1.0, std::ilogb(origin) - format.fraction_bits);
+  if (!std::isfinite(origin)) return false;  // a defined miss; ilogb of 0 is no exponent
+  const double ulp = origin > 0.0f ? std::ldexp(1.0, std::ilogb(origin) - format.fraction_bits) : 0.0;
   const double near = std::max(16.0 * ulp, std::ldexp(static_cast<double>(origin), -10));
   return static_cast<double>(hit.t) * static_cast<double>(direction) <= near;
 }
