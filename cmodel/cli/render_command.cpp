@@ -452,11 +452,12 @@ Command add_render_command(CLI::App& app) {
   render_cmd->add_option("--compare", render->compare,
                          "Measure the image against this linear .exr of the same size (e.g. the reference "
                          "backend's): PSNR (sRGB, peak 1), the largest linear difference and the dark dots (isolated "
-                         "pixels under 0.6 of its luminance: secondary rays that hit their own surface), printed "
-                         "and in --stats as compare.psnr_db, compare.max_error and compare.dark_dots");
+                         "pixels under 0.6 of its luminance, docs/accuracy.md \"Dark dots\"), printed and in --stats as "
+                         "compare.psnr_db, compare.max_error and compare.dark_dots");
   render_cmd->add_option("--stats", render->stats,
                          "statistics and the facts of the run, .json and/or .csv (one wide row under a header of "
-                         "metric names); the reference backend records its rays by type");
+                         "metric names); the reference backend records its rays by type, the functional and cycle backends "
+                         "also the rays that met the triangle they leave (rays.self_hits)");
   render->backends.add_options(*render_cmd);
   add_chip_options(*render_cmd, render->chip);
 
